@@ -1,0 +1,66 @@
+//! The error type of coif-kernels' public constructors and setters.
+
+use std::fmt;
+
+/// Why a constructor, setter or parameter check refused its input.
+///
+/// Hot per-frame paths never return this: they take validated containers and
+/// degrade gracefully (a strand that goes non-finite is restored, see
+/// [`crate::Strands::restored_strands`]).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Error {
+    /// A strand needs at least two vertices (one segment).
+    TooFewVertices { verts_per_strand: usize },
+    /// The point count is not a whole number of strands.
+    NotWholeStrands {
+        points: usize,
+        verts_per_strand: usize,
+    },
+    /// There are no strands at all.
+    NoStrands,
+    /// A coordinate is NaN or infinite; `index` is the offending point.
+    NonFinite { index: usize },
+    /// A per-strand slice has the wrong length.
+    CountMismatch { expected: usize, got: usize },
+    /// A simulation parameter is out of its documented range.
+    InvalidParameter {
+        name: &'static str,
+        value: f32,
+        expected: &'static str,
+    },
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::TooFewVertices { verts_per_strand } => write!(
+                f,
+                "a strand needs at least 2 vertices, got verts_per_strand = {verts_per_strand}"
+            ),
+            Error::NotWholeStrands {
+                points,
+                verts_per_strand,
+            } => write!(
+                f,
+                "{points} points are not a whole number of strands of {verts_per_strand} vertices"
+            ),
+            Error::NoStrands => write!(f, "no strands"),
+            Error::NonFinite { index } => write!(f, "point {index} has a non-finite coordinate"),
+            Error::CountMismatch { expected, got } => {
+                write!(f, "expected {expected} values (one per strand), got {got}")
+            }
+            Error::InvalidParameter {
+                name,
+                value,
+                expected,
+            } => {
+                write!(
+                    f,
+                    "parameter {name} = {value} is invalid: expected {expected}"
+                )
+            }
+        }
+    }
+}
+
+impl std::error::Error for Error {}

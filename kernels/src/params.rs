@@ -1,0 +1,190 @@
+//! Simulation parameters and the collision rig.
+
+use crate::Error;
+use glam::Vec3;
+
+/// A collision sphere of the engine's rig (head, neck, shoulders...), in world
+/// coordinates. Moved by the engine every frame; non-finite spheres are ignored.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sphere {
+    pub center: Vec3,
+    pub radius: f32,
+}
+
+/// Parameters of one fixed simulation step ([`crate::step`]).
+///
+/// All fields are public; build with `..Default::default()`. [`SimParams::validate`]
+/// reports values outside their ranges. `step` never panics on bad values: a
+/// strand they drive non-finite is restored to its rest pose and counted.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SimParams {
+    /// Fixed step in seconds (default 1/60). Verlet needs a fixed dt: handle a
+    /// variable frame time with [`crate::FixedStep`].
+    pub dt: f32,
+    /// `d` in `x + d (x - x_prev) + a dt^2` (Yip 2011): 1 = no damping,
+    /// 0 = no velocity carried over. Default 0.97.
+    pub damping: f32,
+    /// Acceleration in m/s^2, default (0, -9.81, 0).
+    pub gravity: Vec3,
+    /// Gauss-Seidel constraint sweeps per step (default 4).
+    pub iterations: u32,
+    /// Collision points per segment besides its two end vertices, at
+    /// t = j / (k + 1) (Nalu's pearls). Default 1. At most 64.
+    pub pearls_per_segment: u32,
+    /// Collision radius of vertices and pearls in metres (default 2 mm).
+    pub pearl_radius: f32,
+    /// Strain limit: `|x_i - root| <= (1 + max_stretch) * rest arc length(i)`
+    /// (Yip's root spheres; Long Range Attachments, Kim et al. 2012).
+    /// Default 0.01 (visible stretch stays near 1 %).
+    pub max_stretch: f32,
+    /// Stiffness in [0, 1] of the bending constraints between vertices i and
+    /// i + 2 (Yip 2011). 0 (default) switches them off.
+    pub bend_stiffness: f32,
+    /// Pull in [0, 1] per step toward the groomed rest shape, strongest at the
+    /// root and fading linearly to 0 at the tip (Yip 2011; TressFX's shape
+    /// constraints). 0 (default) switches it off.
+    pub shape_stiffness: f32,
+}
+
+impl Default for SimParams {
+    fn default() -> Self {
+        SimParams {
+            dt: 1.0 / 60.0,
+            damping: 0.97,
+            gravity: Vec3::new(0.0, -9.81, 0.0),
+            iterations: 4,
+            pearls_per_segment: 1,
+            pearl_radius: 0.002,
+            max_stretch: 0.01,
+            bend_stiffness: 0.0,
+            shape_stiffness: 0.0,
+        }
+    }
+}
+
+/// Largest accepted `pearls_per_segment`.
+pub const MAX_PEARLS_PER_SEGMENT: u32 = 64;
+
+fn check(name: &'static str, value: f32, ok: bool, expected: &'static str) -> Result<(), Error> {
+    if ok && value.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::InvalidParameter {
+            name,
+            value,
+            expected,
+        })
+    }
+}
+
+impl SimParams {
+    /// Checks every field against its documented range.
+    pub fn validate(&self) -> Result<(), Error> {
+        check("dt", self.dt, self.dt > 0.0, "a finite dt > 0")?;
+        check(
+            "damping",
+            self.damping,
+            (0.0..=1.0).contains(&self.damping),
+            "0 <= damping <= 1",
+        )?;
+        for g in self.gravity.to_array() {
+            check("gravity", g, true, "finite components")?;
+        }
+        check(
+            "pearls_per_segment",
+            self.pearls_per_segment as f32,
+            self.pearls_per_segment <= MAX_PEARLS_PER_SEGMENT,
+            "at most 64 pearls per segment",
+        )?;
+        check(
+            "pearl_radius",
+            self.pearl_radius,
+            self.pearl_radius >= 0.0,
+            "pearl_radius >= 0",
+        )?;
+        check(
+            "max_stretch",
+            self.max_stretch,
+            self.max_stretch >= 0.0,
+            "max_stretch >= 0",
+        )?;
+        check(
+            "bend_stiffness",
+            self.bend_stiffness,
+            (0.0..=1.0).contains(&self.bend_stiffness),
+            "0 <= bend_stiffness <= 1",
+        )?;
+        check(
+            "shape_stiffness",
+            self.shape_stiffness,
+            (0.0..=1.0).contains(&self.shape_stiffness),
+            "0 <= shape_stiffness <= 1",
+        )?;
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_is_valid_and_bad_values_are_reported() {
+        assert_eq!(SimParams::default().validate(), Ok(()));
+        let bad = [
+            SimParams {
+                dt: 0.0,
+                ..Default::default()
+            },
+            SimParams {
+                dt: -1.0,
+                ..Default::default()
+            },
+            SimParams {
+                dt: f32::NAN,
+                ..Default::default()
+            },
+            SimParams {
+                damping: 1.5,
+                ..Default::default()
+            },
+            SimParams {
+                damping: -0.1,
+                ..Default::default()
+            },
+            SimParams {
+                damping: f32::NAN,
+                ..Default::default()
+            },
+            SimParams {
+                gravity: Vec3::new(0.0, f32::INFINITY, 0.0),
+                ..Default::default()
+            },
+            SimParams {
+                pearl_radius: -1.0,
+                ..Default::default()
+            },
+            SimParams {
+                max_stretch: f32::NAN,
+                ..Default::default()
+            },
+            SimParams {
+                bend_stiffness: 2.0,
+                ..Default::default()
+            },
+            SimParams {
+                shape_stiffness: -1.0,
+                ..Default::default()
+            },
+            SimParams {
+                pearls_per_segment: 1000,
+                ..Default::default()
+            },
+        ];
+        for p in bad {
+            let e = p.validate().expect_err("must be rejected");
+            assert!(matches!(e, Error::InvalidParameter { .. }));
+            assert!(!e.to_string().is_empty());
+        }
+    }
+}

@@ -1,0 +1,517 @@
+//! `Strands`: a set of equal-length hair strands stored in SIMD lanes.
+//!
+//! Layout (DESIGN.md section 3): strands are grouped in blocks of [`LANES`];
+//! vertex `v` of block `b` lives at index `b * V + v` of every per-vertex array,
+//! and its lane `l` is strand `b * LANES + l`. A constraint on segment `v`
+//! therefore processes eight strands with straight-line SIMD code.
+//!
+//! Positions are kept relative to a local origin (an `f64` point near the
+//! roots): the next f32 after 10,000 is 10,000.00098, so a groom simulated in
+//! world coordinates 10 km from the world origin would lose every move below a
+//! millimetre. The public boundary speaks world-space `Vec3`; `*_local`
+//! variants let an engine with f64 world positions keep full precision.
+
+use crate::lanes::{Vec3x8, LANES};
+use crate::Error;
+use glam::{Affine3A, DVec3, Mat3, Vec3};
+use wide::{f32x8, CmpLt};
+
+/// Local coordinates beyond this distance from the origin trigger a rebase
+/// in `set_roots` (f32 spacing at 64 m is 7.6e-6 m).
+const REBASE_DISTANCE: f32 = 64.0;
+
+/// A set of hair strands with the same vertex count, in SIMD lanes.
+#[derive(Clone, Debug)]
+pub struct Strands {
+    pub(crate) strand_count: usize,
+    pub(crate) verts: usize,
+    pub(crate) blocks: usize,
+    /// World position of local (0, 0, 0).
+    pub(crate) origin: DVec3,
+    /// Current positions, relative to `origin`.
+    pub(crate) pos: Vec<Vec3x8>,
+    /// Positions one step ago (Verlet's implicit velocity).
+    pub(crate) prev: Vec<Vec3x8>,
+    /// Rest pose relative to the strand's root, in the groom frame.
+    pub(crate) rest_offset: Vec<Vec3x8>,
+    /// Inverse mass per vertex: 0 = pinned (roots, padding lanes).
+    pub(crate) inv_mass: Vec<f32x8>,
+    /// Rest length of segment v -> v + 1 (the last vertex's entry is 0).
+    pub(crate) rest_len: Vec<f32x8>,
+    /// Rest distance v -> v + 2 for bending (0 where v + 2 is past the tip).
+    pub(crate) bend_len: Vec<f32x8>,
+    /// Rest arc length from the root to vertex v.
+    pub(crate) rest_arc: Vec<f32x8>,
+    /// Shape-keeping weight 1 - arc(v) / arc(tip): 1 at the root, 0 at the tip.
+    pub(crate) shape_weight: Vec<f32x8>,
+    /// Per block: all bits set in lanes that hold a real strand.
+    pub(crate) active: Vec<f32x8>,
+    /// Rotation applied to `rest_offset` (the groom frame's orientation).
+    pub(crate) rest_rotation: Mat3,
+    /// Strands restored to rest after going non-finite, since creation.
+    pub(crate) restored: u64,
+    /// Scratch for the broad phase, grown only when the rig grows.
+    pub(crate) scratch: Scratch,
+}
+
+/// Reusable per-step buffers (no per-frame allocation once sized).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Scratch {
+    /// Rig spheres in local coordinates: centre and radius.
+    pub(crate) spheres_local: Vec<[f32; 4]>,
+    /// Indices into `spheres_local` that may touch the current block.
+    pub(crate) candidates: Vec<u32>,
+}
+
+impl Strands {
+    /// Builds a set from `verts_per_strand` points per strand, strand after
+    /// strand, root first, in world coordinates. Rest lengths come from these
+    /// points; vertex 0 of every strand is pinned.
+    pub fn from_polylines(points: &[Vec3], verts_per_strand: usize) -> Result<Strands, Error> {
+        if verts_per_strand < 2 {
+            return Err(Error::TooFewVertices { verts_per_strand });
+        }
+        if points.len() % verts_per_strand != 0 {
+            return Err(Error::NotWholeStrands {
+                points: points.len(),
+                verts_per_strand,
+            });
+        }
+        if points.is_empty() {
+            return Err(Error::NoStrands);
+        }
+        if let Some(index) = points.iter().position(|p| !p.is_finite()) {
+            return Err(Error::NonFinite { index });
+        }
+        let verts = verts_per_strand;
+        let strand_count = points.len() / verts;
+        let blocks = strand_count.div_ceil(LANES);
+        let origin = points
+            .iter()
+            .step_by(verts)
+            .map(|p| p.as_dvec3())
+            .sum::<DVec3>()
+            / strand_count as f64;
+
+        let n = blocks * verts;
+        let mut s = Strands {
+            strand_count,
+            verts,
+            blocks,
+            origin,
+            pos: vec![Vec3x8::ZERO; n],
+            prev: vec![Vec3x8::ZERO; n],
+            rest_offset: vec![Vec3x8::ZERO; n],
+            inv_mass: vec![f32x8::ZERO; n],
+            rest_len: vec![f32x8::ZERO; n],
+            bend_len: vec![f32x8::ZERO; n],
+            rest_arc: vec![f32x8::ZERO; n],
+            shape_weight: vec![f32x8::ZERO; n],
+            active: Vec::with_capacity(blocks),
+            rest_rotation: Mat3::IDENTITY,
+            restored: 0,
+            scratch: Scratch::default(),
+        };
+        let local = |p: Vec3| (p.as_dvec3() - origin).as_vec3();
+        for b in 0..blocks {
+            let lanes = (strand_count - b * LANES).min(LANES);
+            let lane_index = f32x8::new(std::array::from_fn(|l| l as f32));
+            s.active
+                .push(lane_index.simd_lt(f32x8::splat(lanes as f32)));
+            for l in 0..LANES {
+                // Padding lanes copy the block's last strand and are fully
+                // pinned: inert, and inside the block's bounding box.
+                let strand = b * LANES + l.min(lanes - 1);
+                let pts = &points[strand * verts..(strand + 1) * verts];
+                let mut arc = 0.0f32;
+                let total: f32 = pts.windows(2).map(|w| (w[1] - w[0]).length()).sum();
+                for v in 0..verts {
+                    let i = b * verts + v;
+                    let p = local(pts[v]);
+                    s.pos[i].set_lane(l, p);
+                    s.prev[i].set_lane(l, p);
+                    s.rest_offset[i].set_lane(l, pts[v] - pts[0]);
+                    let free = v > 0 && l < lanes;
+                    s.inv_mass[i].as_mut_array()[l] = if free { 1.0 } else { 0.0 };
+                    let seg = if v + 1 < verts {
+                        (pts[v + 1] - pts[v]).length()
+                    } else {
+                        0.0
+                    };
+                    s.rest_len[i].as_mut_array()[l] = seg;
+                    s.bend_len[i].as_mut_array()[l] = if v + 2 < verts {
+                        (pts[v + 2] - pts[v]).length()
+                    } else {
+                        0.0
+                    };
+                    s.rest_arc[i].as_mut_array()[l] = arc;
+                    s.shape_weight[i].as_mut_array()[l] = if total > 0.0 {
+                        (1.0 - arc / total).max(0.0)
+                    } else {
+                        0.0
+                    };
+                    arc += seg;
+                }
+            }
+        }
+        Ok(s)
+    }
+
+    pub fn strand_count(&self) -> usize {
+        self.strand_count
+    }
+
+    pub fn verts_per_strand(&self) -> usize {
+        self.verts
+    }
+
+    /// Number of SIMD blocks (`ceil(strand_count / LANES)`).
+    pub fn block_count(&self) -> usize {
+        self.blocks
+    }
+
+    /// Real strands in block `b` (the rest of its lanes are inert padding).
+    pub fn lanes_in_block(&self, b: usize) -> usize {
+        (self.strand_count - b * LANES).min(LANES)
+    }
+
+    /// World position of the local origin that positions are relative to.
+    pub fn origin(&self) -> DVec3 {
+        self.origin
+    }
+
+    /// Block `b`'s current positions relative to [`Strands::origin`]: `V`
+    /// entries, root first, lane `l` = strand `b * LANES + l`. Padding lanes
+    /// repeat the block's last real strand.
+    pub fn block_positions_local(&self, b: usize) -> &[Vec3x8] {
+        &self.pos[b * self.verts..(b + 1) * self.verts]
+    }
+
+    /// Per block: all bits set in lanes holding a real strand (a `blend` mask).
+    pub fn block_active_mask(&self, b: usize) -> f32x8 {
+        self.active[b]
+    }
+
+    /// Current positions in world space, strand after strand, root first.
+    pub fn positions(&self) -> Vec<Vec3> {
+        let mut out = vec![Vec3::ZERO; self.strand_count * self.verts];
+        self.write_positions(&mut out);
+        out
+    }
+
+    /// Writes world positions into `out` (strand after strand, root first);
+    /// writes `min(out.len(), strand_count * V)` points.
+    pub fn write_positions(&self, out: &mut [Vec3]) {
+        let o = self.origin;
+        self.for_each_point(out, |p| (o + p.as_dvec3()).as_vec3());
+    }
+
+    /// Current positions relative to [`Strands::origin`], full f32 precision.
+    pub fn positions_local(&self) -> Vec<Vec3> {
+        let mut out = vec![Vec3::ZERO; self.strand_count * self.verts];
+        self.for_each_point(&mut out, |p| p);
+        out
+    }
+
+    fn for_each_point(&self, out: &mut [Vec3], f: impl Fn(Vec3) -> Vec3) {
+        for (k, slot) in out
+            .iter_mut()
+            .enumerate()
+            .take(self.strand_count * self.verts)
+        {
+            let (strand, v) = (k / self.verts, k % self.verts);
+            let (b, l) = (strand / LANES, strand % LANES);
+            *slot = f(self.pos[b * self.verts + v].lane(l));
+        }
+    }
+
+    /// Current world position of vertex `v` of strand `i` (None if out of range).
+    pub fn vertex(&self, i: usize, v: usize) -> Option<Vec3> {
+        (i < self.strand_count && v < self.verts).then(|| {
+            let p = self.pos[(i / LANES) * self.verts + v].lane(i % LANES);
+            (self.origin + p.as_dvec3()).as_vec3()
+        })
+    }
+
+    /// Rest length of segment `v -> v + 1` of strand `i`.
+    pub fn rest_length(&self, i: usize, v: usize) -> Option<f32> {
+        (i < self.strand_count && v + 1 < self.verts)
+            .then(|| self.rest_len[(i / LANES) * self.verts + v].as_array()[i % LANES])
+    }
+
+    /// Rest arc length from the root to the tip of strand `i`.
+    pub fn rest_strand_length(&self, i: usize) -> Option<f32> {
+        (i < self.strand_count)
+            .then(|| self.rest_arc[(i / LANES) * self.verts + self.verts - 1].as_array()[i % LANES])
+    }
+
+    /// Moves the pinned roots (one per strand, world space): skinning or head
+    /// motion. Rebases the local origin if the roots have wandered far.
+    pub fn set_roots(&mut self, roots: &[Vec3]) -> Result<(), Error> {
+        self.check_roots(roots)?;
+        let o = self.origin;
+        self.write_roots(roots.iter().map(|r| (r.as_dvec3() - o).as_vec3()));
+        self.rebase_if_far();
+        Ok(())
+    }
+
+    /// Like [`Strands::set_roots`], with roots relative to [`Strands::origin`].
+    pub fn set_roots_local(&mut self, roots_local: &[Vec3]) -> Result<(), Error> {
+        self.check_roots(roots_local)?;
+        self.write_roots(roots_local.iter().copied());
+        self.rebase_if_far();
+        Ok(())
+    }
+
+    fn check_roots(&self, roots: &[Vec3]) -> Result<(), Error> {
+        if roots.len() != self.strand_count {
+            return Err(Error::CountMismatch {
+                expected: self.strand_count,
+                got: roots.len(),
+            });
+        }
+        match roots.iter().position(|r| !r.is_finite()) {
+            Some(index) => Err(Error::NonFinite { index }),
+            None => Ok(()),
+        }
+    }
+
+    fn write_roots(&mut self, roots_local: impl Iterator<Item = Vec3>) {
+        let mut last = Vec3::ZERO;
+        for (i, r) in roots_local.enumerate() {
+            let k = (i / LANES) * self.verts;
+            self.pos[k].set_lane(i % LANES, r);
+            self.prev[k].set_lane(i % LANES, r);
+            last = r;
+            // Padding lanes follow the block's last strand.
+            if i + 1 == self.strand_count {
+                for l in i % LANES + 1..LANES {
+                    self.pos[k].set_lane(l, last);
+                    self.prev[k].set_lane(l, last);
+                }
+            }
+        }
+    }
+
+    fn rebase_if_far(&mut self) {
+        let mut sum = Vec3::ZERO;
+        for b in 0..self.blocks {
+            let root = self.pos[b * self.verts];
+            sum += root.lane(0);
+        }
+        let centre = sum / self.blocks as f32;
+        if centre.length() > REBASE_DISTANCE || !centre.is_finite() {
+            self.rebase(self.origin + centre.as_dvec3());
+        }
+    }
+
+    /// Moves the local origin to `new_origin` (world space) without moving
+    /// anything in the world. Called automatically when roots wander more
+    /// than 64 m from the origin.
+    pub fn rebase(&mut self, new_origin: DVec3) {
+        if !new_origin.is_finite() {
+            return;
+        }
+        let shift = Vec3x8::splat((new_origin - self.origin).as_vec3());
+        for p in self.pos.iter_mut().chain(self.prev.iter_mut()) {
+            *p = *p - shift;
+        }
+        self.origin = new_origin;
+    }
+
+    /// Moves the whole set rigidly by `xform` (world space), positions and
+    /// previous positions alike, so no velocity is injected: a teleport, a
+    /// cut in a cinematic, a respawn. `xform` must be rigid (rotation and
+    /// translation); the rest shape's orientation turns with it.
+    pub fn teleport(&mut self, xform: Affine3A) -> Result<(), Error> {
+        let cols = xform.to_cols_array();
+        if let Some(index) = cols.iter().position(|c| !c.is_finite()) {
+            return Err(Error::NonFinite { index });
+        }
+        let m = Mat3::from(xform.matrix3);
+        // local' = M local + (A(origin) - origin), the translation part in f64.
+        let moved_origin = xform.matrix3.as_dmat3() * self.origin + xform.translation.as_dvec3();
+        let t = (moved_origin - self.origin).as_vec3();
+        for p in self.pos.iter_mut().chain(self.prev.iter_mut()) {
+            for l in 0..LANES {
+                p.set_lane(l, m * p.lane(l) + t);
+            }
+        }
+        self.rest_rotation = m * self.rest_rotation;
+        self.rebase_if_far();
+        Ok(())
+    }
+
+    /// Orientation of the groom frame that the rest shape (used by
+    /// `shape_stiffness` and resets) is turned by: set it to the head's
+    /// rotation when the engine turns the head.
+    pub fn set_rest_rotation(&mut self, rotation: glam::Quat) -> Result<(), Error> {
+        if !rotation.is_finite() {
+            return Err(Error::NonFinite { index: 0 });
+        }
+        self.rest_rotation = Mat3::from_quat(rotation.normalize());
+        Ok(())
+    }
+
+    /// Puts every strand in its rest shape at its current root, at rest
+    /// (previous positions equal current ones).
+    pub fn reset_to_rest(&mut self) {
+        for i in 0..self.strand_count {
+            self.reset_strand(i / LANES, i % LANES);
+        }
+    }
+
+    /// Rest pose of one lane at its current root, zero velocity.
+    pub(crate) fn reset_strand(&mut self, b: usize, l: usize) {
+        let base = b * self.verts;
+        let root = self.pos[base].lane(l);
+        for v in 0..self.verts {
+            let p = root + self.rest_rotation * self.rest_offset[base + v].lane(l);
+            self.pos[base + v].set_lane(l, p);
+            self.prev[base + v].set_lane(l, p);
+        }
+    }
+
+    /// Gives every free vertex the velocity `v` (m/s) for a step of `dt`
+    /// seconds, by moving its previous position to `x - v dt`.
+    pub fn set_velocity(&mut self, v: Vec3, dt: f32) {
+        let d = v * dt;
+        for i in 0..self.pos.len() {
+            let free =
+                self.inv_mass[i].simd_lt(f32x8::ZERO) | f32x8::ZERO.simd_lt(self.inv_mass[i]);
+            let moved = self.pos[i] - Vec3x8::splat(d);
+            self.prev[i] = Vec3x8::select(free, moved, self.pos[i]);
+        }
+    }
+
+    /// Strands restored to their rest pose because they went non-finite (or
+    /// absurdly far), since creation.
+    pub fn restored_strands(&self) -> u64 {
+        self.restored
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn line(n_strands: usize, verts: usize, offset: Vec3) -> Vec<Vec3> {
+        (0..n_strands)
+            .flat_map(|s| {
+                (0..verts)
+                    .map(move |v| offset + Vec3::new(s as f32 * 0.01, -(v as f32) * 0.02, 0.0))
+            })
+            .collect()
+    }
+
+    #[test]
+    fn round_trips_positions_in_input_order() {
+        for n in [1, 7, 8, 9, 17] {
+            let pts = line(n, 5, Vec3::new(1.0, 2.0, 3.0));
+            let s = Strands::from_polylines(&pts, 5).unwrap();
+            assert_eq!(s.strand_count(), n);
+            assert_eq!(s.verts_per_strand(), 5);
+            assert_eq!(s.block_count(), n.div_ceil(8));
+            let back = s.positions();
+            for (a, b) in pts.iter().zip(&back) {
+                assert!((*a - *b).length() < 1e-6, "{a} vs {b}");
+            }
+            assert!((s.rest_length(0, 0).unwrap() - 0.02).abs() < 1e-6);
+            assert!((s.rest_strand_length(n - 1).unwrap() - 0.08).abs() < 1e-6);
+        }
+    }
+
+    #[test]
+    fn rejects_bad_input() {
+        let pts = line(2, 4, Vec3::ZERO);
+        assert_eq!(
+            Strands::from_polylines(&pts, 1).unwrap_err(),
+            Error::TooFewVertices {
+                verts_per_strand: 1
+            }
+        );
+        assert!(matches!(
+            Strands::from_polylines(&pts, 3),
+            Err(Error::NotWholeStrands { .. })
+        ));
+        assert_eq!(
+            Strands::from_polylines(&[], 4).unwrap_err(),
+            Error::NoStrands
+        );
+        let mut nan = pts.clone();
+        nan[5].y = f32::NAN;
+        assert_eq!(
+            Strands::from_polylines(&nan, 4).unwrap_err(),
+            Error::NonFinite { index: 5 }
+        );
+        let mut s = Strands::from_polylines(&pts, 4).unwrap();
+        assert!(matches!(
+            s.set_roots(&[Vec3::ZERO]),
+            Err(Error::CountMismatch {
+                expected: 2,
+                got: 1
+            })
+        ));
+        assert!(matches!(
+            s.set_roots(&[Vec3::ZERO, Vec3::NAN]),
+            Err(Error::NonFinite { index: 1 })
+        ));
+        assert!(s
+            .teleport(Affine3A::from_translation(Vec3::new(
+                f32::INFINITY,
+                0.0,
+                0.0
+            )))
+            .is_err());
+    }
+
+    #[test]
+    fn far_origin_keeps_precision() {
+        let far = Vec3::new(10_000.0, 0.0, -10_000.0);
+        let s = Strands::from_polylines(&line(3, 4, far), 4).unwrap();
+        let local = s.positions_local();
+        // Local coordinates are small, so millimetre detail survives.
+        assert!(local.iter().all(|p| p.length() < 1.0));
+        assert!((s.origin().x - 10_000.0).abs() < 1.0);
+    }
+
+    #[test]
+    fn teleport_moves_rigidly_and_keeps_velocity_zero() {
+        let pts = line(9, 4, Vec3::ZERO);
+        let mut s = Strands::from_polylines(&pts, 4).unwrap();
+        let xf = Affine3A::from_rotation_translation(
+            glam::Quat::from_rotation_y(0.7),
+            Vec3::new(10.0, 0.0, 0.0),
+        );
+        s.teleport(xf).unwrap();
+        for (a, b) in pts.iter().zip(s.positions()) {
+            assert!((xf.transform_point3(*a) - b).length() < 1e-4);
+        }
+        assert!(s.pos.iter().zip(&s.prev).all(|(p, q)| p == q));
+        // Resetting after the teleport keeps the rotated rest shape.
+        s.reset_to_rest();
+        for (a, b) in pts.iter().zip(s.positions()) {
+            assert!((xf.transform_point3(*a) - b).length() < 1e-4);
+        }
+    }
+
+    #[test]
+    fn rebase_is_invisible_in_world_space() {
+        let mut s = Strands::from_polylines(&line(3, 4, Vec3::ZERO), 4).unwrap();
+        let before = s.positions();
+        s.rebase(DVec3::new(100.0, -3.0, 0.5));
+        for (a, b) in before.iter().zip(s.positions()) {
+            assert!((*a - b).length() < 1e-5);
+        }
+        let roots: Vec<Vec3> = (0..3)
+            .map(|i| Vec3::new(500.0 + i as f32, 0.0, 0.0))
+            .collect();
+        s.set_roots(&roots).unwrap();
+        assert!(
+            (s.origin().x - 501.0).abs() < 2.0,
+            "rebased near the roots: {}",
+            s.origin()
+        );
+        assert!((s.vertex(2, 0).unwrap() - roots[2]).length() < 1e-4);
+    }
+}

@@ -1,0 +1,1 @@
+//! coif-lod: refinement, interpolation, fits, level of detail.

@@ -1,0 +1,1 @@
+//! coif-shading: hair shading models and lookup tables.
