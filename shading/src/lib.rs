@@ -1,1 +1,7 @@
-//! coif-shading: hair shading models and lookup tables.
+//! coif-shading: hair shading models (Kajiya-Kay, Marschner 2003 and its
+//! factored lookup tables, pbrt-v3's hair BSDF as the accuracy yardstick),
+//! evaluated per sample (scalar) and in SIMD batches over [`ShadingSamples`].
+
+pub mod samples;
+
+pub use samples::{RgbBuffer, ShadingSamples};

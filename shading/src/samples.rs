@@ -1,0 +1,173 @@
+//! Shading sample batches in structure-of-arrays form, and their RGB output.
+//!
+//! Every batch shading path (Kajiya-Kay, Marschner tables, pbrt tables) reads
+//! a [`ShadingSamples`] and writes an [`RgbBuffer`] that the caller owns and
+//! reuses frame after frame: `clear` + `push` (or direct writes to the public
+//! arrays) never reallocate once the capacity has been reached.
+
+use coif_kernels::{Vec3x8, LANES};
+use glam::Vec3;
+use wide::f32x8;
+
+/// Per-sample unit tangent `t` (root to tip), unit direction toward the
+/// light `wi` and unit direction toward the viewer `wo`, one array per
+/// component so that eight samples load as three `f32x8` registers.
+#[derive(Clone, Debug, Default)]
+pub struct ShadingSamples {
+    pub t: [Vec<f32>; 3],
+    pub wi: [Vec<f32>; 3],
+    pub wo: [Vec<f32>; 3],
+}
+
+impl ShadingSamples {
+    pub fn with_capacity(n: usize) -> Self {
+        let v = || {
+            [
+                Vec::with_capacity(n),
+                Vec::with_capacity(n),
+                Vec::with_capacity(n),
+            ]
+        };
+        ShadingSamples {
+            t: v(),
+            wi: v(),
+            wo: v(),
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.t[0].len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Empties the batch, keeping its capacity.
+    pub fn clear(&mut self) {
+        for a in self
+            .t
+            .iter_mut()
+            .chain(self.wi.iter_mut())
+            .chain(self.wo.iter_mut())
+        {
+            a.clear();
+        }
+    }
+
+    pub fn push(&mut self, t: Vec3, wi: Vec3, wo: Vec3) {
+        for (dst, v) in [(&mut self.t, t), (&mut self.wi, wi), (&mut self.wo, wo)] {
+            dst[0].push(v.x);
+            dst[1].push(v.y);
+            dst[2].push(v.z);
+        }
+    }
+
+    /// Sample `i` as (t, wi, wo).
+    pub fn get(&self, i: usize) -> (Vec3, Vec3, Vec3) {
+        let g = |a: &[Vec<f32>; 3]| Vec3::new(a[0][i], a[1][i], a[2][i]);
+        (g(&self.t), g(&self.wi), g(&self.wo))
+    }
+
+    /// Samples `start .. start + LANES` as lanes (t, wi, wo). Lanes past the
+    /// end are padded with a harmless valid configuration (t = x, wi = wo = y)
+    /// so that padding never produces NaN.
+    #[inline]
+    pub fn load_block(&self, start: usize) -> (Vec3x8, Vec3x8, Vec3x8) {
+        let n = self.len();
+        let load = |a: &[Vec<f32>; 3], pad: Vec3| {
+            let one = |c: &Vec<f32>, p: f32| {
+                if start + LANES <= n {
+                    f32x8::new(c[start..start + LANES].try_into().expect("LANES values"))
+                } else {
+                    coif_kernels::lanes::load_padded(&c[start.min(n)..n], p)
+                }
+            };
+            Vec3x8::new(one(&a[0], pad.x), one(&a[1], pad.y), one(&a[2], pad.z))
+        };
+        (
+            load(&self.t, Vec3::X),
+            load(&self.wi, Vec3::Y),
+            load(&self.wo, Vec3::Y),
+        )
+    }
+}
+
+/// Caller-owned RGB output, one array per channel.
+#[derive(Clone, Debug, Default)]
+pub struct RgbBuffer {
+    pub r: Vec<f32>,
+    pub g: Vec<f32>,
+    pub b: Vec<f32>,
+}
+
+impl RgbBuffer {
+    /// A buffer of `n` zeros.
+    pub fn zeros(n: usize) -> Self {
+        RgbBuffer {
+            r: vec![0.0; n],
+            g: vec![0.0; n],
+            b: vec![0.0; n],
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.r.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.r.is_empty()
+    }
+
+    /// Resizes to `n` samples (allocates only when growing past capacity).
+    pub fn resize(&mut self, n: usize) {
+        self.r.resize(n, 0.0);
+        self.g.resize(n, 0.0);
+        self.b.resize(n, 0.0);
+    }
+
+    pub fn get(&self, i: usize) -> Vec3 {
+        Vec3::new(self.r[i], self.g[i], self.b[i])
+    }
+
+    pub fn set(&mut self, i: usize, v: Vec3) {
+        self.r[i] = v.x;
+        self.g[i] = v.y;
+        self.b[i] = v.z;
+    }
+
+    /// Writes lanes of `v` to samples `start ..`, stopping at the end.
+    #[inline]
+    pub fn store_block(&mut self, start: usize, v: Vec3x8) {
+        let n = (self.len().saturating_sub(start)).min(LANES);
+        for (dst, src) in [(&mut self.r, v.x), (&mut self.g, v.y), (&mut self.b, v.z)] {
+            dst[start..start + n].copy_from_slice(&src.as_array()[..n]);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn blocks_round_trip_with_padding() {
+        let mut s = ShadingSamples::default();
+        for i in 0..11 {
+            s.push(
+                Vec3::new(i as f32, 0.0, 0.0),
+                Vec3::Z,
+                Vec3::new(0.0, 0.0, -(i as f32)),
+            );
+        }
+        let (t, wi, wo) = s.load_block(8);
+        assert_eq!(t.lane(2), Vec3::new(10.0, 0.0, 0.0));
+        assert_eq!(t.lane(3), Vec3::X, "padding is a valid direction");
+        assert_eq!(wi.lane(0), Vec3::Z);
+        assert_eq!(wo.lane(1), Vec3::new(0.0, 0.0, -9.0));
+        let mut out = RgbBuffer::zeros(11);
+        out.store_block(8, t);
+        assert_eq!(out.get(10), Vec3::splat(10.0) * Vec3::new(1.0, 0.0, 0.0));
+        assert_eq!(out.len(), 11);
+    }
+}
