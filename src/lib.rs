@@ -1,4 +1,11 @@
 //! coif: structure-of-arrays SIMD kernels for real-time hair.
+//!
+//! The data flow of a frame: geometry ([`scene`]) -> dynamics
+//! ([`kernels`]: Verlet, constraints, collisions) -> LOD ([`lod`]) ->
+//! shading ([`shading`]).
+
 pub use coif_kernels as kernels;
 pub use coif_lod as lod;
 pub use coif_shading as shading;
+
+pub mod scene;

@@ -5,7 +5,7 @@
 //! once with no gathers or shuffles.
 
 use glam::Vec3;
-use wide::{f32x8, CmpGt};
+use wide::f32x8;
 
 /// Strands (or samples) per SIMD block: the width of [`f32x8`].
 pub const LANES: usize = 8;
@@ -83,9 +83,9 @@ impl Vec3x8 {
     #[inline(always)]
     pub fn select(mask: f32x8, a: Vec3x8, b: Vec3x8) -> Vec3x8 {
         Vec3x8 {
-            x: mask.blend(a.x, b.x),
-            y: mask.blend(a.y, b.y),
-            z: mask.blend(a.z, b.z),
+            x: mask.select(a.x, b.x),
+            y: mask.select(a.y, b.y),
+            z: mask.select(a.z, b.z),
         }
     }
 

@@ -6,13 +6,21 @@
 //! the sphere rig -> `iterations` sweeps of (length and bending constraints,
 //! strain limit, sphere and pearl collisions) -> non-finite strands restored.
 
+mod broad_phase;
 mod error;
+mod fixed_step;
 pub mod lanes;
+pub mod measure;
 mod params;
 pub mod rng;
+pub mod scalar;
+mod step;
 mod strands;
 
 pub use error::Error;
+pub use fixed_step::FixedStep;
 pub use lanes::{Vec3x8, LANES};
+pub use measure::{measure, Measures};
 pub use params::{SimParams, Sphere, MAX_PEARLS_PER_SEGMENT};
+pub use step::step;
 pub use strands::Strands;

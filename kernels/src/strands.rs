@@ -14,7 +14,7 @@
 use crate::lanes::{Vec3x8, LANES};
 use crate::Error;
 use glam::{Affine3A, DVec3, Mat3, Vec3};
-use wide::{f32x8, CmpLt};
+use wide::f32x8;
 
 /// Local coordinates beyond this distance from the origin trigger a rebase
 /// in `set_roots` (f32 spacing at 64 m is 7.6e-6 m).
@@ -46,6 +46,8 @@ pub struct Strands {
     pub(crate) shape_weight: Vec<f32x8>,
     /// Per block: all bits set in lanes that hold a real strand.
     pub(crate) active: Vec<f32x8>,
+    /// Longest rest segment of the set (the broad phase's slack).
+    pub(crate) max_rest_segment: f32,
     /// Rotation applied to `rest_offset` (the groom frame's orientation).
     pub(crate) rest_rotation: Mat3,
     /// Strands restored to rest after going non-finite, since creation.
@@ -108,6 +110,7 @@ impl Strands {
             rest_arc: vec![f32x8::ZERO; n],
             shape_weight: vec![f32x8::ZERO; n],
             active: Vec::with_capacity(blocks),
+            max_rest_segment: 0.0,
             rest_rotation: Mat3::IDENTITY,
             restored: 0,
             scratch: Scratch::default(),
@@ -139,6 +142,7 @@ impl Strands {
                         0.0
                     };
                     s.rest_len[i].as_mut_array()[l] = seg;
+                    s.max_rest_segment = s.max_rest_segment.max(seg);
                     s.bend_len[i].as_mut_array()[l] = if v + 2 < verts {
                         (pts[v + 2] - pts[v]).length()
                     } else {
@@ -187,7 +191,7 @@ impl Strands {
         &self.pos[b * self.verts..(b + 1) * self.verts]
     }
 
-    /// Per block: all bits set in lanes holding a real strand (a `blend` mask).
+    /// Per block: all bits set in lanes holding a real strand (a `select` mask).
     pub fn block_active_mask(&self, b: usize) -> f32x8 {
         self.active[b]
     }
@@ -277,18 +281,17 @@ impl Strands {
     }
 
     fn write_roots(&mut self, roots_local: impl Iterator<Item = Vec3>) {
-        let mut last = Vec3::ZERO;
         for (i, r) in roots_local.enumerate() {
             let k = (i / LANES) * self.verts;
-            self.pos[k].set_lane(i % LANES, r);
-            self.prev[k].set_lane(i % LANES, r);
-            last = r;
-            // Padding lanes follow the block's last strand.
-            if i + 1 == self.strand_count {
-                for l in i % LANES + 1..LANES {
-                    self.pos[k].set_lane(l, last);
-                    self.prev[k].set_lane(l, last);
-                }
+            // Padding lanes after the last strand follow it.
+            let lanes = if i + 1 == self.strand_count {
+                i % LANES..LANES
+            } else {
+                i % LANES..i % LANES + 1
+            };
+            for l in lanes {
+                self.pos[k].set_lane(l, r);
+                self.prev[k].set_lane(l, r);
             }
         }
     }

@@ -1,0 +1,152 @@
+//! Broad phase: which rig spheres can touch a block of eight strands.
+//!
+//! Users of TressFX and Unity's hair ask for rigs of hundreds of spheres
+//! (DESIGN.md section 4). Each block's bounding box, grown by the pearl
+//! radius plus a slack of one rest segment (how far a constraint sweep can
+//! reasonably carry a vertex after the box was taken), is tested against
+//! every sphere once per step; only the spheres that can touch it enter the
+//! block's narrow phase. A non-finite sphere never passes the test.
+
+use crate::lanes::{Vec3x8, LANES};
+use crate::Sphere;
+use glam::{DVec3, Vec3};
+use wide::f32x8;
+
+/// An axis-aligned box in local coordinates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Aabb {
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
+impl Aabb {
+    pub(crate) fn union(self, o: Aabb) -> Aabb {
+        Aabb {
+            min: self.min.min(o.min),
+            max: self.max.max(o.max),
+        }
+    }
+}
+
+/// Converts the rig to local coordinates (centre relative to `origin`, radius).
+pub(crate) fn spheres_to_local(spheres: &[Sphere], origin: DVec3, out: &mut Vec<[f32; 4]>) {
+    out.clear();
+    out.extend(spheres.iter().map(|s| {
+        let c = (s.center.as_dvec3() - origin).as_vec3();
+        [c.x, c.y, c.z, s.radius]
+    }));
+}
+
+/// Bounding box of the active lanes of one block (SIMD: lane-wise min/max over
+/// the vertices, then across lanes). Inactive lanes are masked to +-inf.
+pub(crate) fn block_aabb(pos: &[Vec3x8], active: f32x8) -> Aabb {
+    let inf = f32x8::splat(f32::INFINITY);
+    let (mut lo, mut hi) = (
+        Vec3x8::splat(Vec3::INFINITY),
+        Vec3x8::splat(Vec3::NEG_INFINITY),
+    );
+    for p in pos {
+        lo = Vec3x8::new(
+            lo.x.min(active.select(p.x, inf)),
+            lo.y.min(active.select(p.y, inf)),
+            lo.z.min(active.select(p.z, inf)),
+        );
+        hi = Vec3x8::new(
+            hi.x.max(active.select(p.x, -inf)),
+            hi.y.max(active.select(p.y, -inf)),
+            hi.z.max(active.select(p.z, -inf)),
+        );
+    }
+    let fold = |v: f32x8, f: fn(f32, f32) -> f32, init: f32| v.to_array().into_iter().fold(init, f);
+    Aabb {
+        min: Vec3::new(
+            fold(lo.x, f32::min, f32::INFINITY),
+            fold(lo.y, f32::min, f32::INFINITY),
+            fold(lo.z, f32::min, f32::INFINITY),
+        ),
+        max: Vec3::new(
+            fold(hi.x, f32::max, f32::NEG_INFINITY),
+            fold(hi.y, f32::max, f32::NEG_INFINITY),
+            fold(hi.z, f32::max, f32::NEG_INFINITY),
+        ),
+    }
+}
+
+/// The same box, one lane and one vertex at a time (the scalar twin).
+pub(crate) fn block_aabb_scalar(pos: &[Vec3x8], lanes: usize) -> Aabb {
+    let mut b = Aabb {
+        min: Vec3::INFINITY,
+        max: Vec3::NEG_INFINITY,
+    };
+    for l in 0..lanes.min(LANES) {
+        for p in pos {
+            let q = p.lane(l);
+            b.min = Vec3::new(b.min.x.min(q.x), b.min.y.min(q.y), b.min.z.min(q.z));
+            b.max = Vec3::new(b.max.x.max(q.x), b.max.y.max(q.y), b.max.z.max(q.z));
+        }
+    }
+    b
+}
+
+/// Writes into `out` the indices of the spheres whose distance to `aabb` is at
+/// most their radius plus `margin`.
+pub(crate) fn select_candidates(aabb: Aabb, margin: f32, spheres: &[[f32; 4]], out: &mut Vec<u32>) {
+    out.clear();
+    for (k, s) in spheres.iter().enumerate() {
+        let c = Vec3::new(s[0], s[1], s[2]);
+        let below = (aabb.min - c).max(Vec3::ZERO);
+        let above = (c - aabb.max).max(Vec3::ZERO);
+        let gap = below + above;
+        let reach = s[3] + margin;
+        // Written so that NaN anywhere fails the test.
+        if gap.length_squared() <= reach * reach && s[3] >= 0.0 {
+            out.push(k as u32);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn candidates_are_the_spheres_near_the_box() {
+        let aabb = Aabb {
+            min: Vec3::ZERO,
+            max: Vec3::ONE,
+        };
+        let spheres = [
+            [0.5, 0.5, 0.5, 0.1],  // inside
+            [2.0, 0.5, 0.5, 0.5],  // 1.0 away, radius 0.5: out
+            [2.0, 0.5, 0.5, 0.95], // 1.0 away, radius 0.95 + margin 0.1: in
+            [2.0, 2.0, 2.0, 1.0],  // corner distance sqrt(3) > 1.1: out
+            [f32::NAN, 0.0, 0.0, 1.0],
+            [0.5, 0.5, 0.5, f32::NAN],
+        ];
+        let mut out = Vec::new();
+        select_candidates(aabb, 0.1, &spheres, &mut out);
+        assert_eq!(out, vec![0, 2]);
+    }
+
+    #[test]
+    fn simd_and_scalar_boxes_agree_and_ignore_padding() {
+        let mut pos = vec![Vec3x8::ZERO; 3];
+        for (v, p) in pos.iter_mut().enumerate() {
+            for l in 0..LANES {
+                let far = if l >= 5 { 1000.0 } else { 0.0 };
+                p.set_lane(l, Vec3::new(l as f32 + far, -(v as f32), 0.5 * l as f32));
+            }
+        }
+        let active = f32x8::new(std::array::from_fn(|l| {
+            if l < 5 {
+                f32::from_bits(!0)
+            } else {
+                0.0
+            }
+        }));
+        let a = block_aabb(&pos, active);
+        assert_eq!(a, block_aabb_scalar(&pos, 5));
+        assert_eq!(a.min, Vec3::new(0.0, -2.0, 0.0));
+        assert_eq!(a.max, Vec3::new(4.0, 0.0, 2.0));
+    }
+}

@@ -1,0 +1,90 @@
+//! Fixed-step accumulator: Verlet as written needs a constant dt (the
+//! `x - x_prev` term is a velocity times the *previous* dt), so a variable
+//! frame time is turned into whole substeps of the fixed dt (Fiedler, "Fix
+//! your timestep"), with a cap so a long hitch cannot spiral.
+
+use crate::Error;
+
+/// Turns frame times into a whole number of fixed substeps.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FixedStep {
+    dt: f32,
+    max_substeps: u32,
+    accumulated: f32,
+}
+
+impl FixedStep {
+    /// `dt`: the fixed step (> 0); `max_substeps`: at most this many steps per
+    /// frame (>= 1); time beyond it is dropped (the hair slows down rather
+    /// than the frame rate collapsing).
+    pub fn new(dt: f32, max_substeps: u32) -> Result<Self, Error> {
+        if !(dt > 0.0 && dt.is_finite()) {
+            return Err(Error::InvalidParameter {
+                name: "dt",
+                value: dt,
+                expected: "a finite dt > 0",
+            });
+        }
+        if max_substeps == 0 {
+            return Err(Error::InvalidParameter {
+                name: "max_substeps",
+                value: 0.0,
+                expected: ">= 1",
+            });
+        }
+        Ok(FixedStep {
+            dt,
+            max_substeps,
+            accumulated: 0.0,
+        })
+    }
+
+    pub fn dt(&self) -> f32 {
+        self.dt
+    }
+
+    /// Adds a frame's time and returns how many fixed steps to run now.
+    /// Negative or non-finite frame times count as 0.
+    pub fn advance(&mut self, frame_time: f32) -> u32 {
+        if frame_time.is_finite() && frame_time > 0.0 {
+            self.accumulated += frame_time;
+        }
+        let steps = (self.accumulated / self.dt).floor();
+        let steps = if steps >= self.max_substeps as f32 {
+            self.max_substeps
+        } else {
+            steps as u32
+        };
+        self.accumulated = (self.accumulated - steps as f32 * self.dt).clamp(0.0, self.dt);
+        steps
+    }
+
+    /// Fraction of a step left over, in [0, 1]: for interpolating the drawn
+    /// pose between the last two steps.
+    pub fn remainder(&self) -> f32 {
+        (self.accumulated / self.dt).clamp(0.0, 1.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn whole_steps_and_cap() {
+        let mut f = FixedStep::new(0.01, 4).unwrap();
+        assert_eq!(f.advance(0.025), 2);
+        assert!((f.remainder() - 0.5).abs() < 1e-3);
+        assert_eq!(f.advance(0.005), 1);
+        assert_eq!(f.advance(1.0), 4, "capped");
+        assert!(f.remainder() <= 1.0);
+        assert_eq!(f.advance(f32::NAN), 0);
+        assert_eq!(f.advance(-1.0), 0);
+        // 60 frames of 1/60 s at dt 1/120: 120 steps in all.
+        let mut g = FixedStep::new(1.0 / 120.0, 8).unwrap();
+        let total: u32 = (0..60).map(|_| g.advance(1.0 / 60.0)).sum();
+        assert!((119..=120).contains(&total), "{total}");
+        assert!(FixedStep::new(0.0, 1).is_err());
+        assert!(FixedStep::new(0.1, 0).is_err());
+    }
+}

@@ -1,0 +1,224 @@
+//! The scalar reference of the simulation step: the same algorithm as
+//! [`crate::step`], in the same order, one strand (lane) at a time, with
+//! plain `f32` arithmetic and no SIMD. Tests compare the two; benchmarks run
+//! them side by side. Blocks are grouped as in the SIMD path only so that the
+//! broad phase sees the same boxes and picks the same spheres.
+
+use crate::broad_phase::{block_aabb_scalar, select_candidates, spheres_to_local};
+use crate::step::{restore_lanes, StepSetup, BLOWN_UP, GROUP, MIN_LENGTH};
+use crate::{SimParams, Sphere, Strands};
+use glam::{Mat3, Vec3};
+
+/// Advances every strand by one fixed step of `params.dt`, one lane at a time.
+pub fn step(strands: &mut Strands, params: &SimParams, spheres: &[Sphere]) {
+    let setup = StepSetup::new(strands, params);
+    let mut scratch = std::mem::take(&mut strands.scratch);
+    spheres_to_local(spheres, strands.origin, &mut scratch.spheres_local);
+    let verts = strands.verts;
+    let mut first = 0;
+    while first < strands.blocks {
+        let n = GROUP.min(strands.blocks - first);
+        for b in first..first + n {
+            for l in 0..strands.lanes_in_block(b) {
+                integrate_lane(strands, &setup, b, l);
+            }
+        }
+        let mut aabb = block_aabb_scalar(
+            &strands.pos[first * verts..(first + 1) * verts],
+            strands.lanes_in_block(first),
+        );
+        for b in first + 1..first + n {
+            aabb = aabb.union(block_aabb_scalar(
+                &strands.pos[b * verts..(b + 1) * verts],
+                strands.lanes_in_block(b),
+            ));
+        }
+        select_candidates(
+            aabb,
+            setup.margin,
+            &scratch.spheres_local,
+            &mut scratch.candidates,
+        );
+        let mut bad = [0u32; GROUP];
+        for (g, bits) in bad.iter_mut().enumerate().take(n) {
+            for l in 0..strands.lanes_in_block(first + g) {
+                if !solve_lane(
+                    strands,
+                    &setup,
+                    first + g,
+                    l,
+                    &scratch.spheres_local,
+                    &scratch.candidates,
+                ) {
+                    *bits |= 1 << l;
+                }
+            }
+        }
+        restore_lanes(strands, first, &bad);
+        first += n;
+    }
+    strands.scratch = scratch;
+}
+
+/// One strand's vertices, read and written through its lane.
+struct Lane<'a> {
+    s: &'a mut Strands,
+    base: usize,
+    l: usize,
+}
+
+impl Lane<'_> {
+    fn x(&self, v: usize) -> Vec3 {
+        self.s.pos[self.base + v].lane(self.l)
+    }
+    fn set_x(&mut self, v: usize, p: Vec3) {
+        self.s.pos[self.base + v].set_lane(self.l, p);
+    }
+    fn w(&self, v: usize) -> f32 {
+        self.s.inv_mass[self.base + v].as_array()[self.l]
+    }
+    fn get(&self, a: &[wide::f32x8], v: usize) -> f32 {
+        a[self.base + v].as_array()[self.l]
+    }
+}
+
+fn dot(a: Vec3, b: Vec3) -> f32 {
+    a.x * b.x + a.y * b.y + a.z * b.z
+}
+
+/// `m * v` as `x_axis v.x + y_axis v.y + z_axis v.z`, the SIMD path's order.
+fn rotate(m: &Mat3, v: Vec3) -> Vec3 {
+    m.x_axis * v.x + m.y_axis * v.y + m.z_axis * v.z
+}
+
+fn integrate_lane(s: &mut Strands, k: &StepSetup, b: usize, l: usize) {
+    let base = b * s.verts;
+    let n = s.verts;
+    let mut lane = Lane { s, base, l };
+    for v in 0..n {
+        let x = lane.x(v);
+        let p = lane.s.prev[base + v].lane(l);
+        if lane.w(v) > 0.0 {
+            lane.set_x(v, x + (x - p) * k.damping + k.gravity_dt2);
+        }
+        lane.s.prev[base + v].set_lane(l, x);
+    }
+    if k.shape > 0.0 {
+        let root = lane.x(0);
+        for v in 1..n {
+            if lane.w(v) > 0.0 {
+                let target = root + rotate(&k.rest_rotation, lane.s.rest_offset[base + v].lane(l));
+                let x = lane.x(v);
+                let weight = lane.get(&lane.s.shape_weight, v);
+                lane.set_x(v, x + (target - x) * (k.shape * weight));
+            }
+        }
+    }
+}
+
+/// Constraint sweeps, strain limit and collisions of one lane; false if the
+/// lane blew up (non-finite or beyond [`BLOWN_UP`]).
+fn solve_lane(
+    s: &mut Strands,
+    k: &StepSetup,
+    b: usize,
+    l: usize,
+    spheres: &[[f32; 4]],
+    candidates: &[u32],
+) -> bool {
+    let base = b * s.verts;
+    let n = s.verts;
+    let mut lane = Lane { s, base, l };
+    for _ in 0..k.iterations {
+        for v in 0..n - 1 {
+            let rest = lane.get(&lane.s.rest_len, v);
+            distance_constraint(&mut lane, v, v + 1, rest, 1.0);
+            if k.bend > 0.0 && v + 2 < n {
+                let rest = lane.get(&lane.s.bend_len, v);
+                distance_constraint(&mut lane, v, v + 2, rest, k.bend);
+            }
+        }
+        for &c in candidates {
+            collide_sphere(&mut lane, spheres[c as usize], k);
+        }
+    }
+    strain_limit(&mut lane, k.stretch_factor);
+    for &c in candidates {
+        collide_sphere(&mut lane, spheres[c as usize], k);
+    }
+    (0..n).all(|v| {
+        let p = lane.x(v);
+        p.x.abs() < BLOWN_UP && p.y.abs() < BLOWN_UP && p.z.abs() < BLOWN_UP
+    })
+}
+
+fn distance_constraint(lane: &mut Lane, i: usize, j: usize, rest: f32, stiffness: f32) {
+    let (wi, wj) = (lane.w(i), lane.w(j));
+    let w_sum = wi + wj;
+    if !(w_sum > 0.0) {
+        return;
+    }
+    let (xi, xj) = (lane.x(i), lane.x(j));
+    let delta = xj - xi;
+    let len = dot(delta, delta).sqrt();
+    let c = stiffness * (len - rest) / (len.max(MIN_LENGTH) * w_sum);
+    lane.set_x(i, xi + delta * (wi * c));
+    lane.set_x(j, xj - delta * (wj * c));
+}
+
+fn strain_limit(lane: &mut Lane, factor: f32) {
+    for v in 1..lane.s.verts {
+        let (parent, x) = (lane.x(v - 1), lane.x(v));
+        let d = x - parent;
+        let len = dot(d, d).sqrt();
+        let limit = lane.get(&lane.s.rest_len, v - 1) * factor;
+        if len > limit && lane.w(v) > 0.0 {
+            let moved = parent + d * (limit / len);
+            lane.set_x(v, moved);
+        }
+    }
+}
+
+/// Outward unit normal `d / dist`, or +y where the point sits on the centre.
+fn outward(d: Vec3, dist: f32) -> Vec3 {
+    if dist > 1e-20 {
+        d * (1.0 / dist.max(1e-20))
+    } else {
+        Vec3::Y
+    }
+}
+
+fn collide_sphere(lane: &mut Lane, sphere: [f32; 4], k: &StepSetup) {
+    let centre = Vec3::new(sphere[0], sphere[1], sphere[2]);
+    let reach = sphere[3] + k.pearl_radius;
+    let reach2 = reach * reach;
+    let n = lane.s.verts;
+    for v in 0..n {
+        let x = lane.x(v);
+        let d = x - centre;
+        let d2 = dot(d, d);
+        if d2 < reach2 && lane.w(v) > 0.0 {
+            let dist = d2.sqrt();
+            lane.set_x(v, x + outward(d, dist) * (reach - dist));
+        }
+    }
+    for j in 1..=k.pearls {
+        let t = k.pearl_t(j);
+        let u = 1.0 - t;
+        for v in 0..n - 1 {
+            let (xi, xj) = (lane.x(v), lane.x(v + 1));
+            let (wi, wj) = (lane.w(v), lane.w(v + 1));
+            let p = xi * u + xj * t;
+            let d = p - centre;
+            let d2 = dot(d, d);
+            let denom = wi * (u * u) + wj * (t * t);
+            if d2 < reach2 && wi > 0.0 && wj > 0.0 {
+                let dist = d2.sqrt();
+                let normal = outward(d, dist);
+                let s = (reach - dist) / denom;
+                lane.set_x(v, xi + normal * (wi * u * s));
+                lane.set_x(v + 1, xj + normal * (wj * t * s));
+            }
+        }
+    }
+}

@@ -1,0 +1,338 @@
+//! One fixed simulation step, SIMD path: eight strands per instruction stream.
+//!
+//! Per block of [`LANES`] strands, in this order (DESIGN.md section 4):
+//!
+//! 1. **Verlet** with damping (Yip 2011):
+//!    `x' = x + d (x - x_prev) + g dt^2`; pinned vertices (inverse mass 0) stay.
+//! 2. **Shape keeping** (optional): `x += k w_v (root + R rest_v - x)` with
+//!    `w_v = 1 - arc(v)/arc(tip)`, strongest at the root (Yip; TressFX).
+//! 3. **Broad phase**: the block's bounding box against every rig sphere.
+//! 4. `iterations` times:
+//!    - Gauss-Seidel sweep root to tip of the mass-weighted length constraint
+//!      (Jakobsen 2001): `delta = x2 - x1`, `c = (|delta| - l) / (max(|delta|, 1e-7) (w1 + w2))`,
+//!      `x1 += w1 c delta`, `x2 -= w2 c delta`; with bending on, the same rule
+//!      between v and v + 2 scaled by `bend_stiffness` right after segment v;
+//!    - **collisions** with each candidate sphere (c, R): every vertex is pushed
+//!      to distance `R + r`; then every pearl `p = (1-t) x_i + t x_{i+1}`,
+//!      `t = j/(k+1)`, by the point-on-segment rule (Nalu; DESIGN.md):
+//!      `C = |p - c| - (R + r)`, `s = -C / (w_i (1-t)^2 + w_{i+1} t^2)`,
+//!      `x_i += w_i (1-t) s n`, `x_{i+1} += w_{i+1} t s n`. Segments with a
+//!      pinned end carry no pearls: the root sits on the scalp, inside the
+//!      collision skin, and a pearl there would push against the pin every
+//!      step (measured: 5 m/s jitter at the tips with 1 iteration).
+//!
+//!    Then, after the sweeps (DESIGN.md), the **strain limit** root to tip,
+//!    `|x_v - x_{v-1}| <= (1 + max_stretch) l_{v-1}`, which implies Yip's root
+//!    spheres `|x_v - root| <= (1 + max_stretch) arc(v)` and, unlike them,
+//!    also holds for hair wrapped around the head; and a last collision pass,
+//!    so the hair ends the step outside the rig. The limit pulls a vertex
+//!    toward its parent, which lies outside the rig already, and the final
+//!    pass only pushes along sphere normals, nearly perpendicular to hair
+//!    lying on a sphere: neither undoes the other by more than the tests'
+//!    tolerances (2 % stretch, 1 mm penetration).
+//! 5. **Guard**: a lane with a non-finite coordinate, or one beyond 10^6 m of
+//!    the local origin, is restored to its rest pose at its root and counted;
+//!    lanes never exchange data, so no other strand is touched.
+//!
+//! Blocks are processed in groups of [`GROUP`], interleaved segment by
+//! segment, so that four independent constraint chains are in flight.
+//!
+//! [`crate::scalar::step`] runs the same operations in the same order, one
+//! lane at a time; with no fused multiply-adds in either path the two agree
+//! bit for bit on any target.
+
+use crate::broad_phase::{block_aabb, select_candidates, spheres_to_local};
+use crate::lanes::{Vec3x8, LANES};
+use crate::{SimParams, Sphere, Strands};
+use glam::{Mat3, Vec3};
+use wide::f32x8;
+
+/// Coordinates beyond this (metres from the local origin) count as blown up.
+pub(crate) const BLOWN_UP: f32 = 1.0e6;
+/// Smallest length a constraint divides by (TressFX clamps with 1e-7 too).
+pub(crate) const MIN_LENGTH: f32 = 1.0e-7;
+
+/// Per-step values shared by the SIMD and scalar paths.
+pub(crate) struct StepSetup {
+    pub damping: f32,
+    pub gravity_dt2: Vec3,
+    pub iterations: u32,
+    pub pearls: u32,
+    pub pearl_radius: f32,
+    pub stretch_factor: f32,
+    pub bend: f32,
+    pub shape: f32,
+    pub rest_rotation: Mat3,
+    /// Broad-phase margin: pearl radius plus one longest rest segment.
+    pub margin: f32,
+}
+
+impl StepSetup {
+    pub(crate) fn new(strands: &Strands, p: &SimParams) -> Self {
+        StepSetup {
+            damping: p.damping,
+            gravity_dt2: p.gravity * (p.dt * p.dt),
+            iterations: p.iterations,
+            pearls: p.pearls_per_segment.min(crate::MAX_PEARLS_PER_SEGMENT),
+            pearl_radius: p.pearl_radius,
+            stretch_factor: 1.0 + p.max_stretch,
+            bend: p.bend_stiffness,
+            shape: p.shape_stiffness,
+            rest_rotation: strands.rest_rotation,
+            margin: p.pearl_radius.max(0.0) + strands.max_rest_segment,
+        }
+    }
+
+    /// Pearl parameter t = j / (k + 1).
+    #[inline(always)]
+    pub(crate) fn pearl_t(&self, j: u32) -> f32 {
+        j as f32 / (self.pearls + 1) as f32
+    }
+}
+
+/// `m * v` for eight vectors: `x_axis v.x + y_axis v.y + z_axis v.z`.
+#[inline(always)]
+fn rotate(m: &Mat3, v: Vec3x8) -> Vec3x8 {
+    Vec3x8::splat(m.x_axis) * v.x + Vec3x8::splat(m.y_axis) * v.y + Vec3x8::splat(m.z_axis) * v.z
+}
+
+/// Blocks processed together: their constraint chains are independent, so
+/// interleaving them hides the latency of each chain's sqrt and division.
+pub(crate) const GROUP: usize = 4;
+
+/// Advances every strand by one fixed step of `params.dt` (SIMD path).
+///
+/// Never panics; `params` should pass [`SimParams::validate`], and strands
+/// that bad values drive non-finite are restored and counted
+/// ([`Strands::restored_strands`]). Allocates only when the rig has more
+/// spheres than any earlier step.
+pub fn step(strands: &mut Strands, params: &SimParams, spheres: &[Sphere]) {
+    let setup = StepSetup::new(strands, params);
+    let mut scratch = std::mem::take(&mut strands.scratch);
+    spheres_to_local(spheres, strands.origin, &mut scratch.spheres_local);
+    let mut first = 0;
+    while first < strands.blocks {
+        let n = GROUP.min(strands.blocks - first);
+        step_group(
+            strands,
+            &setup,
+            first,
+            n,
+            &scratch.spheres_local,
+            &mut scratch.candidates,
+        );
+        first += n;
+    }
+    strands.scratch = scratch;
+}
+
+/// Steps blocks `first .. first + n`; index `g * V + v` is vertex v of block
+/// `first + g`.
+fn step_group(
+    s: &mut Strands,
+    k: &StepSetup,
+    first: usize,
+    n: usize,
+    spheres: &[[f32; 4]],
+    candidates: &mut Vec<u32>,
+) {
+    let verts = s.verts;
+    let range = first * verts..(first + n) * verts;
+    let pos = &mut s.pos[range.clone()];
+    let prev = &mut s.prev[range.clone()];
+    let w = &s.inv_mass[range.clone()];
+    let zero = f32x8::ZERO;
+
+    // 1. Verlet.
+    let d = f32x8::splat(k.damping);
+    let g = Vec3x8::splat(k.gravity_dt2);
+    for i in 0..pos.len() {
+        let x = pos[i];
+        let moved = x + (x - prev[i]) * d + g;
+        pos[i] = Vec3x8::select(w[i].simd_gt(zero), moved, x);
+        prev[i] = x;
+    }
+
+    // 2. Shape keeping.
+    if k.shape > 0.0 {
+        let rest = &s.rest_offset[range.clone()];
+        let weight = &s.shape_weight[range.clone()];
+        let stiffness = f32x8::splat(k.shape);
+        for b in 0..n {
+            let root = pos[b * verts];
+            for i in b * verts + 1..(b + 1) * verts {
+                let target = root + rotate(&k.rest_rotation, rest[i]);
+                let pulled = pos[i] + (target - pos[i]) * (stiffness * weight[i]);
+                pos[i] = Vec3x8::select(w[i].simd_gt(zero), pulled, pos[i]);
+            }
+        }
+    }
+
+    // 3. Broad phase on the group's box.
+    let mut aabb = block_aabb(&pos[..verts], s.active[first]);
+    for b in 1..n {
+        aabb = aabb.union(block_aabb(
+            &pos[b * verts..(b + 1) * verts],
+            s.active[first + b],
+        ));
+    }
+    select_candidates(aabb, k.margin, spheres, candidates);
+
+    // 4. Constraint sweeps, the blocks interleaved segment by segment.
+    let rest_len = &s.rest_len[range.clone()];
+    let bend_len = &s.bend_len[range.clone()];
+    let bend = f32x8::splat(k.bend);
+    for _ in 0..k.iterations {
+        for v in 0..verts - 1 {
+            for b in 0..n {
+                let i = b * verts + v;
+                distance_constraint(pos, w, i, i + 1, rest_len[i], f32x8::ONE);
+                if k.bend > 0.0 && v + 2 < verts {
+                    distance_constraint(pos, w, i, i + 2, bend_len[i], bend);
+                }
+            }
+        }
+        collide_group(pos, w, verts, n, spheres, candidates, k);
+    }
+    strain_limit(pos, w, rest_len, verts, n, f32x8::splat(k.stretch_factor));
+    collide_group(pos, w, verts, n, spheres, candidates, k);
+
+    // 5. Guard.
+    let big = f32x8::splat(BLOWN_UP);
+    let mut bad = [0u32; GROUP];
+    for (b, bits) in bad.iter_mut().enumerate().take(n) {
+        let mut ok = f32x8::ZERO.simd_eq(f32x8::ZERO);
+        for p in &pos[b * verts..(b + 1) * verts] {
+            ok = ok & p.x.abs().simd_lt(big) & p.y.abs().simd_lt(big) & p.z.abs().simd_lt(big);
+        }
+        *bits = (!ok & s.active[first + b]).to_bitmask();
+    }
+    restore_lanes(s, first, &bad);
+}
+
+/// Restores the lanes flagged in `bad` (one bit mask per block of the group).
+pub(crate) fn restore_lanes(s: &mut Strands, first: usize, bad: &[u32; GROUP]) {
+    for (b, &bits) in bad.iter().enumerate() {
+        for l in 0..LANES {
+            if bits & (1 << l) != 0 {
+                s.reset_strand(first + b, l);
+                s.restored += 1;
+            }
+        }
+    }
+}
+
+/// Mass-weighted distance constraint between vertices `i` and `j` of a block.
+#[inline(always)]
+fn distance_constraint(
+    pos: &mut [Vec3x8],
+    w: &[f32x8],
+    i: usize,
+    j: usize,
+    rest: f32x8,
+    stiffness: f32x8,
+) {
+    let delta = pos[j] - pos[i];
+    let len = delta.length_squared().sqrt();
+    let w_sum = w[i] + w[j];
+    let c = stiffness * (len - rest) / (len.max(f32x8::splat(MIN_LENGTH)) * w_sum);
+    let c = w_sum.simd_gt(f32x8::ZERO).select(c, f32x8::ZERO);
+    pos[i] = pos[i] + delta * (w[i] * c);
+    pos[j] = pos[j] - delta * (w[j] * c);
+}
+
+/// Strain limit, root to tip: every free vertex is pulled toward its parent
+/// until `|x_v - x_{v-1}| <= factor * rest(v-1)` (Provot 1995's deformation
+/// limit, in Follow-The-Leader order, Muller et al. 2012). Summing over the
+/// segments gives Yip's root spheres `|x_v - root| <= factor * arc(v)`, and
+/// unlike them it also holds for hair wrapped around a head, whose chord is
+/// shorter than its arc.
+#[inline(always)]
+fn strain_limit(
+    pos: &mut [Vec3x8],
+    w: &[f32x8],
+    rest_len: &[f32x8],
+    verts: usize,
+    n: usize,
+    factor: f32x8,
+) {
+    for v in 1..verts {
+        for b in 0..n {
+            let i = b * verts + v;
+            let d = pos[i] - pos[i - 1];
+            let len = d.length_squared().sqrt();
+            let limit = rest_len[i - 1] * factor;
+            let over = len.simd_gt(limit) & w[i].simd_gt(f32x8::ZERO);
+            if over.any() {
+                let pulled = pos[i - 1] + d * (limit / len);
+                let moved = Vec3x8::select(over, pulled, pos[i]);
+                pos[i] = moved;
+            }
+        }
+    }
+}
+
+/// Every block of the group against every candidate sphere.
+#[inline(always)]
+fn collide_group(
+    pos: &mut [Vec3x8],
+    w: &[f32x8],
+    verts: usize,
+    n: usize,
+    spheres: &[[f32; 4]],
+    candidates: &[u32],
+    k: &StepSetup,
+) {
+    for &c in candidates {
+        for b in 0..n {
+            let r = b * verts..(b + 1) * verts;
+            collide_sphere(&mut pos[r.clone()], &w[r], spheres[c as usize], k);
+        }
+    }
+}
+
+/// Outward unit normal `d / dist`, or +y where the point sits on the centre.
+#[inline(always)]
+fn outward(d: Vec3x8, dist: f32x8) -> Vec3x8 {
+    let tiny = f32x8::splat(1e-20);
+    let n = d * (f32x8::ONE / dist.max(tiny));
+    Vec3x8::select(dist.simd_gt(tiny), n, Vec3x8::splat(Vec3::Y))
+}
+
+/// Vertices, then pearls, of one block against one sphere.
+#[inline(always)]
+fn collide_sphere(pos: &mut [Vec3x8], w: &[f32x8], sphere: [f32; 4], k: &StepSetup) {
+    let zero = f32x8::ZERO;
+    let centre = Vec3x8::splat(Vec3::new(sphere[0], sphere[1], sphere[2]));
+    let reach = f32x8::splat(sphere[3] + k.pearl_radius);
+    let reach2 = reach * reach;
+    for v in 0..pos.len() {
+        let d = pos[v] - centre;
+        let d2 = d.length_squared();
+        let hit = d2.simd_lt(reach2) & w[v].simd_gt(zero);
+        if hit.any() {
+            let dist = d2.sqrt();
+            let pushed = pos[v] + outward(d, dist) * (reach - dist);
+            pos[v] = Vec3x8::select(hit, pushed, pos[v]);
+        }
+    }
+    for j in 1..=k.pearls {
+        let t = f32x8::splat(k.pearl_t(j));
+        let u = f32x8::ONE - t;
+        for v in 0..pos.len() - 1 {
+            let p = pos[v] * u + pos[v + 1] * t;
+            let d = p - centre;
+            let d2 = d.length_squared();
+            let denom = w[v] * (u * u) + w[v + 1] * (t * t);
+            let both_free = w[v].simd_gt(zero) & w[v + 1].simd_gt(zero);
+            let hit = d2.simd_lt(reach2) & both_free;
+            if hit.any() {
+                let dist = d2.sqrt();
+                let n = outward(d, dist);
+                let s = (reach - dist) / denom;
+                pos[v] = Vec3x8::select(hit, pos[v] + n * (w[v] * u * s), pos[v]);
+                pos[v + 1] = Vec3x8::select(hit, pos[v + 1] + n * (w[v + 1] * t * s), pos[v + 1]);
+            }
+        }
+    }
+}

@@ -1,0 +1,56 @@
+//! Scenes shared by the cross-crate simulation tests.
+#![allow(dead_code)]
+
+use coif::kernels::rng::SplitMix64;
+use coif::kernels::Sphere;
+use glam::Vec3;
+
+/// `count` random curly strands of `verts` vertices hanging around a head
+/// sphere of radius 0.1 at the origin; returns the points and a rig of
+/// spheres that intersect them.
+pub fn curly_strands(count: usize, verts: usize, seed: u64) -> (Vec<Vec3>, Vec<Sphere>) {
+    let mut rng = SplitMix64::new(seed);
+    let mut pts = Vec::with_capacity(count * verts);
+    for _ in 0..count {
+        let n = {
+            let mut d = rng.unit_vector();
+            d.y = d.y.abs();
+            d.normalize()
+        };
+        let root = n * 0.1;
+        let (u, w) = n.any_orthonormal_pair();
+        let seg = rng.range(0.005, 0.012);
+        let phase = rng.range(0.0, 6.28);
+        let mut p = root;
+        for v in 0..verts {
+            pts.push(p);
+            let a = phase + v as f32 * 0.9;
+            let dir = (n * 0.6 + (u * a.cos() + w * a.sin()) * 0.8).normalize();
+            p += dir * seg;
+        }
+    }
+    let rig = vec![
+        Sphere {
+            center: Vec3::ZERO,
+            radius: 0.1,
+        },
+        Sphere {
+            center: Vec3::new(0.0, -0.12, 0.0),
+            radius: 0.06,
+        },
+        Sphere {
+            center: Vec3::new(0.09, 0.05, 0.0),
+            radius: 0.03,
+        },
+        Sphere {
+            center: Vec3::new(-0.05, 0.08, 0.07),
+            radius: 0.02,
+        },
+    ];
+    (pts, rig)
+}
+
+/// Roots of a grown set moved by `offset`.
+pub fn shifted_roots(points: &[Vec3], verts: usize, offset: Vec3) -> Vec<Vec3> {
+    points.iter().step_by(verts).map(|p| *p + offset).collect()
+}
