@@ -98,8 +98,8 @@ pub(crate) fn select_candidates(aabb: Aabb, margin: f32, spheres: &[[f32; 4]], o
         let above = (c - aabb.max).max(Vec3::ZERO);
         let gap = below + above;
         let reach = s[3] + margin;
-        // Written so that NaN anywhere fails the test.
-        if gap.length_squared() <= reach * reach && s[3] >= 0.0 {
+        let usable = c.is_finite() && s[3].is_finite() && s[3] >= 0.0;
+        if usable && gap.length_squared() <= reach * reach {
             out.push(k as u32);
         }
     }

@@ -5,7 +5,7 @@
 //! broad phase sees the same boxes and picks the same spheres.
 
 use crate::broad_phase::{block_aabb_scalar, select_candidates, spheres_to_local};
-use crate::step::{restore_lanes, StepSetup, BLOWN_UP, GROUP, MIN_LENGTH};
+use crate::step::{restore_lanes, StepSetup, BLOWN_UP, GROUP, MIN_LENGTH, STRAIN_COLLIDE_ROUNDS};
 use crate::{SimParams, Sphere, Strands};
 use glam::{Mat3, Vec3};
 
@@ -142,10 +142,7 @@ fn solve_lane(
             collide_sphere(&mut lane, spheres[c as usize], k);
         }
     }
-    strain_limit(&mut lane, k.stretch_factor);
-    for &c in candidates {
-        collide_sphere(&mut lane, spheres[c as usize], k);
-    }
+    strain_limit_and_collide(&mut lane, k, spheres, candidates);
     (0..n).all(|v| {
         let p = lane.x(v);
         p.x.abs() < BLOWN_UP && p.y.abs() < BLOWN_UP && p.z.abs() < BLOWN_UP
@@ -162,20 +159,36 @@ fn distance_constraint(lane: &mut Lane, i: usize, j: usize, rest: f32, stiffness
     let delta = xj - xi;
     let len = dot(delta, delta).sqrt();
     let c = stiffness * (len - rest) / (len.max(MIN_LENGTH) * w_sum);
-    lane.set_x(i, xi + delta * (wi * c));
-    lane.set_x(j, xj - delta * (wj * c));
+    if wi > 0.0 {
+        lane.set_x(i, xi + delta * (wi * c));
+    }
+    if wj > 0.0 {
+        lane.set_x(j, xj - delta * (wj * c));
+    }
 }
 
-fn strain_limit(lane: &mut Lane, factor: f32) {
+fn strain_limit_and_collide(
+    lane: &mut Lane,
+    k: &StepSetup,
+    spheres: &[[f32; 4]],
+    candidates: &[u32],
+) {
     for v in 1..lane.s.verts {
-        let (parent, x) = (lane.x(v - 1), lane.x(v));
-        let d = x - parent;
-        let len = dot(d, d).sqrt();
-        let limit = lane.get(&lane.s.rest_len, v - 1) * factor;
-        if len > limit && lane.w(v) > 0.0 {
-            let moved = parent + d * (limit / len);
-            lane.set_x(v, moved);
+        let limit = lane.get(&lane.s.rest_len, v - 1) * k.stretch_factor;
+        for _ in 0..STRAIN_COLLIDE_ROUNDS {
+            let (parent, x) = (lane.x(v - 1), lane.x(v));
+            let d = x - parent;
+            let len = dot(d, d).sqrt();
+            if len > limit && lane.w(v) > 0.0 {
+                lane.set_x(v, parent + d * (limit / len));
+            }
+            for &c in candidates {
+                collide_vertex(lane, v, spheres[c as usize], k.pearl_radius);
+            }
         }
+    }
+    for &c in candidates {
+        collide_pearls(lane, spheres[c as usize], k);
     }
 }
 
@@ -189,23 +202,32 @@ fn outward(d: Vec3, dist: f32) -> Vec3 {
 }
 
 fn collide_sphere(lane: &mut Lane, sphere: [f32; 4], k: &StepSetup) {
+    for v in 0..lane.s.verts {
+        collide_vertex(lane, v, sphere, k.pearl_radius);
+    }
+    collide_pearls(lane, sphere, k);
+}
+
+fn collide_vertex(lane: &mut Lane, v: usize, sphere: [f32; 4], pearl_radius: f32) {
+    let centre = Vec3::new(sphere[0], sphere[1], sphere[2]);
+    let reach = sphere[3] + pearl_radius;
+    let x = lane.x(v);
+    let d = x - centre;
+    let d2 = dot(d, d);
+    if d2 < reach * reach && lane.w(v) > 0.0 {
+        let dist = d2.sqrt();
+        lane.set_x(v, x + outward(d, dist) * (reach - dist));
+    }
+}
+
+fn collide_pearls(lane: &mut Lane, sphere: [f32; 4], k: &StepSetup) {
     let centre = Vec3::new(sphere[0], sphere[1], sphere[2]);
     let reach = sphere[3] + k.pearl_radius;
     let reach2 = reach * reach;
-    let n = lane.s.verts;
-    for v in 0..n {
-        let x = lane.x(v);
-        let d = x - centre;
-        let d2 = dot(d, d);
-        if d2 < reach2 && lane.w(v) > 0.0 {
-            let dist = d2.sqrt();
-            lane.set_x(v, x + outward(d, dist) * (reach - dist));
-        }
-    }
     for j in 1..=k.pearls {
         let t = k.pearl_t(j);
         let u = 1.0 - t;
-        for v in 0..n - 1 {
+        for v in 0..lane.s.verts - 1 {
             let (xi, xj) = (lane.x(v), lane.x(v + 1));
             let (wi, wj) = (lane.w(v), lane.w(v + 1));
             let p = xi * u + xj * t;
@@ -215,9 +237,9 @@ fn collide_sphere(lane: &mut Lane, sphere: [f32; 4], k: &StepSetup) {
             if d2 < reach2 && wi > 0.0 && wj > 0.0 {
                 let dist = d2.sqrt();
                 let normal = outward(d, dist);
-                let s = (reach - dist) / denom;
-                lane.set_x(v, xi + normal * (wi * u * s));
-                lane.set_x(v + 1, xj + normal * (wj * t * s));
+                let push = (reach - dist) / denom;
+                lane.set_x(v, xi + normal * (wi * u * push));
+                lane.set_x(v + 1, xj + normal * (wj * t * push));
             }
         }
     }

@@ -49,6 +49,9 @@ use wide::f32x8;
 
 /// Coordinates beyond this (metres from the local origin) count as blown up.
 pub(crate) const BLOWN_UP: f32 = 1.0e6;
+/// Alternations of strain limit and vertex push-out per vertex at the end of
+/// a step.
+pub(crate) const STRAIN_COLLIDE_ROUNDS: usize = 2;
 /// Smallest length a constraint divides by (TressFX clamps with 1e-7 too).
 pub(crate) const MIN_LENGTH: f32 = 1.0e-7;
 
@@ -194,8 +197,8 @@ fn step_group(
         }
         collide_group(pos, w, verts, n, spheres, candidates, k);
     }
-    strain_limit(pos, w, rest_len, verts, n, f32x8::splat(k.stretch_factor));
-    collide_group(pos, w, verts, n, spheres, candidates, k);
+    let factor = f32x8::splat(k.stretch_factor);
+    strain_limit_and_collide(pos, w, rest_len, verts, n, factor, spheres, candidates, k);
 
     // 5. Guard.
     let big = f32x8::splat(BLOWN_UP);
@@ -237,42 +240,65 @@ fn distance_constraint(
     let w_sum = w[i] + w[j];
     let c = stiffness * (len - rest) / (len.max(f32x8::splat(MIN_LENGTH)) * w_sum);
     let c = w_sum.simd_gt(f32x8::ZERO).select(c, f32x8::ZERO);
-    pos[i] = pos[i] + delta * (w[i] * c);
-    pos[j] = pos[j] - delta * (w[j] * c);
+    // Pinned ends are selected away rather than multiplied by w = 0, so that
+    // not even a NaN from bad parameters can move a root.
+    let zero = f32x8::ZERO;
+    pos[i] = Vec3x8::select(w[i].simd_gt(zero), pos[i] + delta * (w[i] * c), pos[i]);
+    pos[j] = Vec3x8::select(w[j].simd_gt(zero), pos[j] - delta * (w[j] * c), pos[j]);
 }
 
-/// Strain limit, root to tip: every free vertex is pulled toward its parent
-/// until `|x_v - x_{v-1}| <= factor * rest(v-1)` (Provot 1995's deformation
-/// limit, in Follow-The-Leader order, Muller et al. 2012). Summing over the
-/// segments gives Yip's root spheres `|x_v - root| <= factor * arc(v)`, and
-/// unlike them it also holds for hair wrapped around a head, whose chord is
-/// shorter than its arc.
+/// Strain limit, root to tip, combined with the vertex collisions: every free
+/// vertex is pulled toward its parent until `|x_v - x_{v-1}| <= factor l_{v-1}`
+/// (Provot 1995's deformation limit, in Follow-The-Leader order, Muller et
+/// al. 2012), then pushed out of the rig, twice. The parent is final and
+/// outside the rig, so the two sets (a ball around the parent, the outside
+/// of the spheres) meet, and alternating projections close in on a point of
+/// both: the limit does not pull hair into the head and the push-out does not
+/// stretch it. Summed over segments the limit gives Yip's root spheres
+/// `|x_v - root| <= factor arc(v)`, and it also holds for hair wrapped round
+/// the head, whose chord is shorter than its arc.
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn strain_limit(
+fn strain_limit_and_collide(
     pos: &mut [Vec3x8],
     w: &[f32x8],
     rest_len: &[f32x8],
     verts: usize,
     n: usize,
     factor: f32x8,
+    spheres: &[[f32; 4]],
+    candidates: &[u32],
+    k: &StepSetup,
 ) {
     for v in 1..verts {
         for b in 0..n {
             let i = b * verts + v;
-            let d = pos[i] - pos[i - 1];
-            let len = d.length_squared().sqrt();
             let limit = rest_len[i - 1] * factor;
-            let over = len.simd_gt(limit) & w[i].simd_gt(f32x8::ZERO);
-            if over.any() {
-                let pulled = pos[i - 1] + d * (limit / len);
-                let moved = Vec3x8::select(over, pulled, pos[i]);
-                pos[i] = moved;
+            for _ in 0..STRAIN_COLLIDE_ROUNDS {
+                let d = pos[i] - pos[i - 1];
+                let len = d.length_squared().sqrt();
+                let over = len.simd_gt(limit) & w[i].simd_gt(f32x8::ZERO);
+                if over.any() {
+                    let pulled = pos[i - 1] + d * (limit / len);
+                    pos[i] = Vec3x8::select(over, pulled, pos[i]);
+                }
+                for &c in candidates {
+                    collide_vertex(pos, w, i, &Reach::new(spheres[c as usize], k.pearl_radius));
+                }
             }
+        }
+    }
+    for &c in candidates {
+        let sphere = Reach::new(spheres[c as usize], k.pearl_radius);
+        for b in 0..n {
+            let r = b * verts..(b + 1) * verts;
+            collide_pearls(&mut pos[r.clone()], &w[r], &sphere, k);
         }
     }
 }
 
-/// Every block of the group against every candidate sphere.
+/// Every block of the group against every candidate sphere: vertices, then
+/// pearls.
 #[inline(always)]
 fn collide_group(
     pos: &mut [Vec3x8],
@@ -284,9 +310,13 @@ fn collide_group(
     k: &StepSetup,
 ) {
     for &c in candidates {
+        let sphere = Reach::new(spheres[c as usize], k.pearl_radius);
         for b in 0..n {
             let r = b * verts..(b + 1) * verts;
-            collide_sphere(&mut pos[r.clone()], &w[r], spheres[c as usize], k);
+            for i in r.clone() {
+                collide_vertex(pos, w, i, &sphere);
+            }
+            collide_pearls(&mut pos[r.clone()], &w[r], &sphere, k);
         }
     }
 }
@@ -299,39 +329,109 @@ fn outward(d: Vec3x8, dist: f32x8) -> Vec3x8 {
     Vec3x8::select(dist.simd_gt(tiny), n, Vec3x8::splat(Vec3::Y))
 }
 
-/// Vertices, then pearls, of one block against one sphere.
-#[inline(always)]
-fn collide_sphere(pos: &mut [Vec3x8], w: &[f32x8], sphere: [f32; 4], k: &StepSetup) {
-    let zero = f32x8::ZERO;
-    let centre = Vec3x8::splat(Vec3::new(sphere[0], sphere[1], sphere[2]));
-    let reach = f32x8::splat(sphere[3] + k.pearl_radius);
-    let reach2 = reach * reach;
-    for v in 0..pos.len() {
-        let d = pos[v] - centre;
-        let d2 = d.length_squared();
-        let hit = d2.simd_lt(reach2) & w[v].simd_gt(zero);
-        if hit.any() {
-            let dist = d2.sqrt();
-            let pushed = pos[v] + outward(d, dist) * (reach - dist);
-            pos[v] = Vec3x8::select(hit, pushed, pos[v]);
+/// A rig sphere grown by the pearl radius, as lanes.
+#[derive(Clone, Copy)]
+struct Reach {
+    centre: Vec3x8,
+    reach: f32x8,
+    reach2: f32x8,
+}
+
+impl Reach {
+    #[inline(always)]
+    fn new(sphere: [f32; 4], pearl_radius: f32) -> Self {
+        let reach = f32x8::splat(sphere[3] + pearl_radius);
+        Reach {
+            centre: Vec3x8::splat(Vec3::new(sphere[0], sphere[1], sphere[2])),
+            reach,
+            reach2: reach * reach,
         }
     }
+}
+
+/// Pushes free vertex `i` out of the sphere to distance `R + r`.
+#[inline(always)]
+fn collide_vertex(pos: &mut [Vec3x8], w: &[f32x8], i: usize, s: &Reach) {
+    let d = pos[i] - s.centre;
+    let d2 = d.length_squared();
+    let hit = d2.simd_lt(s.reach2) & w[i].simd_gt(f32x8::ZERO);
+    if hit.any() {
+        let dist = d2.sqrt();
+        let pushed = pos[i] + outward(d, dist) * (s.reach - dist);
+        pos[i] = Vec3x8::select(hit, pushed, pos[i]);
+    }
+}
+
+/// Every pearl of one block (a slice of V vertices) against one sphere.
+#[inline(always)]
+fn collide_pearls(pos: &mut [Vec3x8], w: &[f32x8], s: &Reach, k: &StepSetup) {
+    let zero = f32x8::ZERO;
     for j in 1..=k.pearls {
         let t = f32x8::splat(k.pearl_t(j));
         let u = f32x8::ONE - t;
         for v in 0..pos.len() - 1 {
             let p = pos[v] * u + pos[v + 1] * t;
-            let d = p - centre;
+            let d = p - s.centre;
             let d2 = d.length_squared();
             let denom = w[v] * (u * u) + w[v + 1] * (t * t);
             let both_free = w[v].simd_gt(zero) & w[v + 1].simd_gt(zero);
-            let hit = d2.simd_lt(reach2) & both_free;
+            let hit = d2.simd_lt(s.reach2) & both_free;
             if hit.any() {
                 let dist = d2.sqrt();
                 let n = outward(d, dist);
-                let s = (reach - dist) / denom;
-                pos[v] = Vec3x8::select(hit, pos[v] + n * (w[v] * u * s), pos[v]);
-                pos[v + 1] = Vec3x8::select(hit, pos[v + 1] + n * (w[v + 1] * t * s), pos[v + 1]);
+                let push = (s.reach - dist) / denom;
+                pos[v] = Vec3x8::select(hit, pos[v] + n * (w[v] * u * push), pos[v]);
+                pos[v + 1] =
+                    Vec3x8::select(hit, pos[v + 1] + n * (w[v + 1] * t * push), pos[v + 1]);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn strands(count: usize) -> Strands {
+        let pts: Vec<Vec3> = (0..count)
+            .flat_map(|s| (0..12).map(move |v| Vec3::new(0.01 * s as f32, 0.1, 0.01 * v as f32)))
+            .collect();
+        Strands::from_polylines(&pts, 12).unwrap()
+    }
+
+    #[test]
+    fn a_poisoned_strand_is_restored_and_no_other_strand_notices() {
+        let rig = [Sphere {
+            center: Vec3::ZERO,
+            radius: 0.12,
+        }];
+        let params = SimParams::default();
+        for stepper in [
+            step as fn(&mut Strands, &SimParams, &[Sphere]),
+            crate::scalar::step,
+        ] {
+            let mut clean = strands(21);
+            for _ in 0..10 {
+                stepper(&mut clean, &params, &rig);
+            }
+            let mut poisoned = clean.clone();
+            // Strand 13 = block 1, lane 5: one vertex goes NaN mid-flight.
+            poisoned.pos[12 + 7].set_lane(5, Vec3::NAN);
+            stepper(&mut clean, &params, &rig);
+            stepper(&mut poisoned, &params, &rig);
+            assert_eq!(poisoned.restored_strands(), 1);
+            assert_eq!(clean.restored_strands(), 0);
+            let (a, b) = (clean.positions_local(), poisoned.positions_local());
+            for s in 0..21 {
+                for v in 0..12 {
+                    let k = s * 12 + v;
+                    if s == 13 {
+                        let rest = poisoned.pos[12].lane(5) + poisoned.rest_offset[12 + v].lane(5);
+                        assert_eq!(b[k], rest, "restored to rest at its root");
+                    } else {
+                        assert_eq!(a[k], b[k], "strand {s} vertex {v} was touched");
+                    }
+                }
             }
         }
     }
