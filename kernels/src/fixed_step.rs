@@ -49,14 +49,14 @@ impl FixedStep {
         if frame_time.is_finite() && frame_time > 0.0 {
             self.accumulated += frame_time;
         }
-        let steps = (self.accumulated / self.dt).floor();
-        let steps = if steps >= self.max_substeps as f32 {
-            self.max_substeps
-        } else {
-            steps as u32
-        };
-        self.accumulated = (self.accumulated - steps as f32 * self.dt).clamp(0.0, self.dt);
-        steps
+        let whole = (self.accumulated / self.dt).floor();
+        if whole > self.max_substeps as f32 {
+            // A hitch: run the cap and keep only the fraction of a step.
+            self.accumulated = self.accumulated.rem_euclid(self.dt);
+            return self.max_substeps;
+        }
+        self.accumulated = (self.accumulated - whole * self.dt).clamp(0.0, self.dt);
+        whole as u32
     }
 
     /// Fraction of a step left over, in [0, 1]: for interpolating the drawn
