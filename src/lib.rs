@@ -1,6 +1,6 @@
 //! coif: structure-of-arrays SIMD kernels for real-time hair.
 //!
-//! The data flow of a frame: geometry ([`scene`]) -> dynamics
+//! The data flow of a frame: geometry ([`scene`], [`groom`]) -> dynamics
 //! ([`kernels`]: Verlet, constraints, collisions) -> LOD ([`lod`]) ->
 //! shading ([`shading`]).
 
@@ -8,4 +8,5 @@ pub use coif_kernels as kernels;
 pub use coif_lod as lod;
 pub use coif_shading as shading;
 
+pub mod groom;
 pub mod scene;

@@ -88,19 +88,42 @@ pub(crate) fn block_aabb_scalar(pos: &[Vec3x8], lanes: usize) -> Aabb {
     b
 }
 
-/// Writes into `out` the indices of the spheres whose distance to `aabb` is at
-/// most their radius plus `margin`.
-pub(crate) fn select_candidates(aabb: Aabb, margin: f32, spheres: &[[f32; 4]], out: &mut Vec<u32>) {
+/// A rig sphere (local centre, radius) that may touch a group of blocks,
+/// with bit `b` set in `blocks` for each block `b` of the group it may touch.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Candidate {
+    pub sphere: [f32; 4],
+    pub blocks: u32,
+}
+
+impl Candidate {
+    #[inline(always)]
+    pub(crate) fn touches(&self, block: usize) -> bool {
+        self.blocks & (1 << block) != 0
+    }
+}
+
+/// True if the sphere's distance to `aabb` is at most its radius plus `margin`.
+/// Written so that a non-finite sphere never passes.
+fn near(aabb: &Aabb, s: &[f32; 4], margin: f32) -> bool {
+    let c = Vec3::new(s[0], s[1], s[2]);
+    let gap = (aabb.min - c).max(Vec3::ZERO) + (c - aabb.max).max(Vec3::ZERO);
+    let reach = s[3] + margin;
+    c.is_finite() && s[3].is_finite() && s[3] >= 0.0 && gap.length_squared() <= reach * reach
+}
+
+/// Writes into `out` the spheres near the union of `boxes` (one box per
+/// block of a group), each with the blocks whose own box it is near.
+pub(crate) fn select_candidates(boxes: &[Aabb], margin: f32, spheres: &[[f32; 4]], out: &mut Vec<Candidate>) {
     out.clear();
-    for (k, s) in spheres.iter().enumerate() {
-        let c = Vec3::new(s[0], s[1], s[2]);
-        let below = (aabb.min - c).max(Vec3::ZERO);
-        let above = (c - aabb.max).max(Vec3::ZERO);
-        let gap = below + above;
-        let reach = s[3] + margin;
-        let usable = c.is_finite() && s[3].is_finite() && s[3] >= 0.0;
-        if usable && gap.length_squared() <= reach * reach {
-            out.push(k as u32);
+    let Some(union) = boxes.iter().copied().reduce(Aabb::union) else { return };
+    for s in spheres {
+        if !near(&union, s, margin) {
+            continue;
+        }
+        let blocks = boxes.iter().enumerate().filter(|(_, b)| near(b, s, margin)).fold(0u32, |m, (k, _)| m | 1 << k);
+        if blocks != 0 {
+            out.push(Candidate { sphere: *s, blocks });
         }
     }
 }
@@ -124,8 +147,15 @@ mod tests {
             [0.5, 0.5, 0.5, f32::NAN],
         ];
         let mut out = Vec::new();
-        select_candidates(aabb, 0.1, &spheres, &mut out);
-        assert_eq!(out, vec![0, 2]);
+        select_candidates(&[aabb], 0.1, &spheres, &mut out);
+        let picked: Vec<[f32; 4]> = out.iter().map(|c| c.sphere).collect();
+        assert_eq!(picked, vec![spheres[0], spheres[2]]);
+        // Per block: a second box far away is touched by none of them.
+        let far = Aabb { min: Vec3::splat(10.0), max: Vec3::splat(11.0) };
+        select_candidates(&[aabb, far], 0.1, &spheres, &mut out);
+        assert!(out.iter().all(|c| c.blocks == 0b01));
+        select_candidates(&[far, aabb], 0.1, &spheres, &mut out);
+        assert!(out.iter().all(|c| c.blocks == 0b10 && c.touches(1) && !c.touches(0)));
     }
 
     #[test]

@@ -147,6 +147,41 @@ impl std::ops::Neg for Vec3x8 {
     }
 }
 
+/// `1 / sqrt(x)` to about 2^-22 relative error without the divider: the
+/// hardware estimate (`vrsqrtps`, 12 bits) and one Newton-Raphson step,
+/// `y' = y (1.5 - 0.5 x y^2)`. [`inv_sqrt_scalar`] computes the same value,
+/// bit for bit, one lane at a time. `x` must be positive and finite.
+#[inline(always)]
+pub fn inv_sqrt(x: f32x8) -> f32x8 {
+    let y = x.recip_sqrt();
+    y * (f32x8::splat(1.5) - f32x8::splat(0.5) * x * (y * y))
+}
+
+/// The scalar twin of [`inv_sqrt`]: the same estimate (`rsqrtss` reads the
+/// same table as `vrsqrtps`) and the same Newton step in the same order.
+#[inline(always)]
+pub fn inv_sqrt_scalar(x: f32) -> f32 {
+    let y = rsqrt_estimate(x);
+    y * (1.5 - 0.5 * x * (y * y))
+}
+
+#[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
+#[inline(always)]
+fn rsqrt_estimate(x: f32) -> f32 {
+    use std::arch::x86_64::{_mm_cvtss_f32, _mm_rsqrt_ss, _mm_set_ss};
+    // SAFETY: SSE is part of the x86_64 baseline, and AVX (checked by the cfg
+    // above) implies it; the intrinsics only read and write registers.
+    unsafe { _mm_cvtss_f32(_mm_rsqrt_ss(_mm_set_ss(x))) }
+}
+
+#[cfg(not(all(target_arch = "x86_64", target_feature = "avx")))]
+#[inline(always)]
+fn rsqrt_estimate(x: f32) -> f32 {
+    // Elsewhere wide's estimate is not reproducible lane by lane; the two
+    // paths then agree to the Newton step's accuracy, not bit for bit.
+    f32x8::splat(x).recip_sqrt().as_array()[0]
+}
+
 /// Loads lanes from a slice of up to [`LANES`] values, padding with `pad`.
 #[inline]
 pub fn load_padded(values: &[f32], pad: f32) -> f32x8 {

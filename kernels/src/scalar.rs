@@ -4,7 +4,8 @@
 //! them side by side. Blocks are grouped as in the SIMD path only so that the
 //! broad phase sees the same boxes and picks the same spheres.
 
-use crate::broad_phase::{block_aabb_scalar, select_candidates, spheres_to_local};
+use crate::lanes::inv_sqrt_scalar;
+use crate::broad_phase::{block_aabb_scalar, select_candidates, spheres_to_local, Aabb, Candidate};
 use crate::step::{restore_lanes, StepSetup, BLOWN_UP, GROUP, MIN_LENGTH, STRAIN_COLLIDE_ROUNDS};
 use crate::{SimParams, Sphere, Strands};
 use glam::{Mat3, Vec3};
@@ -23,33 +24,16 @@ pub fn step(strands: &mut Strands, params: &SimParams, spheres: &[Sphere]) {
                 integrate_lane(strands, &setup, b, l);
             }
         }
-        let mut aabb = block_aabb_scalar(
-            &strands.pos[first * verts..(first + 1) * verts],
-            strands.lanes_in_block(first),
-        );
-        for b in first + 1..first + n {
-            aabb = aabb.union(block_aabb_scalar(
-                &strands.pos[b * verts..(b + 1) * verts],
-                strands.lanes_in_block(b),
-            ));
+        let mut boxes = [Aabb { min: Vec3::ZERO, max: Vec3::ZERO }; GROUP];
+        for (g, bx) in boxes.iter_mut().enumerate().take(n) {
+            let b = first + g;
+            *bx = block_aabb_scalar(&strands.pos[b * verts..(b + 1) * verts], strands.lanes_in_block(b));
         }
-        select_candidates(
-            aabb,
-            setup.margin,
-            &scratch.spheres_local,
-            &mut scratch.candidates,
-        );
+        select_candidates(&boxes[..n], setup.margin, &scratch.spheres_local, &mut scratch.candidates);
         let mut bad = [0u32; GROUP];
         for (g, bits) in bad.iter_mut().enumerate().take(n) {
             for l in 0..strands.lanes_in_block(first + g) {
-                if !solve_lane(
-                    strands,
-                    &setup,
-                    first + g,
-                    l,
-                    &scratch.spheres_local,
-                    &scratch.candidates,
-                ) {
+                if !solve_lane(strands, &setup, first + g, g, l, &scratch.candidates) {
                     *bits |= 1 << l;
                 }
             }
@@ -79,6 +63,10 @@ impl Lane<'_> {
     }
     fn get(&self, a: &[wide::f32x8], v: usize) -> f32 {
         a[self.base + v].as_array()[self.l]
+    }
+    fn shares(&self, a: &[[wide::f32x8; 2]], v: usize) -> [f32; 2] {
+        let s = &a[self.base + v];
+        [s[0].as_array()[self.l], s[1].as_array()[self.l]]
     }
 }
 
@@ -117,87 +105,77 @@ fn integrate_lane(s: &mut Strands, k: &StepSetup, b: usize, l: usize) {
 }
 
 /// Constraint sweeps, strain limit and collisions of one lane; false if the
-/// lane blew up (non-finite or beyond [`BLOWN_UP`]).
-fn solve_lane(
-    s: &mut Strands,
-    k: &StepSetup,
-    b: usize,
-    l: usize,
-    spheres: &[[f32; 4]],
-    candidates: &[u32],
-) -> bool {
+/// lane blew up (non-finite or beyond [`BLOWN_UP`]). `g` is the block's place
+/// in its group (its bit in [`Candidate::blocks`]).
+fn solve_lane(s: &mut Strands, k: &StepSetup, b: usize, g: usize, l: usize, candidates: &[Candidate]) -> bool {
     let base = b * s.verts;
     let n = s.verts;
     let mut lane = Lane { s, base, l };
     for _ in 0..k.iterations {
         for v in 0..n - 1 {
-            let rest = lane.get(&lane.s.rest_len, v);
-            distance_constraint(&mut lane, v, v + 1, rest, 1.0);
+            let (rest, share) = (lane.get(&lane.s.rest_len, v), lane.shares(&lane.s.share, v));
+            distance_constraint(&mut lane, v, v + 1, rest, share, 1.0);
             if k.bend > 0.0 && v + 2 < n {
-                let rest = lane.get(&lane.s.bend_len, v);
-                distance_constraint(&mut lane, v, v + 2, rest, k.bend);
+                let (rest, share) = (lane.get(&lane.s.bend_len, v), lane.shares(&lane.s.bend_share, v));
+                distance_constraint(&mut lane, v, v + 2, rest, share, k.bend);
             }
         }
-        for &c in candidates {
-            collide_sphere(&mut lane, spheres[c as usize], k);
+        for c in candidates.iter().filter(|c| c.touches(g)) {
+            collide_sphere(&mut lane, c.sphere, k);
         }
     }
-    strain_limit_and_collide(&mut lane, k, spheres, candidates);
+    strain_limit_and_collide(&mut lane, k, g, candidates);
     (0..n).all(|v| {
         let p = lane.x(v);
         p.x.abs() < BLOWN_UP && p.y.abs() < BLOWN_UP && p.z.abs() < BLOWN_UP
     })
 }
 
-fn distance_constraint(lane: &mut Lane, i: usize, j: usize, rest: f32, stiffness: f32) {
-    let (wi, wj) = (lane.w(i), lane.w(j));
-    let w_sum = wi + wj;
-    if !(w_sum > 0.0) {
-        return;
-    }
+fn distance_constraint(lane: &mut Lane, i: usize, j: usize, rest: f32, share: [f32; 2], stiffness: f32) {
     let (xi, xj) = (lane.x(i), lane.x(j));
     let delta = xj - xi;
-    let len = dot(delta, delta).sqrt();
-    let c = stiffness * (len - rest) / (len.max(MIN_LENGTH) * w_sum);
-    if wi > 0.0 {
-        lane.set_x(i, xi + delta * (wi * c));
+    let inv_len = inv_sqrt_scalar(dot(delta, delta).max(MIN_LENGTH * MIN_LENGTH));
+    let k = stiffness * (1.0 - rest * inv_len);
+    if lane.w(i) > 0.0 {
+        lane.set_x(i, xi + delta * (k * share[0]));
     }
-    if wj > 0.0 {
-        lane.set_x(j, xj - delta * (wj * c));
+    if lane.w(j) > 0.0 {
+        lane.set_x(j, xj - delta * (k * share[1]));
     }
 }
 
 fn strain_limit_and_collide(
     lane: &mut Lane,
     k: &StepSetup,
-    spheres: &[[f32; 4]],
-    candidates: &[u32],
+    g: usize,
+    candidates: &[Candidate],
 ) {
     for v in 1..lane.s.verts {
         let limit = lane.get(&lane.s.rest_len, v - 1) * k.stretch_factor;
         for _ in 0..STRAIN_COLLIDE_ROUNDS {
             let (parent, x) = (lane.x(v - 1), lane.x(v));
             let d = x - parent;
-            let len = dot(d, d).sqrt();
-            if len > limit && lane.w(v) > 0.0 {
-                lane.set_x(v, parent + d * (limit / len));
+            let d2 = dot(d, d);
+            if d2 > limit * limit && lane.w(v) > 0.0 {
+                lane.set_x(v, parent + d * (limit * inv_sqrt_scalar(d2)));
             }
-            for &c in candidates {
-                collide_vertex(lane, v, spheres[c as usize], k.pearl_radius);
+            for c in candidates.iter().filter(|c| c.touches(g)) {
+                collide_vertex(lane, v, c.sphere, k.pearl_radius);
             }
         }
     }
-    for &c in candidates {
-        collide_pearls(lane, spheres[c as usize], k);
+    for c in candidates.iter().filter(|c| c.touches(g)) {
+        collide_pearls(lane, c.sphere, k);
     }
 }
 
-/// Outward unit normal `d / dist`, or +y where the point sits on the centre.
-fn outward(d: Vec3, dist: f32) -> Vec3 {
-    if dist > 1e-20 {
-        d * (1.0 / dist.max(1e-20))
+/// Outward unit normal and distance; +y and 0 where the point sits on the centre.
+fn outward(d: Vec3, d2: f32) -> (Vec3, f32) {
+    let inv = inv_sqrt_scalar(d2.max(1e-30));
+    if d2 > 1e-30 {
+        (d * inv, d2 * inv)
     } else {
-        Vec3::Y
+        (Vec3::Y, 0.0)
     }
 }
 
@@ -215,8 +193,8 @@ fn collide_vertex(lane: &mut Lane, v: usize, sphere: [f32; 4], pearl_radius: f32
     let d = x - centre;
     let d2 = dot(d, d);
     if d2 < reach * reach && lane.w(v) > 0.0 {
-        let dist = d2.sqrt();
-        lane.set_x(v, x + outward(d, dist) * (reach - dist));
+        let (n, dist) = outward(d, d2);
+        lane.set_x(v, x + n * (reach - dist));
     }
 }
 
@@ -235,8 +213,7 @@ fn collide_pearls(lane: &mut Lane, sphere: [f32; 4], k: &StepSetup) {
             let d2 = dot(d, d);
             let denom = wi * (u * u) + wj * (t * t);
             if d2 < reach2 && wi > 0.0 && wj > 0.0 {
-                let dist = d2.sqrt();
-                let normal = outward(d, dist);
+                let (normal, dist) = outward(d, d2);
                 let push = (reach - dist) / denom;
                 lane.set_x(v, xi + normal * (wi * u * push));
                 lane.set_x(v + 1, xj + normal * (wj * t * push));

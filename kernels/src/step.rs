@@ -41,8 +41,8 @@
 //! lane at a time; with no fused multiply-adds in either path the two agree
 //! bit for bit on any target.
 
-use crate::broad_phase::{block_aabb, select_candidates, spheres_to_local};
-use crate::lanes::{Vec3x8, LANES};
+use crate::broad_phase::{block_aabb, select_candidates, spheres_to_local, Aabb, Candidate};
+use crate::lanes::{inv_sqrt, Vec3x8, LANES};
 use crate::{SimParams, Sphere, Strands};
 use glam::{Mat3, Vec3};
 use wide::f32x8;
@@ -137,7 +137,7 @@ fn step_group(
     first: usize,
     n: usize,
     spheres: &[[f32; 4]],
-    candidates: &mut Vec<u32>,
+    candidates: &mut Vec<Candidate>,
 ) {
     let verts = s.verts;
     let range = first * verts..(first + n) * verts;
@@ -171,34 +171,33 @@ fn step_group(
         }
     }
 
-    // 3. Broad phase on the group's box.
-    let mut aabb = block_aabb(&pos[..verts], s.active[first]);
-    for b in 1..n {
-        aabb = aabb.union(block_aabb(
-            &pos[b * verts..(b + 1) * verts],
-            s.active[first + b],
-        ));
+    // 3. Broad phase: the group's blocks' boxes against the rig.
+    let mut boxes = [Aabb { min: Vec3::ZERO, max: Vec3::ZERO }; GROUP];
+    for (b, bx) in boxes.iter_mut().enumerate().take(n) {
+        *bx = block_aabb(&pos[b * verts..(b + 1) * verts], s.active[first + b]);
     }
-    select_candidates(aabb, k.margin, spheres, candidates);
+    select_candidates(&boxes[..n], k.margin, spheres, candidates);
 
     // 4. Constraint sweeps, the blocks interleaved segment by segment.
     let rest_len = &s.rest_len[range.clone()];
     let bend_len = &s.bend_len[range.clone()];
+    let share = &s.share[range.clone()];
+    let bend_share = &s.bend_share[range.clone()];
     let bend = f32x8::splat(k.bend);
     for _ in 0..k.iterations {
         for v in 0..verts - 1 {
             for b in 0..n {
                 let i = b * verts + v;
-                distance_constraint(pos, w, i, i + 1, rest_len[i], f32x8::ONE);
+                distance_constraint(pos, w, i, i + 1, rest_len[i], share[i], f32x8::ONE);
                 if k.bend > 0.0 && v + 2 < verts {
-                    distance_constraint(pos, w, i, i + 2, bend_len[i], bend);
+                    distance_constraint(pos, w, i, i + 2, bend_len[i], bend_share[i], bend);
                 }
             }
         }
-        collide_group(pos, w, verts, n, spheres, candidates, k);
+        collide_group(pos, w, verts, n, candidates, k);
     }
     let factor = f32x8::splat(k.stretch_factor);
-    strain_limit_and_collide(pos, w, rest_len, verts, n, factor, spheres, candidates, k);
+    strain_limit_and_collide(pos, w, rest_len, verts, n, factor, candidates, k);
 
     // 5. Guard.
     let big = f32x8::splat(BLOWN_UP);
@@ -225,26 +224,20 @@ pub(crate) fn restore_lanes(s: &mut Strands, first: usize, bad: &[u32; GROUP]) {
     }
 }
 
-/// Mass-weighted distance constraint between vertices `i` and `j` of a block.
+/// Mass-weighted distance constraint between vertices `i` and `j` of a block:
+/// `k = stiffness (|delta| - l) / |delta|`, `x_i += share_i k delta`,
+/// `x_j -= share_j k delta` with `share_i = w_i / (w_i + w_j)` (Jakobsen
+/// 2001's rule, with `1/|delta|` from [`inv_sqrt`] of `max(|delta|^2, 1e-14)`).
 #[inline(always)]
-fn distance_constraint(
-    pos: &mut [Vec3x8],
-    w: &[f32x8],
-    i: usize,
-    j: usize,
-    rest: f32x8,
-    stiffness: f32x8,
-) {
+fn distance_constraint(pos: &mut [Vec3x8], w: &[f32x8], i: usize, j: usize, rest: f32x8, share: [f32x8; 2], stiffness: f32x8) {
     let delta = pos[j] - pos[i];
-    let len = delta.length_squared().sqrt();
-    let w_sum = w[i] + w[j];
-    let c = stiffness * (len - rest) / (len.max(f32x8::splat(MIN_LENGTH)) * w_sum);
-    let c = w_sum.simd_gt(f32x8::ZERO).select(c, f32x8::ZERO);
-    // Pinned ends are selected away rather than multiplied by w = 0, so that
-    // not even a NaN from bad parameters can move a root.
+    let inv_len = inv_sqrt(delta.length_squared().max(f32x8::splat(MIN_LENGTH * MIN_LENGTH)));
+    let k = stiffness * (f32x8::ONE - rest * inv_len);
+    // Pinned ends are selected away rather than multiplied by a zero share,
+    // so that not even a NaN from bad parameters can move a root.
     let zero = f32x8::ZERO;
-    pos[i] = Vec3x8::select(w[i].simd_gt(zero), pos[i] + delta * (w[i] * c), pos[i]);
-    pos[j] = Vec3x8::select(w[j].simd_gt(zero), pos[j] - delta * (w[j] * c), pos[j]);
+    pos[i] = Vec3x8::select(w[i].simd_gt(zero), pos[i] + delta * (k * share[0]), pos[i]);
+    pos[j] = Vec3x8::select(w[j].simd_gt(zero), pos[j] - delta * (k * share[1]), pos[j]);
 }
 
 /// Strain limit, root to tip, combined with the vertex collisions: every free
@@ -266,8 +259,7 @@ fn strain_limit_and_collide(
     verts: usize,
     n: usize,
     factor: f32x8,
-    spheres: &[[f32; 4]],
-    candidates: &[u32],
+    candidates: &[Candidate],
     k: &StepSetup,
 ) {
     for v in 1..verts {
@@ -276,21 +268,21 @@ fn strain_limit_and_collide(
             let limit = rest_len[i - 1] * factor;
             for _ in 0..STRAIN_COLLIDE_ROUNDS {
                 let d = pos[i] - pos[i - 1];
-                let len = d.length_squared().sqrt();
-                let over = len.simd_gt(limit) & w[i].simd_gt(f32x8::ZERO);
+                let d2 = d.length_squared();
+                let over = d2.simd_gt(limit * limit) & w[i].simd_gt(f32x8::ZERO);
                 if over.any() {
-                    let pulled = pos[i - 1] + d * (limit / len);
+                    let pulled = pos[i - 1] + d * (limit * inv_sqrt(d2));
                     pos[i] = Vec3x8::select(over, pulled, pos[i]);
                 }
-                for &c in candidates {
-                    collide_vertex(pos, w, i, &Reach::new(spheres[c as usize], k.pearl_radius));
+                for c in candidates.iter().filter(|c| c.touches(b)) {
+                    collide_vertex(pos, w, i, &Reach::new(c.sphere, k.pearl_radius));
                 }
             }
         }
     }
-    for &c in candidates {
-        let sphere = Reach::new(spheres[c as usize], k.pearl_radius);
-        for b in 0..n {
+    for c in candidates {
+        let sphere = Reach::new(c.sphere, k.pearl_radius);
+        for b in (0..n).filter(|&b| c.touches(b)) {
             let r = b * verts..(b + 1) * verts;
             collide_pearls(&mut pos[r.clone()], &w[r], &sphere, k);
         }
@@ -305,13 +297,12 @@ fn collide_group(
     w: &[f32x8],
     verts: usize,
     n: usize,
-    spheres: &[[f32; 4]],
-    candidates: &[u32],
+    candidates: &[Candidate],
     k: &StepSetup,
 ) {
-    for &c in candidates {
-        let sphere = Reach::new(spheres[c as usize], k.pearl_radius);
-        for b in 0..n {
+    for c in candidates {
+        let sphere = Reach::new(c.sphere, k.pearl_radius);
+        for b in (0..n).filter(|&b| c.touches(b)) {
             let r = b * verts..(b + 1) * verts;
             for i in r.clone() {
                 collide_vertex(pos, w, i, &sphere);
@@ -321,12 +312,14 @@ fn collide_group(
     }
 }
 
-/// Outward unit normal `d / dist`, or +y where the point sits on the centre.
+/// Outward unit normal and distance from `d` and `d2 = |d|^2`; +y and 0
+/// where the point sits on the centre.
 #[inline(always)]
-fn outward(d: Vec3x8, dist: f32x8) -> Vec3x8 {
-    let tiny = f32x8::splat(1e-20);
-    let n = d * (f32x8::ONE / dist.max(tiny));
-    Vec3x8::select(dist.simd_gt(tiny), n, Vec3x8::splat(Vec3::Y))
+fn outward(d: Vec3x8, d2: f32x8) -> (Vec3x8, f32x8) {
+    let tiny = f32x8::splat(1e-30);
+    let inv = inv_sqrt(d2.max(tiny));
+    let on_centre = d2.simd_gt(tiny);
+    (Vec3x8::select(on_centre, d * inv, Vec3x8::splat(Vec3::Y)), on_centre.select(d2 * inv, f32x8::ZERO))
 }
 
 /// A rig sphere grown by the pearl radius, as lanes.
@@ -356,8 +349,8 @@ fn collide_vertex(pos: &mut [Vec3x8], w: &[f32x8], i: usize, s: &Reach) {
     let d2 = d.length_squared();
     let hit = d2.simd_lt(s.reach2) & w[i].simd_gt(f32x8::ZERO);
     if hit.any() {
-        let dist = d2.sqrt();
-        let pushed = pos[i] + outward(d, dist) * (s.reach - dist);
+        let (n, dist) = outward(d, d2);
+        let pushed = pos[i] + n * (s.reach - dist);
         pos[i] = Vec3x8::select(hit, pushed, pos[i]);
     }
 }
@@ -377,8 +370,7 @@ fn collide_pearls(pos: &mut [Vec3x8], w: &[f32x8], s: &Reach, k: &StepSetup) {
             let both_free = w[v].simd_gt(zero) & w[v + 1].simd_gt(zero);
             let hit = d2.simd_lt(s.reach2) & both_free;
             if hit.any() {
-                let dist = d2.sqrt();
-                let n = outward(d, dist);
+                let (n, dist) = outward(d, d2);
                 let push = (s.reach - dist) / denom;
                 pos[v] = Vec3x8::select(hit, pos[v] + n * (w[v] * u * push), pos[v]);
                 pos[v + 1] =

@@ -38,6 +38,11 @@ pub struct Strands {
     pub(crate) inv_mass: Vec<f32x8>,
     /// Rest length of segment v -> v + 1 (the last vertex's entry is 0).
     pub(crate) rest_len: Vec<f32x8>,
+    /// Mass shares of the length constraint on segment v -> v + 1:
+    /// `w_v / (w_v + w_{v+1})` and `w_{v+1} / (w_v + w_{v+1})` (0 where both are pinned).
+    pub(crate) share: Vec<[f32x8; 2]>,
+    /// The same for the bending constraint v -> v + 2.
+    pub(crate) bend_share: Vec<[f32x8; 2]>,
     /// Rest distance v -> v + 2 for bending (0 where v + 2 is past the tip).
     pub(crate) bend_len: Vec<f32x8>,
     /// Rest arc length from the root to vertex v.
@@ -61,8 +66,8 @@ pub struct Strands {
 pub(crate) struct Scratch {
     /// Rig spheres in local coordinates: centre and radius.
     pub(crate) spheres_local: Vec<[f32; 4]>,
-    /// Indices into `spheres_local` that may touch the current block.
-    pub(crate) candidates: Vec<u32>,
+    /// Spheres that may touch the current group of blocks.
+    pub(crate) candidates: Vec<crate::broad_phase::Candidate>,
 }
 
 impl Strands {
@@ -106,6 +111,8 @@ impl Strands {
             rest_offset: vec![Vec3x8::ZERO; n],
             inv_mass: vec![f32x8::ZERO; n],
             rest_len: vec![f32x8::ZERO; n],
+            share: vec![[f32x8::ZERO; 2]; n],
+            bend_share: vec![[f32x8::ZERO; 2]; n],
             bend_len: vec![f32x8::ZERO; n],
             rest_arc: vec![f32x8::ZERO; n],
             shape_weight: vec![f32x8::ZERO; n],
@@ -155,6 +162,25 @@ impl Strands {
                         0.0
                     };
                     arc += seg;
+                }
+            }
+        }
+        for b in 0..blocks {
+            for v in 0..verts {
+                let i = b * verts + v;
+                let shares = |j: usize| -> [f32x8; 2] {
+                    let (wi, wj) = (s.inv_mass[i].to_array(), s.inv_mass[j].to_array());
+                    let part = |a: f32, c: f32| if a + c > 0.0 { a / (a + c) } else { 0.0 };
+                    [
+                        f32x8::new(std::array::from_fn(|l| part(wi[l], wj[l]))),
+                        f32x8::new(std::array::from_fn(|l| part(wj[l], wi[l]))),
+                    ]
+                };
+                if v + 1 < verts {
+                    s.share[i] = shares(i + 1);
+                }
+                if v + 2 < verts {
+                    s.bend_share[i] = shares(i + 2);
                 }
             }
         }
