@@ -120,9 +120,6 @@ fn solve_lane(s: &mut Strands, k: &StepSetup, b: usize, g: usize, l: usize, cand
                 distance_constraint(&mut lane, v, v + 2, rest, share, k.bend);
             }
         }
-        for c in candidates.iter().filter(|c| c.touches(g)) {
-            collide_sphere(&mut lane, c.sphere, k);
-        }
     }
     strain_limit_and_collide(&mut lane, k, g, candidates);
     (0..n).all(|v| {
@@ -136,12 +133,8 @@ fn distance_constraint(lane: &mut Lane, i: usize, j: usize, rest: f32, share: [f
     let delta = xj - xi;
     let inv_len = inv_sqrt_scalar(dot(delta, delta).max(MIN_LENGTH * MIN_LENGTH));
     let k = stiffness * (1.0 - rest * inv_len);
-    if lane.w(i) > 0.0 {
-        lane.set_x(i, xi + delta * (k * share[0]));
-    }
-    if lane.w(j) > 0.0 {
-        lane.set_x(j, xj - delta * (k * share[1]));
-    }
+    lane.set_x(i, xi + delta * (k * share[0]));
+    lane.set_x(j, xj - delta * (k * share[1]));
 }
 
 fn strain_limit_and_collide(
@@ -177,13 +170,6 @@ fn outward(d: Vec3, d2: f32) -> (Vec3, f32) {
     } else {
         (Vec3::Y, 0.0)
     }
-}
-
-fn collide_sphere(lane: &mut Lane, sphere: [f32; 4], k: &StepSetup) {
-    for v in 0..lane.s.verts {
-        collide_vertex(lane, v, sphere, k.pearl_radius);
-    }
-    collide_pearls(lane, sphere, k);
 }
 
 fn collide_vertex(lane: &mut Lane, v: usize, sphere: [f32; 4], pearl_radius: f32) {

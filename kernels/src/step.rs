@@ -188,13 +188,12 @@ fn step_group(
         for v in 0..verts - 1 {
             for b in 0..n {
                 let i = b * verts + v;
-                distance_constraint(pos, w, i, i + 1, rest_len[i], share[i], f32x8::ONE);
+                distance_constraint(pos, i, i + 1, rest_len[i], share[i], f32x8::ONE);
                 if k.bend > 0.0 && v + 2 < verts {
-                    distance_constraint(pos, w, i, i + 2, bend_len[i], bend_share[i], bend);
+                    distance_constraint(pos, i, i + 2, bend_len[i], bend_share[i], bend);
                 }
             }
         }
-        collide_group(pos, w, verts, n, candidates, k);
     }
     let factor = f32x8::splat(k.stretch_factor);
     strain_limit_and_collide(pos, w, rest_len, verts, n, factor, candidates, k);
@@ -207,18 +206,22 @@ fn step_group(
         for p in &pos[b * verts..(b + 1) * verts] {
             ok = ok & p.x.abs().simd_lt(big) & p.y.abs().simd_lt(big) & p.z.abs().simd_lt(big);
         }
-        *bits = (!ok & s.active[first + b]).to_bitmask();
+        *bits = (!ok).to_bitmask();
     }
     restore_lanes(s, first, &bad);
 }
 
-/// Restores the lanes flagged in `bad` (one bit mask per block of the group).
+/// Restores the lanes flagged in `bad` (one bit mask per block of the
+/// group); counts those that hold real strands (padding lanes are restored
+/// silently).
 pub(crate) fn restore_lanes(s: &mut Strands, first: usize, bad: &[u32; GROUP]) {
     for (b, &bits) in bad.iter().enumerate() {
         for l in 0..LANES {
             if bits & (1 << l) != 0 {
                 s.reset_strand(first + b, l);
-                s.restored += 1;
+                if l < s.lanes_in_block(first + b) {
+                    s.restored += 1;
+                }
             }
         }
     }
@@ -229,15 +232,15 @@ pub(crate) fn restore_lanes(s: &mut Strands, first: usize, bad: &[u32; GROUP]) {
 /// `x_j -= share_j k delta` with `share_i = w_i / (w_i + w_j)` (Jakobsen
 /// 2001's rule, with `1/|delta|` from [`inv_sqrt`] of `max(|delta|^2, 1e-14)`).
 #[inline(always)]
-fn distance_constraint(pos: &mut [Vec3x8], w: &[f32x8], i: usize, j: usize, rest: f32x8, share: [f32x8; 2], stiffness: f32x8) {
+fn distance_constraint(pos: &mut [Vec3x8], i: usize, j: usize, rest: f32x8, share: [f32x8; 2], stiffness: f32x8) {
     let delta = pos[j] - pos[i];
-    let inv_len = inv_sqrt(delta.length_squared().max(f32x8::splat(MIN_LENGTH * MIN_LENGTH)));
+    let inv_len = inv_sqrt(delta.length_squared().fast_max(f32x8::splat(MIN_LENGTH * MIN_LENGTH)));
     let k = stiffness * (f32x8::ONE - rest * inv_len);
-    // Pinned ends are selected away rather than multiplied by a zero share,
-    // so that not even a NaN from bad parameters can move a root.
-    let zero = f32x8::ZERO;
-    pos[i] = Vec3x8::select(w[i].simd_gt(zero), pos[i] + delta * (k * share[0]), pos[i]);
-    pos[j] = Vec3x8::select(w[j].simd_gt(zero), pos[j] - delta * (k * share[1]), pos[j]);
+    // A pinned end has share 0 and does not move. (A lane whose positions
+    // went NaN can move its root; the guard then restores the whole strand,
+    // root included, from `Strands::roots`.)
+    pos[i] = pos[i] + delta * (k * share[0]);
+    pos[j] = pos[j] - delta * (k * share[1]);
 }
 
 /// Strain limit, root to tip, combined with the vertex collisions: every free
@@ -284,29 +287,6 @@ fn strain_limit_and_collide(
         let sphere = Reach::new(c.sphere, k.pearl_radius);
         for b in (0..n).filter(|&b| c.touches(b)) {
             let r = b * verts..(b + 1) * verts;
-            collide_pearls(&mut pos[r.clone()], &w[r], &sphere, k);
-        }
-    }
-}
-
-/// Every block of the group against every candidate sphere: vertices, then
-/// pearls.
-#[inline(always)]
-fn collide_group(
-    pos: &mut [Vec3x8],
-    w: &[f32x8],
-    verts: usize,
-    n: usize,
-    candidates: &[Candidate],
-    k: &StepSetup,
-) {
-    for c in candidates {
-        let sphere = Reach::new(c.sphere, k.pearl_radius);
-        for b in (0..n).filter(|&b| c.touches(b)) {
-            let r = b * verts..(b + 1) * verts;
-            for i in r.clone() {
-                collide_vertex(pos, w, i, &sphere);
-            }
             collide_pearls(&mut pos[r.clone()], &w[r], &sphere, k);
         }
     }

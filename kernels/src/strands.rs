@@ -30,6 +30,8 @@ pub struct Strands {
     pub(crate) origin: DVec3,
     /// Current positions, relative to `origin`.
     pub(crate) pos: Vec<Vec3x8>,
+    /// The pinned roots per block, as last set (restores start from here).
+    pub(crate) roots: Vec<Vec3x8>,
     /// Positions one step ago (Verlet's implicit velocity).
     pub(crate) prev: Vec<Vec3x8>,
     /// Rest pose relative to the strand's root, in the groom frame.
@@ -108,6 +110,7 @@ impl Strands {
             origin,
             pos: vec![Vec3x8::ZERO; n],
             prev: vec![Vec3x8::ZERO; n],
+            roots: vec![Vec3x8::ZERO; blocks],
             rest_offset: vec![Vec3x8::ZERO; n],
             inv_mass: vec![f32x8::ZERO; n],
             rest_len: vec![f32x8::ZERO; n],
@@ -140,6 +143,9 @@ impl Strands {
                     let p = local(pts[v]);
                     s.pos[i].set_lane(l, p);
                     s.prev[i].set_lane(l, p);
+                    if v == 0 {
+                        s.roots[b].set_lane(l, p);
+                    }
                     s.rest_offset[i].set_lane(l, pts[v] - pts[0]);
                     let free = v > 0 && l < lanes;
                     s.inv_mass[i].as_mut_array()[l] = if free { 1.0 } else { 0.0 };
@@ -318,14 +324,14 @@ impl Strands {
             for l in lanes {
                 self.pos[k].set_lane(l, r);
                 self.prev[k].set_lane(l, r);
+                self.roots[i / LANES].set_lane(l, r);
             }
         }
     }
 
     fn rebase_if_far(&mut self) {
         let mut sum = Vec3::ZERO;
-        for b in 0..self.blocks {
-            let root = self.pos[b * self.verts];
+        for root in &self.roots {
             sum += root.lane(0);
         }
         let centre = sum / self.blocks as f32;
@@ -342,7 +348,7 @@ impl Strands {
             return;
         }
         let shift = Vec3x8::splat((new_origin - self.origin).as_vec3());
-        for p in self.pos.iter_mut().chain(self.prev.iter_mut()) {
+        for p in self.pos.iter_mut().chain(self.prev.iter_mut()).chain(self.roots.iter_mut()) {
             *p = *p - shift;
         }
         self.origin = new_origin;
@@ -361,7 +367,7 @@ impl Strands {
         // local' = M local + (A(origin) - origin), the translation part in f64.
         let moved_origin = xform.matrix3.as_dmat3() * self.origin + xform.translation.as_dvec3();
         let t = (moved_origin - self.origin).as_vec3();
-        for p in self.pos.iter_mut().chain(self.prev.iter_mut()) {
+        for p in self.pos.iter_mut().chain(self.prev.iter_mut()).chain(self.roots.iter_mut()) {
             for l in 0..LANES {
                 p.set_lane(l, m * p.lane(l) + t);
             }
@@ -393,7 +399,7 @@ impl Strands {
     /// Rest pose of one lane at its current root, zero velocity.
     pub(crate) fn reset_strand(&mut self, b: usize, l: usize) {
         let base = b * self.verts;
-        let root = self.pos[base].lane(l);
+        let root = self.roots[b].lane(l);
         for v in 0..self.verts {
             let p = root + self.rest_rotation * self.rest_offset[base + v].lane(l);
             self.pos[base + v].set_lane(l, p);
