@@ -16,20 +16,34 @@ use std::time::Duration;
 /// The mohawk in metres with a rig builder: two 8 cm spheres tangent under
 /// its scalp, then distractors; None when the shared grooms are absent.
 fn mohawk() -> Option<(Vec<Vec3>, usize, Rig)> {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/data/grooms/ratboy_mohawk.tfx");
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../shared/data/grooms/ratboy_mohawk.tfx"
+    );
     let bytes = std::fs::read(path).ok()?;
     let (pts, v) = tfx::parse(&bytes).ok()?.uniform_points(0.01)?;
     let near = scalp_spheres(&pts, v, 2, 0.08);
     let anchor = near[0].center;
-    let rig: Rig = Box::new(move |n| rig_with_distractors(&near[..n.min(2)], anchor, 0.1, n.saturating_sub(2)));
+    let rig: Rig = Box::new(move |n| {
+        rig_with_distractors(&near[..n.min(2)], anchor, 0.1, n.saturating_sub(2))
+    });
     Some((pts, v, rig))
 }
 
 /// 10,000 grown strands on a 10 cm head, with a head-and-neck body rig.
 fn synthetic() -> (Vec<Vec3>, usize, Rig) {
-    let s = grow_on_sphere(&GrowOptions { strand_count: 10_000, verts_per_strand: 32, curl: 0.3, ..Default::default() });
+    let s = grow_on_sphere(&GrowOptions {
+        strand_count: 10_000,
+        verts_per_strand: 32,
+        curl: 0.3,
+        ..Default::default()
+    });
     let head = s.head.clone();
-    (s.points, s.verts_per_strand, Box::new(move |n| body_rig(&head, n)))
+    (
+        s.points,
+        s.verts_per_strand,
+        Box::new(move |n| body_rig(&head, n)),
+    )
 }
 
 /// Builds a rig of n spheres.
@@ -37,13 +51,20 @@ type Rig = Box<dyn Fn(usize) -> Vec<Sphere>>;
 
 fn bench_set(c: &mut Criterion, name: &str, pts: &[Vec3], verts: usize, make_rig: &Rig) {
     let mut group = c.benchmark_group(format!("step/{name}"));
-    group.sample_size(10).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(2));
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2));
     group.throughput(Throughput::Elements(pts.len() as u64));
     for iterations in [4u32, 8] {
         for pearls in [0u32, 1] {
             for spheres in [1usize, 16, 256] {
                 let rig = make_rig(spheres);
-                let params = SimParams { iterations, pearls_per_segment: pearls, ..Default::default() };
+                let params = SimParams {
+                    iterations,
+                    pearls_per_segment: pearls,
+                    ..Default::default()
+                };
                 // Start from a draped state, as in a running game.
                 let mut settled = Strands::from_polylines(pts, verts).unwrap();
                 for _ in 0..30 {

@@ -11,12 +11,25 @@ fn main() {
     let bytes = std::fs::read("../shared/data/grooms/ratboy_mohawk.tfx").unwrap();
     let (pts, v) = tfx::parse(&bytes).unwrap().uniform_points(0.01).unwrap();
     let near = scalp_spheres(&pts, v, 2, 0.08);
-    let params = SimParams { iterations, pearls_per_segment: pearls, ..Default::default() };
-    let rig = rig_with_distractors(&near[..nsph.min(2)], near[0].center, 0.1, nsph.saturating_sub(2));
+    let params = SimParams {
+        iterations,
+        pearls_per_segment: pearls,
+        ..Default::default()
+    };
+    let rig = rig_with_distractors(
+        &near[..nsph.min(2)],
+        near[0].center,
+        0.1,
+        nsph.saturating_sub(2),
+    );
     let mut s = Strands::from_polylines(&pts, v).unwrap();
-    for _ in 0..5 { kernels::step(&mut s, &params, &rig); }
+    for _ in 0..5 {
+        kernels::step(&mut s, &params, &rig);
+    }
     let t = Instant::now();
-    for _ in 0..n { kernels::step(&mut s, &params, &rig); }
+    for _ in 0..n {
+        kernels::step(&mut s, &params, &rig);
+    }
     let dt = t.elapsed().as_secs_f64() / n as f64;
     println!("it{iterations} p{pearls} s{nsph}: {:.3} ms/step {:.2} ns/vertex-step pen {:.4} touching {}", dt * 1e3, dt * 1e9 / pts.len() as f64, kernels::measure(&s, &rig).max_penetration, s.positions().iter().filter(|p| rig.iter().any(|q| (**p - q.center).length() < q.radius + 0.0025)).count());
 }

@@ -9,4 +9,5 @@ pub use coif_lod as lod;
 pub use coif_shading as shading;
 
 pub mod groom;
+pub mod quality;
 pub mod scene;

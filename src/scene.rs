@@ -97,13 +97,16 @@ pub fn horizontal_strand(root: Vec3, length: f32, verts: usize) -> Vec<Vec3> {
 /// direction of the strand's first segment (hair leaves the scalp along its
 /// normal). A stand-in head for grooms that come without one.
 pub fn scalp_spheres(points: &[Vec3], verts: usize, count: usize, radius: f32) -> Vec<Sphere> {
-    let strands = if verts == 0 { 0 } else { points.len() / verts };
+    let strands = points.len().checked_div(verts).unwrap_or(0);
     (0..count.min(strands))
         .filter_map(|k| {
             let s = (2 * k + 1) * strands / (2 * count);
             let (root, next) = (points[s * verts], points[s * verts + 1]);
             let normal = (next - root).try_normalize()?;
-            Some(Sphere { center: root - normal * (radius * 1.02), radius })
+            Some(Sphere {
+                center: root - normal * (radius * 1.02),
+                radius,
+            })
         })
         .collect()
 }
@@ -115,8 +118,16 @@ pub fn rig_with_distractors(near: &[Sphere], anchor: Vec3, scale: f32, far: usiz
     let mut rig = near.to_vec();
     for k in 0..far {
         let (i, j, l) = ((k % 7) as f32, ((k / 7) % 6) as f32, (k / 42) as f32);
-        let c = anchor + Vec3::new((i - 3.0) * 1.5 * scale, -6.0 * scale - l * 1.5 * scale, (j - 2.5) * 1.5 * scale);
-        rig.push(Sphere { center: c, radius: scale * 0.5 });
+        let c = anchor
+            + Vec3::new(
+                (i - 3.0) * 1.5 * scale,
+                -6.0 * scale - l * 1.5 * scale,
+                (j - 2.5) * 1.5 * scale,
+            );
+        rig.push(Sphere {
+            center: c,
+            radius: scale * 0.5,
+        });
     }
     rig
 }
@@ -124,7 +135,10 @@ pub fn rig_with_distractors(near: &[Sphere], anchor: Vec3, scale: f32, far: usiz
 /// A body rig of `total` spheres around `head`: the head, a neck just below,
 /// and distractors a body length away (see [`rig_with_distractors`]).
 pub fn body_rig(head: &Sphere, total: usize) -> Vec<Sphere> {
-    let neck = Sphere { center: head.center - Vec3::Y * (head.radius * 1.6), radius: head.radius * 0.55 };
+    let neck = Sphere {
+        center: head.center - Vec3::Y * (head.radius * 1.6),
+        radius: head.radius * 0.55,
+    };
     let near = [head.clone(), neck];
     let n = total.min(2);
     rig_with_distractors(&near[..n], head.center, head.radius, total - n)
@@ -158,11 +172,12 @@ pub fn fit_sphere(points: &[Vec3]) -> Option<Sphere> {
         if m[col][col].abs() < 1e-12 * (1.0 + m[0][0].abs()) {
             return None;
         }
-        for r in 0..4 {
+        let pivot_row = m[col];
+        for (r, row) in m.iter_mut().enumerate() {
             if r != col {
-                let f = m[r][col] / m[col][col];
-                for c in col..5 {
-                    m[r][c] -= f * m[col][c];
+                let f = row[col] / pivot_row[col];
+                for (x, p) in row.iter_mut().zip(pivot_row).skip(col) {
+                    *x -= f * p;
                 }
             }
         }
@@ -170,7 +185,10 @@ pub fn fit_sphere(points: &[Vec3]) -> Option<Sphere> {
     let x: Vec<f64> = (0..4).map(|i| m[i][4] / m[i][i]).collect();
     let c = glam::DVec3::new(x[0], x[1], x[2]);
     let r2 = x[3] + c.length_squared();
-    (r2 > 0.0 && r2.is_finite()).then(|| Sphere { center: (c + mean).as_vec3(), radius: r2.sqrt() as f32 })
+    (r2 > 0.0 && r2.is_finite()).then(|| Sphere {
+        center: (c + mean).as_vec3(),
+        radius: r2.sqrt() as f32,
+    })
 }
 
 #[cfg(test)]
@@ -179,14 +197,27 @@ mod tests {
 
     #[test]
     fn fits_a_sphere_to_points_on_a_cap() {
-        let h = grow_on_sphere(&GrowOptions { center: Vec3::new(0.3, 1.6, -0.2), radius: 0.09, ..Default::default() });
+        let h = grow_on_sphere(&GrowOptions {
+            center: Vec3::new(0.3, 1.6, -0.2),
+            radius: 0.09,
+            ..Default::default()
+        });
         let roots: Vec<Vec3> = h.points.iter().step_by(32).copied().collect();
         let s = fit_sphere(&roots).unwrap();
-        assert!((s.center - Vec3::new(0.3, 1.6, -0.2)).length() < 1e-4, "{:?}", s);
+        assert!(
+            (s.center - Vec3::new(0.3, 1.6, -0.2)).length() < 1e-4,
+            "{:?}",
+            s
+        );
         assert!((s.radius - 0.09).abs() < 1e-4);
         assert!(fit_sphere(&roots[..3]).is_none());
-        let flat: Vec<Vec3> = (0..20).map(|i| Vec3::new(i as f32, (i * i) as f32, 0.0)).collect();
-        assert!(fit_sphere(&flat).is_none(), "coplanar points have no unique sphere");
+        let flat: Vec<Vec3> = (0..20)
+            .map(|i| Vec3::new(i as f32, (i * i) as f32, 0.0))
+            .collect();
+        assert!(
+            fit_sphere(&flat).is_none(),
+            "coplanar points have no unique sphere"
+        );
     }
 
     #[test]

@@ -114,14 +114,25 @@ fn near(aabb: &Aabb, s: &[f32; 4], margin: f32) -> bool {
 
 /// Writes into `out` the spheres near the union of `boxes` (one box per
 /// block of a group), each with the blocks whose own box it is near.
-pub(crate) fn select_candidates(boxes: &[Aabb], margin: f32, spheres: &[[f32; 4]], out: &mut Vec<Candidate>) {
+pub(crate) fn select_candidates(
+    boxes: &[Aabb],
+    margin: f32,
+    spheres: &[[f32; 4]],
+    out: &mut Vec<Candidate>,
+) {
     out.clear();
-    let Some(union) = boxes.iter().copied().reduce(Aabb::union) else { return };
+    let Some(union) = boxes.iter().copied().reduce(Aabb::union) else {
+        return;
+    };
     for s in spheres {
         if !near(&union, s, margin) {
             continue;
         }
-        let blocks = boxes.iter().enumerate().filter(|(_, b)| near(b, s, margin)).fold(0u32, |m, (k, _)| m | 1 << k);
+        let blocks = boxes
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| near(b, s, margin))
+            .fold(0u32, |m, (k, _)| m | 1 << k);
         if blocks != 0 {
             out.push(Candidate { sphere: *s, blocks });
         }
@@ -151,11 +162,16 @@ mod tests {
         let picked: Vec<[f32; 4]> = out.iter().map(|c| c.sphere).collect();
         assert_eq!(picked, vec![spheres[0], spheres[2]]);
         // Per block: a second box far away is touched by none of them.
-        let far = Aabb { min: Vec3::splat(10.0), max: Vec3::splat(11.0) };
+        let far = Aabb {
+            min: Vec3::splat(10.0),
+            max: Vec3::splat(11.0),
+        };
         select_candidates(&[aabb, far], 0.1, &spheres, &mut out);
         assert!(out.iter().all(|c| c.blocks == 0b01));
         select_candidates(&[far, aabb], 0.1, &spheres, &mut out);
-        assert!(out.iter().all(|c| c.blocks == 0b10 && c.touches(1) && !c.touches(0)));
+        assert!(out
+            .iter()
+            .all(|c| c.blocks == 0b10 && c.touches(1) && !c.touches(0)));
     }
 
     #[test]

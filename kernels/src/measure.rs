@@ -62,22 +62,33 @@ pub fn measure(strands: &Strands, spheres: &[Sphere]) -> Measures {
     m
 }
 
-/// Largest distance between corresponding vertices of two sets of the same
-/// shape (`f32::INFINITY` if the shapes differ).
-pub fn max_distance(a: &Strands, b: &Strands) -> f32 {
+/// Largest and root-mean-square distance between corresponding vertices of
+/// two sets of the same shape (`(INFINITY, INFINITY)` if the shapes differ).
+pub fn distances(a: &Strands, b: &Strands) -> (f32, f32) {
     if a.strand_count != b.strand_count || a.verts != b.verts {
-        return f32::INFINITY;
+        return (f32::INFINITY, f32::INFINITY);
     }
     let shift = (b.origin - a.origin).as_vec3();
-    let mut worst = 0.0f32;
+    let (mut worst, mut sum2) = (0.0f32, 0.0f64);
     for i in 0..a.strand_count {
         let (blk, l) = (i / LANES, i % LANES);
         for v in 0..a.verts {
             let k = blk * a.verts + v;
-            worst = worst.max((a.pos[k].lane(l) - (b.pos[k].lane(l) + shift)).length());
+            let d = (a.pos[k].lane(l) - (b.pos[k].lane(l) + shift)).length();
+            worst = worst.max(d);
+            sum2 += (d as f64) * (d as f64);
         }
     }
-    worst
+    (
+        worst,
+        (sum2 / (a.strand_count * a.verts) as f64).sqrt() as f32,
+    )
+}
+
+/// Largest distance between corresponding vertices of two sets of the same
+/// shape (`f32::INFINITY` if the shapes differ).
+pub fn max_distance(a: &Strands, b: &Strands) -> f32 {
+    distances(a, b).0
 }
 
 /// Largest vertex speed `|x - x_prev| / dt` in m/s, a measure of jitter at rest.

@@ -4,8 +4,8 @@
 //! them side by side. Blocks are grouped as in the SIMD path only so that the
 //! broad phase sees the same boxes and picks the same spheres.
 
-use crate::lanes::inv_sqrt_scalar;
 use crate::broad_phase::{block_aabb_scalar, select_candidates, spheres_to_local, Aabb, Candidate};
+use crate::lanes::inv_sqrt_scalar;
 use crate::step::{restore_lanes, StepSetup, BLOWN_UP, GROUP, MIN_LENGTH, STRAIN_COLLIDE_ROUNDS};
 use crate::{SimParams, Sphere, Strands};
 use glam::{Mat3, Vec3};
@@ -24,12 +24,23 @@ pub fn step(strands: &mut Strands, params: &SimParams, spheres: &[Sphere]) {
                 integrate_lane(strands, &setup, b, l);
             }
         }
-        let mut boxes = [Aabb { min: Vec3::ZERO, max: Vec3::ZERO }; GROUP];
+        let mut boxes = [Aabb {
+            min: Vec3::ZERO,
+            max: Vec3::ZERO,
+        }; GROUP];
         for (g, bx) in boxes.iter_mut().enumerate().take(n) {
             let b = first + g;
-            *bx = block_aabb_scalar(&strands.pos[b * verts..(b + 1) * verts], strands.lanes_in_block(b));
+            *bx = block_aabb_scalar(
+                &strands.pos[b * verts..(b + 1) * verts],
+                strands.lanes_in_block(b),
+            );
         }
-        select_candidates(&boxes[..n], setup.margin, &scratch.spheres_local, &mut scratch.candidates);
+        select_candidates(
+            &boxes[..n],
+            setup.margin,
+            &scratch.spheres_local,
+            &mut scratch.candidates,
+        );
         let mut bad = [0u32; GROUP];
         for (g, bits) in bad.iter_mut().enumerate().take(n) {
             for l in 0..strands.lanes_in_block(first + g) {
@@ -107,7 +118,14 @@ fn integrate_lane(s: &mut Strands, k: &StepSetup, b: usize, l: usize) {
 /// Constraint sweeps, strain limit and collisions of one lane; false if the
 /// lane blew up (non-finite or beyond [`BLOWN_UP`]). `g` is the block's place
 /// in its group (its bit in [`Candidate::blocks`]).
-fn solve_lane(s: &mut Strands, k: &StepSetup, b: usize, g: usize, l: usize, candidates: &[Candidate]) -> bool {
+fn solve_lane(
+    s: &mut Strands,
+    k: &StepSetup,
+    b: usize,
+    g: usize,
+    l: usize,
+    candidates: &[Candidate],
+) -> bool {
     let base = b * s.verts;
     let n = s.verts;
     let mut lane = Lane { s, base, l };
@@ -116,7 +134,10 @@ fn solve_lane(s: &mut Strands, k: &StepSetup, b: usize, g: usize, l: usize, cand
             let (rest, share) = (lane.get(&lane.s.rest_len, v), lane.shares(&lane.s.share, v));
             distance_constraint(&mut lane, v, v + 1, rest, share, 1.0);
             if k.bend > 0.0 && v + 2 < n {
-                let (rest, share) = (lane.get(&lane.s.bend_len, v), lane.shares(&lane.s.bend_share, v));
+                let (rest, share) = (
+                    lane.get(&lane.s.bend_len, v),
+                    lane.shares(&lane.s.bend_share, v),
+                );
                 distance_constraint(&mut lane, v, v + 2, rest, share, k.bend);
             }
         }
@@ -128,7 +149,14 @@ fn solve_lane(s: &mut Strands, k: &StepSetup, b: usize, g: usize, l: usize, cand
     })
 }
 
-fn distance_constraint(lane: &mut Lane, i: usize, j: usize, rest: f32, share: [f32; 2], stiffness: f32) {
+fn distance_constraint(
+    lane: &mut Lane,
+    i: usize,
+    j: usize,
+    rest: f32,
+    share: [f32; 2],
+    stiffness: f32,
+) {
     let (xi, xj) = (lane.x(i), lane.x(j));
     let delta = xj - xi;
     let inv_len = inv_sqrt_scalar(dot(delta, delta).max(MIN_LENGTH * MIN_LENGTH));
@@ -137,12 +165,7 @@ fn distance_constraint(lane: &mut Lane, i: usize, j: usize, rest: f32, share: [f
     lane.set_x(j, xj - delta * (k * share[1]));
 }
 
-fn strain_limit_and_collide(
-    lane: &mut Lane,
-    k: &StepSetup,
-    g: usize,
-    candidates: &[Candidate],
-) {
+fn strain_limit_and_collide(lane: &mut Lane, k: &StepSetup, g: usize, candidates: &[Candidate]) {
     for v in 1..lane.s.verts {
         let limit = lane.get(&lane.s.rest_len, v - 1) * k.stretch_factor;
         for _ in 0..STRAIN_COLLIDE_ROUNDS {

@@ -6,40 +6,47 @@
 //!    `x' = x + d (x - x_prev) + g dt^2`; pinned vertices (inverse mass 0) stay.
 //! 2. **Shape keeping** (optional): `x += k w_v (root + R rest_v - x)` with
 //!    `w_v = 1 - arc(v)/arc(tip)`, strongest at the root (Yip; TressFX).
-//! 3. **Broad phase**: the block's bounding box against every rig sphere.
-//! 4. `iterations` times:
-//!    - Gauss-Seidel sweep root to tip of the mass-weighted length constraint
-//!      (Jakobsen 2001): `delta = x2 - x1`, `c = (|delta| - l) / (max(|delta|, 1e-7) (w1 + w2))`,
-//!      `x1 += w1 c delta`, `x2 -= w2 c delta`; with bending on, the same rule
-//!      between v and v + 2 scaled by `bend_stiffness` right after segment v;
-//!    - **collisions** with each candidate sphere (c, R): every vertex is pushed
-//!      to distance `R + r`; then every pearl `p = (1-t) x_i + t x_{i+1}`,
-//!      `t = j/(k+1)`, by the point-on-segment rule (Nalu; DESIGN.md):
-//!      `C = |p - c| - (R + r)`, `s = -C / (w_i (1-t)^2 + w_{i+1} t^2)`,
-//!      `x_i += w_i (1-t) s n`, `x_{i+1} += w_{i+1} t s n`. Segments with a
-//!      pinned end carry no pearls: the root sits on the scalp, inside the
-//!      collision skin, and a pearl there would push against the pin every
-//!      step (measured: 5 m/s jitter at the tips with 1 iteration).
-//!
-//!    Then, after the sweeps (DESIGN.md), the **strain limit** root to tip,
-//!    `|x_v - x_{v-1}| <= (1 + max_stretch) l_{v-1}`, which implies Yip's root
-//!    spheres `|x_v - root| <= (1 + max_stretch) arc(v)` and, unlike them,
-//!    also holds for hair wrapped around the head; and a last collision pass,
-//!    so the hair ends the step outside the rig. The limit pulls a vertex
-//!    toward its parent, which lies outside the rig already, and the final
-//!    pass only pushes along sphere normals, nearly perpendicular to hair
-//!    lying on a sphere: neither undoes the other by more than the tests'
-//!    tolerances (2 % stretch, 1 mm penetration).
-//! 5. **Guard**: a lane with a non-finite coordinate, or one beyond 10^6 m of
+//! 3. **Broad phase**: each block's bounding box against every rig sphere
+//!    (`broad_phase.rs`); only spheres near a block are tested against it.
+//! 4. `iterations` Gauss-Seidel sweeps, root to tip, of the mass-weighted
+//!    length constraint (Jakobsen 2001): `delta = x2 - x1`,
+//!    `k = (|delta| - l) / |delta|`, `x1 += w1/(w1+w2) k delta`,
+//!    `x2 -= w2/(w1+w2) k delta` (`1/|delta|` by [`inv_sqrt`] of
+//!    `max(|delta|^2, 1e-14)`, so zero-length segments stay finite); with
+//!    bending on, the same rule between v and v + 2 scaled by `bend_stiffness`
+//!    right after segment v.
+//! 5. **Strain limit with collisions**, root to tip: each vertex is pulled
+//!    toward its parent until `|x_v - x_{v-1}| <= (1 + max_stretch) l_{v-1}`
+//!    (Provot 1995; Follow-The-Leader order, Muller et al. 2012), then pushed
+//!    out of every nearby sphere to distance `R + r`, twice over. Summed over
+//!    segments the limit gives Yip's root spheres
+//!    `|x_v - root| <= (1 + max_stretch) arc(v)`, and unlike them it holds for
+//!    hair wrapped round the head. Alternating the two per vertex is what lets
+//!    neither undo the other: with collisions last, root jumps stretched
+//!    segments by 50 %; with the limit last, hair was pulled 9 cm into the head.
+//! 6. **Pearls**: `k` points `p = (1-t) x_i + t x_{i+1}`, `t = j/(k+1)`, per
+//!    segment, pushed out by the point-on-segment rule (Nalu; DESIGN.md):
+//!    `C = |p - c| - (R + r)`, `s = -C / (w_i (1-t)^2 + w_{i+1} t^2)`,
+//!    `x_i += w_i (1-t) s n`, `x_{i+1} += w_{i+1} t s n`. Segments with a
+//!    pinned end carry no pearls: the root sits on the scalp, inside the
+//!    collision skin, and a pearl there pushed against the pin every step
+//!    (5 m/s jitter at the tips with 1 iteration). Pearls must be spaced
+//!    closer than a sphere's diameter or the sphere slips between them.
+//! 7. **Guard**: a lane with a non-finite coordinate, or one beyond 10^6 m of
 //!    the local origin, is restored to its rest pose at its root and counted;
 //!    lanes never exchange data, so no other strand is touched.
+//!
+//! Collisions run once per step, after the sweeps, rather than inside every
+//! sweep: the outcome (no penetration, stretch within the limit) is the same
+//! in every test, at half the instructions per vertex-step.
 //!
 //! Blocks are processed in groups of [`GROUP`], interleaved segment by
 //! segment, so that four independent constraint chains are in flight.
 //!
 //! [`crate::scalar::step`] runs the same operations in the same order, one
-//! lane at a time; with no fused multiply-adds in either path the two agree
-//! bit for bit on any target.
+//! lane at a time; neither path uses fused multiply-adds and both read the
+//! same inverse-square-root estimate, so the two agree bit for bit on
+//! x86-64 with AVX.
 
 use crate::broad_phase::{block_aabb, select_candidates, spheres_to_local, Aabb, Candidate};
 use crate::lanes::{inv_sqrt, Vec3x8, LANES};
@@ -172,7 +179,10 @@ fn step_group(
     }
 
     // 3. Broad phase: the group's blocks' boxes against the rig.
-    let mut boxes = [Aabb { min: Vec3::ZERO, max: Vec3::ZERO }; GROUP];
+    let mut boxes = [Aabb {
+        min: Vec3::ZERO,
+        max: Vec3::ZERO,
+    }; GROUP];
     for (b, bx) in boxes.iter_mut().enumerate().take(n) {
         *bx = block_aabb(&pos[b * verts..(b + 1) * verts], s.active[first + b]);
     }
@@ -232,9 +242,20 @@ pub(crate) fn restore_lanes(s: &mut Strands, first: usize, bad: &[u32; GROUP]) {
 /// `x_j -= share_j k delta` with `share_i = w_i / (w_i + w_j)` (Jakobsen
 /// 2001's rule, with `1/|delta|` from [`inv_sqrt`] of `max(|delta|^2, 1e-14)`).
 #[inline(always)]
-fn distance_constraint(pos: &mut [Vec3x8], i: usize, j: usize, rest: f32x8, share: [f32x8; 2], stiffness: f32x8) {
+fn distance_constraint(
+    pos: &mut [Vec3x8],
+    i: usize,
+    j: usize,
+    rest: f32x8,
+    share: [f32x8; 2],
+    stiffness: f32x8,
+) {
     let delta = pos[j] - pos[i];
-    let inv_len = inv_sqrt(delta.length_squared().fast_max(f32x8::splat(MIN_LENGTH * MIN_LENGTH)));
+    let inv_len = inv_sqrt(
+        delta
+            .length_squared()
+            .fast_max(f32x8::splat(MIN_LENGTH * MIN_LENGTH)),
+    );
     let k = stiffness * (f32x8::ONE - rest * inv_len);
     // A pinned end has share 0 and does not move. (A lane whose positions
     // went NaN can move its root; the guard then restores the whole strand,
@@ -299,7 +320,10 @@ fn outward(d: Vec3x8, d2: f32x8) -> (Vec3x8, f32x8) {
     let tiny = f32x8::splat(1e-30);
     let inv = inv_sqrt(d2.max(tiny));
     let on_centre = d2.simd_gt(tiny);
-    (Vec3x8::select(on_centre, d * inv, Vec3x8::splat(Vec3::Y)), on_centre.select(d2 * inv, f32x8::ZERO))
+    (
+        Vec3x8::select(on_centre, d * inv, Vec3x8::splat(Vec3::Y)),
+        on_centre.select(d2 * inv, f32x8::ZERO),
+    )
 }
 
 /// A rig sphere grown by the pearl radius, as lanes.

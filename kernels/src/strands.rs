@@ -80,7 +80,7 @@ impl Strands {
         if verts_per_strand < 2 {
             return Err(Error::TooFewVertices { verts_per_strand });
         }
-        if points.len() % verts_per_strand != 0 {
+        if !points.len().is_multiple_of(verts_per_strand) {
             return Err(Error::NotWholeStrands {
                 points: points.len(),
                 verts_per_strand,
@@ -348,7 +348,12 @@ impl Strands {
             return;
         }
         let shift = Vec3x8::splat((new_origin - self.origin).as_vec3());
-        for p in self.pos.iter_mut().chain(self.prev.iter_mut()).chain(self.roots.iter_mut()) {
+        for p in self
+            .pos
+            .iter_mut()
+            .chain(self.prev.iter_mut())
+            .chain(self.roots.iter_mut())
+        {
             *p = *p - shift;
         }
         self.origin = new_origin;
@@ -367,7 +372,12 @@ impl Strands {
         // local' = M local + (A(origin) - origin), the translation part in f64.
         let moved_origin = xform.matrix3.as_dmat3() * self.origin + xform.translation.as_dvec3();
         let t = (moved_origin - self.origin).as_vec3();
-        for p in self.pos.iter_mut().chain(self.prev.iter_mut()).chain(self.roots.iter_mut()) {
+        for p in self
+            .pos
+            .iter_mut()
+            .chain(self.prev.iter_mut())
+            .chain(self.roots.iter_mut())
+        {
             for l in 0..LANES {
                 p.set_lane(l, m * p.lane(l) + t);
             }

@@ -55,11 +55,15 @@ impl Groom {
             if c == 0 {
                 return Err(GroomError::BadHeader("a strand with no vertices"));
             }
-            total = total.checked_add(c).ok_or(GroomError::BadHeader("vertex count overflows"))?;
+            total = total
+                .checked_add(c)
+                .ok_or(GroomError::BadHeader("vertex count overflows"))?;
             starts.push(total);
         }
         if total != points.len() {
-            return Err(GroomError::BadHeader("vertex counts do not add up to the points"));
+            return Err(GroomError::BadHeader(
+                "vertex counts do not add up to the points",
+            ));
         }
         if let Some(index) = points.iter().position(|p| !p.is_finite()) {
             return Err(GroomError::NonFinite { index });

@@ -30,10 +30,15 @@ pub fn sniff(bytes: &[u8]) -> bool {
 /// or offsets, and non-finite coordinates.
 pub fn parse(bytes: &[u8]) -> Result<Groom, GroomError> {
     if bytes.len() < HEADER_BYTES {
-        return Err(GroomError::Truncated { needed: HEADER_BYTES as u64, available: bytes.len() as u64 });
+        return Err(GroomError::Truncated {
+            needed: HEADER_BYTES as u64,
+            available: bytes.len() as u64,
+        });
     }
     if !sniff(bytes) {
-        return Err(GroomError::BadHeader("not a TressFX 4 file (version is not 4.x)"));
+        return Err(GroomError::BadHeader(
+            "not a TressFX 4 file (version is not 4.x)",
+        ));
     }
     let strands = u32_at(bytes, 4) as u64;
     let verts = u32_at(bytes, 8) as u64;
@@ -50,7 +55,10 @@ pub fn parse(bytes: &[u8]) -> Result<Groom, GroomError> {
     // u32 * u32 * 16 fits in u64; compare with the input before allocating.
     let needed = offset + strands * verts * 16;
     if needed > bytes.len() as u64 {
-        return Err(GroomError::Truncated { needed, available: bytes.len() as u64 });
+        return Err(GroomError::Truncated {
+            needed,
+            available: bytes.len() as u64,
+        });
     }
     let count = (strands * verts) as usize;
     let data = &bytes[offset as usize..offset as usize + count * 16];
@@ -85,11 +93,19 @@ mod tests {
 
     #[test]
     fn reads_a_small_file() {
-        let pts = [[0.0, 1.0, 2.0, 0.0], [0.0, 0.5, 2.0, 1.0], [1.0, 1.0, 2.0, 0.0], [1.0, 0.5, 2.0, 1.0]];
+        let pts = [
+            [0.0, 1.0, 2.0, 0.0],
+            [0.0, 0.5, 2.0, 1.0],
+            [1.0, 1.0, 2.0, 0.0],
+            [1.0, 0.5, 2.0, 1.0],
+        ];
         let g = parse(&file(2, 2, &pts)).unwrap();
         assert_eq!(g.strand_count(), 2);
         assert_eq!(g.vertex_count(), 4);
-        assert_eq!(g.strand(1), &[Vec3::new(1.0, 1.0, 2.0), Vec3::new(1.0, 0.5, 2.0)]);
+        assert_eq!(
+            g.strand(1),
+            &[Vec3::new(1.0, 1.0, 2.0), Vec3::new(1.0, 0.5, 2.0)]
+        );
         let (scaled, v) = g.uniform_points(0.01).unwrap();
         assert_eq!(v, 2);
         assert!((scaled[1].y - 0.005).abs() < 1e-7);
@@ -100,22 +116,37 @@ mod tests {
         let pts = [[0.0; 4]; 4];
         let good = file(2, 2, &pts);
         for n in [0, 10, HEADER_BYTES - 1, good.len() - 1] {
-            assert!(matches!(parse(&good[..n]), Err(GroomError::Truncated { .. })), "cut at {n}");
+            assert!(
+                matches!(parse(&good[..n]), Err(GroomError::Truncated { .. })),
+                "cut at {n}"
+            );
         }
         // A header that claims 4 billion strands must not allocate for them.
         let liar = file(u32::MAX, u32::MAX, &pts);
         assert!(matches!(parse(&liar), Err(GroomError::Truncated { .. })));
-        assert!(matches!(parse(&file(0, 2, &[])), Err(GroomError::BadHeader(_))));
-        assert!(matches!(parse(&file(1, 1, &pts[..1])), Err(GroomError::BadHeader(_))));
+        assert!(matches!(
+            parse(&file(0, 2, &[])),
+            Err(GroomError::BadHeader(_))
+        ));
+        assert!(matches!(
+            parse(&file(1, 1, &pts[..1])),
+            Err(GroomError::BadHeader(_))
+        ));
         let mut nan = pts;
         nan[3][1] = f32::NAN;
-        assert_eq!(parse(&file(2, 2, &nan)), Err(GroomError::NonFinite { index: 3 }));
+        assert_eq!(
+            parse(&file(2, 2, &nan)),
+            Err(GroomError::NonFinite { index: 3 })
+        );
         let mut bad_offset = good.clone();
         bad_offset[12..16].copy_from_slice(&4u32.to_le_bytes());
         assert!(matches!(parse(&bad_offset), Err(GroomError::BadHeader(_))));
         let mut far_offset = good.clone();
         far_offset[12..16].copy_from_slice(&u32::MAX.to_le_bytes());
-        assert!(matches!(parse(&far_offset), Err(GroomError::Truncated { .. })));
+        assert!(matches!(
+            parse(&far_offset),
+            Err(GroomError::Truncated { .. })
+        ));
         let mut not_tfx = good;
         not_tfx[0..4].copy_from_slice(b"HAIR");
         assert!(parse(&not_tfx).is_err());

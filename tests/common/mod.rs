@@ -20,7 +20,7 @@ pub fn curly_strands(count: usize, verts: usize, seed: u64) -> (Vec<Vec3>, Vec<S
         let root = n * 0.1;
         let (u, w) = n.any_orthonormal_pair();
         let seg = rng.range(0.005, 0.012);
-        let phase = rng.range(0.0, 6.28);
+        let phase = rng.range(0.0, std::f32::consts::TAU);
         let mut p = root;
         for v in 0..verts {
             pts.push(p);
