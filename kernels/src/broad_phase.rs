@@ -45,16 +45,18 @@ pub(crate) fn block_aabb(pos: &[Vec3x8], active: f32x8) -> Aabb {
         Vec3x8::splat(Vec3::INFINITY),
         Vec3x8::splat(Vec3::NEG_INFINITY),
     );
+    // `candidate.fast_min(running)` keeps `running` where the candidate is
+    // NaN (minps returns its second operand), as f32::min does.
     for p in pos {
         lo = Vec3x8::new(
-            lo.x.min(active.select(p.x, inf)),
-            lo.y.min(active.select(p.y, inf)),
-            lo.z.min(active.select(p.z, inf)),
+            active.select(p.x, inf).fast_min(lo.x),
+            active.select(p.y, inf).fast_min(lo.y),
+            active.select(p.z, inf).fast_min(lo.z),
         );
         hi = Vec3x8::new(
-            hi.x.max(active.select(p.x, -inf)),
-            hi.y.max(active.select(p.y, -inf)),
-            hi.z.max(active.select(p.z, -inf)),
+            active.select(p.x, -inf).fast_max(hi.x),
+            active.select(p.y, -inf).fast_max(hi.y),
+            active.select(p.z, -inf).fast_max(hi.z),
         );
     }
     let fold = |v: f32x8, f: fn(f32, f32) -> f32, init: f32| v.to_array().into_iter().fold(init, f);
@@ -192,6 +194,12 @@ mod tests {
         }));
         let a = block_aabb(&pos, active);
         assert_eq!(a, block_aabb_scalar(&pos, 5));
+        // A NaN in one lane does not poison the box of the others.
+        let mut poisoned = pos.clone();
+        poisoned[1].set_lane(2, Vec3::NAN);
+        let b = block_aabb(&poisoned, active);
+        assert_eq!(b, block_aabb_scalar(&poisoned, 5));
+        assert!(b.min.is_finite() && b.max.is_finite());
         assert_eq!(a.min, Vec3::new(0.0, -2.0, 0.0));
         assert_eq!(a.max, Vec3::new(4.0, 0.0, 2.0));
     }
