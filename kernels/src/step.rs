@@ -316,7 +316,7 @@ fn strain_limit_and_collide(
 /// Outward unit normal and distance from `d` and `d2 = |d|^2`; +y and 0
 /// where the point sits on the centre.
 #[inline(always)]
-fn outward(d: Vec3x8, d2: f32x8) -> (Vec3x8, f32x8) {
+pub(crate) fn outward(d: Vec3x8, d2: f32x8) -> (Vec3x8, f32x8) {
     let tiny = f32x8::splat(1e-30);
     let inv = inv_sqrt(d2.max(tiny));
     let on_centre = d2.simd_gt(tiny);
@@ -328,7 +328,7 @@ fn outward(d: Vec3x8, d2: f32x8) -> (Vec3x8, f32x8) {
 
 /// A rig sphere grown by the pearl radius, as lanes.
 #[derive(Clone, Copy)]
-struct Reach {
+pub(crate) struct Reach {
     centre: Vec3x8,
     reach: f32x8,
     reach2: f32x8,
@@ -336,7 +336,7 @@ struct Reach {
 
 impl Reach {
     #[inline(always)]
-    fn new(sphere: [f32; 4], pearl_radius: f32) -> Self {
+    pub(crate) fn new(sphere: [f32; 4], pearl_radius: f32) -> Self {
         let reach = f32x8::splat(sphere[3] + pearl_radius);
         Reach {
             centre: Vec3x8::splat(Vec3::new(sphere[0], sphere[1], sphere[2])),
@@ -348,7 +348,7 @@ impl Reach {
 
 /// Pushes free vertex `i` out of the sphere to distance `R + r`.
 #[inline(always)]
-fn collide_vertex(pos: &mut [Vec3x8], w: &[f32x8], i: usize, s: &Reach) {
+pub(crate) fn collide_vertex(pos: &mut [Vec3x8], w: &[f32x8], i: usize, s: &Reach) {
     let d = pos[i] - s.centre;
     let d2 = d.length_squared();
     let hit = d2.simd_lt(s.reach2) & w[i].simd_gt(f32x8::ZERO);
@@ -361,7 +361,7 @@ fn collide_vertex(pos: &mut [Vec3x8], w: &[f32x8], i: usize, s: &Reach) {
 
 /// Every pearl of one block (a slice of V vertices) against one sphere.
 #[inline(always)]
-fn collide_pearls(pos: &mut [Vec3x8], w: &[f32x8], s: &Reach, k: &StepSetup) {
+pub(crate) fn collide_pearls(pos: &mut [Vec3x8], w: &[f32x8], s: &Reach, k: &StepSetup) {
     let zero = f32x8::ZERO;
     for j in 1..=k.pearls {
         let t = f32x8::splat(k.pearl_t(j));
