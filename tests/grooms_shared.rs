@@ -57,3 +57,54 @@ fn the_mohawk_simulates_in_metres() {
     assert!(s.positions().iter().all(|p| p.is_finite()));
     assert!(m.max_tip_strain <= params.max_stretch + 1e-4);
 }
+
+#[test]
+fn seeded_mutations_of_real_files_never_panic_or_overallocate() {
+    use coif::kernels::rng::SplitMix64;
+    let Some(path) = groom_path("sintel_lite.tfx") else {
+        return;
+    };
+    let original = std::fs::read(path).unwrap();
+    let mut rng = SplitMix64::new(2024);
+    let (mut ok, mut err) = (0, 0);
+    for _ in 0..3000 {
+        let mut bytes = original.clone();
+        match rng.below(3) {
+            // Flip bytes, mostly in the header where counts and offsets live.
+            0 => {
+                for _ in 0..1 + rng.below(4) {
+                    let at = if rng.below(4) == 0 {
+                        rng.below(bytes.len())
+                    } else {
+                        rng.below(64)
+                    };
+                    bytes[at] = rng.next_u64() as u8;
+                }
+            }
+            // Truncate anywhere.
+            1 => bytes.truncate(rng.below(bytes.len())),
+            // Overwrite a header word with an extreme value.
+            _ => {
+                let at = 4 * rng.below(8);
+                let v = [0u32, 1, u32::MAX, u32::MAX / 16, 0x7FC0_0000][rng.below(5)];
+                bytes[at..at + 4].copy_from_slice(&v.to_le_bytes());
+            }
+        }
+        match tfx::parse(&bytes) {
+            Ok(g) => {
+                ok += 1;
+                // Whatever parsed is consistent and no larger than the input allows.
+                assert!(g.vertex_count() * 16 <= bytes.len());
+                assert!((0..g.strand_count()).all(|i| g.strand(i).iter().all(|p| p.is_finite())));
+            }
+            Err(e) => {
+                err += 1;
+                assert!(!e.to_string().is_empty());
+            }
+        }
+    }
+    assert!(
+        ok > 0 && err > 0,
+        "the mutations exercised both outcomes: {ok} parsed, {err} rejected"
+    );
+}
