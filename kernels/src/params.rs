@@ -44,6 +44,12 @@ pub struct SimParams {
     /// root and fading linearly to 0 at the tip (Yip 2011; TressFX's shape
     /// constraints). 0 (default) switches it off.
     pub shape_stiffness: f32,
+    /// Contact friction in [0, 1]: the share of a vertex's tangential
+    /// velocity removed when a sphere pushes it out (0 = frictionless).
+    /// Default 0.3: hair rests on a scalp rather than sliding off it, and
+    /// draped tips stop jittering (measured at rest with 4 iterations: the
+    /// fastest vertex 0.10 m/s frictionless, 0.04 m/s with 0.3).
+    pub friction: f32,
 }
 
 impl Default for SimParams {
@@ -58,6 +64,7 @@ impl Default for SimParams {
             max_stretch: 0.01,
             bend_stiffness: 0.0,
             shape_stiffness: 0.0,
+            friction: 0.3,
         }
     }
 }
@@ -119,6 +126,12 @@ impl SimParams {
             self.shape_stiffness,
             (0.0..=1.0).contains(&self.shape_stiffness),
             "0 <= shape_stiffness <= 1",
+        )?;
+        check(
+            "friction",
+            self.friction,
+            (0.0..=1.0).contains(&self.friction),
+            "0 <= friction <= 1",
         )?;
         Ok(())
     }

@@ -129,7 +129,15 @@ fn solve_lane(
     let base = b * s.verts;
     let n = s.verts;
     let mut lane = Lane { s, base, l };
-    for _ in 0..k.iterations {
+    for it in 0..k.iterations {
+        if it + 1 == k.iterations {
+            for c in candidates.iter().filter(|c| c.touches(g)) {
+                for v in 0..n {
+                    collide_vertex(&mut lane, v, c.sphere, k.pearl_radius);
+                }
+                collide_pearls(&mut lane, c.sphere, k);
+            }
+        }
         for v in 0..n - 1 {
             let (rest, share) = (lane.get(&lane.s.rest_len, v), lane.shares(&lane.s.share, v));
             distance_constraint(&mut lane, v, v + 1, rest, share, 1.0);
@@ -176,7 +184,11 @@ fn strain_limit_and_collide(lane: &mut Lane, k: &StepSetup, g: usize, candidates
                 lane.set_x(v, parent + d * (limit * inv_sqrt_scalar(d2)));
             }
             for c in candidates.iter().filter(|c| c.touches(g)) {
-                collide_vertex(lane, v, c.sphere, k.pearl_radius);
+                if let Some(normal) = collide_vertex(lane, v, c.sphere, k.pearl_radius) {
+                    if k.friction > 0.0 {
+                        contact_friction(lane, v, normal, k.friction);
+                    }
+                }
             }
         }
     }
@@ -195,7 +207,8 @@ fn outward(d: Vec3, d2: f32) -> (Vec3, f32) {
     }
 }
 
-fn collide_vertex(lane: &mut Lane, v: usize, sphere: [f32; 4], pearl_radius: f32) {
+/// Pushes vertex `v` out of the sphere; returns the outward normal if it did.
+fn collide_vertex(lane: &mut Lane, v: usize, sphere: [f32; 4], pearl_radius: f32) -> Option<Vec3> {
     let centre = Vec3::new(sphere[0], sphere[1], sphere[2]);
     let reach = sphere[3] + pearl_radius;
     let x = lane.x(v);
@@ -204,7 +217,19 @@ fn collide_vertex(lane: &mut Lane, v: usize, sphere: [f32; 4], pearl_radius: f32
     if d2 < reach * reach && lane.w(v) > 0.0 {
         let (n, dist) = outward(d, d2);
         lane.set_x(v, x + n * (reach - dist));
+        Some(n)
+    } else {
+        None
     }
+}
+
+/// `v_t = v - n (v.n)`, `x_prev += mu v_t` with `v = x - x_prev`.
+fn contact_friction(lane: &mut Lane, v: usize, n: Vec3, mu: f32) {
+    let k = lane.base + v;
+    let prev = lane.s.prev[k].lane(lane.l);
+    let vel = lane.x(v) - prev;
+    let tangential = vel - n * dot(vel, n);
+    lane.s.prev[k].set_lane(lane.l, prev + tangential * mu);
 }
 
 fn collide_pearls(lane: &mut Lane, sphere: [f32; 4], k: &StepSetup) {

@@ -14,16 +14,20 @@
 //!    `x2 -= w2/(w1+w2) k delta` (`1/|delta|` by [`inv_sqrt`] of
 //!    `max(|delta|^2, 1e-14)`, so zero-length segments stay finite); with
 //!    bending on, the same rule between v and v + 2 scaled by `bend_stiffness`
-//!    right after segment v.
+//!    right after segment v. Before the last sweep, one collision pass
+//!    (vertices and pearls, as in 6), so that the sweep smooths what the
+//!    push-out did.
 //! 5. **Strain limit with collisions**, root to tip: each vertex is pulled
 //!    toward its parent until `|x_v - x_{v-1}| <= (1 + max_stretch) l_{v-1}`
 //!    (Provot 1995; Follow-The-Leader order, Muller et al. 2012), then pushed
-//!    out of every nearby sphere to distance `R + r`, twice over. Summed over
-//!    segments the limit gives Yip's root spheres
-//!    `|x_v - root| <= (1 + max_stretch) arc(v)`, and unlike them it holds for
-//!    hair wrapped round the head. Alternating the two per vertex is what lets
-//!    neither undo the other: with collisions last, root jumps stretched
-//!    segments by 50 %; with the limit last, hair was pulled 9 cm into the head.
+//!    out of every nearby sphere to distance `R + r`, twice over; a pushed
+//!    vertex loses the share `friction` of its tangential velocity
+//!    (`x_prev += mu (v - n (v.n))`). Summed over segments the limit gives
+//!    Yip's root spheres `|x_v - root| <= (1 + max_stretch) arc(v)`, and unlike
+//!    them it holds for hair wrapped round the head. Alternating the two per
+//!    vertex is what lets neither undo the other: with collisions last, root
+//!    jumps stretched segments by 50 %; with the limit last, hair was pulled
+//!    9 cm into the head.
 //! 6. **Pearls**: `k` points `p = (1-t) x_i + t x_{i+1}`, `t = j/(k+1)`, per
 //!    segment, pushed out by the point-on-segment rule (Nalu; DESIGN.md):
 //!    `C = |p - c| - (R + r)`, `s = -C / (w_i (1-t)^2 + w_{i+1} t^2)`,
@@ -36,9 +40,11 @@
 //!    the local origin, is restored to its rest pose at its root and counted;
 //!    lanes never exchange data, so no other strand is touched.
 //!
-//! Collisions run once per step, after the sweeps, rather than inside every
-//! sweep: the outcome (no penetration, stretch within the limit) is the same
-//! in every test, at half the instructions per vertex-step.
+//! Collision passes cost most of a step, so there are two per step (before
+//! the last sweep, and 5-6), not one per sweep: the same outcomes in every
+//! test at 104 instead of 167 instructions per vertex-step on the mohawk.
+//! With only the final pass (83 instructions) hair draped on a head flapped
+//! at 3-5 m/s at rest.
 //!
 //! Blocks are processed in groups of [`GROUP`], interleaved segment by
 //! segment, so that four independent constraint chains are in flight.
@@ -72,6 +78,7 @@ pub(crate) struct StepSetup {
     pub stretch_factor: f32,
     pub bend: f32,
     pub shape: f32,
+    pub friction: f32,
     pub rest_rotation: Mat3,
     /// Broad-phase margin: pearl radius plus one longest rest segment.
     pub margin: f32,
@@ -88,6 +95,7 @@ impl StepSetup {
             stretch_factor: 1.0 + p.max_stretch,
             bend: p.bend_stiffness,
             shape: p.shape_stiffness,
+            friction: p.friction,
             rest_rotation: strands.rest_rotation,
             margin: p.pearl_radius.max(0.0) + strands.max_rest_segment,
         }
@@ -194,7 +202,10 @@ fn step_group(
     let share = &s.share[range.clone()];
     let bend_share = &s.bend_share[range.clone()];
     let bend = f32x8::splat(k.bend);
-    for _ in 0..k.iterations {
+    for it in 0..k.iterations {
+        if it + 1 == k.iterations {
+            collide_group(pos, w, verts, n, candidates, k);
+        }
         for v in 0..verts - 1 {
             for b in 0..n {
                 let i = b * verts + v;
@@ -206,7 +217,7 @@ fn step_group(
         }
     }
     let factor = f32x8::splat(k.stretch_factor);
-    strain_limit_and_collide(pos, w, rest_len, verts, n, factor, candidates, k);
+    strain_limit_and_collide(pos, prev, w, rest_len, verts, n, factor, candidates, k);
 
     // 5. Guard.
     let big = f32x8::splat(BLOWN_UP);
@@ -278,6 +289,7 @@ fn distance_constraint(
 #[inline(always)]
 fn strain_limit_and_collide(
     pos: &mut [Vec3x8],
+    prev: &mut [Vec3x8],
     w: &[f32x8],
     rest_len: &[f32x8],
     verts: usize,
@@ -286,6 +298,7 @@ fn strain_limit_and_collide(
     candidates: &[Candidate],
     k: &StepSetup,
 ) {
+    let friction = f32x8::splat(k.friction);
     for v in 1..verts {
         for b in 0..n {
             let i = b * verts + v;
@@ -299,7 +312,11 @@ fn strain_limit_and_collide(
                     pos[i] = Vec3x8::select(over, pulled, pos[i]);
                 }
                 for c in candidates.iter().filter(|c| c.touches(b)) {
-                    collide_vertex(pos, w, i, &Reach::new(c.sphere, k.pearl_radius));
+                    let (hit, normal) =
+                        collide_vertex(pos, w, i, &Reach::new(c.sphere, k.pearl_radius));
+                    if k.friction > 0.0 && hit.any() {
+                        contact_friction(pos, prev, i, hit, normal, friction);
+                    }
                 }
             }
         }
@@ -308,6 +325,31 @@ fn strain_limit_and_collide(
         let sphere = Reach::new(c.sphere, k.pearl_radius);
         for b in (0..n).filter(|&b| c.touches(b)) {
             let r = b * verts..(b + 1) * verts;
+            collide_pearls(&mut pos[r.clone()], &w[r], &sphere, k);
+        }
+    }
+}
+
+/// Every block of the group against every candidate sphere near it:
+/// vertices, then pearls. Run once before the last sweep, so that the sweep
+/// smooths what the push-out did (without it, hair draped on a head flapped
+/// at 3-5 m/s at rest).
+#[inline(always)]
+fn collide_group(
+    pos: &mut [Vec3x8],
+    w: &[f32x8],
+    verts: usize,
+    n: usize,
+    candidates: &[Candidate],
+    k: &StepSetup,
+) {
+    for c in candidates {
+        let sphere = Reach::new(c.sphere, k.pearl_radius);
+        for b in (0..n).filter(|&b| c.touches(b)) {
+            let r = b * verts..(b + 1) * verts;
+            for i in r.clone() {
+                collide_vertex(pos, w, i, &sphere);
+            }
             collide_pearls(&mut pos[r.clone()], &w[r], &sphere, k);
         }
     }
@@ -346,17 +388,42 @@ impl Reach {
     }
 }
 
-/// Pushes free vertex `i` out of the sphere to distance `R + r`.
+/// Pushes free vertex `i` out of the sphere to distance `R + r`; returns the
+/// lanes it pushed and their outward normals.
 #[inline(always)]
-pub(crate) fn collide_vertex(pos: &mut [Vec3x8], w: &[f32x8], i: usize, s: &Reach) {
+pub(crate) fn collide_vertex(
+    pos: &mut [Vec3x8],
+    w: &[f32x8],
+    i: usize,
+    s: &Reach,
+) -> (f32x8, Vec3x8) {
     let d = pos[i] - s.centre;
     let d2 = d.length_squared();
     let hit = d2.simd_lt(s.reach2) & w[i].simd_gt(f32x8::ZERO);
-    if hit.any() {
-        let (n, dist) = outward(d, d2);
-        let pushed = pos[i] + n * (s.reach - dist);
-        pos[i] = Vec3x8::select(hit, pushed, pos[i]);
+    if !hit.any() {
+        return (hit, Vec3x8::ZERO);
     }
+    let (n, dist) = outward(d, d2);
+    let pushed = pos[i] + n * (s.reach - dist);
+    pos[i] = Vec3x8::select(hit, pushed, pos[i]);
+    (hit, n)
+}
+
+/// Contact friction: removes the share `mu` of the tangential part of the
+/// velocity `x - x_prev` of the lanes in `hit` (outward normals `n`), by
+/// moving `x_prev`: `v_t = v - n (v.n)`, `x_prev += mu v_t`.
+#[inline(always)]
+fn contact_friction(
+    pos: &[Vec3x8],
+    prev: &mut [Vec3x8],
+    i: usize,
+    hit: f32x8,
+    n: Vec3x8,
+    mu: f32x8,
+) {
+    let v = pos[i] - prev[i];
+    let tangential = v - n * v.dot(n);
+    prev[i] = Vec3x8::select(hit, prev[i] + tangential * mu, prev[i]);
 }
 
 /// Every pearl of one block (a slice of V vertices) against one sphere.
