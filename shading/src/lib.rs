@@ -5,3 +5,5 @@
 pub mod samples;
 
 pub use samples::{RgbBuffer, ShadingSamples};
+pub mod kajiya_kay;
+pub mod marschner;
