@@ -75,6 +75,10 @@ const MIN_LENGTH_SQUARED: f32 = 1e-30;
 const MIN_SIN_O: f32 = 1e-6;
 /// Base floor of the power so that ln stays finite: x^p = exp(p ln max(x, 1e-30)).
 const MIN_BASE: f32 = 1e-30;
+/// Highlights below e^-60 (~1e-26) are flushed to zero: exp of a very negative
+/// argument lands in the subnormal range, where every later multiply takes a
+/// microcode assist (measured: 20x slower batches with random directions).
+const MIN_LOG_LOBE: f32 = -60.0;
 
 impl KajiyaKay {
     /// Plain Kajiya-Kay: one unshifted highlight.
@@ -123,7 +127,12 @@ impl KajiyaKay {
             let si = (1.0 - ci * ci).max(0.0).sqrt();
             let so = (1.0 - co * co).max(0.0).sqrt();
             let base = (si * so - ci * co).max(MIN_BASE);
-            (h.exponent.max(0.0) * base.ln()).exp()
+            let x = h.exponent.max(0.0) * base.ln();
+            if x < MIN_LOG_LOBE {
+                0.0
+            } else {
+                x.exp()
+            }
         };
         self.diffuse * s_i
             + self.primary.color * lobe(&self.primary)
@@ -158,7 +167,9 @@ impl KajiyaKay {
             let si = (one - ci * ci).max(zero).sqrt();
             let so = (one - co * co).max(zero).sqrt();
             let base = (si * so - ci * co).max(f32x8::splat(MIN_BASE));
-            (f32x8::splat(h.exponent.max(0.0)) * base.ln()).exp()
+            let x = f32x8::splat(h.exponent.max(0.0)) * base.ln();
+            let tiny = x.simd_lt(f32x8::splat(MIN_LOG_LOBE));
+            tiny.select(zero, x.max(f32x8::splat(MIN_LOG_LOBE)).exp())
         };
         let (l1, l2) = (lobe(&self.primary), lobe(&self.secondary));
         let (d, a, b) = (self.diffuse, self.primary.color, self.secondary.color);

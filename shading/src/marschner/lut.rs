@@ -47,18 +47,28 @@ pub enum LutLayout {
     /// (cos theta_d, |phi| / pi) (one `acos`).
     #[default]
     Angular,
+    /// coif's angular table M with Nalu's 0.5 + 0.5 cos phi for table N: isolates
+    /// the effect of the azimuth parameterisation.
+    AngularCosPhi,
 }
 
 impl LutLayout {
     /// Every layout, for comparisons.
-    pub const ALL: [LutLayout; 3] = [LutLayout::Nalu, LutLayout::LinearPhi, LutLayout::Angular];
+    pub const ALL: [LutLayout; 4] = [
+        LutLayout::Nalu,
+        LutLayout::LinearPhi,
+        LutLayout::Angular,
+        LutLayout::AngularCosPhi,
+    ];
 
+    /// Table M indexed by angle (asin at lookup) with exact cos theta_d.
     fn linear_theta(self) -> bool {
-        self == LutLayout::Angular
+        matches!(self, LutLayout::Angular | LutLayout::AngularCosPhi)
     }
 
+    /// Table N indexed by |phi| / pi (acos at lookup).
     fn linear_phi(self) -> bool {
-        self != LutLayout::Nalu
+        matches!(self, LutLayout::LinearPhi | LutLayout::Angular)
     }
 }
 
@@ -71,6 +81,19 @@ pub struct Lut {
     m: Vec<Vec4>,
     /// ((N_R, N_TT rgb), (N_TRT rgb, 0)) at [y * res + x], x from cos theta_d, y from v.
     n: Vec<[Vec4; 2]>,
+}
+
+/// Table entries below this are stored as zero: far-tail Gaussians and
+/// strongly absorbed lobes would otherwise be subnormal floats, and every
+/// multiply touching a subnormal takes a microcode assist (tens of times slower).
+const FLUSH_TO_ZERO: f64 = 1e-12;
+
+fn flushed(v: f64) -> f32 {
+    if v.abs() < FLUSH_TO_ZERO {
+        0.0
+    } else {
+        v as f32
+    }
 }
 
 /// Zero-length inputs below this squared length give zero.
@@ -107,9 +130,9 @@ impl Lut {
                 let mt = longitudinal::m_terms(&p, 0.5 * (theta_i + theta_o));
                 let cos_d = (0.5 * (theta_o - theta_i)).cos();
                 m.push(Vec4::new(
-                    mt[0] as f32,
-                    mt[1] as f32,
-                    mt[2] as f32,
+                    flushed(mt[0]),
+                    flushed(mt[1]),
+                    flushed(mt[2]),
                     cos_d as f32,
                 ));
             }
@@ -126,7 +149,7 @@ impl Lut {
                 let cos_d = (x as f64 * step).max(MIN_COS_THETA_D as f64);
                 let t = n_terms(&p, cos_d, phi);
                 let k = 1.0 / (cos_d * cos_d);
-                let f = |v: f64| (v * k) as f32;
+                let f = |v: f64| flushed(v * k);
                 n.push([
                     Vec4::new(f(t[0][0]), f(t[1][0]), f(t[1][1]), f(t[1][2])),
                     Vec4::new(f(t[2][0]), f(t[2][1]), f(t[2][2]), 0.0),
