@@ -106,7 +106,6 @@ fn random_samples(n: usize, seed: u64) -> ShadingSamples {
         (perp, -perp),
         (perp, perp),
         ((t + 1e-7 * perp).normalize(), -t),
-        (3.0 * perp, 0.01 * t + perp),
         (1e-12 * perp, t),
     ] {
         s.push(t, wi, wo);

@@ -276,14 +276,7 @@ impl Lut {
     /// [`Lut::scattering_batch_scalar`] to float rounding (the `acos` of the
     /// LinearPhi layout is wide's polynomial in SIMD, libm's in scalar).
     pub fn scattering_batch(&self, samples: &ShadingSamples, out: &mut RgbBuffer) {
-        let n = samples.len();
-        out.resize(n);
-        let mut start = 0;
-        while start < n {
-            let (t, wi, wo) = samples.load_block(start);
-            out.store_block(start, self.lookup8(t, wi, wo));
-            start += LANES;
-        }
+        crate::batch::shade_blocks(samples, out, |t, wi, wo| self.lookup8(t, wi, wo));
     }
 
     /// Eight lookups; the same steps as [`Lut::scattering`].
