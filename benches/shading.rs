@@ -2,6 +2,7 @@
 //! and time against error for the Marschner lookup tables.
 //!
 //! Groups (throughput in samples, so criterion reports time per sample):
+//! - `baseline/read9_write3`: the memory floor (read a sample, write RGB).
 //! - `kajiya_kay/{simd,scalar}`: diffuse + two shifted highlights.
 //! - `marschner/{direct_scalar, lut128_simd, lut128_scalar}`: the direct model
 //!   (scalar only: its root finding branches per sample) and the default
@@ -26,6 +27,27 @@ fn random_samples(n: usize, seed: u64) -> ShadingSamples {
         s.push(rng.unit_vector(), rng.unit_vector(), rng.unit_vector());
     }
     s
+}
+
+/// The floor of any batch kernel here: read the nine input floats of a
+/// sample and write three (their sums), scalar loop the compiler vectorises.
+/// Puts the per-sample figures of a loaded machine in proportion.
+fn baseline(c: &mut Criterion) {
+    let samples = random_samples(N, 1);
+    let mut out = RgbBuffer::zeros(N);
+    let mut g = c.benchmark_group("baseline");
+    g.throughput(Throughput::Elements(N as u64));
+    g.bench_function("read9_write3", |b| {
+        b.iter(|| {
+            let s = black_box(&samples);
+            for i in 0..N {
+                out.r[i] = s.t[0][i] + s.wi[0][i] + s.wo[0][i];
+                out.g[i] = s.t[1][i] + s.wi[1][i] + s.wo[1][i];
+                out.b[i] = s.t[2][i] + s.wi[2][i] + s.wo[2][i];
+            }
+        })
+    });
+    g.finish();
 }
 
 fn kajiya_kay(c: &mut Criterion) {
@@ -84,6 +106,7 @@ fn marschner_lut_time_vs_error(c: &mut Criterion) {
 
 criterion_group!(
     benches,
+    baseline,
     kajiya_kay,
     marschner_direct_and_lut,
     marschner_lut_time_vs_error
