@@ -109,7 +109,7 @@ pub fn cubic_root_error(params: &Params, samples: usize, seed: u64) -> CubicRoot
             }
         }
     }
-    out.relative_rms = super::accuracy::relative_rms_error(
+    out.relative_rms = relative_rms_error(
         |t, wi, wo| super::scattering(&exact, t, wi, wo),
         |t, wi, wo| super::scattering(&cubic, t, wi, wo),
         samples,

@@ -72,7 +72,8 @@ impl Default for Params {
 
 /// Parameters in `f64`, sanitised so that no parameter value can make the
 /// evaluation divide by zero: eta >= 1.0001, widths >= 1e-4, eccentricity
-/// in [0.1, 10], absorption >= 0. NaN parameters stay NaN (and give NaN).
+/// in [0.1, 10], absorption >= 0. NaN parameters pass through: they never
+/// panic, but the results are meaningless (zero or NaN).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Sanitised {
     pub eta: f64,
