@@ -2,6 +2,9 @@
 //! factored lookup tables, pbrt-v3's hair BSDF as the accuracy yardstick),
 //! evaluated per sample (scalar) and in SIMD batches over [`ShadingSamples`].
 
+mod batch;
 pub mod samples;
 
 pub use samples::{RgbBuffer, ShadingSamples};
+pub mod kajiya_kay;
+pub mod marschner;
