@@ -1,6 +1,6 @@
 //! The real TressFX grooms in `shared/data/grooms` load and simulate.
 
-use coif::groom::tfx;
+use coif::groom::{self, cyhair, tfx};
 use coif::kernels::{self, SimParams, Strands};
 use std::path::PathBuf;
 
@@ -28,7 +28,7 @@ fn both_shared_grooms_parse_with_their_documented_sizes() {
         let Some(path) = groom_path(name) else {
             continue;
         };
-        let g = tfx::parse(&std::fs::read(path).unwrap()).unwrap();
+        let g = groom::load(&std::fs::read(path).unwrap()).unwrap();
         assert_eq!(g.strand_count(), strands, "{name}");
         assert_eq!(g.vertex_count(), strands * verts, "{name}");
         assert!(g.strand(0).iter().all(|p| p.is_finite()));
@@ -39,6 +39,26 @@ fn both_shared_grooms_parse_with_their_documented_sizes() {
             "{name}: strand 0 is {len} units long"
         );
     }
+}
+
+#[test]
+fn a_simulated_groom_exports_to_cyhair_and_reads_back() {
+    let Some(path) = groom_path("sintel_lite.tfx") else {
+        return;
+    };
+    let g = groom::load(&std::fs::read(path).unwrap()).unwrap();
+    let (pts, v) = g.uniform_points(0.01).unwrap();
+    let mut s = Strands::from_polylines(&pts, v).unwrap();
+    for _ in 0..10 {
+        kernels::step(&mut s, &SimParams::default(), &[]);
+    }
+    let moved = s.positions();
+    let counts = vec![v; s.strand_count()];
+    let simulated = groom::Groom::from_strands(moved.clone(), &counts).unwrap();
+    let bytes = cyhair::write(&simulated, "coif: sintel after 10 steps").unwrap();
+    let back = groom::load(&bytes).unwrap();
+    assert_eq!(back.strand_count(), 228);
+    assert_eq!(back.points(), &moved[..]);
 }
 
 #[test]
@@ -90,7 +110,7 @@ fn seeded_mutations_of_real_files_never_panic_or_overallocate() {
                 bytes[at..at + 4].copy_from_slice(&v.to_le_bytes());
             }
         }
-        match tfx::parse(&bytes) {
+        match groom::load(&bytes) {
             Ok(g) => {
                 ok += 1;
                 // Whatever parsed is consistent and no larger than the input allows.

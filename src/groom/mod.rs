@@ -1,9 +1,14 @@
 //! Authored grooms: strands of any vertex count, as stored in their files.
 //!
-//! [`tfx::parse`] reads AMD TressFX 4 `.tfx` binaries (the format of the grooms
-//! in `shared/data/grooms`). Positions are kept exactly as stored (no unit
-//! conversion); [`Groom::uniform_points`] scales them for the simulation.
+//! [`load`] reads AMD TressFX 4 `.tfx` binaries (the format of the grooms in
+//! `shared/data/grooms`) and Cem Yuksel's cyHair `.hair` files, told apart by
+//! content; [`cyhair::write`] exports a groom (a simulated one, say) to
+//! `.hair`. Positions are kept exactly as stored (no unit conversion);
+//! [`Groom::uniform_points`] scales them for the simulation. Hostile input
+//! gets an [`Error`], never a panic, and nothing is allocated from a
+//! header's word before the input is known to hold that much data.
 
+pub mod cyhair;
 pub mod tfx;
 
 use glam::Vec3;
@@ -11,28 +16,47 @@ use std::fmt;
 
 /// Why a groom could not be read.
 #[derive(Clone, Debug, PartialEq)]
-pub enum GroomError {
+pub enum Error {
     /// The input ends before the data its header announces.
     Truncated { needed: u64, available: u64 },
     /// A header field is impossible (zero strands, a count that overflows...).
     BadHeader(&'static str),
+    /// Neither a TressFX 4 nor a cyHair file.
+    UnknownFormat,
+    /// The groom cannot be written in the format (e.g. a strand too long
+    /// for cyHair's 16-bit segment counts).
+    Unwritable(&'static str),
     /// Point `index` has a non-finite coordinate.
     NonFinite { index: usize },
 }
 
-impl fmt::Display for GroomError {
+impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            GroomError::Truncated { needed, available } => {
+            Error::Truncated { needed, available } => {
                 write!(f, "groom truncated: needs {needed} bytes, has {available}")
             }
-            GroomError::BadHeader(why) => write!(f, "bad groom header: {why}"),
-            GroomError::NonFinite { index } => write!(f, "groom point {index} is not finite"),
+            Error::BadHeader(why) => write!(f, "bad groom header: {why}"),
+            Error::UnknownFormat => write!(f, "not a TressFX 4 (.tfx) or cyHair (.hair) groom"),
+            Error::Unwritable(why) => write!(f, "cannot write the groom: {why}"),
+            Error::NonFinite { index } => write!(f, "groom point {index} is not finite"),
         }
     }
 }
 
-impl std::error::Error for GroomError {}
+impl std::error::Error for Error {}
+
+/// Reads a TressFX 4 `.tfx` or cyHair `.hair` groom, told apart by content
+/// (cyHair starts with the bytes `HAIR`; TressFX with the f32 version 4.x).
+pub fn load(bytes: &[u8]) -> Result<Groom, Error> {
+    if cyhair::sniff(bytes) {
+        cyhair::parse(bytes)
+    } else if tfx::sniff(bytes) {
+        tfx::parse(bytes)
+    } else {
+        Err(Error::UnknownFormat)
+    }
+}
 
 /// Strands of any vertex count, root first, positions as stored in the file.
 #[derive(Clone, Debug, PartialEq)]
@@ -44,29 +68,29 @@ pub struct Groom {
 
 impl Groom {
     /// Builds a groom from points and per-strand vertex counts.
-    pub fn from_strands(points: Vec<Vec3>, counts: &[usize]) -> Result<Groom, GroomError> {
+    pub fn from_strands(points: Vec<Vec3>, counts: &[usize]) -> Result<Groom, Error> {
         if counts.is_empty() {
-            return Err(GroomError::BadHeader("no strands"));
+            return Err(Error::BadHeader("no strands"));
         }
         let mut starts = Vec::with_capacity(counts.len() + 1);
         let mut total = 0usize;
         starts.push(0);
         for &c in counts {
             if c == 0 {
-                return Err(GroomError::BadHeader("a strand with no vertices"));
+                return Err(Error::BadHeader("a strand with no vertices"));
             }
             total = total
                 .checked_add(c)
-                .ok_or(GroomError::BadHeader("vertex count overflows"))?;
+                .ok_or(Error::BadHeader("vertex count overflows"))?;
             starts.push(total);
         }
         if total != points.len() {
-            return Err(GroomError::BadHeader(
+            return Err(Error::BadHeader(
                 "vertex counts do not add up to the points",
             ));
         }
         if let Some(index) = points.iter().position(|p| !p.is_finite()) {
-            return Err(GroomError::NonFinite { index });
+            return Err(Error::NonFinite { index });
         }
         Ok(Groom { points, starts })
     }
@@ -83,6 +107,11 @@ impl Groom {
     /// Points of strand `i`, root first.
     pub fn strand(&self, i: usize) -> &[Vec3] {
         &self.points[self.starts[i]..self.starts[i + 1]]
+    }
+
+    /// Every point, strand after strand.
+    pub fn points(&self) -> &[Vec3] {
+        &self.points
     }
 
     /// If every strand has the same vertex count V: all points times `scale`

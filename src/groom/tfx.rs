@@ -7,7 +7,7 @@
 //! Every count and offset is checked against the input's length before
 //! anything is allocated from it.
 
-use super::{Groom, GroomError};
+use super::{Error, Groom};
 use glam::Vec3;
 
 /// Size of the fixed header.
@@ -28,15 +28,15 @@ pub fn sniff(bytes: &[u8]) -> bool {
 
 /// Parses a `.tfx` file. Errors, never panics, on truncation, lying counts
 /// or offsets, and non-finite coordinates.
-pub fn parse(bytes: &[u8]) -> Result<Groom, GroomError> {
+pub fn parse(bytes: &[u8]) -> Result<Groom, Error> {
     if bytes.len() < HEADER_BYTES {
-        return Err(GroomError::Truncated {
+        return Err(Error::Truncated {
             needed: HEADER_BYTES as u64,
             available: bytes.len() as u64,
         });
     }
     if !sniff(bytes) {
-        return Err(GroomError::BadHeader(
+        return Err(Error::BadHeader(
             "not a TressFX 4 file (version is not 4.x)",
         ));
     }
@@ -44,18 +44,18 @@ pub fn parse(bytes: &[u8]) -> Result<Groom, GroomError> {
     let verts = u32_at(bytes, 8) as u64;
     let offset = u32_at(bytes, 12) as u64;
     if strands == 0 {
-        return Err(GroomError::BadHeader("zero strands"));
+        return Err(Error::BadHeader("zero strands"));
     }
     if verts < 2 {
-        return Err(GroomError::BadHeader("fewer than 2 vertices per strand"));
+        return Err(Error::BadHeader("fewer than 2 vertices per strand"));
     }
     if offset < HEADER_BYTES as u64 {
-        return Err(GroomError::BadHeader("positions overlap the header"));
+        return Err(Error::BadHeader("positions overlap the header"));
     }
     // u32 * u32 * 16 fits in u64; compare with the input before allocating.
     let needed = offset + strands * verts * 16;
     if needed > bytes.len() as u64 {
-        return Err(GroomError::Truncated {
+        return Err(Error::Truncated {
             needed,
             available: bytes.len() as u64,
         });
@@ -66,7 +66,7 @@ pub fn parse(bytes: &[u8]) -> Result<Groom, GroomError> {
     for (index, rec) in data.chunks_exact(16).enumerate() {
         let p = Vec3::new(f32_at(rec, 0), f32_at(rec, 4), f32_at(rec, 8));
         if !p.is_finite() {
-            return Err(GroomError::NonFinite { index });
+            return Err(Error::NonFinite { index });
         }
         points.push(p);
     }
@@ -117,36 +117,27 @@ mod tests {
         let good = file(2, 2, &pts);
         for n in [0, 10, HEADER_BYTES - 1, good.len() - 1] {
             assert!(
-                matches!(parse(&good[..n]), Err(GroomError::Truncated { .. })),
+                matches!(parse(&good[..n]), Err(Error::Truncated { .. })),
                 "cut at {n}"
             );
         }
         // A header that claims 4 billion strands must not allocate for them.
         let liar = file(u32::MAX, u32::MAX, &pts);
-        assert!(matches!(parse(&liar), Err(GroomError::Truncated { .. })));
-        assert!(matches!(
-            parse(&file(0, 2, &[])),
-            Err(GroomError::BadHeader(_))
-        ));
+        assert!(matches!(parse(&liar), Err(Error::Truncated { .. })));
+        assert!(matches!(parse(&file(0, 2, &[])), Err(Error::BadHeader(_))));
         assert!(matches!(
             parse(&file(1, 1, &pts[..1])),
-            Err(GroomError::BadHeader(_))
+            Err(Error::BadHeader(_))
         ));
         let mut nan = pts;
         nan[3][1] = f32::NAN;
-        assert_eq!(
-            parse(&file(2, 2, &nan)),
-            Err(GroomError::NonFinite { index: 3 })
-        );
+        assert_eq!(parse(&file(2, 2, &nan)), Err(Error::NonFinite { index: 3 }));
         let mut bad_offset = good.clone();
         bad_offset[12..16].copy_from_slice(&4u32.to_le_bytes());
-        assert!(matches!(parse(&bad_offset), Err(GroomError::BadHeader(_))));
+        assert!(matches!(parse(&bad_offset), Err(Error::BadHeader(_))));
         let mut far_offset = good.clone();
         far_offset[12..16].copy_from_slice(&u32::MAX.to_le_bytes());
-        assert!(matches!(
-            parse(&far_offset),
-            Err(GroomError::Truncated { .. })
-        ));
+        assert!(matches!(parse(&far_offset), Err(Error::Truncated { .. })));
         let mut not_tfx = good;
         not_tfx[0..4].copy_from_slice(b"HAIR");
         assert!(parse(&not_tfx).is_err());
