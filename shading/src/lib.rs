@@ -2,6 +2,10 @@
 //! factored lookup tables, pbrt-v3's hair BSDF as the accuracy yardstick),
 //! evaluated per sample (scalar) and in SIMD batches over [`ShadingSamples`].
 
+mod error;
+pub mod pbrt;
 pub mod samples;
+
+pub use error::Error;
 
 pub use samples::{RgbBuffer, ShadingSamples};
