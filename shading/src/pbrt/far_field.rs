@@ -33,10 +33,11 @@ pub(crate) struct Node {
 }
 
 /// Gauss-Legendre nodes and weights on [-1, 1], by Newton's method on the
-/// Legendre polynomial P_n (three-term recurrence), in f64.
+/// Legendre polynomial P_n (three-term recurrence), in f64. The negative
+/// nodes are the exact mirrors of the positive ones.
 pub fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
     let mut out = Vec::with_capacity(n);
-    for i in 0..n {
+    for i in 0..n.div_ceil(2) {
         let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
         let mut dp = 1.0;
         for _ in 0..100 {
@@ -58,6 +59,11 @@ pub fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
         }
         out.push((x, 2.0 / ((1.0 - x * x) * dp * dp)));
     }
+    let mirrored: Vec<(f64, f64)> = out[..n / 2].iter().rev().map(|&(x, w)| (-x, w)).collect();
+    if n % 2 == 1 {
+        out.last_mut().expect("n >= 1").0 = 0.0;
+    }
+    out.extend(mirrored);
     out
 }
 

@@ -38,13 +38,14 @@ impl Default for Params {
 }
 
 impl Params {
-    /// Checks the ranges the model needs: `eta` finite and >= 1, `beta_m`
+    /// Checks the ranges the model needs: `eta` finite and > 1 (at 1,
+    /// `eta'` is 0/0 along the fibre), `beta_m`
     /// and `beta_n` in (0, 1] (pbrt-v3 allows 0, where its variance is 0 and
     /// `M_p` divides by zero), `alpha` finite with |alpha| < pi/4, and
     /// `sigma_a` finite and non-negative.
     pub fn validate(&self) -> Result<(), Error> {
         let bad = |name, value| Err(Error::InvalidParameter { name, value });
-        if !(self.eta.is_finite() && self.eta >= 1.0) {
+        if !(self.eta.is_finite() && self.eta > 1.0) {
             return bad("eta", self.eta);
         }
         if !(self.beta_m > 0.0 && self.beta_m <= 1.0) {
