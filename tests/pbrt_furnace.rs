@@ -50,7 +50,10 @@ fn white_furnace_uniform_sampling() {
                 sum += pbrt::scattering_local_with(&lobes, &params, h, wo, wi).y as f64;
             }
             let avg = sum * 4.0 * std::f64::consts::PI / count as f64;
-            assert!((0.95..=1.05).contains(&avg), "beta_m {bm} beta_n {bn}: {avg}");
+            assert!(
+                (0.95..=1.05).contains(&avg),
+                "beta_m {bm} beta_n {bn}: {avg}"
+            );
         }
     }
 }
@@ -82,7 +85,10 @@ fn white_furnace_deterministic_quadrature_is_within_one_percent() {
         for theta_o in [-1.2f32, -0.3, 0.0, 0.6, 1.4] {
             let wo = Vec3::new(theta_o.sin(), theta_o.cos() * 0.8, theta_o.cos() * 0.6);
             let e = sphere_integral(&ff, wo, 200, 100);
-            assert!((e.y - 1.0).abs() < 0.01, "beta {bm}/{bn} theta_o {theta_o}: {e}");
+            assert!(
+                (e.y - 1.0).abs() < 0.01,
+                "beta {bm}/{bn} theta_o {theta_o}: {e}"
+            );
             assert!((e.x - e.z).abs() < 1e-5, "white stays white");
         }
     }

@@ -63,9 +63,15 @@ fn finite_and_non_negative_everywhere_including_grazing_and_h_at_the_rim() {
                     );
                 }
                 let f = ff.eval_local(wo, wi);
-                assert!(f.is_finite() && f.min_element() >= 0.0, "far field {wo} {wi}: {f}");
+                assert!(
+                    f.is_finite() && f.min_element() >= 0.0,
+                    "far field {wo} {wi}: {f}"
+                );
                 let g = pbrt::scattering(&params, Vec3::X, wi, wo);
-                assert!(g.is_finite() && g.min_element() >= 0.0, "world {wo} {wi}: {g}");
+                assert!(
+                    g.is_finite() && g.min_element() >= 0.0,
+                    "world {wo} {wi}: {g}"
+                );
             }
         }
     }
@@ -92,7 +98,10 @@ fn mirror_symmetry_in_h_and_azimuth() {
             let b = pbrt::scattering_local(&params, -h, mirror(wo), mirror(wi));
             // The mirrored phase differences are wrapped by different whole
             // turns of 2 pi: a few ulp of pi, times the logistic slope 1/s.
-            assert!((a - b).abs().max_element() <= 1e-4 * a.max_element().max(1e-3), "{a} {b}");
+            assert!(
+                (a - b).abs().max_element() <= 1e-4 * a.max_element().max(1e-3),
+                "{a} {b}"
+            );
         }
     }
 }
@@ -110,7 +119,10 @@ fn invariant_under_rotation_about_the_fibre() {
         let b = pbrt::scattering_local(&p, h, q * wo, q * wi);
         // phi differences pass through atan2 and wrap: f32 rounding of a few
         // ulp of pi, amplified by the logistic's slope 1/s.
-        assert!((a - b).abs().max_element() <= 2e-4 * a.max_element().max(1e-2), "{a} {b}");
+        assert!(
+            (a - b).abs().max_element() <= 2e-4 * a.max_element().max(1e-2),
+            "{a} {b}"
+        );
     }
 }
 
@@ -138,7 +150,10 @@ fn far_field_is_the_h_quadrature_of_the_exact_model() {
     for params in materials() {
         let ff = FarField::new(&params, 24).unwrap();
         let weights: f32 = ff.nodes().map(|(_, w)| w).sum();
-        assert!((weights - 1.0).abs() < 1e-5, "weights average over h: {weights}");
+        assert!(
+            (weights - 1.0).abs() < 1e-5,
+            "weights average over h: {weights}"
+        );
         for _ in 0..200 {
             let (wo, wi) = (rng.unit_vector(), rng.unit_vector());
             let direct: Vec3 = ff
@@ -151,7 +166,10 @@ fn far_field_is_the_h_quadrature_of_the_exact_model() {
             let m = |v: Vec3| Vec3::new(v.x, v.y, -v.z);
             let mirrored = ff.eval_local(m(wo), m(wi));
             let tol_mirror = 1e-4 * direct.max_element().max(1e-2);
-            assert!((far - mirrored).abs().max_element() <= tol_mirror, "even in phi");
+            assert!(
+                (far - mirrored).abs().max_element() <= tol_mirror,
+                "even in phi"
+            );
         }
     }
 }
@@ -169,6 +187,9 @@ fn world_far_field_matches_the_local_frame() {
         let q = Quat::from_axis_angle(rng.unit_vector(), rng.range(0.0, 3.0));
         let world = pbrt::scattering(&p, q * Vec3::X, q * wi, q * wo);
         let tol = 1e-3 * local.max_element().max(1e-2);
-        assert!((world - local).abs().max_element() <= tol, "{world} {local}");
+        assert!(
+            (world - local).abs().max_element() <= tol,
+            "{world} {local}"
+        );
     }
 }

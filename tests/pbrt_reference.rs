@@ -45,12 +45,16 @@ fn hand_checked_points_match_the_published_formulas() {
             alpha: c.alpha_deg.to_radians(),
             sigma_a: Vec3::from_array(c.sigma_a),
         };
-        let got = pbrt::scattering_local(&params, c.h, Vec3::from_array(c.wo), Vec3::from_array(c.wi));
+        let got =
+            pbrt::scattering_local(&params, c.h, Vec3::from_array(c.wo), Vec3::from_array(c.wi));
         for ch in 0..3 {
             let (g, e) = (got[ch] as f64, c.expected[ch]);
             // f32 against f64: pbrt's float and double builds agree to ~1e-4
             // relative; the narrowest lobe (beta_m 0.05) amplifies rounding.
-            assert!((g - e).abs() <= 2e-4 * e.abs(), "case {k} channel {ch}: {g} vs {e}");
+            assert!(
+                (g - e).abs() <= 2e-4 * e.abs(),
+                "case {k} channel {ch}: {g} vs {e}"
+            );
         }
     }
 }
@@ -146,7 +150,11 @@ fn random_points_match_an_independent_f64_implementation() {
             beta_m: rng.range(0.1, 0.9),
             beta_n: rng.range(0.1, 0.9),
             alpha: rng.range(0.0, 4.0).to_radians(),
-            sigma_a: Vec3::new(rng.range(0.0, 3.0), rng.range(0.0, 3.0), rng.range(0.0, 3.0)),
+            sigma_a: Vec3::new(
+                rng.range(0.0, 3.0),
+                rng.range(0.0, 3.0),
+                rng.range(0.0, 3.0),
+            ),
         };
         // Keep away from exact grazing, where f32 cos theta = sqrt(1 - sin^2)
         // loses most digits (covered by the finiteness tests instead).
@@ -161,11 +169,19 @@ fn random_points_match_an_independent_f64_implementation() {
         for c in 0..3 {
             let err = (got[c] as f64 - want[c]).abs() / scale.max(1e-3);
             worst = worst.max(err);
-            assert!(err < 5e-4, "sample {k} channel {c}: {} vs {}", got[c], want[c]);
+            assert!(
+                err < 5e-4,
+                "sample {k} channel {c}: {} vs {}",
+                got[c],
+                want[c]
+            );
         }
     }
     eprintln!("worst relative difference {worst:e}");
-    assert!(worst > 0.0, "an f32 implementation is not bit-identical to f64");
+    assert!(
+        worst > 0.0,
+        "an f32 implementation is not bit-identical to f64"
+    );
 }
 
 #[test]
@@ -176,14 +192,22 @@ fn defaults_are_pbrt_v3_defaults() {
     assert!((p.alpha - 2.0 * std::f32::consts::PI / 180.0).abs() < 1e-8);
     // 1.3 * (0.419, 0.697, 1.37), DESIGN.md section 6.
     let want = Vec3::new(0.5447, 0.9061, 1.781);
-    assert!((p.sigma_a - want).abs().max_element() < 1e-6, "{}", p.sigma_a);
+    assert!(
+        (p.sigma_a - want).abs().max_element() < 1e-6,
+        "{}",
+        p.sigma_a
+    );
     assert!(p.validate().is_ok());
 }
 
 #[test]
 fn sigma_a_from_concentrations_and_from_colour() {
     let s = pbrt::sigma_a_from_concentration(0.5, 2.0);
-    let want = Vec3::new(0.5 * 0.419 + 2.0 * 0.187, 0.5 * 0.697 + 0.8, 0.5 * 1.37 + 2.1);
+    let want = Vec3::new(
+        0.5 * 0.419 + 2.0 * 0.187,
+        0.5 * 0.697 + 0.8,
+        0.5 * 1.37 + 2.1,
+    );
     assert!((s - want).abs().max_element() < 1e-6);
     // Chiang 2016 eq. 9 by hand (python3, f64): beta_n = 0.3, the
     // denominator is 5.969 - 0.0645 + 0.22788 - 0.28971 + 0.0451494 + 0.00059535

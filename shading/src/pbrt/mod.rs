@@ -16,15 +16,18 @@
 pub mod attenuation;
 pub mod azimuthal;
 pub mod bessel;
-mod fast_acos;
 mod far_field;
+mod fast_acos;
 pub mod longitudinal;
 pub mod melanin;
 mod params;
 pub mod quality;
 mod table;
 
-pub use far_field::{gauss_legendre, scattering, world_angles, FarField, DEFAULT_QUADRATURE_ORDER};
+pub use far_field::{
+    gauss_legendre, recommended_order, scattering, world_angles, FarField,
+    DEFAULT_QUADRATURE_ORDER, MAX_QUADRATURE_ORDER,
+};
 pub use melanin::{sigma_a_from_concentration, sigma_a_from_reflectance};
 pub use params::{Lobes, Params};
 pub use table::{Parameterisation, Table};
@@ -86,7 +89,13 @@ pub fn scattering_local_with(lobes: &Lobes, params: &Params, h: f32, wo: Vec3, w
         let m = mp(cos_theta_i, cos_op, sin_theta_i, sin_op, lobes.v[p]);
         sum += *a_p * m * np(phi, p as i32, lobes.s, gamma_o, gamma_t);
     }
-    let m3 = mp(cos_theta_i, cos_theta_o, sin_theta_i, sin_theta_o, lobes.v[P_MAX]);
+    let m3 = mp(
+        cos_theta_i,
+        cos_theta_o,
+        sin_theta_i,
+        sin_theta_o,
+        lobes.v[P_MAX],
+    );
     sum += a[P_MAX] * m3 / (2.0 * PI);
     sum
 }

@@ -6,15 +6,18 @@
 //! `sqrt(sum |approx - reference|^2 / sum |reference|^2)`, summed over the
 //! three colour channels.
 
-use super::far_field::FarField;
+use super::far_field::{recommended_order, FarField};
 use super::params::Params;
 use super::table::{Parameterisation, Table};
 use crate::Error;
 use coif_kernels::rng::SplitMix64;
 use glam::Vec3;
 
-/// Quadrature order of the reference far field in this module.
-pub const REFERENCE_ORDER: usize = 256;
+/// Quadrature order of the reference far field in this module: four
+/// times [`recommended_order`], at least 256.
+pub fn reference_order(params: &Params) -> usize {
+    (4 * recommended_order(params)).max(256)
+}
 
 /// `samples` random (t, wi, wo) triples from `seed`.
 pub fn random_configurations(samples: usize, seed: u64) -> Vec<(Vec3, Vec3, Vec3)> {
@@ -41,7 +44,7 @@ pub fn relative_rms(
 }
 
 /// Relative RMS error of a `resolution` table with the given axes against
-/// the far field at [`REFERENCE_ORDER`].
+/// the far field at [`reference_order`].
 pub fn table_error_with_axes(
     params: &Params,
     resolution: usize,
@@ -50,7 +53,7 @@ pub fn table_error_with_axes(
     seed: u64,
 ) -> Result<f32, Error> {
     let table = Table::with_axes(params, resolution, axes)?;
-    let reference = FarField::new(params, REFERENCE_ORDER)?;
+    let reference = FarField::new(params, reference_order(params))?;
     let configs = random_configurations(samples, seed);
     Ok(relative_rms(
         &configs,
@@ -60,16 +63,26 @@ pub fn table_error_with_axes(
 }
 
 /// Relative RMS error of a `resolution` table ([`Parameterisation::Angles`])
-/// against the far field at [`REFERENCE_ORDER`].
-pub fn table_error(params: &Params, resolution: usize, samples: usize, seed: u64) -> Result<f32, Error> {
+/// against the far field at [`reference_order`].
+pub fn table_error(
+    params: &Params,
+    resolution: usize,
+    samples: usize,
+    seed: u64,
+) -> Result<f32, Error> {
     table_error_with_axes(params, resolution, Parameterisation::Angles, samples, seed)
 }
 
 /// Relative RMS error of the far field with `order` quadrature nodes
-/// against the far field at [`REFERENCE_ORDER`].
-pub fn far_field_error(params: &Params, order: usize, samples: usize, seed: u64) -> Result<f32, Error> {
+/// against the far field at [`reference_order`].
+pub fn far_field_error(
+    params: &Params,
+    order: usize,
+    samples: usize,
+    seed: u64,
+) -> Result<f32, Error> {
     let approx = FarField::new(params, order)?;
-    let reference = FarField::new(params, REFERENCE_ORDER)?;
+    let reference = FarField::new(params, reference_order(params))?;
     let configs = random_configurations(samples, seed);
     Ok(relative_rms(
         &configs,

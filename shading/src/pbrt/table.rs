@@ -19,8 +19,8 @@
 //! the lobes are narrow, near phi = 0 and pi and at grazing theta. PBRT.md
 //! compares both.
 
+use super::far_field::{combine, recommended_order, world_angles, FarField};
 use super::fast_acos::{acos, acos_x8};
-use super::far_field::{combine, world_angles, FarField, DEFAULT_QUADRATURE_ORDER};
 use super::params::Params;
 use crate::{Error, RgbBuffer, ShadingSamples};
 use coif_kernels::{Vec3x8, LANES};
@@ -54,20 +54,29 @@ pub struct Table {
 
 impl Table {
     /// Tables of `resolution x resolution` cells with [`Parameterisation::Angles`],
-    /// built from the far field at [`DEFAULT_QUADRATURE_ORDER`].
+    /// built from the far field at its [`recommended_order`].
     pub fn new(params: &Params, resolution: usize) -> Result<Table, Error> {
         Table::with_axes(params, resolution, Parameterisation::Angles)
     }
 
     /// Tables with the chosen axes. Errors on invalid `params` or a
     /// resolution below 2.
-    pub fn with_axes(params: &Params, resolution: usize, axes: Parameterisation) -> Result<Table, Error> {
-        let ff = FarField::new(params, DEFAULT_QUADRATURE_ORDER)?;
+    pub fn with_axes(
+        params: &Params,
+        resolution: usize,
+        axes: Parameterisation,
+    ) -> Result<Table, Error> {
+        params.validate()?;
+        let ff = FarField::new(params, recommended_order(params))?;
         Table::from_far_field(&ff, resolution, axes)
     }
 
     /// Tables sampled from a prepared far field (its quadrature order is used).
-    pub fn from_far_field(ff: &FarField, resolution: usize, axes: Parameterisation) -> Result<Table, Error> {
+    pub fn from_far_field(
+        ff: &FarField,
+        resolution: usize,
+        axes: Parameterisation,
+    ) -> Result<Table, Error> {
         let res = resolution;
         if res < 2 {
             return Err(Error::InvalidResolution(res));
@@ -220,11 +229,19 @@ impl Table {
             Parameterisation::Angles => {
                 let k = f32x8::splat(scale / PI);
                 let s = f32x8::splat(scale);
-                (s - acos_x8(sin_i) * k, s - acos_x8(sin_o) * k, acos_x8(cos_phi) * k)
+                (
+                    s - acos_x8(sin_i) * k,
+                    s - acos_x8(sin_o) * k,
+                    acos_x8(cos_phi) * k,
+                )
             }
             Parameterisation::Nalu => {
                 let half = f32x8::splat(0.5 * scale);
-                (sin_i.mul_add(half, half), sin_o.mul_add(half, half), (-cos_phi).mul_add(half, half))
+                (
+                    sin_i.mul_add(half, half),
+                    sin_o.mul_add(half, half),
+                    (-cos_phi).mul_add(half, half),
+                )
             }
         };
         let invalid = ui.is_nan() | uo.is_nan() | uphi.is_nan();
