@@ -38,7 +38,11 @@ pub enum Parameterisation {
     Nalu,
 }
 
+/// Channels used in an M cell (`M_0, M_1, M_2, R_3 rgb`), stored in one
+/// `f32x8` (two channels of padding) so that the SIMD path loads a corner
+/// with one aligned load.
 const M_CH: usize = 6;
+/// Channels used in an N cell (`N_0, N_1, N_2` rgb), stored in two `f32x8`.
 const N_CH: usize = 9;
 
 /// The far-field pbrt model in two `res x res` tables with bilinear lookup.
@@ -47,9 +51,9 @@ pub struct Table {
     res: usize,
     axes: Parameterisation,
     /// `m[i_theta_i * res + i_theta_o]`.
-    m: Vec<[f32; M_CH]>,
+    m: Vec<[f32x8; 1]>,
     /// `n[i_phi * res + i_theta_o]`.
-    n: Vec<[f32; N_CH]>,
+    n: Vec<[f32x8; 2]>,
 }
 
 impl Table {
@@ -102,24 +106,27 @@ impl Table {
             })
             .collect();
 
-        let mut m = vec![[0.0f32; M_CH]; res * res];
-        let mut n = vec![[0.0f32; N_CH]; res * res];
+        let mut m = vec![[f32x8::ZERO; 1]; res * res];
+        let mut n = vec![[f32x8::ZERO; 2]; res * res];
         let mut row = vec![[Vec3::ZERO; 4]; res];
         for j in 0..res {
             let (sin_o, cos_o) = theta_node(j);
             ff.azimuthal(sin_o, cos_o, &phis, &mut row);
             for (k, terms) in row.iter().enumerate() {
-                let cell = &mut n[k * res + j];
+                let mut cell = [0.0f32; 16];
                 for p in 0..3 {
                     cell[3 * p..3 * p + 3].copy_from_slice(&terms[p].to_array());
                 }
+                n[k * res + j] = cells(cell);
             }
             let residual = row[0][3];
             for i in 0..res {
                 let (sin_i, cos_i) = theta_node(i);
                 let mp = ff.longitudinal(sin_i, cos_i, sin_o, cos_o);
                 let r3 = residual * mp[3];
-                m[i * res + j] = [mp[0], mp[1], mp[2], r3.x, r3.y, r3.z];
+                m[i * res + j] = [f32x8::new([
+                    mp[0], mp[1], mp[2], r3.x, r3.y, r3.z, 0.0, 0.0,
+                ])];
             }
         }
         Ok(Table { res, axes, m, n })
@@ -173,16 +180,9 @@ impl Table {
         let (co, fo) = split(uo, self.res);
         let (cp, fp) = split(uphi, self.res);
         let res = self.res;
-        let m = bilerp(&self.m, ci * res + co, res, fi, fo);
-        let n = bilerp(&self.n, cp * res + co, res, fp, fo);
-        let mp = [m[0], m[1], m[2], 1.0];
-        let terms = [
-            Vec3::new(n[0], n[1], n[2]),
-            Vec3::new(n[3], n[4], n[5]),
-            Vec3::new(n[6], n[7], n[8]),
-            Vec3::new(m[3], m[4], m[5]),
-        ];
-        combine(&mp, &terms)
+        let m = bilerp::<1, M_CH>(&self.m, ci * res + co, res, fi, fo);
+        let n = bilerp::<2, N_CH>(&self.n, cp * res + co, res, fp, fo);
+        combine_cells(&m, &n)
     }
 
     /// Scalar batch: `out[k] = scattering(samples[k])`; `out` is resized to
@@ -249,13 +249,51 @@ impl Table {
         let (co, fo) = split_x8(uo, self.res);
         let (cp, fp) = split_x8(uphi, self.res);
 
+        let (fi, fo, fp) = (fi.to_array(), fo.to_array(), fp.to_array());
         let res = self.res;
-        let m = gather_bilerp::<M_CH>(&self.m, res, |l| ci[l] * res + co[l], fi, fo);
-        let n = gather_bilerp::<N_CH>(&self.n, res, |l| cp[l] * res + co[l], fp, fo);
-        let v3 = |c: usize, a: &[f32x8]| Vec3x8::new(a[c], a[c + 1], a[c + 2]);
-        let sum = v3(0, &n) * m[0] + v3(3, &n) * m[1] + v3(6, &n) * m[2] + v3(3, &m);
+        let mut out = [[0.0f32; LANES]; 3];
+        for l in 0..LANES {
+            let m = lerp_cells(&self.m, ci[l] * res + co[l], res, fi[l], fo[l]);
+            let n = lerp_cells(&self.n, cp[l] * res + co[l], res, fp[l], fo[l]);
+            let v = combine_cells(m[0].as_array(), &concat(&n));
+            out[0][l] = v.x;
+            out[1][l] = v.y;
+            out[2][l] = v.z;
+        }
+        let sum = Vec3x8::new(f32x8::new(out[0]), f32x8::new(out[1]), f32x8::new(out[2]));
         Vec3x8::select(invalid, Vec3x8::splat(Vec3::NAN), sum)
     }
+}
+
+/// Sixteen floats as two vectors.
+fn cells(c: [f32; 16]) -> [f32x8; 2] {
+    let (a, b) = c.split_at(8);
+    [
+        f32x8::new(a.try_into().expect("8")),
+        f32x8::new(b.try_into().expect("8")),
+    ]
+}
+
+/// Two vectors as sixteen floats.
+#[inline]
+fn concat(v: &[f32x8; 2]) -> [f32; 16] {
+    let mut out = [0.0; 16];
+    out[..8].copy_from_slice(v[0].as_array());
+    out[8..].copy_from_slice(v[1].as_array());
+    out
+}
+
+/// `N_0 M_0 + N_1 M_1 + N_2 M_2 + R_3` from interpolated cell channels.
+#[inline]
+fn combine_cells(m: &[f32], n: &[f32]) -> Vec3 {
+    let mp = [m[0], m[1], m[2], 1.0];
+    let terms = [
+        Vec3::new(n[0], n[1], n[2]),
+        Vec3::new(n[3], n[4], n[5]),
+        Vec3::new(n[6], n[7], n[8]),
+        Vec3::new(m[3], m[4], m[5]),
+    ];
+    combine(&mp, &terms)
 }
 
 /// Cell index and fraction of a grid coordinate, clamped into the grid.
@@ -282,42 +320,43 @@ fn split_x8(u: f32x8, res: usize) -> ([usize; LANES], f32x8) {
     (cells, u - c)
 }
 
-/// Bilinear blend of the cells `base`, `base + 1`, `base + res`,
-/// `base + res + 1` with fractions `fa` (first axis) and `fb` (second).
+/// Bilinear blend, channel by channel in scalar code, of the cells `base`,
+/// `base + 1`, `base + res`, `base + res + 1` with fractions `fa` (first
+/// axis) and `fb` (second): `lo = c00 + (c01 - c00) fb`, `hi = c10 +
+/// (c11 - c10) fb`, `lo + (hi - lo) fa`, each step one fused multiply-add.
 #[inline]
-fn bilerp<const C: usize>(t: &[[f32; C]], base: usize, res: usize, fa: f32, fb: f32) -> [f32; C] {
-    let (c00, c01, c10, c11) = (&t[base], &t[base + 1], &t[base + res], &t[base + res + 1]);
+fn bilerp<const V: usize, const C: usize>(
+    t: &[[f32x8; V]],
+    base: usize,
+    res: usize,
+    fa: f32,
+    fb: f32,
+) -> [f32; C] {
+    let at = |k: usize, c: usize| t[k][c / 8].as_array()[c % 8];
+    let (k00, k01, k10, k11) = (base, base + 1, base + res, base + res + 1);
     std::array::from_fn(|c| {
-        let lo = (c01[c] - c00[c]).mul_add(fb, c00[c]);
-        let hi = (c11[c] - c10[c]).mul_add(fb, c10[c]);
+        let lo = (at(k01, c) - at(k00, c)).mul_add(fb, at(k00, c));
+        let hi = (at(k11, c) - at(k10, c)).mul_add(fb, at(k10, c));
         (hi - lo).mul_add(fa, lo)
     })
 }
 
-/// [`bilerp`] for eight lanes: corner values fetched lane by lane, then
-/// blended with the same operations in SIMD.
+/// [`bilerp`] with the channels of a cell in SIMD lanes: the same
+/// operations per channel, eight channels per instruction, one aligned load
+/// per corner vector.
 #[inline]
-fn gather_bilerp<const C: usize>(
-    t: &[[f32; C]],
+fn lerp_cells<const V: usize>(
+    t: &[[f32x8; V]],
+    base: usize,
     res: usize,
-    base: impl Fn(usize) -> usize,
-    fa: f32x8,
-    fb: f32x8,
-) -> [f32x8; C] {
-    let mut corners = [[[0.0f32; LANES]; C]; 4];
-    for l in 0..LANES {
-        let b = base(l);
-        for (k, off) in [0, 1, res, res + 1].into_iter().enumerate() {
-            let cell = &t[b + off];
-            for c in 0..C {
-                corners[k][c][l] = cell[c];
-            }
-        }
-    }
-    std::array::from_fn(|c| {
-        let [c00, c01, c10, c11] = [0, 1, 2, 3].map(|k| f32x8::new(corners[k][c]));
-        let lo = (c01 - c00).mul_add(fb, c00);
-        let hi = (c11 - c10).mul_add(fb, c10);
+    fa: f32,
+    fb: f32,
+) -> [f32x8; V] {
+    let (fa, fb) = (f32x8::splat(fa), f32x8::splat(fb));
+    let (c00, c01, c10, c11) = (&t[base], &t[base + 1], &t[base + res], &t[base + res + 1]);
+    std::array::from_fn(|v| {
+        let lo = (c01[v] - c00[v]).mul_add(fb, c00[v]);
+        let hi = (c11[v] - c10[v]).mul_add(fb, c10[v]);
         (hi - lo).mul_add(fa, lo)
     })
 }
