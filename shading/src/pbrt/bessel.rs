@@ -60,7 +60,7 @@ mod tests {
     #[test]
     fn ten_term_series_is_accurate_for_moderate_arguments() {
         // I0(1) = 1.2660658777520082 (Abramowitz & Stegun table 9.8).
-        assert!((i0(1.0) - 1.266_065_9).abs() < 1e-6);
+        assert!((i0(1.0) - 1.266_066).abs() < 1e-6);
         for x in [0.0f32, 0.5, 2.0, 5.0] {
             let r = i0_reference(x as f64) as f32;
             assert!((i0(x) - r).abs() <= 1e-5 * r, "x = {x}");

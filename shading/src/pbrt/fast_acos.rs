@@ -9,6 +9,8 @@
 use std::f32::consts::PI;
 use wide::f32x8;
 
+/// The published coefficients (a0 is A&S's value, not exactly pi/2).
+#[allow(clippy::approx_constant)]
 const A: [f32; 8] = [
     1.570_796_3,
     -0.214_598_8,

@@ -11,7 +11,9 @@ use super::bessel::{i0, log_i0};
 /// `exp(ln I0(a) - b - 1/v + 0.6931 + ln(1/(2v)))` with `a = cos cos / v`,
 /// `b = sin sin / v`, and the constant 0.6931 standing for ln 2 (pbrt's
 /// constant, kept). Operation order follows pbrt-v3 exactly.
+/// (pbrt's 0.6931 is kept on purpose instead of `LN_2`.)
 #[inline]
+#[allow(clippy::approx_constant)]
 pub fn mp(cos_theta_i: f32, cos_theta_o: f32, sin_theta_i: f32, sin_theta_o: f32, v: f32) -> f32 {
     let a = cos_theta_i * cos_theta_o / v;
     let b = sin_theta_i * sin_theta_o / v;

@@ -54,7 +54,7 @@ impl Params {
         if !(self.beta_n > 0.0 && self.beta_n <= 1.0) {
             return bad("beta_n", self.beta_n);
         }
-        if !(self.alpha.abs() < std::f32::consts::FRAC_PI_4) {
+        if self.alpha.is_nan() || self.alpha.abs() >= std::f32::consts::FRAC_PI_4 {
             return bad("alpha", self.alpha);
         }
         for c in self.sigma_a.to_array() {

@@ -332,11 +332,11 @@ fn bilerp<const V: usize, const C: usize>(
     fa: f32,
     fb: f32,
 ) -> [f32; C] {
-    let at = |k: usize, c: usize| t[k][c / 8].as_array()[c % 8];
-    let (k00, k01, k10, k11) = (base, base + 1, base + res, base + res + 1);
+    let [c00, c01, c10, c11] = [base, base + 1, base + res, base + res + 1].map(|k| &t[k]);
     std::array::from_fn(|c| {
-        let lo = (at(k01, c) - at(k00, c)).mul_add(fb, at(k00, c));
-        let hi = (at(k11, c) - at(k10, c)).mul_add(fb, at(k10, c));
+        let ch = |cell: &[f32x8; V]| cell[c / LANES].as_array()[c % LANES];
+        let lo = (ch(c01) - ch(c00)).mul_add(fb, ch(c00));
+        let hi = (ch(c11) - ch(c10)).mul_add(fb, ch(c10));
         (hi - lo).mul_add(fa, lo)
     })
 }
