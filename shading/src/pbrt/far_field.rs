@@ -251,19 +251,32 @@ impl View<'_> {
         for o in out.iter_mut() {
             *o = [Vec3::ZERO; 4];
         }
-        for node in self.nodes {
+        // Nodes come in mirrored pairs (k, n-1-k) with h and -h: refraction
+        // depth, transmittance and Fresnel depend on h^2 only, so they are
+        // computed once per pair; gamma_o and gamma_t change sign.
+        let n = self.nodes.len();
+        for k in 0..n.div_ceil(2) {
+            let node = &self.nodes[k];
             let sin_gamma_t = node.h / etap;
             let cos_gamma_t = (1.0 - sin_gamma_t * sin_gamma_t).max(0.0).sqrt();
             let gamma_t = sin_gamma_t.clamp(-1.0, 1.0).asin();
             let transmittance = exp3(-self.params.sigma_a * (2.0 * cos_gamma_t / cos_t));
             let a = ap(cos_o, eta, node.h, transmittance);
-            let centres = [0, 1, 2].map(|p| super::azimuthal::phi(p, node.gamma_o, gamma_t));
-            for (&phi, o) in phis.iter().zip(out.iter_mut()) {
-                for p in 0..P_MAX {
-                    let n = logistic(wrap(phi - centres[p]), self.lobes.s) / self.trim;
-                    o[p] += a[p] * (n * node.weight);
+            let mirror = &self.nodes[n - 1 - k];
+            let pair: &[(&Node, f32)] = if n - 1 - k == k {
+                &[(node, gamma_t)]
+            } else {
+                &[(node, gamma_t), (mirror, -gamma_t)]
+            };
+            for &(nd, g_t) in pair {
+                let centres = [0, 1, 2].map(|p| super::azimuthal::phi(p, nd.gamma_o, g_t));
+                for (&phi, o) in phis.iter().zip(out.iter_mut()) {
+                    for p in 0..P_MAX {
+                        let n_p = logistic(wrap(phi - centres[p]), self.lobes.s) / self.trim;
+                        o[p] += a[p] * (n_p * nd.weight);
+                    }
+                    o[P_MAX] += a[P_MAX] * (nd.weight / (2.0 * PI));
                 }
-                o[P_MAX] += a[P_MAX] * (node.weight / (2.0 * PI));
             }
         }
     }
