@@ -193,3 +193,21 @@ fn world_far_field_matches_the_local_frame() {
         );
     }
 }
+
+#[test]
+fn far_field_batch_matches_single_evaluations() {
+    let mut rng = SplitMix64::new(16);
+    let p = Params::default();
+    let ff = FarField::new(&p, 32).unwrap();
+    let mut samples = coif::shading::ShadingSamples::default();
+    for _ in 0..37 {
+        samples.push(rng.unit_vector(), rng.unit_vector(), rng.unit_vector());
+    }
+    let mut out = coif::shading::RgbBuffer::default();
+    ff.scattering_batch(&samples, &mut out);
+    assert_eq!(out.len(), 37);
+    for k in 0..37 {
+        let (t, wi, wo) = samples.get(k);
+        assert_eq!(out.get(k), ff.eval(t, wi, wo));
+    }
+}

@@ -13,7 +13,7 @@ use super::azimuthal::{logistic, logistic_cdf, wrap};
 use super::exp3;
 use super::longitudinal::mp;
 use super::params::{Lobes, Params};
-use crate::Error;
+use crate::{Error, RgbBuffer, ShadingSamples};
 use glam::Vec3;
 use std::f32::consts::PI;
 use std::sync::OnceLock;
@@ -171,6 +171,17 @@ impl FarField {
     /// frame.
     pub fn eval(&self, t: Vec3, wi: Vec3, wo: Vec3) -> Vec3 {
         self.view().eval(t, wi, wo)
+    }
+
+    /// [`FarField::eval`] over a batch (scalar: the far field is the
+    /// reference, not a hot path). `out` is resized to the batch.
+    pub fn scattering_batch(&self, samples: &ShadingSamples, out: &mut RgbBuffer) {
+        out.resize(samples.len());
+        let view = self.view();
+        for k in 0..samples.len() {
+            let (t, wi, wo) = samples.get(k);
+            out.set(k, view.eval(t, wi, wo));
+        }
     }
 
     /// `M_p(theta_i, theta_o)` for p = 0..3 (tilted for p < 3), independent
