@@ -150,3 +150,36 @@ fn constructors_validate() {
     assert!(FarField::new(&p, 0).is_err());
     assert!(!format!("{}", Error::InvalidResolution(1)).is_empty());
 }
+
+/// The table reflects the same energy as the far field it samples: the
+/// sphere integral of a 128 table is within 1% of the far field's, for a
+/// white and an absorbing material.
+#[test]
+fn table_integrates_like_the_far_field() {
+    use std::f32::consts::PI;
+    let white = Params {
+        sigma_a: Vec3::ZERO,
+        ..Params::default()
+    };
+    for p in [white, Params::default()] {
+        let table = Table::new(&p, 128).unwrap();
+        let ff = FarField::new(&p, coif::shading::pbrt::recommended_order(&p)).unwrap();
+        for theta_o in [-0.8f32, 0.1, 1.0] {
+            let wo = Vec3::new(theta_o.sin(), theta_o.cos(), 0.0);
+            let (n_t, n_p) = (160, 90);
+            let (mut a, mut b) = (glam::DVec3::ZERO, glam::DVec3::ZERO);
+            for i in 0..n_t {
+                let s = -1.0 + (i as f32 + 0.5) * 2.0 / n_t as f32;
+                let c = (1.0 - s * s).sqrt();
+                for j in 0..n_p {
+                    let phi = (j as f32 + 0.5) * 2.0 * PI / n_p as f32;
+                    let wi = Vec3::new(s, c * phi.cos(), c * phi.sin());
+                    a += table.scattering(Vec3::X, wi, wo).as_dvec3();
+                    b += ff.eval(Vec3::X, wi, wo).as_dvec3();
+                }
+            }
+            let rel = ((a - b) / b).abs().max_element();
+            assert!(rel < 0.01, "theta_o {theta_o}: table {a} far field {b}");
+        }
+    }
+}
