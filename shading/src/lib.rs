@@ -3,8 +3,11 @@
 //! evaluated per sample (scalar) and in SIMD batches over [`ShadingSamples`].
 
 mod batch;
-pub mod samples;
-
-pub use samples::{RgbBuffer, ShadingSamples};
+mod error;
 pub mod kajiya_kay;
 pub mod marschner;
+pub mod pbrt;
+pub mod samples;
+
+pub use error::Error;
+pub use samples::{RgbBuffer, ShadingSamples};

@@ -1,0 +1,32 @@
+//! The error type of coif-shading's constructors.
+
+use std::fmt;
+
+/// Why a shading constructor refused its input.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Error {
+    /// A material parameter is outside its valid range (name and value).
+    InvalidParameter { name: &'static str, value: f32 },
+    /// A lookup-table resolution below the minimum (2).
+    InvalidResolution(usize),
+    /// A quadrature order of zero.
+    InvalidQuadratureOrder(usize),
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::InvalidParameter { name, value } => {
+                write!(f, "invalid shading parameter {name} = {value}")
+            }
+            Error::InvalidResolution(r) => {
+                write!(f, "invalid table resolution {r} (must be at least 2)")
+            }
+            Error::InvalidQuadratureOrder(n) => {
+                write!(f, "invalid quadrature order {n} (must be at least 1)")
+            }
+        }
+    }
+}
+
+impl std::error::Error for Error {}
