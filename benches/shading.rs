@@ -104,11 +104,35 @@ fn marschner_lut_time_vs_error(c: &mut Criterion) {
     g.finish();
 }
 
+/// Every model's error against the yardstick, pbrt-v3's far field, printed
+/// beside the timings (Marschner matched to pbrt's material; see
+/// `coif::shading::yardstick`). Table sizes 32..256.
+fn error_against_pbrt(_c: &mut Criterion) {
+    let params = coif::shading::pbrt::Params::default();
+    for res in [32, 64, 128, 256] {
+        match coif::shading::yardstick::versus_pbrt(&params, res, 20_000, 5) {
+            Ok(rows) => {
+                for r in rows
+                    .iter()
+                    .filter(|r| res == 128 || r.model.contains("table"))
+                {
+                    eprintln!(
+                        "vs pbrt far field: {:>22}: relative RMS {:.4}, shape (after gain {:.3}) {:.4}",
+                        r.model, r.relative_rms, r.gain, r.relative_rms_after_gain
+                    );
+                }
+            }
+            Err(e) => eprintln!("vs pbrt far field: {e}"),
+        }
+    }
+}
+
 criterion_group!(
     benches,
     baseline,
     kajiya_kay,
     marschner_direct_and_lut,
-    marschner_lut_time_vs_error
+    marschner_lut_time_vs_error,
+    error_against_pbrt
 );
 criterion_main!(benches);

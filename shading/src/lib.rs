@@ -8,6 +8,7 @@ pub mod kajiya_kay;
 pub mod marschner;
 pub mod pbrt;
 pub mod samples;
+pub mod yardstick;
 
 pub use error::Error;
 pub use samples::{RgbBuffer, ShadingSamples};
