@@ -1,0 +1,95 @@
+//! A render vertex for engines: plain old data, so a `&[RenderVertex]`
+//! uploads to a GPU buffer as bytes without copying (`bytemuck::cast_slice`).
+
+use crate::interpolation::{Interpolation, RenderHairs};
+use bytemuck::{Pod, Zeroable};
+use coif_kernels::LANES;
+
+/// One hair vertex, 32 bytes, `#[repr(C)]`:
+/// `position` (metres, relative to the guides' `Strands::origin`), `width`
+/// (metres, distance-LOD width factor included, so coverage is kept),
+/// unit `tangent` root to tip, and `strand_parameter` `s` in `[0, 1]`
+/// (0 at the root, 1 at the tip; for tapering, colour ramps, alpha).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct RenderVertex {
+    pub position: [f32; 3],
+    pub width: f32,
+    pub tangent: [f32; 3],
+    pub strand_parameter: f32,
+}
+
+/// Hair width along the strand: `lerp(root, tip, s)` metres.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HairWidth {
+    pub root: f32,
+    pub tip: f32,
+}
+
+impl Default for HairWidth {
+    /// 80 micrometres at the root tapering to 40 at the tip (human scalp
+    /// hair is roughly 17-180 um thick).
+    fn default() -> HairWidth {
+        HairWidth {
+            root: 80e-6,
+            tip: 40e-6,
+        }
+    }
+}
+
+/// Number of vertices [`write_render_vertices`] writes at most: real hairs
+/// in the first `groups_drawn` groups times vertices per hair.
+pub fn render_vertex_len(
+    interpolation: &Interpolation,
+    hairs: &RenderHairs,
+    groups_drawn: usize,
+) -> usize {
+    interpolation.hairs_in_prefix(groups_drawn) * hairs.verts_per_hair()
+}
+
+/// Writes the real hairs of every group that the last [`crate::interpolate`]
+/// wrote (within the first `groups_drawn`), hair after hair, root first, into
+/// `out`; widths are `width` times `width_factor` (from [`crate::distance_lod`]).
+/// Stops when `out` is full. Returns the number of vertices written.
+pub fn write_render_vertices(
+    interpolation: &Interpolation,
+    hairs: &RenderHairs,
+    groups_drawn: usize,
+    width: HairWidth,
+    width_factor: f32,
+    out: &mut [RenderVertex],
+) -> usize {
+    let r_len = hairs.verts_per_hair();
+    if r_len == 0 || interpolation.group_count() != hairs.group_count() {
+        return 0;
+    }
+    let inv = if r_len > 1 {
+        1.0 / (r_len - 1) as f32
+    } else {
+        0.0
+    };
+    let mut written = 0;
+    for (g, group) in interpolation.groups().iter().enumerate().take(groups_drawn) {
+        if !hairs.is_group_written(g) {
+            continue;
+        }
+        let pos = hairs.group_positions(g);
+        let tan = hairs.group_tangents(g);
+        for l in 0..(group.hairs as usize).min(LANES) {
+            if written + r_len > out.len() {
+                return written;
+            }
+            for r in 0..r_len {
+                let s = r as f32 * inv;
+                out[written] = RenderVertex {
+                    position: pos[r].lane(l).to_array(),
+                    width: (width.root + (width.tip - width.root) * s) * width_factor,
+                    tangent: tan[r].lane(l).to_array(),
+                    strand_parameter: s,
+                };
+                written += 1;
+            }
+        }
+    }
+    written
+}
