@@ -34,7 +34,7 @@ pub use interpolation::{
     barycentric, interpolate, HairGroup, Interpolation, RenderHairs, M2_PER_CM2, MAX_RENDER_HAIRS,
 };
 pub use refine_batch::{refine_strands, RefinedGuides, DEFAULT_MAX_SEGMENTS_PER_SPAN};
-pub use vertex::{render_vertex_len, write_render_vertices, HairWidth, RenderVertex};
+pub use vertex::{render_vertex_len, vertex_bytes, write_render_vertices, HairWidth, RenderVertex};
 
 /// Scalar twins of the SIMD batch paths: the same algorithms, in the same
 /// order, one strand (or hair) at a time.

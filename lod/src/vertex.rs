@@ -93,3 +93,29 @@ pub fn write_render_vertices(
     }
     written
 }
+
+/// The vertices as bytes for a GPU upload, without copying.
+pub fn vertex_bytes(vertices: &[RenderVertex]) -> &[u8] {
+    bytemuck::cast_slice(vertices)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn vertex_is_32_tightly_packed_bytes() {
+        assert_eq!(std::mem::size_of::<RenderVertex>(), 32);
+        assert_eq!(std::mem::align_of::<RenderVertex>(), 4);
+        let v = [RenderVertex {
+            position: [1.0, 2.0, 3.0],
+            width: 4.0,
+            tangent: [5.0, 6.0, 7.0],
+            strand_parameter: 8.0,
+        }];
+        let bytes = vertex_bytes(&v);
+        assert_eq!(bytes.len(), 32);
+        let floats: &[f32] = bytemuck::cast_slice(bytes);
+        assert_eq!(floats, &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0]);
+    }
+}
