@@ -346,3 +346,43 @@ fn bad_scalps_return_errors() {
     let empty = Interpolation::new(&roots, &[], 150.0, 1).unwrap();
     assert_eq!((empty.hair_count(), empty.group_count()), (0, 0));
 }
+
+#[test]
+fn placement_is_uniform_inside_a_triangle() {
+    // One 20 x 20 cm right triangle (200 cm^2) at 150 per cm^2: the four
+    // half-size sub-triangles (corners A, B, C and the middle) must each
+    // get the requested density within 5%.
+    let roots = [
+        Vec3::ZERO,
+        Vec3::new(0.2, 0.0, 0.0),
+        Vec3::new(0.0, 0.0, 0.2),
+    ];
+    let mut pts = Vec::new();
+    for r in roots {
+        pts.extend([r, r - Vec3::Y * 0.1]);
+    }
+    let strands = Strands::from_polylines(&pts, 2).unwrap();
+    let interp = Interpolation::new(&roots, &[[0, 1, 2]], 150.0, 3).unwrap();
+    let mut guides = RefinedGuides::new(&strands, 1).unwrap();
+    lod::refine_strands(&strands, None, &mut guides);
+    let mut hairs = RenderHairs::new(&interp, &guides);
+    lod::interpolate(&interp, &guides, None, interp.group_count(), &mut hairs);
+    let origin = strands.origin();
+    let corners = roots.map(|r| r.as_dvec3());
+    let mut counts = [0usize; 4];
+    for (g, group) in interp.groups().iter().enumerate() {
+        for l in 0..group.hairs as usize {
+            let p = hairs.position(g, l, 0).as_dvec3() + origin;
+            let b = barycentric_of(p, corners);
+            let region = (0..3).find(|&k| b[k] > 0.5).unwrap_or(3);
+            counts[region] += 1;
+        }
+    }
+    for (k, &c) in counts.iter().enumerate() {
+        let density = c as f64 / 50.0;
+        assert!(
+            (density / 150.0 - 1.0).abs() < 0.05,
+            "sub-triangle {k}: {density} per cm^2 ({counts:?})"
+        );
+    }
+}
