@@ -386,3 +386,56 @@ fn placement_is_uniform_inside_a_triangle() {
         );
     }
 }
+
+#[test]
+fn positions_only_pass_matches_full_pass_and_scalar() {
+    let mut s = scene(150.0, 2);
+    lod::refine_strands(&s.strands, None, &mut s.guides);
+    let groups = s.interp.group_count();
+    lod::interpolate(&s.interp, &s.guides, None, groups, &mut s.hairs);
+    let full = s.hairs.clone();
+    assert!(full.has_tangents());
+    let mut simd = RenderHairs::new(&s.interp, &s.guides);
+    let mut scalar = RenderHairs::new(&s.interp, &s.guides);
+    assert_eq!(
+        lod::interpolate_positions(&s.interp, &s.guides, None, groups, &mut simd),
+        groups
+    );
+    assert_eq!(
+        lod::scalar::interpolate_positions(&s.interp, &s.guides, None, groups, &mut scalar),
+        groups
+    );
+    assert!(!simd.has_tangents());
+    for g in 0..groups {
+        assert_eq!(simd.group_positions(g), full.group_positions(g));
+        for (a, b) in simd
+            .group_positions(g)
+            .iter()
+            .zip(scalar.group_positions(g))
+        {
+            for l in 0..8 {
+                assert!((a.lane(l) - b.lane(l)).length() < 1e-7);
+            }
+        }
+    }
+    // Vertex tangents from differences agree with the interpolated ones.
+    let len = lod::render_vertex_len(&s.interp, &simd, groups);
+    let mut a = vec![RenderVertex::default(); len];
+    let mut b = vec![RenderVertex::default(); len];
+    lod::write_render_vertices(&s.interp, &full, groups, HairWidth::default(), 1.0, &mut a);
+    lod::write_render_vertices(&s.interp, &simd, groups, HairWidth::default(), 1.0, &mut b);
+    for (x, y) in a.iter().zip(&b) {
+        assert_eq!(x.position, y.position);
+        let d = Vec3::from(x.tangent).dot(Vec3::from(y.tangent));
+        assert!(d > 0.95, "difference tangent off by {} rad", d.acos());
+    }
+}
+
+#[test]
+fn whole_groups_keep_the_density_and_fill_every_lane() {
+    let (roots, _, tris) = scalp(21);
+    let interp = Interpolation::with_whole_groups(&roots, &tris, 150.0, 4).unwrap();
+    assert!(interp.groups().iter().all(|g| g.hairs == 8));
+    let density = interp.hair_count() as f64 / (interp.scalp_area_m2() / 1e-4);
+    assert!((density / 150.0 - 1.0).abs() < 0.05, "{density}");
+}

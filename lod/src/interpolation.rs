@@ -74,6 +74,33 @@ impl Interpolation {
         hairs_per_cm2: f32,
         seed: u64,
     ) -> Result<Interpolation, Error> {
+        Interpolation::build(guide_roots, triangles, hairs_per_cm2, seed, 1)
+    }
+
+    /// As [`Interpolation::new`], but every triangle gets a whole number of
+    /// full groups: `8 floor(m / 8)` hairs plus 8 more with probability
+    /// `frac(m / 8)`, for a mean of `m = a_t rho`. The expected count (and
+    /// so the density over many triangles) is unchanged, no SIMD lane is
+    /// padding, and the batch does about `1 / lane use` less work; the price
+    /// is a coarser hair count per triangle (steps of 8), so use it when
+    /// triangles hold many hairs each.
+    pub fn with_whole_groups(
+        guide_roots: &[Vec3],
+        triangles: &[[u32; 3]],
+        hairs_per_cm2: f32,
+        seed: u64,
+    ) -> Result<Interpolation, Error> {
+        Interpolation::build(guide_roots, triangles, hairs_per_cm2, seed, LANES)
+    }
+
+    /// Hair counts per triangle are rounded stochastically to multiples of `step`.
+    fn build(
+        guide_roots: &[Vec3],
+        triangles: &[[u32; 3]],
+        hairs_per_cm2: f32,
+        seed: u64,
+        step: usize,
+    ) -> Result<Interpolation, Error> {
         if !(hairs_per_cm2.is_finite() && hairs_per_cm2 >= 0.0) {
             return Err(Error::InvalidParameter {
                 name: "hairs_per_cm2",
@@ -109,11 +136,12 @@ impl Interpolation {
         let mut weights = Vec::new();
         let mut hair_count = 0;
         for (t, (tri, &area)) in triangles.iter().zip(&areas).enumerate() {
-            let mean = area / M2_PER_CM2 as f64 * hairs_per_cm2 as f64;
+            let mean = area / M2_PER_CM2 as f64 * hairs_per_cm2 as f64 / step as f64;
             let mut count = mean.floor() as usize;
             if (rng.next_f32() as f64) < mean - mean.floor() {
                 count += 1;
             }
+            count *= step;
             hair_count += count;
             let mut left = count;
             while left > 0 {
@@ -219,6 +247,7 @@ pub struct RenderHairs {
     positions: Vec<Vec3x8>,
     tangents: Vec<Vec3x8>,
     written: Vec<bool>,
+    has_tangents: bool,
 }
 
 impl RenderHairs {
@@ -242,6 +271,7 @@ impl RenderHairs {
             positions: vec![Vec3x8::ZERO; capacity],
             tangents: vec![Vec3x8::ZERO; capacity],
             written: vec![false; groups],
+            has_tangents: false,
         }
     }
 
@@ -265,6 +295,12 @@ impl RenderHairs {
         self.written.get(g).copied().unwrap_or(false)
     }
 
+    /// Whether the last pass wrote tangents ([`interpolate`]) or not
+    /// ([`interpolate_positions`]).
+    pub fn has_tangents(&self) -> bool {
+        self.has_tangents
+    }
+
     /// Group `g`'s positions, `R` entries of eight hairs.
     pub fn group_positions(&self, g: usize) -> &[Vec3x8] {
         &self.positions[g * self.verts..(g + 1) * self.verts]
@@ -286,7 +322,13 @@ impl RenderHairs {
     }
 
     /// Prepares for a pass; false if the buffer cannot take it.
-    fn begin(&mut self, interpolation: &Interpolation, guides: &RefinedGuides) -> bool {
+    fn begin(
+        &mut self,
+        interpolation: &Interpolation,
+        guides: &RefinedGuides,
+        with_tangents: bool,
+    ) -> bool {
+        self.has_tangents = with_tangents;
         let verts = guides.verts_per_strand();
         let ok = interpolation.group_count() == self.groups
             && interpolation.guide_count() == guides.strand_count()
@@ -331,7 +373,32 @@ pub fn interpolate(
     groups_drawn: usize,
     out: &mut RenderHairs,
 ) -> usize {
-    if !out.begin(interpolation, guides) {
+    interpolate_x8(interpolation, guides, visibility, groups_drawn, out, true)
+}
+
+/// [`interpolate`] without tangents: positions only, half the memory
+/// traffic (for renderers that derive tangents from neighbouring vertices,
+/// as [`crate::write_render_vertices`] then does). Scalar twin:
+/// [`crate::scalar::interpolate_positions`].
+pub fn interpolate_positions(
+    interpolation: &Interpolation,
+    guides: &RefinedGuides,
+    visibility: Option<&Visibility>,
+    groups_drawn: usize,
+    out: &mut RenderHairs,
+) -> usize {
+    interpolate_x8(interpolation, guides, visibility, groups_drawn, out, false)
+}
+
+fn interpolate_x8(
+    interpolation: &Interpolation,
+    guides: &RefinedGuides,
+    visibility: Option<&Visibility>,
+    groups_drawn: usize,
+    out: &mut RenderHairs,
+    with_tangents: bool,
+) -> usize {
+    if !out.begin(interpolation, guides, with_tangents) {
         return 0;
     }
     let r_len = out.verts;
@@ -346,22 +413,29 @@ pub fn interpolate(
         let [(ba, la), (bb, lb), (bc, lc)] = group
             .guides
             .map(|s| (s as usize / LANES, s as usize % LANES));
+        let rows = g * r_len..(g + 1) * r_len;
         let (pa, pb, pc) = (
             guides.block_positions(ba),
             guides.block_positions(bb),
             guides.block_positions(bc),
         );
-        let (ta, tb, tc) = (
-            guides.block_tangents(ba),
-            guides.block_tangents(bb),
-            guides.block_tangents(bc),
-        );
-        let pos = &mut out.positions[g * r_len..(g + 1) * r_len];
-        let tan = &mut out.tangents[g * r_len..(g + 1) * r_len];
-        for r in 0..r_len {
-            pos[r] = blend_x8(wa, wb, wc, &pa[r], la, &pb[r], lb, &pc[r], lc);
-            let t = blend_x8(wa, wb, wc, &ta[r], la, &tb[r], lb, &tc[r], lc);
-            tan[r] = unit_or_y_x8(t);
+        for (((p, a), b), c) in out.positions[rows.clone()]
+            .iter_mut()
+            .zip(pa)
+            .zip(pb)
+            .zip(pc)
+        {
+            *p = blend_x8(wa, wb, wc, a, la, b, lb, c, lc);
+        }
+        if with_tangents {
+            let (ta, tb, tc) = (
+                guides.block_tangents(ba),
+                guides.block_tangents(bb),
+                guides.block_tangents(bc),
+            );
+            for (((t, a), b), c) in out.tangents[rows].iter_mut().zip(ta).zip(tb).zip(tc) {
+                *t = unit_or_y_x8(blend_x8(wa, wb, wc, a, la, b, lb, c, lc));
+            }
         }
     }
     count
@@ -407,7 +481,29 @@ pub mod scalar {
         groups_drawn: usize,
         out: &mut RenderHairs,
     ) -> usize {
-        if !out.begin(interpolation, guides) {
+        interpolate_scalar(interpolation, guides, visibility, groups_drawn, out, true)
+    }
+
+    /// Scalar twin of [`super::interpolate_positions`].
+    pub fn interpolate_positions(
+        interpolation: &Interpolation,
+        guides: &RefinedGuides,
+        visibility: Option<&Visibility>,
+        groups_drawn: usize,
+        out: &mut RenderHairs,
+    ) -> usize {
+        interpolate_scalar(interpolation, guides, visibility, groups_drawn, out, false)
+    }
+
+    fn interpolate_scalar(
+        interpolation: &Interpolation,
+        guides: &RefinedGuides,
+        visibility: Option<&Visibility>,
+        groups_drawn: usize,
+        out: &mut RenderHairs,
+        with_tangents: bool,
+    ) -> usize {
+        if !out.begin(interpolation, guides, with_tangents) {
             return 0;
         }
         let r_len = out.verts;
@@ -431,16 +527,18 @@ pub mod scalar {
                         guides.position(b, r),
                         guides.position(c, r),
                     );
-                    let t = blend(
-                        wa,
-                        wb,
-                        wc,
-                        guides.tangent(a, r),
-                        guides.tangent(b, r),
-                        guides.tangent(c, r),
-                    );
                     out.positions[i].set_lane(l, p);
-                    out.tangents[i].set_lane(l, unit_or_y(t));
+                    if with_tangents {
+                        let t = blend(
+                            wa,
+                            wb,
+                            wc,
+                            guides.tangent(a, r),
+                            guides.tangent(b, r),
+                            guides.tangent(c, r),
+                        );
+                        out.tangents[i].set_lane(l, unit_or_y(t));
+                    }
                 }
             }
         }

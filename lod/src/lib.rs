@@ -31,7 +31,8 @@ pub use culling::{cull, distance_lod, DistanceLod, Frustum, Visibility};
 pub use error::Error;
 pub use fit::{arc_length_samples, fit, Fitter, Resampler};
 pub use interpolation::{
-    barycentric, interpolate, HairGroup, Interpolation, RenderHairs, M2_PER_CM2, MAX_RENDER_HAIRS,
+    barycentric, interpolate, interpolate_positions, HairGroup, Interpolation, RenderHairs,
+    M2_PER_CM2, MAX_RENDER_HAIRS,
 };
 pub use refine_batch::{refine_strands, RefinedGuides, DEFAULT_MAX_SEGMENTS_PER_SPAN};
 pub use vertex::{render_vertex_len, vertex_bytes, write_render_vertices, HairWidth, RenderVertex};
@@ -39,6 +40,6 @@ pub use vertex::{render_vertex_len, vertex_bytes, write_render_vertices, HairWid
 /// Scalar twins of the SIMD batch paths: the same algorithms, in the same
 /// order, one strand (or hair) at a time.
 pub mod scalar {
-    pub use crate::interpolation::scalar::interpolate;
+    pub use crate::interpolation::scalar::{interpolate, interpolate_positions};
     pub use crate::refine_batch::scalar::refine_strands;
 }

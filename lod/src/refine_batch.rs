@@ -226,11 +226,15 @@ pub fn refine_strands(
                 ctrl[v - 1] + ctrl[v - 1] - ctrl[v - 2]
             };
             let ks = if j == v - 2 { n + 1 } else { n };
-            for k in 0..ks {
-                let w = &out.weights[k];
-                pos[j * n + k] = combine_x8(p0, p1, p2, p3, [w[0], w[1], w[2], w[3]]);
+            let span = j * n..j * n + ks;
+            for ((p, t), w) in pos[span.clone()]
+                .iter_mut()
+                .zip(&mut tan[span])
+                .zip(&out.weights)
+            {
+                *p = combine_x8(p0, p1, p2, p3, [w[0], w[1], w[2], w[3]]);
                 let d = combine_x8(p0, p1, p2, p3, [w[4], w[5], w[6], w[7]]);
-                tan[j * n + k] = unit_or_y_x8(d);
+                *t = unit_or_y_x8(d);
             }
         }
         pos[0] = ctrl[0];
@@ -257,14 +261,21 @@ fn combine_x8(p0: Vec3x8, p1: Vec3x8, p2: Vec3x8, p3: Vec3x8, w: [f32; 4]) -> Ve
     }
 }
 
-/// `d / |d|`, or `+Y` where `|d| <= 1e-20` or not finite.
+/// `d / |d|`, or `+Y` where `|d|^2 <= 1e-30` or not finite.
 #[inline(always)]
 pub(crate) fn unit_or_y_x8(d: Vec3x8) -> Vec3x8 {
-    let len = d.dot(d).sqrt();
-    let ok = len.simd_gt(f32x8::splat(1e-20)) & len.simd_lt(f32x8::splat(f32::INFINITY));
-    let inv = f32x8::ONE / len;
-    Vec3x8::select(ok, d * inv, Vec3x8::splat(Vec3::Y))
+    let len2 = d.dot(d);
+    let ok =
+        len2.simd_gt(f32x8::splat(MIN_LENGTH_SQUARED)) & len2.simd_lt(f32x8::splat(f32::INFINITY));
+    // rsqrt (12 bits) refined by one Newton step y (3 - x y^2) / 2 (about
+    // 23 bits, within a few ulp of 1 / sqrt(x)): no divide, no sqrt.
+    let y = len2.recip_sqrt();
+    let y = y * (f32x8::splat(1.5) - f32x8::splat(0.5) * len2 * y * y);
+    Vec3x8::select(ok, d * y, Vec3x8::splat(Vec3::Y))
 }
+
+/// Tangents with `|d|^2` at or below this fall back to `+Y`.
+pub(crate) const MIN_LENGTH_SQUARED: f32 = 1e-30;
 
 /// The scalar twins of the batch paths: the same algorithm, in the same
 /// order, one lane at a time, no SIMD.
@@ -332,10 +343,11 @@ pub mod scalar {
 
     #[inline]
     pub(crate) fn unit_or_y(d: Vec3) -> Vec3 {
-        let len = (d.x * d.x + d.y * d.y + d.z * d.z).sqrt();
-        if len > 1e-20 && len < f32::INFINITY {
-            let inv = 1.0 / len;
-            d * inv
+        let len2 = d.x * d.x + d.y * d.y + d.z * d.z;
+        if len2 > MIN_LENGTH_SQUARED && len2 < f32::INFINITY {
+            // Exact 1 / sqrt; the SIMD path's rsqrt + Newton step agrees
+            // to a few ulp.
+            d * (1.0 / len2.sqrt())
         } else {
             Vec3::Y
         }

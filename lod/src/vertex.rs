@@ -50,7 +50,10 @@ pub fn render_vertex_len(
 /// Writes the real hairs of every group that the last [`crate::interpolate`]
 /// wrote (within the first `groups_drawn`), hair after hair, root first, into
 /// `out`; widths are `width` times `width_factor` (from [`crate::distance_lod`]).
-/// Stops when `out` is full. Returns the number of vertices written.
+/// Tangents come from the last pass if it was [`crate::interpolate`], or
+/// from central differences of the positions after
+/// [`crate::interpolate_positions`]. Stops when `out` would overflow (whole
+/// hairs only). Returns the number of vertices written.
 pub fn write_render_vertices(
     interpolation: &Interpolation,
     hairs: &RenderHairs,
@@ -81,10 +84,19 @@ pub fn write_render_vertices(
             }
             for r in 0..r_len {
                 let s = r as f32 * inv;
+                let tangent = if hairs.has_tangents() {
+                    tan[r].lane(l)
+                } else {
+                    // Central difference (one-sided at the ends).
+                    let (a, b) = (r.saturating_sub(1), (r + 1).min(r_len - 1));
+                    (pos[b].lane(l) - pos[a].lane(l))
+                        .try_normalize()
+                        .unwrap_or(glam::Vec3::Y)
+                };
                 out[written] = RenderVertex {
                     position: pos[r].lane(l).to_array(),
                     width: (width.root + (width.tip - width.root) * s) * width_factor,
-                    tangent: tan[r].lane(l).to_array(),
+                    tangent: tangent.to_array(),
                     strand_parameter: s,
                 };
                 written += 1;
