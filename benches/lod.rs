@@ -30,7 +30,7 @@ fn guides(count: usize, verts: usize, seed: u64) -> (Vec<Vec3>, Vec<Vec3>) {
     for k in 0..count {
         let root = Vec3::new((k % side) as f32 * 0.01, 0.0, (k / side) as f32 * 0.01);
         roots.push(root);
-        let phase = rng.range(0.0, 6.28);
+        let phase = rng.range(0.0, std::f32::consts::TAU);
         for v in 0..verts {
             let a = phase + v as f32 * 0.9;
             pts.push(root + Vec3::new(0.01 * a.cos(), -0.02 * v as f32, 0.01 * a.sin()));
@@ -73,8 +73,9 @@ fn refine(c: &mut Criterion) {
 }
 
 /// A Nalu-size head: 144 guides of 11 controls at N = 3 (31 vertices), and
-/// about 4,095 render hairs over 242 scalp triangles.
-fn head() -> (Strands, Interpolation, RefinedGuides) {
+/// about 4,095 render hairs over 242 scalp triangles (exact per-triangle
+/// counts, or whole groups of 8).
+fn head(whole_groups: bool) -> (Strands, Interpolation, RefinedGuides) {
     let (roots, pts) = guides(144, 11, 2);
     let mut tris = Vec::new();
     for j in 0..11u32 {
@@ -86,7 +87,12 @@ fn head() -> (Strands, Interpolation, RefinedGuides) {
     }
     let strands = Strands::from_polylines(&pts, 11).unwrap();
     // 121 cm^2 of scalp: 4,095 / 121 hairs per cm^2.
-    let interp = Interpolation::new(&roots, &tris, 4095.0 / 121.0, 7).unwrap();
+    let density = 4095.0 / 121.0;
+    let interp = if whole_groups {
+        Interpolation::with_whole_groups(&roots, &tris, density, 7).unwrap()
+    } else {
+        Interpolation::new(&roots, &tris, density, 7).unwrap()
+    };
     let mut guides = RefinedGuides::new(&strands, 8).unwrap();
     guides.set_segments_per_span(3);
     lod::refine_strands(&strands, None, &mut guides);
@@ -94,30 +100,66 @@ fn head() -> (Strands, Interpolation, RefinedGuides) {
 }
 
 fn interpolate(c: &mut Criterion) {
-    let (_, interp, guides) = head();
-    let mut out = RenderHairs::new(&interp, &guides);
-    let groups = interp.group_count();
-    let verts = interp.hair_count() * guides.verts_per_strand();
-    eprintln!(
-        "interpolate: {} render hairs, {} vertices, {} groups ({:.0}% of lanes used)",
-        interp.hair_count(),
-        verts,
-        groups,
-        100.0 * interp.hair_count() as f64 / (groups * 8) as f64
-    );
     let mut g = c.benchmark_group("interpolate");
-    g.throughput(Throughput::Elements(verts as u64));
-    g.bench_function("simd", |b| {
-        b.iter(|| lod::interpolate(black_box(&interp), &guides, None, groups, &mut out))
-    });
-    g.bench_function("scalar", |b| {
-        b.iter(|| lod::scalar::interpolate(black_box(&interp), &guides, None, groups, &mut out))
-    });
+    for whole in [false, true] {
+        let (_, interp, guides) = head(whole);
+        let mut out = RenderHairs::new(&interp, &guides);
+        let groups = interp.group_count();
+        let verts = interp.hair_count() * guides.verts_per_strand();
+        let tag = if whole {
+            "whole_groups"
+        } else {
+            "exact_counts"
+        };
+        eprintln!(
+            "interpolate {tag}: {} render hairs, {} vertices, {} groups ({:.0}% of lanes used)",
+            interp.hair_count(),
+            verts,
+            groups,
+            100.0 * interp.hair_count() as f64 / (groups * 8) as f64
+        );
+        g.throughput(Throughput::Elements(verts as u64));
+        g.bench_function(format!("{tag}/simd"), |b| {
+            b.iter(|| lod::interpolate(black_box(&interp), &guides, None, groups, &mut out))
+        });
+        g.bench_function(format!("{tag}/scalar"), |b| {
+            b.iter(|| lod::scalar::interpolate(black_box(&interp), &guides, None, groups, &mut out))
+        });
+        g.bench_function(format!("{tag}/positions_simd"), |b| {
+            b.iter(|| {
+                lod::interpolate_positions(black_box(&interp), &guides, None, groups, &mut out)
+            })
+        });
+        let prefix = groups / 8;
+        g.throughput(Throughput::Elements(
+            (interp.hairs_in_prefix(prefix) * guides.verts_per_strand()) as u64,
+        ));
+        g.bench_function(format!("{tag}/positions_simd_eighth"), |b| {
+            b.iter(|| {
+                lod::interpolate_positions(black_box(&interp), &guides, None, prefix, &mut out)
+            })
+        });
+        g.bench_function(format!("{tag}/simd_eighth"), |b| {
+            b.iter(|| lod::interpolate(black_box(&interp), &guides, None, prefix, &mut out))
+        });
+        g.throughput(Throughput::Elements(verts as u64));
+        g.bench_function(format!("{tag}/positions_scalar"), |b| {
+            b.iter(|| {
+                lod::scalar::interpolate_positions(
+                    black_box(&interp),
+                    &guides,
+                    None,
+                    groups,
+                    &mut out,
+                )
+            })
+        });
+    }
     g.finish();
 }
 
 fn cull(c: &mut Criterion) {
-    let (strands, interp, _) = head();
+    let (strands, interp, _) = head(false);
     let mut vis = Visibility::new(strands.strand_count(), interp.group_count());
     let big = Vec4::new(0.0, 1.0, 0.0, 100.0);
     let frustum =

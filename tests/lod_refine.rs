@@ -33,9 +33,9 @@ fn closed_form(control: &[Vec3], u: f64) -> DVec3 {
     ];
     let tv = [t * t * t, t * t, t, 1.0];
     let mut out = DVec3::ZERO;
-    for k in 0..4 {
-        let w: f64 = (0..4).map(|r| tv[r] * m[r][k]).sum::<f64>() / 6.0;
-        out += w * p(j as isize - 1 + k as isize);
+    for (k, offset) in (-1isize..=2).enumerate() {
+        let w: f64 = tv.iter().zip(&m).map(|(tr, row)| tr * row[k]).sum::<f64>() / 6.0;
+        out += w * p(j as isize + offset);
     }
     out
 }

@@ -76,8 +76,8 @@ impl Frustum {
         self.planes.iter().all(|p| {
             let n = p.truncate();
             let corner = Vec3::select(n.cmpge(Vec3::ZERO), max, min);
-            // `!(x < 0)` keeps NaN boxes.
-            !(n.dot(corner) + p.w + margin < 0.0)
+            // NaN distances compare as not-less: NaN boxes are kept.
+            (n.dot(corner) + p.w + margin).partial_cmp(&0.0) != Some(std::cmp::Ordering::Less)
         })
     }
 }

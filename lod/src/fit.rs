@@ -143,7 +143,7 @@ impl Fitter {
     /// Allocates nothing.
     pub fn fit_into(&mut self, points: &[Vec3], out: &mut [Vec3]) -> Result<(), Error> {
         let (p, n) = (self.n_points, self.n_control);
-        if points.len() % p != 0 {
+        if !points.len().is_multiple_of(p) {
             return Err(Error::CountMismatch {
                 expected: points.len().div_ceil(p) * p,
                 got: points.len(),

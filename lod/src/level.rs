@@ -55,10 +55,10 @@ pub fn chord_error_bound(max_d2: f32, segments_per_span: usize) -> f32 {
 /// budgets give `max_segments`; a NaN or zero curvature gives 1.
 pub fn segments_for_error(max_d2_px: f32, eps_px: f32, max_segments: usize) -> usize {
     let max_segments = max_segments.max(1);
-    if !(max_d2_px > 0.0) {
+    if max_d2_px.is_nan() || max_d2_px <= 0.0 {
         return 1;
     }
-    if !(eps_px > 0.0) {
+    if eps_px.is_nan() || eps_px <= 0.0 {
         return max_segments;
     }
     let n = (max_d2_px / (8.0 * eps_px)).sqrt().ceil();
