@@ -53,6 +53,12 @@ fn refine(c: &mut Criterion) {
     g.bench_function("scalar", |b| {
         b.iter(|| lod::scalar::refine_strands(black_box(&strands), None, &mut out))
     });
+    g.bench_function("positions_simd", |b| {
+        b.iter(|| lod::refine_strands_positions(black_box(&strands), None, &mut out))
+    });
+    g.bench_function("positions_scalar", |b| {
+        b.iter(|| lod::scalar::refine_strands_positions(black_box(&strands), None, &mut out))
+    });
     g.finish();
 
     let mut g = c.benchmark_group("refine_level");

@@ -258,3 +258,30 @@ fn batch_second_difference_matches_per_strand() {
         "{got} vs {expected}"
     );
 }
+
+#[test]
+fn positions_only_refinement_matches_the_full_pass() {
+    let (_, strands) = strand_set(9, 13, 7);
+    let mut full = RefinedGuides::new(&strands, 8).unwrap();
+    let mut simd = RefinedGuides::new(&strands, 8).unwrap();
+    let mut scal = RefinedGuides::new(&strands, 8).unwrap();
+    for segs in [1, 4, 8] {
+        for out in [&mut full, &mut simd, &mut scal] {
+            out.set_segments_per_span(segs);
+        }
+        lod::refine_strands(&strands, None, &mut full);
+        assert_eq!(lod::refine_strands_positions(&strands, None, &mut simd), 2);
+        assert_eq!(
+            lod::scalar::refine_strands_positions(&strands, None, &mut scal),
+            2
+        );
+        for b in 0..2 {
+            assert_eq!(simd.block_positions(b), full.block_positions(b));
+        }
+        for i in 0..13 {
+            for v in 0..full.verts_per_strand() {
+                assert!((scal.position(i, v) - full.position(i, v)).length() < 1e-6);
+            }
+        }
+    }
+}

@@ -34,12 +34,14 @@ pub use interpolation::{
     barycentric, interpolate, interpolate_positions, HairGroup, Interpolation, RenderHairs,
     M2_PER_CM2, MAX_RENDER_HAIRS,
 };
-pub use refine_batch::{refine_strands, RefinedGuides, DEFAULT_MAX_SEGMENTS_PER_SPAN};
+pub use refine_batch::{
+    refine_strands, refine_strands_positions, RefinedGuides, DEFAULT_MAX_SEGMENTS_PER_SPAN,
+};
 pub use vertex::{render_vertex_len, vertex_bytes, write_render_vertices, HairWidth, RenderVertex};
 
 /// Scalar twins of the SIMD batch paths: the same algorithms, in the same
 /// order, one strand (or hair) at a time.
 pub mod scalar {
     pub use crate::interpolation::scalar::{interpolate, interpolate_positions};
-    pub use crate::refine_batch::scalar::refine_strands;
+    pub use crate::refine_batch::scalar::{refine_strands, refine_strands_positions};
 }

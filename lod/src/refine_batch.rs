@@ -197,6 +197,26 @@ pub fn refine_strands(
     visibility: Option<&Visibility>,
     out: &mut RefinedGuides,
 ) -> usize {
+    refine_x8::<true>(strands, visibility, out)
+}
+
+/// [`refine_strands`] without tangents: positions only, half the
+/// arithmetic and stores (for pipelines that take tangents from the render
+/// hair's positions, see [`crate::interpolate_positions`]). The tangent
+/// arrays of `out` are left as they were.
+pub fn refine_strands_positions(
+    strands: &Strands,
+    visibility: Option<&Visibility>,
+    out: &mut RefinedGuides,
+) -> usize {
+    refine_x8::<false>(strands, visibility, out)
+}
+
+fn refine_x8<const TANGENTS: bool>(
+    strands: &Strands,
+    visibility: Option<&Visibility>,
+    out: &mut RefinedGuides,
+) -> usize {
     if !out.fits(strands) {
         return 0;
     }
@@ -233,8 +253,10 @@ pub fn refine_strands(
                 .zip(&out.weights)
             {
                 *p = combine_x8(p0, p1, p2, p3, [w[0], w[1], w[2], w[3]]);
-                let d = combine_x8(p0, p1, p2, p3, [w[4], w[5], w[6], w[7]]);
-                *t = unit_or_y_x8(d);
+                if TANGENTS {
+                    let d = combine_x8(p0, p1, p2, p3, [w[4], w[5], w[6], w[7]]);
+                    *t = unit_or_y_x8(d);
+                }
             }
         }
         pos[0] = ctrl[0];
@@ -288,6 +310,23 @@ pub mod scalar {
         visibility: Option<&Visibility>,
         out: &mut RefinedGuides,
     ) -> usize {
+        refine_scalar::<true>(strands, visibility, out)
+    }
+
+    /// Scalar twin of [`super::refine_strands_positions`].
+    pub fn refine_strands_positions(
+        strands: &Strands,
+        visibility: Option<&Visibility>,
+        out: &mut RefinedGuides,
+    ) -> usize {
+        refine_scalar::<false>(strands, visibility, out)
+    }
+
+    fn refine_scalar<const TANGENTS: bool>(
+        strands: &Strands,
+        visibility: Option<&Visibility>,
+        out: &mut RefinedGuides,
+    ) -> usize {
         if !out.fits(strands) {
             return 0;
         }
@@ -317,9 +356,11 @@ pub mod scalar {
                         let w = out.weights[k];
                         let i = b * r + j * n + k;
                         let p = combine(p0, p1, p2, p3, [w[0], w[1], w[2], w[3]]);
-                        let d = combine(p0, p1, p2, p3, [w[4], w[5], w[6], w[7]]);
                         out.positions[i].set_lane(l, p);
-                        out.tangents[i].set_lane(l, unit_or_y(d));
+                        if TANGENTS {
+                            let d = combine(p0, p1, p2, p3, [w[4], w[5], w[6], w[7]]);
+                            out.tangents[i].set_lane(l, unit_or_y(d));
+                        }
                     }
                 }
                 out.positions[b * r].set_lane(l, c(0));
