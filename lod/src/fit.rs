@@ -1,5 +1,5 @@
 //! Penalised least-squares B-spline fits (P-splines, Eilers & Marx 1996,
-//! "Flexible smoothing with B-splines and penalties", eq. 3), solved with
+//! "Flexible smoothing with B-splines and penalties"), solved with
 //! faer's Cholesky factorisation (DESIGN.md section 5).
 //!
 //! For `p` points `y_i` taken as samples at uniform parameter

@@ -4,7 +4,7 @@
 //! Render hair `k` lies in a scalp triangle whose corners are the roots of
 //! guides `(A, B, C)`, with barycentric weights `b >= 0`, `sum b = 1`, drawn
 //! uniformly over the triangle (Osada et al. 2002, "Shape distributions",
-//! eq. 1):
+//! section 4.2):
 //!
 //! ```text
 //! b_A = 1 - sqrt(u),   b_B = sqrt(u) (1 - v),   b_C = sqrt(u) v,   u, v ~ U[0, 1)
