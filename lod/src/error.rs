@@ -1,0 +1,67 @@
+//! The error type of coif-lod's public constructors and fits.
+
+use std::fmt;
+
+/// Why a fit, a constructor or a parameter check refused its input.
+///
+/// Per-frame batch paths ([`crate::refine_strands`], [`crate::interpolate`],
+/// [`crate::cull`]) never return this: they take validated containers and
+/// caller-owned buffers and degrade gracefully on bad data.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Error {
+    /// A fit needs at least two control points.
+    TooFewControlPoints { n_control: usize },
+    /// A fit cannot have more control points than samples.
+    MoreControlsThanPoints { n_control: usize, points: usize },
+    /// A coordinate is NaN or infinite; `index` is the offending point.
+    NonFinite { index: usize },
+    /// A parameter is out of its documented range.
+    InvalidParameter {
+        name: &'static str,
+        value: f64,
+        expected: &'static str,
+    },
+    /// A slice has the wrong length.
+    CountMismatch { expected: usize, got: usize },
+    /// A scalp triangle names a guide strand that does not exist.
+    GuideOutOfRange { triangle: usize, guide: u32 },
+    /// The fit's normal matrix `B^T B + lambda D2^T D2` is not positive
+    /// definite (faer's Cholesky met a non-positive pivot).
+    SingularFit { pivot: usize },
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::TooFewControlPoints { n_control } => {
+                write!(f, "a fit needs at least 2 control points, got {n_control}")
+            }
+            Error::MoreControlsThanPoints { n_control, points } => write!(
+                f,
+                "cannot fit {n_control} control points to only {points} points"
+            ),
+            Error::NonFinite { index } => write!(f, "point {index} has a non-finite coordinate"),
+            Error::InvalidParameter {
+                name,
+                value,
+                expected,
+            } => write!(
+                f,
+                "parameter {name} = {value} is invalid: expected {expected}"
+            ),
+            Error::CountMismatch { expected, got } => {
+                write!(f, "expected {expected} values, got {got}")
+            }
+            Error::GuideOutOfRange { triangle, guide } => write!(
+                f,
+                "scalp triangle {triangle} names guide {guide}, which does not exist"
+            ),
+            Error::SingularFit { pivot } => write!(
+                f,
+                "the fit's normal matrix is not positive definite (pivot {pivot})"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for Error {}

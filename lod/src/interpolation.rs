@@ -1,0 +1,553 @@
+//! Dense render hair interpolated from guide strands (DESIGN.md section 5;
+//! Nalu, GPU Gems 2 ch. 23; HairWorks).
+//!
+//! Render hair `k` lies in a scalp triangle whose corners are the roots of
+//! guides `(A, B, C)`, with barycentric weights `b >= 0`, `sum b = 1`, drawn
+//! uniformly over the triangle (Osada et al. 2002, "Shape distributions",
+//! section 4.2):
+//!
+//! ```text
+//! b_A = 1 - sqrt(u),   b_B = sqrt(u) (1 - v),   b_C = sqrt(u) v,   u, v ~ U[0, 1)
+//! ```
+//!
+//! and every one of its vertices is `P = b_A A + b_B B + b_C C` of the three
+//! guides' refined vertices. Positions are metres; density is in hairs per
+//! square centimetre (1 cm^2 = 1e-4 m^2; real scalps: 120-200).
+//!
+//! Layout: hairs come in groups of up to [`LANES`] hairs of one triangle, so
+//! a group's guides are shared by its lanes and the SIMD batch loads each
+//! guide vertex once (a broadcast) for eight hairs. Groups are stored in a
+//! shuffled order: drawing a prefix of groups is an even random thinning of
+//! the whole scalp (see [`crate::distance_lod`]). Padding lanes repeat the
+//! group's last real hair.
+
+use crate::culling::Visibility;
+use crate::refine_batch::unit_or_y_x8;
+use crate::refine_batch::RefinedGuides;
+use crate::Error;
+use coif_kernels::rng::SplitMix64;
+use coif_kernels::{Vec3x8, LANES};
+use glam::Vec3;
+use wide::f32x8;
+
+/// Square metres per square centimetre.
+pub const M2_PER_CM2: f32 = 1e-4;
+
+/// Upper bound on the number of render hairs one [`Interpolation`] may hold.
+pub const MAX_RENDER_HAIRS: usize = 1 << 24;
+
+/// Up to [`LANES`] render hairs sharing one scalp triangle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct HairGroup {
+    /// Index of the scalp triangle.
+    pub triangle: u32,
+    /// The triangle's corner guides `(A, B, C)`.
+    pub guides: [u32; 3],
+    /// Real hairs in this group (1 ..= LANES); the other lanes are padding.
+    pub hairs: u32,
+}
+
+/// Where render hairs sit: groups of hairs per scalp triangle with their
+/// barycentric weights, in shuffled group order. Built once per groom.
+#[derive(Clone, Debug)]
+pub struct Interpolation {
+    guide_count: usize,
+    hair_count: usize,
+    scalp_area_m2: f64,
+    groups: Vec<HairGroup>,
+    /// Per group: (b_A, b_B, b_C) lanes.
+    weights: Vec<[f32x8; 3]>,
+}
+
+impl Interpolation {
+    /// Places render hairs on the scalp triangles `triangles` (indices into
+    /// `guide_roots`, one root per guide strand, metres) at `hairs_per_cm2`,
+    /// reproducibly from `seed`.
+    ///
+    /// Triangle `t` of area `a_t` gets `floor(a_t rho)` hairs plus one more
+    /// with probability `frac(a_t rho)`, so the expected count is exact.
+    /// Errors on a non-finite root, a guide index out of range, a negative or
+    /// non-finite density, or more than [`MAX_RENDER_HAIRS`] hairs.
+    pub fn new(
+        guide_roots: &[Vec3],
+        triangles: &[[u32; 3]],
+        hairs_per_cm2: f32,
+        seed: u64,
+    ) -> Result<Interpolation, Error> {
+        Interpolation::build(guide_roots, triangles, hairs_per_cm2, seed, 1)
+    }
+
+    /// As [`Interpolation::new`], but every triangle gets a whole number of
+    /// full groups: `8 floor(m / 8)` hairs plus 8 more with probability
+    /// `frac(m / 8)`, for a mean of `m = a_t rho`. The expected count (and
+    /// so the density over many triangles) is unchanged, no SIMD lane is
+    /// padding, and the batch does about `1 / lane use` less work; the price
+    /// is a coarser hair count per triangle (steps of 8), so use it when
+    /// triangles hold many hairs each.
+    pub fn with_whole_groups(
+        guide_roots: &[Vec3],
+        triangles: &[[u32; 3]],
+        hairs_per_cm2: f32,
+        seed: u64,
+    ) -> Result<Interpolation, Error> {
+        Interpolation::build(guide_roots, triangles, hairs_per_cm2, seed, LANES)
+    }
+
+    /// Hair counts per triangle are rounded stochastically to multiples of `step`.
+    fn build(
+        guide_roots: &[Vec3],
+        triangles: &[[u32; 3]],
+        hairs_per_cm2: f32,
+        seed: u64,
+        step: usize,
+    ) -> Result<Interpolation, Error> {
+        if !(hairs_per_cm2.is_finite() && hairs_per_cm2 >= 0.0) {
+            return Err(Error::InvalidParameter {
+                name: "hairs_per_cm2",
+                value: hairs_per_cm2 as f64,
+                expected: "finite and >= 0",
+            });
+        }
+        if let Some(index) = guide_roots.iter().position(|p| !p.is_finite()) {
+            return Err(Error::NonFinite { index });
+        }
+        let mut total = 0.0f64;
+        let mut areas = Vec::with_capacity(triangles.len());
+        for (t, tri) in triangles.iter().enumerate() {
+            if let Some(&guide) = tri.iter().find(|&&g| g as usize >= guide_roots.len()) {
+                return Err(Error::GuideOutOfRange { triangle: t, guide });
+            }
+            let [a, b, c] = tri.map(|g| guide_roots[g as usize].as_dvec3());
+            let area = 0.5 * (b - a).cross(c - a).length();
+            total += area;
+            areas.push(area);
+        }
+        let expected = total / M2_PER_CM2 as f64 * hairs_per_cm2 as f64;
+        if expected > MAX_RENDER_HAIRS as f64 {
+            return Err(Error::InvalidParameter {
+                name: "hairs_per_cm2",
+                value: hairs_per_cm2 as f64,
+                expected: "a density giving at most MAX_RENDER_HAIRS hairs on this scalp",
+            });
+        }
+
+        let mut rng = SplitMix64::new(seed);
+        let mut groups = Vec::new();
+        let mut weights = Vec::new();
+        let mut hair_count = 0;
+        for (t, (tri, &area)) in triangles.iter().zip(&areas).enumerate() {
+            let mean = area / M2_PER_CM2 as f64 * hairs_per_cm2 as f64 / step as f64;
+            let mut count = mean.floor() as usize;
+            if (rng.next_f32() as f64) < mean - mean.floor() {
+                count += 1;
+            }
+            count *= step;
+            hair_count += count;
+            let mut left = count;
+            while left > 0 {
+                let hairs = left.min(LANES);
+                let mut lanes = [[0.0f32; LANES]; 3];
+                for l in 0..LANES {
+                    if l < hairs {
+                        let b = barycentric(rng.next_f32(), rng.next_f32());
+                        for (lane, w) in lanes.iter_mut().zip(b) {
+                            lane[l] = w;
+                        }
+                    } else {
+                        for lane in lanes.iter_mut() {
+                            lane[l] = lane[hairs - 1];
+                        }
+                    }
+                }
+                groups.push(HairGroup {
+                    triangle: t as u32,
+                    guides: *tri,
+                    hairs: hairs as u32,
+                });
+                weights.push(lanes.map(f32x8::new));
+                left -= hairs;
+            }
+        }
+        // Fisher-Yates shuffle of whole groups: any prefix is a uniform
+        // random subset of groups, i.e. an even thinning over the scalp.
+        for i in (1..groups.len()).rev() {
+            let j = rng.below(i + 1);
+            groups.swap(i, j);
+            weights.swap(i, j);
+        }
+        Ok(Interpolation {
+            guide_count: guide_roots.len(),
+            hair_count,
+            scalp_area_m2: total,
+            groups,
+            weights,
+        })
+    }
+
+    /// Number of guide strands the triangles index into.
+    pub fn guide_count(&self) -> usize {
+        self.guide_count
+    }
+
+    /// Number of real render hairs.
+    pub fn hair_count(&self) -> usize {
+        self.hair_count
+    }
+
+    /// Number of groups (SIMD blocks) of render hairs.
+    pub fn group_count(&self) -> usize {
+        self.groups.len()
+    }
+
+    /// Total scalp area of the triangles, in square metres.
+    pub fn scalp_area_m2(&self) -> f64 {
+        self.scalp_area_m2
+    }
+
+    /// The groups, in draw (shuffled) order.
+    pub fn groups(&self) -> &[HairGroup] {
+        &self.groups
+    }
+
+    /// Barycentric weights `(b_A, b_B, b_C)` of lane `lane` of group `g`.
+    pub fn weights(&self, g: usize, lane: usize) -> [f32; 3] {
+        self.weights[g].map(|w| w.as_array()[lane])
+    }
+
+    /// Real hairs in the first `groups` groups (the drawn prefix).
+    pub fn hairs_in_prefix(&self, groups: usize) -> usize {
+        self.groups
+            .iter()
+            .take(groups)
+            .map(|g| g.hairs as usize)
+            .sum()
+    }
+}
+
+/// Uniform barycentric weights in a triangle from two uniform numbers:
+/// `(1 - sqrt(u), sqrt(u) (1 - v), sqrt(u) v)`.
+#[inline]
+pub fn barycentric(u: f32, v: f32) -> [f32; 3] {
+    let s = u.sqrt();
+    let b = s * (1.0 - v);
+    let c = s * v;
+    // b_A from the other two keeps the sum at 1 to the last bit we can.
+    [(1.0 - b - c).max(0.0), b, c]
+}
+
+/// Caller-owned output of [`interpolate`]: every render hair's vertices
+/// (positions relative to the guides' `Strands::origin`, and unit tangents),
+/// in group layout: vertex `r` of group `g` is `positions[g * R + r]`, lane
+/// `l` = hair `l` of that group. Sized once for the largest level.
+#[derive(Clone, Debug)]
+pub struct RenderHairs {
+    groups: usize,
+    verts: usize,
+    capacity: usize,
+    positions: Vec<Vec3x8>,
+    tangents: Vec<Vec3x8>,
+    written: Vec<bool>,
+    has_tangents: bool,
+}
+
+impl RenderHairs {
+    /// A buffer for the hairs of `interpolation`, large enough for `guides`
+    /// at its maximum segments per span.
+    pub fn new(interpolation: &Interpolation, guides: &RefinedGuides) -> RenderHairs {
+        let max_verts = crate::bspline::refined_len(
+            guides.control_verts_per_strand(),
+            guides.max_segments_per_span(),
+        );
+        RenderHairs::with_capacity(interpolation.group_count(), max_verts)
+    }
+
+    /// A buffer for `groups` groups of up to `max_verts_per_hair` vertices.
+    pub fn with_capacity(groups: usize, max_verts_per_hair: usize) -> RenderHairs {
+        let capacity = RenderHairs::buffer_len(groups, max_verts_per_hair);
+        RenderHairs {
+            groups,
+            verts: 0,
+            capacity,
+            positions: vec![Vec3x8::ZERO; capacity],
+            tangents: vec![Vec3x8::ZERO; capacity],
+            written: vec![false; groups],
+            has_tangents: false,
+        }
+    }
+
+    /// `Vec3x8` entries per output array: `groups * verts_per_hair`.
+    pub fn buffer_len(groups: usize, verts_per_hair: usize) -> usize {
+        groups * verts_per_hair
+    }
+
+    pub fn group_count(&self) -> usize {
+        self.groups
+    }
+
+    /// Vertices per render hair written by the last [`interpolate`].
+    pub fn verts_per_hair(&self) -> usize {
+        self.verts
+    }
+
+    /// Whether the last interpolation wrote group `g` (false: culled, past
+    /// the drawn prefix, or its guides were not refined).
+    pub fn is_group_written(&self, g: usize) -> bool {
+        self.written.get(g).copied().unwrap_or(false)
+    }
+
+    /// Whether the last pass wrote tangents ([`interpolate`]) or not
+    /// ([`interpolate_positions`]).
+    pub fn has_tangents(&self) -> bool {
+        self.has_tangents
+    }
+
+    /// Group `g`'s positions, `R` entries of eight hairs.
+    pub fn group_positions(&self, g: usize) -> &[Vec3x8] {
+        &self.positions[g * self.verts..(g + 1) * self.verts]
+    }
+
+    /// Group `g`'s unit tangents, `R` entries of eight hairs.
+    pub fn group_tangents(&self, g: usize) -> &[Vec3x8] {
+        &self.tangents[g * self.verts..(g + 1) * self.verts]
+    }
+
+    /// Vertex `r` of hair `lane` of group `g`.
+    pub fn position(&self, g: usize, lane: usize, r: usize) -> Vec3 {
+        self.positions[g * self.verts + r].lane(lane)
+    }
+
+    /// Unit tangent at vertex `r` of hair `lane` of group `g`.
+    pub fn tangent(&self, g: usize, lane: usize, r: usize) -> Vec3 {
+        self.tangents[g * self.verts + r].lane(lane)
+    }
+
+    /// Prepares for a pass; false if the buffer cannot take it.
+    fn begin(
+        &mut self,
+        interpolation: &Interpolation,
+        guides: &RefinedGuides,
+        with_tangents: bool,
+    ) -> bool {
+        self.has_tangents = with_tangents;
+        let verts = guides.verts_per_strand();
+        let ok = interpolation.group_count() == self.groups
+            && interpolation.guide_count() == guides.strand_count()
+            && self.groups * verts <= self.capacity;
+        self.written.iter_mut().for_each(|w| *w = false);
+        if ok {
+            self.verts = verts;
+        }
+        ok
+    }
+}
+
+/// Whether group `g` is drawn this frame and its guides hold fresh data.
+fn group_drawn(
+    g: usize,
+    group: &HairGroup,
+    groups_drawn: usize,
+    visibility: Option<&Visibility>,
+    guides: &RefinedGuides,
+) -> bool {
+    g < groups_drawn
+        && visibility.is_none_or(|v| v.group_visible(g))
+        && group
+            .guides
+            .iter()
+            .all(|&s| guides.is_block_refined(s as usize / LANES))
+}
+
+/// Writes every drawn render hair's vertices `b_A A + b_B B + b_C C` (and
+/// the normalised blend of the guides' tangents) from the refined guides into
+/// `out` (SIMD path: eight hairs of one group per instruction, each guide
+/// vertex loaded once as a broadcast).
+///
+/// Only the first `groups_drawn` groups (the distance-LOD prefix) that
+/// `visibility` (if given) marks visible and whose guide blocks were refined
+/// are written. Returns the number of groups written; 0 if `out` does not fit
+/// `interpolation` and `guides`. Allocates nothing.
+pub fn interpolate(
+    interpolation: &Interpolation,
+    guides: &RefinedGuides,
+    visibility: Option<&Visibility>,
+    groups_drawn: usize,
+    out: &mut RenderHairs,
+) -> usize {
+    interpolate_x8(interpolation, guides, visibility, groups_drawn, out, true)
+}
+
+/// [`interpolate`] without tangents: positions only, half the memory
+/// traffic (for renderers that derive tangents from neighbouring vertices,
+/// as [`crate::write_render_vertices`] then does). Scalar twin:
+/// [`crate::scalar::interpolate_positions`].
+pub fn interpolate_positions(
+    interpolation: &Interpolation,
+    guides: &RefinedGuides,
+    visibility: Option<&Visibility>,
+    groups_drawn: usize,
+    out: &mut RenderHairs,
+) -> usize {
+    interpolate_x8(interpolation, guides, visibility, groups_drawn, out, false)
+}
+
+fn interpolate_x8(
+    interpolation: &Interpolation,
+    guides: &RefinedGuides,
+    visibility: Option<&Visibility>,
+    groups_drawn: usize,
+    out: &mut RenderHairs,
+    with_tangents: bool,
+) -> usize {
+    if !out.begin(interpolation, guides, with_tangents) {
+        return 0;
+    }
+    let r_len = out.verts;
+    let mut count = 0;
+    for (g, group) in interpolation.groups.iter().enumerate() {
+        if !group_drawn(g, group, groups_drawn, visibility, guides) {
+            continue;
+        }
+        out.written[g] = true;
+        count += 1;
+        let [wa, wb, wc] = interpolation.weights[g];
+        let [(ba, la), (bb, lb), (bc, lc)] = group
+            .guides
+            .map(|s| (s as usize / LANES, s as usize % LANES));
+        let rows = g * r_len..(g + 1) * r_len;
+        let (pa, pb, pc) = (
+            guides.block_positions(ba),
+            guides.block_positions(bb),
+            guides.block_positions(bc),
+        );
+        for (((p, a), b), c) in out.positions[rows.clone()]
+            .iter_mut()
+            .zip(pa)
+            .zip(pb)
+            .zip(pc)
+        {
+            *p = blend_x8(wa, wb, wc, a, la, b, lb, c, lc);
+        }
+        if with_tangents {
+            let (ta, tb, tc) = (
+                guides.block_tangents(ba),
+                guides.block_tangents(bb),
+                guides.block_tangents(bc),
+            );
+            for (((t, a), b), c) in out.tangents[rows].iter_mut().zip(ta).zip(tb).zip(tc) {
+                *t = unit_or_y_x8(blend_x8(wa, wb, wc, a, la, b, lb, c, lc));
+            }
+        }
+    }
+    count
+}
+
+/// `wa A + wb B + wc C` with A, B, C broadcast from one lane each, fused
+/// multiply-adds left to right.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn blend_x8(
+    wa: f32x8,
+    wb: f32x8,
+    wc: f32x8,
+    a: &Vec3x8,
+    la: usize,
+    b: &Vec3x8,
+    lb: usize,
+    c: &Vec3x8,
+    lc: usize,
+) -> Vec3x8 {
+    let s = |v: &f32x8, l: usize| f32x8::splat(v.as_array()[l]);
+    let ch = |ax: &f32x8, bx: &f32x8, cx: &f32x8| {
+        wc.mul_add(s(cx, lc), wb.mul_add(s(bx, lb), wa * s(ax, la)))
+    };
+    Vec3x8 {
+        x: ch(&a.x, &b.x, &c.x),
+        y: ch(&a.y, &b.y, &c.y),
+        z: ch(&a.z, &b.z, &c.z),
+    }
+}
+
+/// The scalar twin of the interpolation batch.
+pub mod scalar {
+    use super::*;
+    use crate::refine_batch::scalar::unit_or_y;
+
+    /// Scalar twin of [`super::interpolate`]: same algorithm, same order,
+    /// one hair at a time.
+    pub fn interpolate(
+        interpolation: &Interpolation,
+        guides: &RefinedGuides,
+        visibility: Option<&Visibility>,
+        groups_drawn: usize,
+        out: &mut RenderHairs,
+    ) -> usize {
+        interpolate_scalar(interpolation, guides, visibility, groups_drawn, out, true)
+    }
+
+    /// Scalar twin of [`super::interpolate_positions`].
+    pub fn interpolate_positions(
+        interpolation: &Interpolation,
+        guides: &RefinedGuides,
+        visibility: Option<&Visibility>,
+        groups_drawn: usize,
+        out: &mut RenderHairs,
+    ) -> usize {
+        interpolate_scalar(interpolation, guides, visibility, groups_drawn, out, false)
+    }
+
+    fn interpolate_scalar(
+        interpolation: &Interpolation,
+        guides: &RefinedGuides,
+        visibility: Option<&Visibility>,
+        groups_drawn: usize,
+        out: &mut RenderHairs,
+        with_tangents: bool,
+    ) -> usize {
+        if !out.begin(interpolation, guides, with_tangents) {
+            return 0;
+        }
+        let r_len = out.verts;
+        let mut count = 0;
+        for (g, group) in interpolation.groups.iter().enumerate() {
+            if !group_drawn(g, group, groups_drawn, visibility, guides) {
+                continue;
+            }
+            out.written[g] = true;
+            count += 1;
+            let [a, b, c] = group.guides.map(|s| s as usize);
+            for l in 0..LANES {
+                let [wa, wb, wc] = interpolation.weights(g, l);
+                for r in 0..r_len {
+                    let i = g * r_len + r;
+                    let p = blend(
+                        wa,
+                        wb,
+                        wc,
+                        guides.position(a, r),
+                        guides.position(b, r),
+                        guides.position(c, r),
+                    );
+                    out.positions[i].set_lane(l, p);
+                    if with_tangents {
+                        let t = blend(
+                            wa,
+                            wb,
+                            wc,
+                            guides.tangent(a, r),
+                            guides.tangent(b, r),
+                            guides.tangent(c, r),
+                        );
+                        out.tangents[i].set_lane(l, unit_or_y(t));
+                    }
+                }
+            }
+        }
+        count
+    }
+
+    #[inline]
+    fn blend(wa: f32, wb: f32, wc: f32, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
+        let f = |x: f32, y: f32, z: f32| wc.mul_add(z, wb.mul_add(y, wa * x));
+        Vec3::new(f(a.x, b.x, c.x), f(a.y, b.y, c.y), f(a.z, b.z, c.z))
+    }
+}

@@ -1,0 +1,396 @@
+//! Batch refinement of a whole [`Strands`] set: eight strands per SIMD block,
+//! positions and unit tangents of the uniform cubic B-spline (see
+//! [`crate::bspline`]) written into a caller-owned [`RefinedGuides`].
+//!
+//! The output keeps the lane layout of `Strands`: refined vertex `r` of block
+//! `b` is `positions[b * R + r]`, lane `l` = strand `b * LANES + l`, with
+//! `R = (V - 1) N + 1`. Positions are relative to [`Strands::origin`].
+//! Weights for the current `N` are precomputed; nothing allocates per frame.
+
+use crate::bspline::{refined_len, SpanWeights};
+use crate::culling::Visibility;
+use crate::Error;
+use coif_kernels::{Strands, Vec3x8, LANES};
+use glam::Vec3;
+use wide::f32x8;
+
+/// Default upper bound on segments per span for [`RefinedGuides::new`].
+pub const DEFAULT_MAX_SEGMENTS_PER_SPAN: usize = 16;
+
+/// Caller-owned output of [`refine_strands`]: refined positions and unit
+/// tangents of every guide strand, sized once for the largest level.
+#[derive(Clone, Debug)]
+pub struct RefinedGuides {
+    strand_count: usize,
+    blocks: usize,
+    control_verts: usize,
+    max_segments: usize,
+    segments: usize,
+    verts: usize,
+    /// Per k = 0..=N: position weights then derivative weights at t = k / N.
+    weights: Vec<[f32; 8]>,
+    positions: Vec<Vec3x8>,
+    tangents: Vec<Vec3x8>,
+    refined: Vec<bool>,
+}
+
+impl RefinedGuides {
+    /// A buffer for `strands`, able to hold any level up to
+    /// `max_segments_per_span` (1..=256) without reallocating. Starts at
+    /// `N = max_segments_per_span`.
+    pub fn new(strands: &Strands, max_segments_per_span: usize) -> Result<RefinedGuides, Error> {
+        RefinedGuides::with_shape(
+            strands.strand_count(),
+            strands.verts_per_strand(),
+            max_segments_per_span,
+        )
+    }
+
+    /// As [`RefinedGuides::new`], from the set's shape.
+    pub fn with_shape(
+        strand_count: usize,
+        verts_per_strand: usize,
+        max_segments_per_span: usize,
+    ) -> Result<RefinedGuides, Error> {
+        if !(1..=256).contains(&max_segments_per_span) {
+            return Err(Error::InvalidParameter {
+                name: "max_segments_per_span",
+                value: max_segments_per_span as f64,
+                expected: "1 ..= 256",
+            });
+        }
+        if verts_per_strand < 2 {
+            return Err(Error::InvalidParameter {
+                name: "verts_per_strand",
+                value: verts_per_strand as f64,
+                expected: ">= 2",
+            });
+        }
+        let blocks = strand_count.div_ceil(LANES);
+        let len = RefinedGuides::buffer_len(strand_count, verts_per_strand, max_segments_per_span);
+        let mut out = RefinedGuides {
+            strand_count,
+            blocks,
+            control_verts: verts_per_strand,
+            max_segments: max_segments_per_span,
+            segments: 0,
+            verts: 0,
+            weights: Vec::with_capacity(max_segments_per_span + 1),
+            positions: vec![Vec3x8::ZERO; len],
+            tangents: vec![Vec3x8::ZERO; len],
+            refined: vec![false; blocks],
+        };
+        out.set_segments_per_span(max_segments_per_span);
+        Ok(out)
+    }
+
+    /// Number of `Vec3x8` entries per output array for a set of
+    /// `strand_count` strands of `verts_per_strand` control points at
+    /// `segments_per_span`: `ceil(strands / 8) * ((V - 1) N + 1)`.
+    pub fn buffer_len(
+        strand_count: usize,
+        verts_per_strand: usize,
+        segments_per_span: usize,
+    ) -> usize {
+        strand_count.div_ceil(LANES) * refined_len(verts_per_strand, segments_per_span)
+    }
+
+    /// Chooses the level for the next [`refine_strands`]: `n` clamped to
+    /// `1 ..= max_segments_per_span`; returns the level in use. Recomputes the
+    /// weight table (N + 1 entries) without allocating.
+    pub fn set_segments_per_span(&mut self, n: usize) -> usize {
+        let n = n.clamp(1, self.max_segments);
+        if n != self.segments {
+            let w = SpanWeights::new(n);
+            self.weights.clear();
+            for k in 0..=n {
+                let (p, t) = (w.position(k), w.tangent(k));
+                self.weights
+                    .push([p[0], p[1], p[2], p[3], t[0], t[1], t[2], t[3]]);
+            }
+            self.segments = n;
+            self.verts = refined_len(self.control_verts, n);
+            self.refined.iter_mut().for_each(|r| *r = false);
+        }
+        n
+    }
+
+    pub fn segments_per_span(&self) -> usize {
+        self.segments
+    }
+
+    pub fn max_segments_per_span(&self) -> usize {
+        self.max_segments
+    }
+
+    /// Refined vertices per strand, `R = (V - 1) N + 1`.
+    pub fn verts_per_strand(&self) -> usize {
+        self.verts
+    }
+
+    pub fn strand_count(&self) -> usize {
+        self.strand_count
+    }
+
+    pub fn block_count(&self) -> usize {
+        self.blocks
+    }
+
+    /// Control points per strand of the set this buffer was made for.
+    pub fn control_verts_per_strand(&self) -> usize {
+        self.control_verts
+    }
+
+    /// Whether the last refinement wrote block `b` (false if it was culled).
+    pub fn is_block_refined(&self, b: usize) -> bool {
+        self.refined.get(b).copied().unwrap_or(false)
+    }
+
+    /// Block `b`'s refined positions (local coordinates), `R` entries.
+    pub fn block_positions(&self, b: usize) -> &[Vec3x8] {
+        &self.positions[b * self.verts..(b + 1) * self.verts]
+    }
+
+    /// Block `b`'s unit tangents, `R` entries.
+    pub fn block_tangents(&self, b: usize) -> &[Vec3x8] {
+        &self.tangents[b * self.verts..(b + 1) * self.verts]
+    }
+
+    /// Refined vertex `r` of strand `i` (local coordinates).
+    pub fn position(&self, i: usize, r: usize) -> Vec3 {
+        self.positions[(i / LANES) * self.verts + r].lane(i % LANES)
+    }
+
+    /// Unit tangent at refined vertex `r` of strand `i`.
+    pub fn tangent(&self, i: usize, r: usize) -> Vec3 {
+        self.tangents[(i / LANES) * self.verts + r].lane(i % LANES)
+    }
+
+    /// Strand `i`'s refined positions, root first, into `out` (cleared).
+    pub fn strand_positions(&self, i: usize, out: &mut Vec<Vec3>) {
+        out.clear();
+        out.extend((0..self.verts).map(|r| self.position(i, r)));
+    }
+
+    fn fits(&self, strands: &Strands) -> bool {
+        strands.strand_count() == self.strand_count
+            && strands.verts_per_strand() == self.control_verts
+    }
+}
+
+/// Whether block `b` must be refined this frame.
+fn block_needed(visibility: Option<&Visibility>, b: usize) -> bool {
+    visibility.is_none_or(|v| v.guide_block_needed(b))
+}
+
+/// Refines every needed block of `strands` into `out` at
+/// `out.segments_per_span()` (SIMD path, eight strands per instruction).
+///
+/// Blocks that `visibility` marks as not needed are skipped (their entries
+/// keep stale data and [`RefinedGuides::is_block_refined`] says false).
+/// Returns the number of blocks refined; 0 (and nothing written) if `out`
+/// was made for a set of another shape. End points are the first and last
+/// control points exactly; tangents whose derivative vanishes (or is not
+/// finite) are `Vec3::Y`. Allocates nothing.
+pub fn refine_strands(
+    strands: &Strands,
+    visibility: Option<&Visibility>,
+    out: &mut RefinedGuides,
+) -> usize {
+    refine_x8::<true>(strands, visibility, out)
+}
+
+/// [`refine_strands`] without tangents: positions only, half the
+/// arithmetic and stores (for pipelines that take tangents from the render
+/// hair's positions, see [`crate::interpolate_positions`]). The tangent
+/// arrays of `out` are left as they were.
+pub fn refine_strands_positions(
+    strands: &Strands,
+    visibility: Option<&Visibility>,
+    out: &mut RefinedGuides,
+) -> usize {
+    refine_x8::<false>(strands, visibility, out)
+}
+
+fn refine_x8<const TANGENTS: bool>(
+    strands: &Strands,
+    visibility: Option<&Visibility>,
+    out: &mut RefinedGuides,
+) -> usize {
+    if !out.fits(strands) {
+        return 0;
+    }
+    let (v, r, n) = (out.control_verts, out.verts, out.segments);
+    let mut count = 0;
+    for b in 0..out.blocks {
+        let needed = block_needed(visibility, b);
+        out.refined[b] = needed;
+        if !needed {
+            continue;
+        }
+        count += 1;
+        let ctrl = strands.block_positions_local(b);
+        let pos = &mut out.positions[b * r..(b + 1) * r];
+        let tan = &mut out.tangents[b * r..(b + 1) * r];
+        for j in 0..v - 1 {
+            let p0 = if j == 0 {
+                ctrl[0] + ctrl[0] - ctrl[1]
+            } else {
+                ctrl[j - 1]
+            };
+            let p1 = ctrl[j];
+            let p2 = ctrl[j + 1];
+            let p3 = if j + 2 < v {
+                ctrl[j + 2]
+            } else {
+                ctrl[v - 1] + ctrl[v - 1] - ctrl[v - 2]
+            };
+            let ks = if j == v - 2 { n + 1 } else { n };
+            let span = j * n..j * n + ks;
+            for ((p, t), w) in pos[span.clone()]
+                .iter_mut()
+                .zip(&mut tan[span])
+                .zip(&out.weights)
+            {
+                *p = combine_x8(p0, p1, p2, p3, [w[0], w[1], w[2], w[3]]);
+                if TANGENTS {
+                    let d = combine_x8(p0, p1, p2, p3, [w[4], w[5], w[6], w[7]]);
+                    *t = unit_or_y_x8(d);
+                }
+            }
+        }
+        pos[0] = ctrl[0];
+        pos[r - 1] = ctrl[v - 1];
+    }
+    count
+}
+
+/// `p0 w0 + p1 w1 + p2 w2 + p3 w3`, accumulated left to right with fused
+/// multiply-adds (the scalar twin fuses identically).
+#[inline(always)]
+fn combine_x8(p0: Vec3x8, p1: Vec3x8, p2: Vec3x8, p3: Vec3x8, w: [f32; 4]) -> Vec3x8 {
+    let [w0, w1, w2, w3] = w.map(f32x8::splat);
+    Vec3x8 {
+        x: p3
+            .x
+            .mul_add(w3, p2.x.mul_add(w2, p1.x.mul_add(w1, p0.x * w0))),
+        y: p3
+            .y
+            .mul_add(w3, p2.y.mul_add(w2, p1.y.mul_add(w1, p0.y * w0))),
+        z: p3
+            .z
+            .mul_add(w3, p2.z.mul_add(w2, p1.z.mul_add(w1, p0.z * w0))),
+    }
+}
+
+/// `d / |d|`, or `+Y` where `|d|^2 <= 1e-30` or not finite.
+#[inline(always)]
+pub(crate) fn unit_or_y_x8(d: Vec3x8) -> Vec3x8 {
+    let len2 = d.dot(d);
+    let ok =
+        len2.simd_gt(f32x8::splat(MIN_LENGTH_SQUARED)) & len2.simd_lt(f32x8::splat(f32::INFINITY));
+    // rsqrt (12 bits) refined by one Newton step y (3 - x y^2) / 2 (about
+    // 23 bits, within a few ulp of 1 / sqrt(x)): no divide, no sqrt.
+    let y = len2.recip_sqrt();
+    let y = y * (f32x8::splat(1.5) - f32x8::splat(0.5) * len2 * y * y);
+    Vec3x8::select(ok, d * y, Vec3x8::splat(Vec3::Y))
+}
+
+/// Tangents with `|d|^2` at or below this fall back to `+Y`.
+pub(crate) const MIN_LENGTH_SQUARED: f32 = 1e-30;
+
+/// The scalar twins of the batch paths: the same algorithm, in the same
+/// order, one lane at a time, no SIMD.
+pub mod scalar {
+    use super::*;
+
+    /// Scalar twin of [`super::refine_strands`].
+    pub fn refine_strands(
+        strands: &Strands,
+        visibility: Option<&Visibility>,
+        out: &mut RefinedGuides,
+    ) -> usize {
+        refine_scalar::<true>(strands, visibility, out)
+    }
+
+    /// Scalar twin of [`super::refine_strands_positions`].
+    pub fn refine_strands_positions(
+        strands: &Strands,
+        visibility: Option<&Visibility>,
+        out: &mut RefinedGuides,
+    ) -> usize {
+        refine_scalar::<false>(strands, visibility, out)
+    }
+
+    fn refine_scalar<const TANGENTS: bool>(
+        strands: &Strands,
+        visibility: Option<&Visibility>,
+        out: &mut RefinedGuides,
+    ) -> usize {
+        if !out.fits(strands) {
+            return 0;
+        }
+        let (v, r, n) = (out.control_verts, out.verts, out.segments);
+        let mut count = 0;
+        for b in 0..out.blocks {
+            let needed = block_needed(visibility, b);
+            out.refined[b] = needed;
+            if !needed {
+                continue;
+            }
+            count += 1;
+            let ctrl = strands.block_positions_local(b);
+            for l in 0..LANES {
+                let c = |i: usize| ctrl[i].lane(l);
+                for j in 0..v - 1 {
+                    let p0 = if j == 0 { c(0) + c(0) - c(1) } else { c(j - 1) };
+                    let p1 = c(j);
+                    let p2 = c(j + 1);
+                    let p3 = if j + 2 < v {
+                        c(j + 2)
+                    } else {
+                        c(v - 1) + c(v - 1) - c(v - 2)
+                    };
+                    let ks = if j == v - 2 { n + 1 } else { n };
+                    for k in 0..ks {
+                        let w = out.weights[k];
+                        let i = b * r + j * n + k;
+                        let p = combine(p0, p1, p2, p3, [w[0], w[1], w[2], w[3]]);
+                        out.positions[i].set_lane(l, p);
+                        if TANGENTS {
+                            let d = combine(p0, p1, p2, p3, [w[4], w[5], w[6], w[7]]);
+                            out.tangents[i].set_lane(l, unit_or_y(d));
+                        }
+                    }
+                }
+                out.positions[b * r].set_lane(l, c(0));
+                out.positions[b * r + r - 1].set_lane(l, c(v - 1));
+            }
+        }
+        count
+    }
+
+    #[inline]
+    fn combine(p0: Vec3, p1: Vec3, p2: Vec3, p3: Vec3, w: [f32; 4]) -> Vec3 {
+        let f = |a: f32, b: f32, c: f32, d: f32| {
+            d.mul_add(w[3], c.mul_add(w[2], b.mul_add(w[1], a * w[0])))
+        };
+        Vec3::new(
+            f(p0.x, p1.x, p2.x, p3.x),
+            f(p0.y, p1.y, p2.y, p3.y),
+            f(p0.z, p1.z, p2.z, p3.z),
+        )
+    }
+
+    #[inline]
+    pub(crate) fn unit_or_y(d: Vec3) -> Vec3 {
+        let len2 = d.x * d.x + d.y * d.y + d.z * d.z;
+        if len2 > MIN_LENGTH_SQUARED && len2 < f32::INFINITY {
+            // Exact 1 / sqrt; the SIMD path's rsqrt + Newton step agrees
+            // to a few ulp.
+            d * (1.0 / len2.sqrt())
+        } else {
+            Vec3::Y
+        }
+    }
+}
