@@ -9,5 +9,7 @@ pub use coif_lod as lod;
 pub use coif_shading as shading;
 
 pub mod groom;
+pub mod pipeline;
 pub mod quality;
+pub mod render;
 pub mod scene;

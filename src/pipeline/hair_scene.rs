@@ -1,0 +1,180 @@
+//! What a frame pipeline draws: guide strands at rest, their scalp
+//! triangles, the collision rig and the head drawn under the hair.
+
+use super::triangulate::{median_edge, triangulate_roots};
+use super::Error;
+use crate::groom::Groom;
+use crate::kernels::Sphere;
+use crate::lod::arc_length_samples;
+use crate::scene::{self, GrowOptions};
+use glam::Vec3;
+
+/// Guides, triangles and rig of one groom, in metres, world space, at rest
+/// (head pose = identity).
+#[derive(Clone, Debug)]
+pub struct HairScene {
+    /// `guide_count * verts_per_strand` points, strand after strand, root first.
+    pub guides: Vec<Vec3>,
+    pub verts_per_strand: usize,
+    /// Scalp triangles (indices of guides) that render hairs are
+    /// interpolated over.
+    pub triangles: Vec<[u32; 3]>,
+    /// Collision spheres at rest; they follow the head.
+    pub rig: Vec<Sphere>,
+    /// The spheres drawn as the head (also shadow casters for the hair).
+    pub head: Vec<Sphere>,
+    /// The point the head turns about (the top of the neck).
+    pub pivot: Vec3,
+    /// Centre and radius of a sphere around the hair at rest, for framing.
+    pub focus: Vec3,
+    pub extent: f32,
+}
+
+/// Edges longer than this many median edges are gaps between hair patches.
+const MAX_EDGE_IN_MEDIANS: f32 = 3.0;
+
+impl HairScene {
+    /// The built-in head: `options` grows guides on a sphere
+    /// ([`scene::grow_on_sphere`]); the rig is the head and a neck
+    /// ([`scene::body_rig`]); triangles come from the roots' directions.
+    /// Strands rooted on the face (the front of the sphere below a
+    /// hairline, facing +z) are left out, so the head shows a face, and
+    /// every strand is combed back ([`comb_back`]) before the simulation
+    /// drapes it.
+    pub fn procedural(options: &GrowOptions) -> Result<HairScene, Error> {
+        let grown = scene::grow_on_sphere(options);
+        let rig = scene::body_rig(&grown.head, 2);
+        let head = grown.head.clone();
+        let verts = grown.verts_per_strand;
+        let points: Vec<Vec3> = grown
+            .points
+            .chunks_exact(verts)
+            .filter(|s| !on_face((s[0] - head.center) / head.radius))
+            .flat_map(|s| comb_back(s, head.center))
+            .collect();
+        HairScene::assemble(
+            points,
+            verts,
+            rig.clone(),
+            rig,
+            head.center - Vec3::Y * (1.1 * head.radius),
+            head.center,
+        )
+    }
+
+    /// A loaded groom in centimetres (TressFX's and cyHair's usual unit):
+    /// scaled by 0.01 to metres; at most `max_guides` strands are kept as
+    /// guides (every k-th strand); each is resampled to `verts_per_strand`
+    /// points evenly spaced in arc length (authored strands may differ in
+    /// vertex count). The rig is [`scene::scalp_spheres`] under the roots;
+    /// the drawn head is the sphere fitted to the roots
+    /// ([`scene::fit_sphere`]), shrunk so no root is inside it; triangles
+    /// are the root directions from its centre, without long edges.
+    pub fn from_groom(
+        groom: &Groom,
+        max_guides: usize,
+        verts_per_strand: usize,
+    ) -> Result<HairScene, Error> {
+        let strands = groom.strand_count();
+        let verts = verts_per_strand.max(2);
+        let stride = strands.div_ceil(max_guides.max(1)).max(1);
+        let mut guides = Vec::with_capacity(strands.div_ceil(stride) * verts);
+        let mut buf = vec![Vec3::ZERO; verts];
+        for s in (0..strands).step_by(stride) {
+            let strand = groom.strand(s);
+            if strand.len() < 2 {
+                continue;
+            }
+            let scaled: Vec<Vec3> = strand.iter().map(|p| *p * 0.01).collect();
+            arc_length_samples(&scaled, &mut buf);
+            guides.extend_from_slice(&buf);
+        }
+        if guides.is_empty() {
+            return Err(Error::Scene(
+                "the groom has no strand with two or more points",
+            ));
+        }
+        let roots: Vec<Vec3> = guides.iter().step_by(verts).copied().collect();
+        let fitted = scene::fit_sphere(&roots)
+            .ok_or(Error::Scene("cannot fit a head sphere to the roots"))?;
+        // The head must stay under the roots: shrink to the nearest root.
+        let nearest = roots
+            .iter()
+            .map(|r| r.distance(fitted.center))
+            .fold(f32::INFINITY, f32::min);
+        let head = Sphere {
+            center: fitted.center,
+            radius: (0.97 * nearest).min(fitted.radius),
+        };
+        let mut rig = vec![head.clone()];
+        rig.extend(scene::scalp_spheres(&guides, verts, 8, 0.5 * head.radius));
+        HairScene::assemble(
+            guides,
+            verts,
+            rig,
+            vec![head.clone()],
+            head.center - Vec3::Y * (1.1 * head.radius),
+            head.center,
+        )
+    }
+
+    fn assemble(
+        guides: Vec<Vec3>,
+        verts: usize,
+        rig: Vec<Sphere>,
+        head: Vec<Sphere>,
+        pivot: Vec3,
+        center: Vec3,
+    ) -> Result<HairScene, Error> {
+        let roots: Vec<Vec3> = guides.iter().step_by(verts).copied().collect();
+        let all = triangulate_roots(&roots, center, f32::INFINITY);
+        let max_edge = MAX_EDGE_IN_MEDIANS * median_edge(&roots, &all);
+        let triangles = triangulate_roots(&roots, center, max_edge);
+        if triangles.is_empty() {
+            return Err(Error::Scene("the guide roots make no scalp triangle"));
+        }
+        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for p in guides.iter().chain(head.iter().map(|s| &s.center)) {
+            lo = lo.min(*p);
+            hi = hi.max(*p);
+        }
+        let focus = 0.5 * (lo + hi);
+        let extent = 0.5 * (hi - lo).length();
+        Ok(HairScene {
+            guides,
+            verts_per_strand: verts,
+            triangles,
+            rig,
+            head,
+            pivot,
+            focus,
+            extent,
+        })
+    }
+
+    pub fn guide_count(&self) -> usize {
+        self.guides.len() / self.verts_per_strand
+    }
+
+    /// The guides' roots.
+    pub fn roots(&self) -> impl Iterator<Item = Vec3> + '_ {
+        self.guides.iter().step_by(self.verts_per_strand).copied()
+    }
+}
+
+/// Whether unit direction `n` from the head's centre is on the face: in
+/// front (+z) and below a hairline that rises toward the temples.
+pub fn on_face(n: Vec3) -> bool {
+    n.z > 0.25 && n.y < 0.3 - 0.3 * n.x.abs()
+}
+
+/// Turns a strand rigidly about its root so that it leaves the scalp
+/// toward the back of the head, `normalize(n + (0, -0.3, -1.2))` for root
+/// normal `n` instead of along `n`: hair combed back off the face.
+pub fn comb_back(strand: &[Vec3], center: Vec3) -> impl Iterator<Item = Vec3> + '_ {
+    let root = strand[0];
+    let n = (root - center).normalize_or(Vec3::Y);
+    let d = (n + Vec3::new(0.0, -0.3, -1.2)).normalize_or(n);
+    let turn = glam::Quat::from_rotation_arc(n, d);
+    strand.iter().map(move |p| root + turn * (*p - root))
+}

@@ -1,0 +1,60 @@
+//! Head motion: rigid poses of the head about a pivot.
+
+use glam::{Affine3A, Quat, Vec3};
+use std::f32::consts::PI;
+
+/// The rigid transform that turns the head by `yaw` (about +y) and then
+/// nods it by `pitch` (about +x, positive tips the face down for a head
+/// facing +z) about `pivot`, and moves it by `translation`.
+pub fn head_pose(pivot: Vec3, yaw: f32, pitch: f32, translation: Vec3) -> Affine3A {
+    let rotation = Quat::from_rotation_y(yaw) * Quat::from_rotation_x(pitch);
+    Affine3A::from_translation(pivot + translation)
+        * Affine3A::from_quat(rotation)
+        * Affine3A::from_translation(-pivot)
+}
+
+/// The built-in motion at time `t` seconds: a turn to one side and back
+/// (0-2 s, 40 degrees), then a nod (2-3 s, 20 degrees), at rest after 3 s.
+/// Smooth (C1) throughout.
+pub fn turn_and_nod(t: f32, pivot: Vec3) -> Affine3A {
+    let bump = |t: f32, start: f32, length: f32| -> f32 {
+        let s = (t - start) / length;
+        if (0.0..=1.0).contains(&s) {
+            0.5 - 0.5 * (2.0 * PI * s).cos()
+        } else {
+            0.0
+        }
+    };
+    let yaw = 40f32.to_radians() * bump(t, 0.0, 2.0);
+    let pitch = 20f32.to_radians() * bump(t, 2.0, 1.0);
+    head_pose(pivot, yaw, pitch, Vec3::ZERO)
+}
+
+/// Linear blend of two rigid poses (slerp of the rotation, lerp of the
+/// translation), for fixed substeps inside one frame.
+pub fn blend_poses(a: &Affine3A, b: &Affine3A, s: f32) -> Affine3A {
+    let (_, ra, ta) = a.to_scale_rotation_translation();
+    let (_, rb, tb) = b.to_scale_rotation_translation();
+    Affine3A::from_rotation_translation(ra.slerp(rb, s), ta.lerp(tb, s))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn poses_keep_the_pivot_and_the_motion_returns_to_rest() {
+        let pivot = Vec3::new(0.0, 1.5, 0.1);
+        let m = head_pose(pivot, 0.4, 0.2, Vec3::ZERO);
+        assert!((m.transform_point3(pivot) - pivot).length() < 1e-5);
+        let p = pivot + Vec3::new(0.1, 0.2, 0.0);
+        assert!(((m.transform_point3(p) - pivot).length() - (p - pivot).length()).abs() < 1e-5);
+        let rest = turn_and_nod(3.5, pivot);
+        assert!((rest.transform_point3(p) - p).length() < 1e-6);
+        let turned = turn_and_nod(1.0, pivot);
+        assert!((turned.transform_point3(p) - p).length() > 0.05);
+        let half = blend_poses(&Affine3A::IDENTITY, &turned, 0.5);
+        let q = half.transform_point3(p);
+        assert!((q - pivot).length() - (p - pivot).length() < 1e-5);
+    }
+}

@@ -1,0 +1,28 @@
+//! A small deterministic software renderer for the demo: hair as
+//! anti-aliased lines of sub-pixel width, alpha-blended back to front over a
+//! ray-cast sphere head and a background, tone-mapped and written as PNG.
+//!
+//! Single-threaded and in a fixed order, so the same input gives the same
+//! bytes. Every buffer is owned by the caller and sized once ([`Framebuffer`],
+//! the sort keys of [`sort_back_to_front`]); drawing allocates nothing.
+//!
+//! - [`Camera`]: perspective look-at camera, projection to pixels.
+//! - [`Framebuffer`]: linear-RGB float colour and view depth per pixel.
+//! - [`line`]: coverage of a pixel by a line of sub-pixel width, and the
+//!   blended segment.
+//! - [`head`]: the ray-cast, Lambert-lit sphere head.
+//! - [`sort`]: back-to-front order of hair strands.
+//! - [`hair`]: drawing every strand's segments in that order.
+//! - [`image`]: tone map and sRGB encode to 8-bit RGB, contact sheets, PNG.
+
+mod camera;
+mod framebuffer;
+pub mod hair;
+pub mod head;
+pub mod image;
+pub mod line;
+pub mod sort;
+
+pub use camera::Camera;
+pub use framebuffer::Framebuffer;
+pub use image::RgbImage;
