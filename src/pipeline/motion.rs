@@ -54,7 +54,12 @@ mod tests {
         let turned = turn_and_nod(1.0, pivot);
         assert!((turned.transform_point3(p) - p).length() > 0.05);
         let half = blend_poses(&Affine3A::IDENTITY, &turned, 0.5);
-        let q = half.transform_point3(p);
-        assert!((q - pivot).length() - (p - pivot).length() < 1e-5);
+        let (q, r) = (half.transform_point3(p), half.transform_point3(pivot));
+        assert!(
+            ((q - r).length() - (p - pivot).length()).abs() < 1e-5,
+            "rigid"
+        );
+        let end = blend_poses(&Affine3A::IDENTITY, &turned, 1.0);
+        assert!((end.transform_point3(p) - turned.transform_point3(p)).length() < 1e-5);
     }
 }

@@ -163,8 +163,14 @@ mod tests {
         let mut pts = Vec::new();
         for j in 0..6 {
             for i in 0..7 {
-                // Jittered so that no four points are cocircular.
-                let jit = ((i * 7 + j * 13) % 5) as f64 * 1e-3;
+                // Interior points jittered so that no four points are
+                // cocircular; the boundary stays a rectangle.
+                let inside = i > 0 && i < 6 && j > 0 && j < 5;
+                let jit = if inside {
+                    ((i * 7 + j * 13) % 5) as f64 * 1e-2 + 1e-3
+                } else {
+                    0.0
+                };
                 pts.push(DVec2::new(i as f64 + jit, j as f64 - jit));
             }
         }

@@ -38,7 +38,7 @@ pub fn ray_sphere(origin: Vec3, dir: Vec3, sphere: &Sphere) -> Option<f32> {
         Some(s)
     } else {
         let s2 = -b + disc.sqrt();
-        (c > 0.0 && s2 > 0.0).then_some(s2)
+        (s2 > 0.0).then_some(s2)
     }
 }
 
