@@ -48,6 +48,10 @@ struct Cli {
     /// Most guides kept from a groom (every k-th strand).
     #[arg(long, default_value_t = 2048)]
     max_guides: usize,
+    /// Camera direction from the hair, X,Y,Z (default: the scene's own; the
+    /// built-in head is seen from the front left, grooms from the side).
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_view)]
+    view: Option<glam::Vec3>,
     /// Render hairs per cm^2 (each widened to keep a real scalp's coverage).
     #[arg(long, default_value_t = 40.0)]
     density: f32,
@@ -55,6 +59,21 @@ struct Cli {
 
 fn parse_model(s: &str) -> Result<ShadingModel, String> {
     s.parse()
+}
+
+fn parse_view(s: &str) -> Result<glam::Vec3, String> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|c| c.trim().parse::<f32>().map_err(|e| format!("{c:?}: {e}")))
+        .collect::<Result<_, _>>()?;
+    match v[..] {
+        [x, y, z] if (x * x + y * y + z * z) > 1e-12 && (x + y + z).is_finite() => {
+            Ok(glam::Vec3::new(x, y, z))
+        }
+        _ => Err(format!(
+            "expected three numbers X,Y,Z not all zero, got {s:?}"
+        )),
+    }
 }
 
 fn parse_size(s: &str) -> Result<(usize, usize), String> {
@@ -99,7 +118,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         None => {
             let scene = HairScene::procedural(&GrowOptions {
                 strand_count: 2048,
-                curl: 0.3,
+                curl: 0.15,
                 ..GrowOptions::default()
             })?;
             (scene, "built-in sphere head, 2048 grown guides".to_string())
@@ -110,6 +129,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         height,
         shading: cli.shading,
         render_hairs_per_cm2: cli.density,
+        view_direction: cli.view,
         ..FrameSettings::default()
     };
     let mut pipeline = FramePipeline::new(&scene, settings, 1.5)?;

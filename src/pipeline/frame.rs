@@ -127,7 +127,11 @@ impl FramePipeline {
             hi = hi.max(*p);
         }
         let (focus, extent) = (0.5 * (lo + hi), 0.5 * (hi - lo).length());
-        let view = settings.view_direction.try_normalize().unwrap_or(Vec3::Z);
+        let view = settings
+            .view_direction
+            .unwrap_or(scene.view_direction)
+            .try_normalize()
+            .unwrap_or(Vec3::Z);
         let camera = Camera::look_at(
             focus + view * (settings.view_distance * extent),
             focus,
@@ -323,6 +327,7 @@ impl FramePipeline {
         self.shadow.transmittance(vertices, transmittance);
         self.colors.resize(self.vertex_count);
         let cosine = self.shader.needs_cosine();
+        let irradiance = light.irradiance * self.shader.light_scale();
         let ambient = HAIR_AMBIENT_ALBEDO * light.ambient;
         for (k, v) in vertices.iter().enumerate() {
             let p = Vec3::from(v.position);
@@ -330,7 +335,7 @@ impl FramePipeline {
             if occluded(p, light.to_light, &self.head_local, 1e-3) {
                 visible = 0.0;
             }
-            let mut direct = self.scattering.get(k) * light.irradiance * visible;
+            let mut direct = self.scattering.get(k) * irradiance * visible;
             if cosine {
                 let c = Vec3::from(v.tangent).dot(light.to_light);
                 direct *= (1.0 - c * c).max(0.0).sqrt();
@@ -434,6 +439,12 @@ impl FramePipeline {
     /// Final linear-RGB colour of each render vertex of the last frame.
     pub fn vertex_colors(&self) -> &RgbBuffer {
         &self.colors
+    }
+
+    /// The head's spheres as drawn in the last frame (relative to
+    /// `strands().origin()`, like the render vertices).
+    pub fn head_spheres(&self) -> &[Sphere] {
+        &self.head_local
     }
 
     /// Number of render hairs the interpolation places.

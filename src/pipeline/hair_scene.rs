@@ -28,6 +28,8 @@ pub struct HairScene {
     /// Centre and radius of a sphere around the hair at rest, for framing.
     pub focus: Vec3,
     pub extent: f32,
+    /// Where a camera looks from (direction from the hair toward the eye).
+    pub view_direction: Vec3,
 }
 
 /// Edges longer than this many median edges are gaps between hair patches.
@@ -95,27 +97,62 @@ impl HairScene {
             ));
         }
         let roots: Vec<Vec3> = guides.iter().step_by(verts).copied().collect();
-        let fitted = scene::fit_sphere(&roots)
-            .ok_or(Error::Scene("cannot fit a head sphere to the roots"))?;
-        // The head must stay under the roots: shrink to the nearest root.
-        let nearest = roots
+        let fitted =
+            scene::fit_sphere(&roots).ok_or(Error::Scene("cannot fit a sphere to the roots"))?;
+        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for r in &roots {
+            lo = lo.min(*r);
+            hi = hi.max(*r);
+        }
+        let diagonal = (hi - lo).length();
+        // RMS distance of the roots from the fitted sphere's surface.
+        let residual = (roots
             .iter()
-            .map(|r| r.distance(fitted.center))
-            .fold(f32::INFINITY, f32::min);
-        let head = Sphere {
-            center: fitted.center,
-            radius: (0.97 * nearest).min(fitted.radius),
+            .map(|r| (r.distance(fitted.center) - fitted.radius).powi(2))
+            .sum::<f32>()
+            / roots.len() as f32)
+            .sqrt();
+        let scalp_radius = 0.15 * diagonal;
+        let scalp = scene::scalp_spheres(&guides, verts, 12, scalp_radius);
+        let head = if residual < 0.1 * fitted.radius && fitted.radius < 0.75 * diagonal {
+            // A scalp: the fitted sphere, shrunk so that no root is inside it.
+            let nearest = roots
+                .iter()
+                .map(|r| r.distance(fitted.center))
+                .fold(f32::INFINITY, f32::min);
+            vec![Sphere {
+                center: fitted.center,
+                radius: (0.97 * nearest).min(fitted.radius),
+            }]
+        } else {
+            // Not a sphere (a mohawk's strip of roots): the scalp spheres.
+            scalp.clone()
         };
-        let mut rig = vec![head.clone()];
-        rig.extend(scene::scalp_spheres(&guides, verts, 8, 0.5 * head.radius));
-        HairScene::assemble(
+        let mut rig = head.clone();
+        if head.len() == 1 {
+            rig.extend(scalp);
+        }
+        let centre = head[0].center;
+        let (pivot_from, drop) = if head.len() == 1 {
+            (centre, head[0].radius)
+        } else {
+            (
+                head.iter().map(|s| s.center).sum::<Vec3>() / head.len() as f32,
+                scalp_radius,
+            )
+        };
+        let mut scene = HairScene::assemble(
             guides,
             verts,
             rig,
-            vec![head.clone()],
-            head.center - Vec3::Y * (1.1 * head.radius),
-            head.center,
-        )
+            head,
+            pivot_from - Vec3::Y * (1.1 * drop),
+            fitted.center,
+        )?;
+        // From the side, a little above and behind: authored grooms face +z
+        // and their hair falls back and down, behind the head from the front.
+        scene.view_direction = Vec3::new(-1.0, 0.3, -0.35).normalize();
+        Ok(scene)
     }
 
     fn assemble(
@@ -149,6 +186,7 @@ impl HairScene {
             pivot,
             focus,
             extent,
+            view_direction: Vec3::new(-0.45, 0.15, 1.0).normalize(),
         })
     }
 

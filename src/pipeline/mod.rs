@@ -27,5 +27,5 @@ pub use error::Error;
 pub use frame::{FramePipeline, FrameStats, BACKGROUND, HAIR_AMBIENT_ALBEDO, SKIN_ALBEDO};
 pub use hair_scene::HairScene;
 pub use settings::{FrameSettings, Light};
-pub use shading_model::{Shader, ShadingModel};
+pub use shading_model::{demo_sigma_a, Shader, ShadingModel, PHYSICAL_LIGHT_SCALE};
 pub use timings::{Stage, StageTimings};

@@ -21,7 +21,7 @@ impl Default for Light {
     fn default() -> Self {
         Light {
             to_light: Vec3::new(-0.55, 0.65, 0.52).normalize(),
-            irradiance: Vec3::new(1.7, 1.6, 1.45),
+            irradiance: Vec3::new(1.15, 1.1, 1.0),
             ambient: Vec3::new(0.10, 0.11, 0.13),
         }
     }
@@ -50,8 +50,9 @@ pub struct FrameSettings {
     /// Most fixed simulation steps per frame.
     pub max_substeps: u32,
     pub light: Light,
-    /// Direction from the hair's centre toward the camera at rest.
-    pub view_direction: Vec3,
+    /// Direction from the hair's centre toward the camera at rest; `None`:
+    /// the scene's [`super::HairScene::view_direction`].
+    pub view_direction: Option<Vec3>,
     /// Camera distance in multiples of the hair's bounding radius.
     pub view_distance: f32,
     /// Vertical field of view (radians).
@@ -75,7 +76,7 @@ impl Default for FrameSettings {
             real_hairs_per_cm2: 150.0,
             render_hairs_per_cm2: 40.0,
             hair_width: HairWidth::default(),
-            min_lod_fraction: 0.25,
+            min_lod_fraction: 0.5,
             pixel_error: 0.5,
             max_segments_per_span: 3,
             simulation: SimParams {
@@ -85,7 +86,7 @@ impl Default for FrameSettings {
             },
             max_substeps: 4,
             light: Light::default(),
-            view_direction: Vec3::new(0.25, 0.12, 1.0).normalize(),
+            view_direction: None,
             view_distance: 2.6,
             fov_y: 0.7,
             hair_opacity: 0.9,

@@ -13,9 +13,12 @@ pub enum ShadingModel {
     /// ([`KajiyaKay::default`], brown hair).
     #[default]
     KajiyaKay,
-    /// Marschner 2003, factored lookup tables ([`marschner::Lut`], 128, default params).
+    /// Marschner 2003, factored lookup tables ([`marschner::Lut`], 128),
+    /// default parameters with the absorption of [`demo_sigma_a`] (halved,
+    /// Marschner's convention per unit radius as in `marschner::Params`).
     Marschner,
-    /// pbrt-v3's hair BSDF far field, lookup table ([`pbrt::Table`], 64, default params).
+    /// pbrt-v3's hair BSDF far field, lookup table ([`pbrt::Table`], 64),
+    /// default parameters with `sigma_a` = [`demo_sigma_a`].
     Pbrt,
 }
 
@@ -50,6 +53,22 @@ impl FromStr for ShadingModel {
             .ok_or_else(|| format!("unknown shading model {s:?} (kajiya-kay, marschner, pbrt)"))
     }
 }
+
+/// Absorption of the demo's hair for the physically based models: medium
+/// brown, eumelanin 0.8 and pheomelanin 0.3 (d'Eon 2011 via
+/// `pbrt::sigma_a_from_concentration`); pbrt-v3's default (eumelanin 1.3)
+/// is nearly black in single scattering.
+pub fn demo_sigma_a() -> glam::Vec3 {
+    pbrt::sigma_a_from_concentration(0.8, 0.3)
+}
+
+/// Light multiplier of the physically based models. Their fibres are
+/// energy-normalised and single-scattering only (no multiple scattering,
+/// which carries most of the light in real brown hair), so under the same
+/// light they are about ten times darker than Kajiya-Kay, whose diffuse
+/// term is not normalised. The demo raises their light by this factor so
+/// the three pictures are comparable; the relative shading is untouched.
+pub const PHYSICAL_LIGHT_SCALE: f32 = 6.0;
 
 /// Marschner table resolution (1% relative RMS of the direct model with the default layout).
 pub const MARSCHNER_RESOLUTION: usize = 128;
@@ -93,5 +112,14 @@ impl Shader {
     /// includes it and Kajiya-Kay's diffuse term is that sine already.
     pub fn needs_cosine(&self) -> bool {
         matches!(self, Shader::Marschner(_))
+    }
+
+    /// Multiplier of the light's irradiance for this model
+    /// ([`PHYSICAL_LIGHT_SCALE`] for the physically based ones).
+    pub fn light_scale(&self) -> f32 {
+        match self {
+            Shader::KajiyaKay(_) => 1.0,
+            _ => PHYSICAL_LIGHT_SCALE,
+        }
     }
 }
