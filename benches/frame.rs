@@ -1,0 +1,136 @@
+//! The demo's frame pipeline and software renderer.
+//!
+//! Groups:
+//! - `frame/default/{simulate,render,frame}` and `frame/mohawk/...`: one
+//!   frame of the built-in head (2,048 guides) and of the ratboy mohawk groom
+//!   (skipped if `../shared/data/grooms` is absent) at 512 x 512 with
+//!   Kajiya-Kay; after each scene the per-stage means over every iteration
+//!   (`StageTimings`) are printed, since criterion times whole calls.
+//! - `raster/segments`: anti-aliased hair segments (3 px long, 0.3-1.5 px
+//!   wide) blended into a 512 x 512 frame, elements = segments, so the
+//!   reported time per element is ns per segment.
+//! - `raster/sort`: back-to-front sort of 10,000 strands.
+//! - `shade/{kajiya-kay,marschner,pbrt}`: per-vertex shading batch of 65,536
+//!   samples.
+
+use coif::groom;
+use coif::kernels::rng::SplitMix64;
+use coif::pipeline::{motion, FramePipeline, FrameSettings, HairScene, Shader, ShadingModel};
+use coif::render::line::{draw_segment, ScreenVertex};
+use coif::render::sort::DepthOrder;
+use coif::render::Framebuffer;
+use coif::scene::GrowOptions;
+use coif::shading::{RgbBuffer, ShadingSamples};
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use glam::Vec3;
+use std::hint::black_box;
+use std::path::PathBuf;
+
+fn bench_scene(c: &mut Criterion, name: &str, scene: &HairScene) {
+    let mut p = FramePipeline::new(scene, FrameSettings::default(), 1.0).unwrap();
+    let pivot = p.pivot();
+    let mut t = 0.0f32;
+    let mut g = c.benchmark_group(format!("frame/{name}"));
+    g.sample_size(10);
+    p.reset_timings();
+    g.bench_function("simulate", |b| {
+        b.iter(|| {
+            t += 1.0 / 30.0;
+            p.simulate(1.0 / 30.0, motion::turn_and_nod(t % 3.0, pivot));
+        })
+    });
+    g.bench_function("render", |b| b.iter(|| p.render()));
+    g.bench_function("frame", |b| {
+        b.iter(|| {
+            t += 1.0 / 30.0;
+            black_box(p.frame(1.0 / 30.0, motion::turn_and_nod(t % 3.0, pivot)))
+        })
+    });
+    g.finish();
+    let s = p.stats();
+    eprintln!(
+        "\nframe/{name}: {} hairs, {} vertices, {} segments; per-stage means over all iterations:\n{}\n",
+        s.hairs,
+        s.vertices,
+        s.segments,
+        p.timings()
+    );
+}
+
+fn frames(c: &mut Criterion) {
+    let default = HairScene::procedural(&GrowOptions {
+        strand_count: 2048,
+        curl: 0.15,
+        ..GrowOptions::default()
+    })
+    .unwrap();
+    bench_scene(c, "default", &default);
+    let path =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/grooms/ratboy_mohawk.tfx");
+    match std::fs::read(&path) {
+        Ok(bytes) => {
+            let g = groom::load(&bytes).unwrap();
+            let scene = HairScene::from_groom(&g, 2048, 32).unwrap();
+            bench_scene(c, "mohawk", &scene);
+        }
+        Err(_) => eprintln!("skipping frame/mohawk: {} is absent", path.display()),
+    }
+}
+
+fn raster(c: &mut Criterion) {
+    let mut rng = SplitMix64::new(3);
+    let segments: Vec<(ScreenVertex, ScreenVertex)> = (0..10_000)
+        .map(|_| {
+            let (x, y) = (rng.range(20.0, 490.0), rng.range(20.0, 490.0));
+            let a = rng.range(0.0, std::f32::consts::TAU);
+            let w = rng.range(0.3, 1.5);
+            let v = |x: f32, y: f32| ScreenVertex {
+                x,
+                y,
+                depth: 1.0,
+                width_px: w,
+                color: Vec3::new(0.3, 0.2, 0.1),
+            };
+            (v(x, y), v(x + 3.0 * a.cos(), y + 3.0 * a.sin()))
+        })
+        .collect();
+    let mut frame = Framebuffer::new(512, 512);
+    let mut g = c.benchmark_group("raster");
+    g.throughput(Throughput::Elements(segments.len() as u64));
+    g.bench_function("segments", |b| {
+        b.iter(|| {
+            for (a, e) in &segments {
+                draw_segment(&mut frame, a, e, 0.9, |_, _| {});
+            }
+        })
+    });
+    let depths: Vec<f32> = (0..10_000).map(|_| rng.range(0.5, 1.5)).collect();
+    let mut order = DepthOrder::with_capacity(depths.len());
+    g.throughput(Throughput::Elements(depths.len() as u64));
+    g.bench_function("sort", |b| {
+        b.iter(|| order.sort_by_depths(depths.iter().copied()))
+    });
+    g.finish();
+}
+
+fn shade(c: &mut Criterion) {
+    let n = 65_536;
+    let mut rng = SplitMix64::new(5);
+    let mut samples = ShadingSamples::with_capacity(n);
+    for _ in 0..n {
+        samples.push(rng.unit_vector(), rng.unit_vector(), rng.unit_vector());
+    }
+    let mut out = RgbBuffer::zeros(n);
+    let mut g = c.benchmark_group("shade");
+    g.throughput(Throughput::Elements(n as u64));
+    for model in ShadingModel::ALL {
+        let shader = Shader::new(model).unwrap();
+        g.bench_function(model.name(), |b| {
+            b.iter(|| shader.shade_batch(&samples, &mut out))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, frames, raster, shade);
+criterion_main!(benches);
