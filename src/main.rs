@@ -14,7 +14,11 @@ use std::time::Instant;
 
 /// Simulate, level-of-detail, shade and rasterise hair; write a PNG.
 #[derive(Parser, Debug)]
-#[command(name = "coif", version, about)]
+#[command(
+    name = "coif",
+    version,
+    about = "Simulate, level-of-detail, shade and rasterise hair; write a PNG and a per-stage timing table."
+)]
 struct Cli {
     /// Groom file to draw (TressFX 4 .tfx or cyHair .hair, centimetres);
     /// default: the built-in sphere head with grown guides.
@@ -32,8 +36,10 @@ struct Cli {
     /// Image size, WIDTHxHEIGHT (overrides --width and --height).
     #[arg(long, value_name = "WxH", value_parser = parse_size)]
     size: Option<(usize, usize)>,
+    /// Image width in pixels.
     #[arg(long, default_value_t = 512)]
     width: usize,
+    /// Image height in pixels.
     #[arg(long, default_value_t = 512)]
     height: usize,
     /// Output PNG of the last frame.
@@ -42,9 +48,10 @@ struct Cli {
     /// Also write a contact sheet: 6 frames of the motion, 3 x 2, in one PNG.
     #[arg(long, value_name = "PATH")]
     sheet: Option<PathBuf>,
-    /// Render every frame, not only the written ones (for timings).
-    #[arg(long)]
-    render_all: bool,
+    /// Also render every N-th frame (for the timing table; 1 = every
+    /// frame). Other frames only simulate.
+    #[arg(long, default_value_t = 10, value_name = "N")]
+    render_every: usize,
     /// Most guides kept from a groom (every k-th strand).
     #[arg(long, default_value_t = 2048)]
     max_guides: usize,
@@ -161,7 +168,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     for f in 0..frames {
         let pose = motion::turn_and_nod(f as f32 * dt, pivot);
         let wanted = f + 1 == frames || (cli.sheet.is_some() && sheet_frames.contains(&f));
-        if wanted || cli.render_all {
+        if wanted || (cli.render_every > 0 && f % cli.render_every == 0) {
             last = pipeline.frame(dt, pose);
             if cli.sheet.is_some() && sheet_frames.contains(&f) {
                 tiles.push(pipeline.image());
