@@ -124,12 +124,37 @@ pub fn draw_segment(
     if !(x0 < x1 && y0 < y1) {
         return;
     }
-    let (x0, x1, y0, y1) = (x0 as usize, x1 as usize, y0 as usize, y1 as usize);
+    let (y0, y1) = (y0 as usize, y1 as usize);
     let width = frame.width();
+    // Pixels that can be touched lie in two slabs: |dist| <= radius (the
+    // strip plus the pixel profile's half-width) and 0 <= t < 1. Both are
+    // linear in x on a row, so each row visits only the x range inside both
+    // (widened by a pixel; the exact tests below decide).
+    let radius = profile.half + 0.5 * a.width_px.max(b.width_px);
+    let len = len2.sqrt();
     for y in y0..y1 {
         let py = y as f32 + 0.5 - a.y;
+        let (mut lo, mut hi) = (x0 - a.x - 0.5, x1 - a.x - 0.5);
+        // dist = (ex py - ey px) / len within [-radius, radius].
+        if ey != 0.0 {
+            let (u, v) = ((ex * py - radius * len) / ey, (ex * py + radius * len) / ey);
+            lo = lo.max(u.min(v));
+            hi = hi.min(u.max(v));
+        }
+        // t = (ex px + ey py) / len2 within [0, 1].
+        if ex != 0.0 {
+            let (u, v) = (-py * ey / ex, (len2 - py * ey) / ex);
+            lo = lo.max(u.min(v));
+            hi = hi.min(u.max(v));
+        }
+        if lo.is_nan() || hi.is_nan() || lo > hi {
+            continue;
+        }
+        // px = x + 0.5 - a.x.
+        let xa = (lo + a.x - 0.5).floor().max(x0) as usize;
+        let xb = ((hi + a.x - 0.5).ceil() + 1.0).min(x1) as usize;
         let row = y * width;
-        for x in x0..x1 {
+        for x in xa..xb {
             let px = x as f32 + 0.5 - a.x;
             let t = (px * ex + py * ey) * inv_len2;
             if !(0.0..1.0).contains(&t) {
