@@ -128,7 +128,11 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
                 curl: 0.15,
                 ..GrowOptions::default()
             })?;
-            (scene, "built-in sphere head, 2048 grown guides".to_string())
+            let what = format!(
+                "built-in sphere head, {} guides grown off the face",
+                scene.guide_count()
+            );
+            (scene, what)
         }
     };
     let settings = FrameSettings {
