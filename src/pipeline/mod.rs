@@ -24,7 +24,9 @@ pub mod timings;
 pub mod triangulate;
 
 pub use error::Error;
-pub use frame::{FramePipeline, FrameStats, BACKGROUND, HAIR_AMBIENT_ALBEDO, SKIN_ALBEDO};
+pub use frame::{
+    strand_tint, FramePipeline, FrameStats, BACKGROUND, HAIR_AMBIENT_ALBEDO, SKIN_ALBEDO,
+};
 pub use hair_scene::HairScene;
 pub use settings::{FrameSettings, Light};
 pub use shading_model::{demo_sigma_a, Shader, ShadingModel, PHYSICAL_LIGHT_SCALE};
