@@ -155,7 +155,7 @@ fn the_head_is_lambert_lit_brighter_toward_the_light() {
     let fb = p.framebuffer();
     for y in 0..128 {
         for x in 0..128 {
-            if fb.depth[fb.index(x, y)].is_infinite() {
+            if fb.depth(fb.index(x, y)).is_infinite() {
                 continue;
             }
             let px = img.pixel(x, y);

@@ -65,15 +65,15 @@ fn a_thin_line_is_fainter_not_narrower_and_the_head_hides_hair_behind_it() {
         1.0,
         |_, _| {},
     );
-    let centre = frame.color[frame.index(15, 16)];
+    let centre = frame.color(frame.index(15, 16));
     assert!(
         (centre.x - 0.25).abs() < 1e-5,
         "a quarter-pixel line on a pixel centre: {centre}"
     );
-    assert!(frame.color[frame.index(15, 15)].max_element() < 1e-6);
+    assert!(frame.color(frame.index(15, 15)).max_element() < 1e-6);
 
     let mut frame = Framebuffer::new(32, 32);
-    frame.depth.fill(0.5); // an opaque surface nearer than the line (depth 1)
+    frame.pixels.iter_mut().for_each(|p| p.depth = 0.5); // an opaque surface nearer than the line (depth 1)
     draw_segment(
         &mut frame,
         &vertex(2.0, 16.5, 2.0),
@@ -81,7 +81,7 @@ fn a_thin_line_is_fainter_not_narrower_and_the_head_hides_hair_behind_it() {
         1.0,
         |_, _| {},
     );
-    assert!(frame.color.iter().all(|c| *c == Vec3::ZERO));
+    assert!(frame.pixels.iter().all(|p| p.color == Vec3::ZERO));
 }
 
 /// Two vertical strands crossing the same pixels, a red one nearer the
@@ -120,7 +120,7 @@ fn draw_crossing(order_far_first: bool) -> Vec3 {
     let mut frame = Framebuffer::new(65, 65);
     let drawn = hair::draw_strands(&mut frame, &camera, &vertices, &colors, 5, &order, 0.8);
     assert_eq!(drawn, 8);
-    frame.color[frame.index(32, 32)]
+    frame.color(frame.index(32, 32))
 }
 
 #[test]

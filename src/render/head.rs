@@ -5,7 +5,7 @@
 //! Shading: `L = albedo (ambient + E max(n . wi, 0) T)` with `T` the
 //! light's transmittance at the hit point (hair shadow; 1 without shadows).
 
-use super::{Camera, Framebuffer};
+use super::{Camera, Framebuffer, Pixel};
 use crate::kernels::Sphere;
 use glam::Vec3;
 
@@ -93,8 +93,10 @@ pub fn draw_spheres(
                 0.0
             };
             let i = frame.index(x, y);
-            frame.color[i] = shading.albedo * (shading.ambient + shading.light * lit);
-            frame.depth[i] = t * dir.dot(forward);
+            frame.pixels[i] = Pixel {
+                color: shading.albedo * (shading.ambient + shading.light * lit),
+                depth: t * dir.dot(forward),
+            };
             covered += 1;
         }
     }

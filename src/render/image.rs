@@ -46,8 +46,8 @@ impl RgbImage {
         self.width = frame.width();
         self.height = frame.height();
         self.data.resize(self.width * self.height * 3, 0);
-        for (px, c) in self.data.chunks_exact_mut(3).zip(&frame.color) {
-            let m = tone_map(*c, exposure);
+        for (px, p) in self.data.chunks_exact_mut(3).zip(&frame.pixels) {
+            let m = tone_map(p.color, exposure);
             for (dst, v) in px.iter_mut().zip(m.to_array()) {
                 *dst = (srgb_encode(v) * 255.0 + 0.5) as u8;
             }

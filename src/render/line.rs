@@ -168,13 +168,13 @@ pub fn draw_segment(
             }
             let i = row + x;
             let depth = a.depth + t * (b.depth - a.depth);
-            if depth >= frame.depth[i] {
+            let dst = &mut frame.pixels[i];
+            if depth >= dst.depth {
                 continue;
             }
             let alpha = cov * opacity;
             let c = a.color + (b.color - a.color) * t;
-            let dst = &mut frame.color[i];
-            *dst += (c - *dst) * alpha;
+            dst.color += (c - dst.color) * alpha;
             visit(i, alpha);
         }
     }

@@ -24,5 +24,5 @@ pub mod line;
 pub mod sort;
 
 pub use camera::Camera;
-pub use framebuffer::Framebuffer;
+pub use framebuffer::{Framebuffer, Pixel};
 pub use image::RgbImage;
