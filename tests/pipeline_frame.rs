@@ -174,3 +174,22 @@ fn the_head_is_lambert_lit_brighter_toward_the_light() {
         "{toward:?} {away:?}"
     );
 }
+
+#[test]
+fn bad_frame_times_and_poses_are_ignored_not_propagated() {
+    let (mut p, _) = run(FrameSettings::small(64), 2);
+    let nan_pose = glam::Affine3A::from_translation(Vec3::splat(f32::NAN));
+    for (dt, pose, steps) in [
+        (f32::NAN, glam::Affine3A::IDENTITY, 0),
+        (-1.0, glam::Affine3A::IDENTITY, 0),
+        (1.0 / 30.0, nan_pose, 2),
+    ] {
+        let stats = p.frame(dt, pose);
+        assert_eq!(stats.substeps, steps, "dt {dt}");
+        assert!(stats.hairs > 0);
+        assert!(p.vertex_colors().r.iter().all(|c| c.is_finite()));
+        let (v, _) = p.render_vertices();
+        assert!(v.iter().all(|v| v.position.iter().all(|c| c.is_finite())));
+        assert!(p.strands().restored_strands() == 0, "no strand blew up");
+    }
+}
