@@ -448,6 +448,12 @@ impl FramePipeline {
         )
     }
 
+    /// Shadow-map transmittance toward the light of each render vertex of
+    /// the last frame (1 everywhere without a shadow map).
+    pub fn vertex_transmittance(&self) -> &[f32] {
+        &self.transmittance[..self.vertex_count]
+    }
+
     /// Final linear-RGB colour of each render vertex of the last frame.
     pub fn vertex_colors(&self) -> &RgbBuffer {
         &self.colors
