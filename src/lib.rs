@@ -1,6 +1,6 @@
 //! coif: structure-of-arrays SIMD kernels for real-time hair.
 //!
-//! The data flow of a frame: geometry ([`scene`], [`groom`]) -> dynamics
+//! The data flow of a frame: geometry ([`scene`], [`scalp`], [`groom`]) -> dynamics
 //! ([`kernels`]: Verlet, constraints, collisions) -> LOD ([`lod`]) ->
 //! shading ([`shading`]).
 
@@ -10,4 +10,5 @@ pub use coif_shading as shading;
 
 pub mod groom;
 pub mod quality;
+pub mod scalp;
 pub mod scene;
