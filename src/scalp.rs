@@ -279,7 +279,7 @@ mod tests {
                 verts_per_strand: 8,
                 ..Default::default()
             },
-            &[head.clone()],
+            std::slice::from_ref(&head),
         )
         .unwrap();
         // Relaxed hair has fallen: tips lower on average, none inside the head.
