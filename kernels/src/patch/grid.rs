@@ -41,6 +41,13 @@ pub struct Patch {
     pub(crate) inv_mass: Vec<f32x8>,
     /// Largest distance from the skinned position (INFINITY = no limit).
     pub(crate) max_distance: Vec<f32x8>,
+    /// Long range attachment: per row-major particle, the pinned particle
+    /// nearest along the grid (`usize::MAX`: none, or pinned itself).
+    pub(crate) anchor: Vec<usize>,
+    /// Rest distance along the grid to the anchor (INFINITY: no anchor).
+    pub(crate) tether_len: Vec<f32x8>,
+    /// The anchor's skinned position relative to `origin`, per particle.
+    pub(crate) anchor_skin: Vec<Vec3x8>,
     /// Blend weight per particle, row-major (0 = skin, 1 = simulation).
     pub(crate) weight: Vec<f32>,
     /// Vertical edge r -> r + 1: rest length and mass shares of both ends.
@@ -144,6 +151,9 @@ impl Patch {
             skin_world: grid.to_vec(),
             inv_mass: vec![f32x8::ZERO; slots],
             max_distance: vec![f32x8::splat(f32::INFINITY); slots],
+            anchor: vec![usize::MAX; n],
+            tether_len: vec![f32x8::splat(f32::INFINITY); slots],
+            anchor_skin: vec![Vec3x8::ZERO; slots],
             weight: vec![1.0; n],
             vert_rest: vec![f32x8::ZERO; slots],
             vert_share: vec![[f32x8::ZERO; 2]; slots],
@@ -226,6 +236,12 @@ impl Patch {
             }
         }
         p.max_rest_edge = max_edge;
+        let lengths = tether_lengths(grid, rows, cols, pinned, &mut p.anchor);
+        for (k, len) in lengths.into_iter().enumerate() {
+            let (i, l) = p.slot(k);
+            set(&mut p.tether_len[i], l, len);
+        }
+        p.update_anchor_skin();
         Ok(p)
     }
 
@@ -332,7 +348,20 @@ impl Patch {
                 self.skin[(c / LANES) * self.rows + r].set_lane(c % LANES, x);
             }
         }
+        self.update_anchor_skin();
         Ok(())
+    }
+
+    /// Copies each anchor's skinned position into its particles' lanes.
+    fn update_anchor_skin(&mut self) {
+        for k in 0..self.particle_count() {
+            if let Some(&a) = self.anchor.get(k).filter(|&&a| a != usize::MAX) {
+                let (ia, la) = self.slot(a);
+                let (i, l) = self.slot(k);
+                let x = self.skin[ia].lane(la);
+                self.anchor_skin[i].set_lane(l, x);
+            }
+        }
     }
 
     /// Moves every particle (and its previous position) onto the skin: a
@@ -407,6 +436,65 @@ impl Patch {
             })
         }
     }
+}
+
+/// Shortest rest distances along the grid's structural and diagonal edges
+/// from every particle to the nearest pinned one (Dijkstra 1959), writing
+/// that pinned particle into `anchor`; INFINITY where no pinned particle is
+/// connected, and for pinned particles themselves (they need no tether).
+fn tether_lengths(
+    grid: &[Vec3],
+    rows: usize,
+    cols: usize,
+    pinned: &[bool],
+    anchor: &mut [usize],
+) -> Vec<f32> {
+    use std::cmp::Reverse;
+    use std::collections::BinaryHeap;
+    let n = rows * cols;
+    let mut dist = vec![f32::INFINITY; n];
+    // Non-negative finite f32s order like their bit patterns.
+    let mut heap = BinaryHeap::new();
+    for k in (0..n).filter(|&k| pinned[k]) {
+        dist[k] = 0.0;
+        anchor[k] = k;
+        heap.push(Reverse((0u32, k)));
+    }
+    while let Some(Reverse((bits, k))) = heap.pop() {
+        if f32::from_bits(bits) > dist[k] {
+            continue;
+        }
+        let (r, c) = ((k / cols) as isize, (k % cols) as isize);
+        for (dr, dc) in [
+            (-1, -1),
+            (-1, 0),
+            (-1, 1),
+            (0, -1),
+            (0, 1),
+            (1, -1),
+            (1, 0),
+            (1, 1),
+        ] {
+            let (rr, cc) = (r + dr, c + dc);
+            if rr < 0 || cc < 0 || rr >= rows as isize || cc >= cols as isize {
+                continue;
+            }
+            let j = rr as usize * cols + cc as usize;
+            let d = dist[k] + grid[k].distance(grid[j]);
+            if d < dist[j] {
+                dist[j] = d;
+                anchor[j] = anchor[k];
+                heap.push(Reverse((d.to_bits(), j)));
+            }
+        }
+    }
+    for k in 0..n {
+        if pinned[k] || dist[k] == f32::INFINITY {
+            dist[k] = f32::INFINITY;
+            anchor[k] = usize::MAX;
+        }
+    }
+    dist
 }
 
 #[inline]

@@ -32,7 +32,13 @@ pub struct PatchQuality {
 pub fn flag_scene(rows: usize, cols: usize) -> (Vec<Vec3>, Vec<bool>) {
     let spacing = 0.02;
     let points = (0..rows * cols)
-        .map(|k| Vec3::new((k % cols) as f32 * spacing, 1.0, (k / cols) as f32 * spacing))
+        .map(|k| {
+            Vec3::new(
+                (k % cols) as f32 * spacing,
+                1.0,
+                (k / cols) as f32 * spacing,
+            )
+        })
         .collect();
     let pinned = (0..rows * cols).map(|k| k < cols).collect();
     (points, pinned)

@@ -196,6 +196,13 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, candidates: &[Candidate]) {
     for q in 0..p.particle_count() {
         let (i, l) = p.slot(q);
         let block = (q % cols) / LANES;
+        let limit = p.tether_len[i].as_array()[l] * k.stretch_factor;
+        let anchor = p.anchor_skin[i].lane(l);
+        let d = p.get(q) - anchor;
+        let d2 = dot(d, d);
+        if d2 > limit * limit && p.w(q) > 0.0 {
+            p.put(q, anchor + d * (limit * inv_sqrt_scalar(d2)));
+        }
         let m = p.max_distance[i].as_array()[l];
         let s = p.skin[i].lane(l);
         let d = p.get(q) - s;

@@ -19,7 +19,13 @@
 //!       horizontal bending edges `(c, c+2)` in two more;
 //!    c. per pair of rows, shear edges (both diagonals of each quad) in two
 //!       colour passes, scaled by the shear stiffness.
-//! 4. **Max distance**: a free particle farther than `m` from its skinned
+//! 4. **Strain limit** by long range attachments (Kim, Chentanez and
+//!    Muller 2012): a free particle farther than `(1 + max_stretch) L` from
+//!    its anchor, the pinned particle nearest along the grid (`L` = the
+//!    shortest rest path over structural and diagonal edges), is pulled
+//!    back onto that sphere; the cloth counterpart of the strands' root
+//!    spheres, and what keeps a hanging flag near its rest lengths with few
+//!    iterations. Then the **max distance**: a free particle farther than `m` from its skinned
 //!    position `s` moves to `s + m (x - s) / |x - s|` (the cloth "max
 //!    distance" constraint of PhysX and Unity), then it is pushed out of
 //!    every nearby sphere to `R + r`; then the **pearls** along columns and
@@ -40,13 +46,15 @@ use super::grid::{Patch, PatchScratch};
 use super::pairs::gather_row;
 use crate::broad_phase::{block_aabb, select_candidates, spheres_to_local, Candidate};
 use crate::lanes::{inv_sqrt, Vec3x8, LANES};
-use crate::step::{collide_pearls, collide_vertex, outward, Reach, StepSetup, BLOWN_UP, MIN_LENGTH};
+use crate::step::{
+    collide_pearls, collide_vertex, outward, Reach, StepSetup, BLOWN_UP, MIN_LENGTH,
+};
 use crate::{SimParams, Sphere, MAX_PEARLS_PER_SEGMENT};
 use glam::{Mat3, Vec3};
 use wide::f32x8;
 
 /// Per-step constants of a patch (the strand step's [`StepSetup`]; shape
-/// keeping and the strain limit are not used by patches).
+/// keeping is not used by patches).
 pub(crate) fn setup(patch: &Patch, p: &SimParams) -> StepSetup {
     StepSetup {
         damping: p.damping,
@@ -54,7 +62,7 @@ pub(crate) fn setup(patch: &Patch, p: &SimParams) -> StepSetup {
         iterations: p.iterations,
         pearls: p.pearls_per_segment.min(MAX_PEARLS_PER_SEGMENT),
         pearl_radius: p.pearl_radius,
-        stretch_factor: 1.0,
+        stretch_factor: 1.0 + p.max_stretch,
         bend: p.bend_stiffness,
         shape: 0.0,
         rest_rotation: Mat3::IDENTITY,
@@ -153,7 +161,14 @@ fn sweep(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
             let i = b * rows + r;
             column_constraint(&mut p.pos, i, i + 1, p.vert_rest[i], p.vert_share[i], one);
             if k.bend > 0.0 && r + 2 < rows {
-                column_constraint(&mut p.pos, i, i + 2, p.vbend_rest[i], p.vbend_share[i], bend);
+                column_constraint(
+                    &mut p.pos,
+                    i,
+                    i + 2,
+                    p.vbend_rest[i],
+                    p.vbend_share[i],
+                    bend,
+                );
             }
         }
     }
@@ -202,18 +217,33 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
     let rows = p.rows;
     let zero = f32x8::ZERO;
     let candidates: &[Candidate] = &scratch.candidates;
+    let factor = f32x8::splat(k.stretch_factor);
     for b in 0..p.blocks {
         for i in b * rows..(b + 1) * rows {
+            let free = p.inv_mass[i].simd_gt(zero);
+            let limit = p.tether_len[i] * factor;
+            let d = p.pos[i] - p.anchor_skin[i];
+            let d2 = d.length_squared();
+            let over = d2.simd_gt(limit * limit) & free;
+            if over.any() {
+                let pulled = p.anchor_skin[i] + d * (limit * inv_sqrt(d2));
+                p.pos[i] = Vec3x8::select(over, pulled, p.pos[i]);
+            }
             let m = p.max_distance[i];
             let d = p.pos[i] - p.skin[i];
             let d2 = d.length_squared();
-            let over = d2.simd_gt(m * m) & p.inv_mass[i].simd_gt(zero);
+            let over = d2.simd_gt(m * m) & free;
             if over.any() {
                 let clamped = p.skin[i] + d * (m * inv_sqrt(d2));
                 p.pos[i] = Vec3x8::select(over, clamped, p.pos[i]);
             }
             for c in candidates.iter().filter(|c| c.touches(b)) {
-                collide_vertex(&mut p.pos, &p.inv_mass, i, &Reach::new(c.sphere, k.pearl_radius));
+                collide_vertex(
+                    &mut p.pos,
+                    &p.inv_mass,
+                    i,
+                    &Reach::new(c.sphere, k.pearl_radius),
+                );
             }
         }
     }
@@ -245,7 +275,10 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
                 }));
                 let set = &p.horiz[colour];
                 for j in 1..=k.pearls {
-                    let (t, u) = (f32x8::splat(k.pearl_t(j)), f32x8::ONE - f32x8::splat(k.pearl_t(j)));
+                    let (t, u) = (
+                        f32x8::splat(k.pearl_t(j)),
+                        f32x8::ONE - f32x8::splat(k.pearl_t(j)),
+                    );
                     let (own, other) = (first.select(u, t), first.select(t, u));
                     gather_row(&p.pos, rows, r, 1, colour, pa);
                     for (b, partner) in pa.iter().enumerate() {
