@@ -34,6 +34,7 @@ pub fn step(patch: &mut Patch, params: &SimParams, spheres: &[Sphere]) {
     );
     for _ in 0..k.iterations {
         sweep(patch, &k);
+        push_out_vertices(patch, &k, &scratch.candidates);
     }
     clamp_and_collide(patch, &k, &scratch.candidates);
     let bad = (0..patch.particle_count()).any(|q| {
@@ -191,6 +192,28 @@ fn pearl(p: &mut Patch, a: usize, b: usize, u: f32, t: f32, centre: Vec3, reach:
     }
 }
 
+fn collide_vertex(p: &mut Patch, q: usize, sphere: [f32; 4], pearl_radius: f32) {
+    let centre = Vec3::new(sphere[0], sphere[1], sphere[2]);
+    let reach = sphere[3] + pearl_radius;
+    let x = p.get(q);
+    let d = x - centre;
+    let d2 = dot(d, d);
+    if d2 < reach * reach && p.w(q) > 0.0 {
+        let (n, dist) = outward(d, d2);
+        p.put(q, x + n * (reach - dist));
+    }
+}
+
+/// Every free particle pushed out of the nearby spheres to `R + r`.
+fn push_out_vertices(p: &mut Patch, k: &StepSetup, candidates: &[Candidate]) {
+    let cols = p.cols;
+    for c in candidates {
+        for q in (0..p.particle_count()).filter(|q| c.touches((q % cols) / LANES)) {
+            collide_vertex(p, q, c.sphere, k.pearl_radius);
+        }
+    }
+}
+
 fn clamp_and_collide(p: &mut Patch, k: &StepSetup, candidates: &[Candidate]) {
     let (rows, cols) = (p.rows, p.cols);
     for q in 0..p.particle_count() {
@@ -211,15 +234,7 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, candidates: &[Candidate]) {
             p.put(q, s + d * (m * inv_sqrt_scalar(d2)));
         }
         for c in candidates.iter().filter(|c| c.touches(block)) {
-            let centre = Vec3::new(c.sphere[0], c.sphere[1], c.sphere[2]);
-            let reach = c.sphere[3] + k.pearl_radius;
-            let x = p.get(q);
-            let d = x - centre;
-            let d2 = dot(d, d);
-            if d2 < reach * reach && p.w(q) > 0.0 {
-                let (n, dist) = outward(d, d2);
-                p.put(q, x + n * (reach - dist));
-            }
+            collide_vertex(p, q, c.sphere, k.pearl_radius);
         }
     }
     if k.pearls == 0 {

@@ -96,6 +96,7 @@ pub fn step(patch: &mut Patch, params: &SimParams, spheres: &[Sphere]) {
     );
     for _ in 0..k.iterations {
         sweep(patch, &k, &mut scratch);
+        push_out_vertices(patch, &k, &scratch.candidates);
     }
     clamp_and_collide(patch, &k, &mut scratch);
     if blown_up(patch) {
@@ -213,6 +214,19 @@ fn sweep(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
     }
 }
 
+/// Every free particle pushed out of the nearby spheres to `R + r`.
+fn push_out_vertices(p: &mut Patch, k: &StepSetup, candidates: &[Candidate]) {
+    let rows = p.rows;
+    for c in candidates {
+        let reach = Reach::new(c.sphere, k.pearl_radius);
+        for b in (0..p.blocks).filter(|&b| c.touches(b)) {
+            for i in b * rows..(b + 1) * rows {
+                collide_vertex(&mut p.pos, &p.inv_mass, i, &reach);
+            }
+        }
+    }
+}
+
 fn clamp_and_collide(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
     let rows = p.rows;
     let zero = f32x8::ZERO;
@@ -317,4 +331,57 @@ fn blown_up(p: &Patch) -> bool {
 /// Lanes of a padded row (kept for the scalar twin's partner rule).
 pub(crate) fn padded_lanes(p: &Patch) -> usize {
     p.blocks * LANES
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 6 x 11 flag (two column blocks), top row pinned.
+    fn flag() -> (Patch, Vec<Vec3>) {
+        let (rows, cols) = (6, 11);
+        let pts: Vec<Vec3> = (0..rows * cols)
+            .map(|k| Vec3::new(0.02 * (k % cols) as f32, -0.02 * (k / cols) as f32, 0.0))
+            .collect();
+        let pinned: Vec<bool> = (0..rows * cols).map(|k| k < cols).collect();
+        (Patch::new(&pts, rows, cols, &pinned).unwrap(), pts)
+    }
+
+    #[test]
+    fn a_nan_particle_restores_its_patch_only_in_both_paths() {
+        let params = SimParams::default();
+        let rig = [Sphere {
+            center: Vec3::new(0.1, -0.15, 0.02),
+            radius: 0.05,
+        }];
+        for simd in [true, false] {
+            let (mut poisoned, pts) = flag();
+            let mut other = poisoned.clone();
+            let mut reference = poisoned.clone();
+            let run = |p: &mut Patch| {
+                if simd {
+                    step(p, &params, &rig)
+                } else {
+                    crate::patch::scalar::step(p, &params, &rig)
+                }
+            };
+            for p in [&mut poisoned, &mut other, &mut reference] {
+                for _ in 0..5 {
+                    run(p);
+                }
+            }
+            // A NaN in one lane of the second column block.
+            let (i, l) = poisoned.slot(3 * 11 + 9);
+            poisoned.pos[i].set_lane(l, Vec3::new(f32::NAN, 0.0, 0.0));
+            run(&mut poisoned);
+            run(&mut other);
+            run(&mut reference);
+            assert_eq!(poisoned.restored_count(), 1);
+            for (x, s) in poisoned.positions().iter().zip(&pts) {
+                assert!(x.distance(*s) < 1e-6, "restored onto the skin");
+            }
+            assert_eq!(other.positions(), reference.positions());
+            assert_eq!(other.restored_count(), 0);
+        }
+    }
 }
