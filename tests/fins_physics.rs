@@ -101,13 +101,14 @@ fn weight_zero_gives_the_skin_and_weight_one_the_simulation() {
         p.write_blended(&mut out).unwrap();
         let sim = p.positions();
         for k in 0..rows * cols {
-            match weights[k] {
-                w if w == 0.0 => assert_eq!(out[k], skin[k], "weight 0 at {k}"),
-                w if w == 1.0 => assert_eq!(out[k], sim[k], "weight 1 at {k}"),
-                _ => {
-                    let mid = (skin[k] + sim[k]) * 0.5;
-                    assert!(out[k].distance(mid) < 1e-3, "weight 0.5 at {k}");
-                }
+            let w = weights[k];
+            if w == 0.0 {
+                assert_eq!(out[k], skin[k], "weight 0 at {k}");
+            } else if w == 1.0 {
+                assert_eq!(out[k], sim[k], "weight 1 at {k}");
+            } else {
+                let mid = (skin[k] + sim[k]) * 0.5;
+                assert!(out[k].distance(mid) < 1e-3, "weight 0.5 at {k}");
             }
         }
         // Free particles lag behind the skin: the blend is not trivial.

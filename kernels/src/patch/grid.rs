@@ -292,7 +292,7 @@ impl Patch {
     /// motion (PhysX and Unity cloth's "max distance").
     pub fn set_max_distances(&mut self, max_distance: &[f32]) -> Result<(), Error> {
         self.check_len(max_distance.len())?;
-        if let Some(index) = max_distance.iter().position(|d| !(*d >= 0.0)) {
+        if let Some(index) = max_distance.iter().position(|d| d.is_nan() || *d < 0.0) {
             return Err(Error::InvalidParameter {
                 name: "max_distance",
                 value: max_distance[index],

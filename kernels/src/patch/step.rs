@@ -13,12 +13,12 @@
 //!    `x_j -= w_j/(w_i+w_j) k delta`, with `1/|delta|` from [`inv_sqrt`] of
 //!    `max(|delta|^2, 1e-14)`:
 //!    a. vertical edges `(r, r+1)` top to bottom, lane-parallel, each
-//!       followed by the vertical bending edge `(r, r+2)` when
-//!       `bend_stiffness > 0` (Gauss-Seidel down every column);
+//!    followed by the vertical bending edge `(r, r+2)` when
+//!    `bend_stiffness > 0` (Gauss-Seidel down every column);
 //!    b. per row, horizontal edges `(c, c+1)` in two colour passes, then the
-//!       horizontal bending edges `(c, c+2)` in two more;
+//!    horizontal bending edges `(c, c+2)` in two more;
 //!    c. per pair of rows, shear edges (both diagonals of each quad) in two
-//!       colour passes, scaled by the shear stiffness.
+//!    colour passes, scaled by the shear stiffness.
 //! 4. **Strain limit** by long range attachments (Kim, Chentanez and
 //!    Muller 2012): a free particle farther than `(1 + max_stretch) L` from
 //!    its anchor, the pinned particle nearest along the grid (`L` = the
