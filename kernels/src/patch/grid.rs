@@ -46,6 +46,10 @@ pub struct Patch {
     pub(crate) anchor: Vec<usize>,
     /// Rest distance along the grid to the anchor (INFINITY: no anchor).
     pub(crate) tether_len: Vec<f32x8>,
+    /// All bits set where a free particle's shortest path to its anchor
+    /// leaves through the particle directly above (row r - 1): the column
+    /// strain limit pulls it toward that parent.
+    pub(crate) parent_up: Vec<f32x8>,
     /// The anchor's skinned position relative to `origin`, per particle.
     pub(crate) anchor_skin: Vec<Vec3x8>,
     /// Blend weight per particle, row-major (0 = skin, 1 = simulation).
@@ -154,6 +158,7 @@ impl Patch {
             anchor: vec![usize::MAX; n],
             tether_len: vec![f32x8::splat(f32::INFINITY); slots],
             anchor_skin: vec![Vec3x8::ZERO; slots],
+            parent_up: vec![f32x8::ZERO; slots],
             weight: vec![1.0; n],
             vert_rest: vec![f32x8::ZERO; slots],
             vert_share: vec![[f32x8::ZERO; 2]; slots],
@@ -236,10 +241,14 @@ impl Patch {
             }
         }
         p.max_rest_edge = max_edge;
-        let lengths = tether_lengths(grid, rows, cols, pinned, &mut p.anchor);
+        let mut up = vec![false; n];
+        let lengths = tether_lengths(grid, rows, cols, pinned, &mut p.anchor, &mut up);
         for (k, len) in lengths.into_iter().enumerate() {
             let (i, l) = p.slot(k);
             set(&mut p.tether_len[i], l, len);
+            if up[k] {
+                set(&mut p.parent_up[i], l, f32::from_bits(!0));
+            }
         }
         p.update_anchor_skin();
         Ok(p)
@@ -444,12 +453,15 @@ impl Patch {
 /// from every particle to the nearest pinned one (Dijkstra 1959), writing
 /// that pinned particle into `anchor`; INFINITY where no pinned particle is
 /// connected, and for pinned particles themselves (they need no tether).
+/// `parent_up[k]` is set where the path from free particle `k` leaves
+/// through the particle directly above it.
 fn tether_lengths(
     grid: &[Vec3],
     rows: usize,
     cols: usize,
     pinned: &[bool],
     anchor: &mut [usize],
+    parent_up: &mut [bool],
 ) -> Vec<f32> {
     use std::cmp::Reverse;
     use std::collections::BinaryHeap;
@@ -486,6 +498,7 @@ fn tether_lengths(
             if d < dist[j] {
                 dist[j] = d;
                 anchor[j] = anchor[k];
+                parent_up[j] = k + cols == j;
                 heap.push(Reverse((d.to_bits(), j)));
             }
         }
@@ -494,6 +507,7 @@ fn tether_lengths(
         if pinned[k] || dist[k] == f32::INFINITY {
             dist[k] = f32::INFINITY;
             anchor[k] = usize::MAX;
+            parent_up[k] = false;
         }
     }
     dist

@@ -9,7 +9,7 @@ use super::pairs::{partner, PairSet};
 use super::step::{padded_lanes, setup};
 use crate::broad_phase::{block_aabb_scalar, select_candidates, spheres_to_local, Candidate};
 use crate::lanes::{inv_sqrt_scalar, LANES};
-use crate::step::{StepSetup, BLOWN_UP, MIN_LENGTH};
+use crate::step::{StepSetup, BLOWN_UP, MIN_LENGTH, STRAIN_COLLIDE_ROUNDS};
 use crate::{SimParams, Sphere};
 use glam::Vec3;
 
@@ -226,15 +226,27 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, candidates: &[Candidate]) {
         if d2 > limit * limit && p.w(q) > 0.0 {
             p.put(q, anchor + d * (limit * inv_sqrt_scalar(d2)));
         }
-        let m = p.max_distance[i].as_array()[l];
-        let s = p.skin[i].lane(l);
-        let d = p.get(q) - s;
-        let d2 = dot(d, d);
-        if d2 > m * m && p.w(q) > 0.0 {
-            p.put(q, s + d * (m * inv_sqrt_scalar(d2)));
-        }
-        for c in candidates.iter().filter(|c| c.touches(block)) {
-            collide_vertex(p, q, c.sphere, k.pearl_radius);
+        let up = p.parent_up[i].as_array()[l].to_bits() != 0;
+        for _ in 0..STRAIN_COLLIDE_ROUNDS {
+            if q >= cols {
+                let limit = p.lane_value(&p.vert_rest, q - cols) * k.stretch_factor;
+                let (parent, x) = (p.get(q - cols), p.get(q));
+                let d = x - parent;
+                let d2 = dot(d, d);
+                if d2 > limit * limit && up {
+                    p.put(q, parent + d * (limit * inv_sqrt_scalar(d2)));
+                }
+            }
+            let m = p.max_distance[i].as_array()[l];
+            let s = p.skin[i].lane(l);
+            let d = p.get(q) - s;
+            let d2 = dot(d, d);
+            if d2 > m * m && p.w(q) > 0.0 {
+                p.put(q, s + d * (m * inv_sqrt_scalar(d2)));
+            }
+            for c in candidates.iter().filter(|c| c.touches(block)) {
+                collide_vertex(p, q, c.sphere, k.pearl_radius);
+            }
         }
     }
     if k.pearls == 0 {

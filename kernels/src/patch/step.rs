@@ -48,6 +48,7 @@ use crate::broad_phase::{block_aabb, select_candidates, spheres_to_local, Candid
 use crate::lanes::{inv_sqrt, Vec3x8, LANES};
 use crate::step::{
     collide_pearls, collide_vertex, outward, Reach, StepSetup, BLOWN_UP, MIN_LENGTH,
+    STRAIN_COLLIDE_ROUNDS,
 };
 use crate::{SimParams, Sphere, MAX_PEARLS_PER_SEGMENT};
 use glam::{Mat3, Vec3};
@@ -243,21 +244,29 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
                 let pulled = p.anchor_skin[i] + d * (limit * inv_sqrt(d2));
                 p.pos[i] = Vec3x8::select(over, pulled, p.pos[i]);
             }
-            let m = p.max_distance[i];
-            let d = p.pos[i] - p.skin[i];
-            let d2 = d.length_squared();
-            let over = d2.simd_gt(m * m) & free;
-            if over.any() {
-                let clamped = p.skin[i] + d * (m * inv_sqrt(d2));
-                p.pos[i] = Vec3x8::select(over, clamped, p.pos[i]);
-            }
-            for c in candidates.iter().filter(|c| c.touches(b)) {
-                collide_vertex(
-                    &mut p.pos,
-                    &p.inv_mass,
-                    i,
-                    &Reach::new(c.sphere, k.pearl_radius),
-                );
+            for _ in 0..STRAIN_COLLIDE_ROUNDS {
+                if i > b * rows {
+                    let limit = p.vert_rest[i - 1] * factor;
+                    let d = p.pos[i] - p.pos[i - 1];
+                    let d2 = d.length_squared();
+                    let over = d2.simd_gt(limit * limit) & p.parent_up[i];
+                    if over.any() {
+                        let pulled = p.pos[i - 1] + d * (limit * inv_sqrt(d2));
+                        p.pos[i] = Vec3x8::select(over, pulled, p.pos[i]);
+                    }
+                }
+                let m = p.max_distance[i];
+                let d = p.pos[i] - p.skin[i];
+                let d2 = d.length_squared();
+                let over = d2.simd_gt(m * m) & free;
+                if over.any() {
+                    let clamped = p.skin[i] + d * (m * inv_sqrt(d2));
+                    p.pos[i] = Vec3x8::select(over, clamped, p.pos[i]);
+                }
+                for c in candidates.iter().filter(|c| c.touches(b)) {
+                    let reach = Reach::new(c.sphere, k.pearl_radius);
+                    collide_vertex(&mut p.pos, &p.inv_mass, i, &reach);
+                }
             }
         }
     }
