@@ -17,9 +17,10 @@
 //!   (`pairs.rs`). FINS.md gives the measurements behind this choice.
 //! - **Step** ([`step`], SIMD; [`scalar::step`], its scalar twin): Verlet
 //!   with damping, pinned particles placed on their skinned positions,
-//!   `iterations` sweeps of distance constraints, the max-distance clamp
-//!   around the skinned positions, sphere and pearl collisions after a broad
-//!   phase, and a guard that restores a blown-up patch to its skin.
+//!   `iterations` sweeps of distance constraints, long range attachments and
+//!   a column strain limit (`max_stretch`), the max-distance clamp around
+//!   the skinned positions, sphere and pearl collisions after a broad phase,
+//!   and a guard that restores a blown-up patch to its skin.
 //! - **Output** (`blend.rs`): `lerp(skinned, simulated, weight)` per
 //!   particle, and area-weighted vertex normals of the blended grid.
 //!

@@ -11,29 +11,31 @@
 //! 3. `iterations` sweeps of mass-weighted distance constraints (Jakobsen
 //!    2001), `k = s (1 - l / |delta|)`, `x_i += w_i/(w_i+w_j) k delta`,
 //!    `x_j -= w_j/(w_i+w_j) k delta`, with `1/|delta|` from [`inv_sqrt`] of
-//!    `max(|delta|^2, 1e-14)`:
-//!    a. vertical edges `(r, r+1)` top to bottom, lane-parallel, each
-//!    followed by the vertical bending edge `(r, r+2)` when
-//!    `bend_stiffness > 0` (Gauss-Seidel down every column);
-//!    b. per row, horizontal edges `(c, c+1)` in two colour passes, then the
-//!    horizontal bending edges `(c, c+2)` in two more;
-//!    c. per pair of rows, shear edges (both diagonals of each quad) in two
-//!    colour passes, scaled by the shear stiffness.
-//! 4. **Strain limit** by long range attachments (Kim, Chentanez and
-//!    Muller 2012): a free particle farther than `(1 + max_stretch) L` from
-//!    its anchor, the pinned particle nearest along the grid (`L` = the
-//!    shortest rest path over structural and diagonal edges), is pulled
-//!    back onto that sphere; the cloth counterpart of the strands' root
-//!    spheres, and what keeps a hanging flag near its rest lengths with few
-//!    iterations. Then the **max distance**: a free particle farther than `m` from its skinned
-//!    position `s` moves to `s + m (x - s) / |x - s|` (the cloth "max
-//!    distance" constraint of PhysX and Unity), then it is pushed out of
-//!    every nearby sphere to `R + r`; then the **pearls** along columns and
-//!    rows are pushed out by the point-on-segment rule (Nalu; DESIGN.md):
-//!    `p = (1-t) x_i + t x_j`, `s = -C / (w_i (1-t)^2 + w_j t^2)`,
-//!    `x_i += w_i (1-t) s n`, `x_j += w_j t s n`. Collisions run last so
-//!    nothing is left inside a sphere.
-//! 5. **Guard**: if any particle is non-finite or beyond 10^6 m of the
+//!    `max(|delta|^2, 1e-14)`: (a) vertical edges `(r, r+1)` top to bottom,
+//!    lane-parallel, each followed by the vertical bending edge `(r, r+2)`
+//!    when `bend_stiffness > 0`; (b) per row, horizontal edges `(c, c+1)` in
+//!    two colour passes, then the horizontal bending edges `(c, c+2)` in two
+//!    more; (c) per pair of rows, the shear edges (both diagonals of each
+//!    quad) in two colour passes, scaled by the shear stiffness; (d) every
+//!    free particle pushed out of the nearby spheres to `R + r`.
+//! 4. **Long range attachments** (Kim, Chentanez and Muller 2012): a free
+//!    particle farther than `(1 + max_stretch) L` from its anchor, the
+//!    pinned particle nearest along the grid (`L` = the shortest rest path
+//!    over structural and diagonal edges), is pulled back onto that sphere.
+//! 5. Per particle, top to bottom, twice (the strands' alternation of strain
+//!    limit and collisions): the **column strain limit** (Provot 1995, in
+//!    Follow-The-Leader order, Muller et al. 2012) pulls a particle whose
+//!    shortest path to the pins goes through the particle above toward it
+//!    until `|x_r - x_{r-1}| <= (1 + max_stretch) l`; the **max distance**
+//!    moves a particle farther than `m` from its skinned position `s` to
+//!    `s + m (x - s) / |x - s|` (the cloth constraint of PhysX and Unity);
+//!    then the particle is pushed out of every nearby sphere to `R + r`.
+//! 6. **Pearls** along columns and rows, pushed out by the point-on-segment
+//!    rule (Nalu; DESIGN.md): `p = (1-t) x_i + t x_j`,
+//!    `s = -C / (w_i (1-t)^2 + w_j t^2)`, `x_i += w_i (1-t) s n`,
+//!    `x_j += w_j t s n`. Collisions run last so nothing is left inside a
+//!    sphere.
+//! 7. **Guard**: if any particle is non-finite or beyond 10^6 m of the
 //!    local origin, the whole patch is restored to its skin and counted.
 //!    Patches share no storage, so no other patch is touched.
 //!
