@@ -126,7 +126,7 @@ fn iterations(c: &mut Criterion) {
     eprintln!("patch quality, 16 x 16 flag, one step against 256 iterations, 60 steps:");
     eprintln!("iterations | rms distance (mm) | max distance (mm) | max edge stretch");
     for it in settings {
-        let q = quality::convergence(16, 16, it, 60);
+        let q = quality::convergence(16, 16, it, 60).expect("valid scene");
         eprintln!(
             "{:10} | {:17.3} | {:17.3} | {:.4}",
             it,

@@ -341,8 +341,9 @@ fn constructor_and_setters_validate() {
 
 #[test]
 fn more_iterations_land_closer_to_the_converged_step() {
-    let few = quality::convergence(12, 12, 2, 20);
-    let many = quality::convergence(12, 12, 32, 20);
+    let few = quality::convergence(12, 12, 2, 20).unwrap();
+    let many = quality::convergence(12, 12, 32, 20).unwrap();
+    assert!(quality::convergence(1, 12, 2, 20).is_err());
     println!("{few:?}\n{many:?}");
     assert!(few.rms_distance > 0.0, "the scene must need iterations");
     // Gauss-Seidel converges slowly on a grid, and the strain limits, which
@@ -351,4 +352,38 @@ fn more_iterations_land_closer_to_the_converged_step() {
     assert!(many.rms_distance < few.rms_distance);
     assert!(many.max_distance <= few.max_distance * 1.01);
     assert!(many.max_stretch <= few.max_stretch + 1e-4);
+}
+
+#[test]
+fn ribbon_hangs_from_the_head_surface_with_pinned_top_row_and_weight_ramp() {
+    let head = Sphere {
+        center: Vec3::new(0.3, 1.6, -0.2),
+        radius: 0.1,
+    };
+    let r = ribbon_on_sphere(&head, Vec3::new(0.0, 0.3, -1.0), 0.06, 0.3, 13, 5);
+    assert_eq!((r.rows, r.cols, r.points.len()), (13, 5, 65));
+    let attach = Vec3::new(0.0, 0.3, -1.0).normalize();
+    for (k, p) in r.points.iter().enumerate() {
+        // Outside the head, in the tangent plane 5 mm off the surface.
+        assert!(p.distance(head.center) >= head.radius + 0.005 - 1e-5);
+        let height = (*p - head.center).dot(attach);
+        assert!((height - (head.radius + 0.005)).abs() < 1e-5);
+        assert_eq!(r.pinned[k], k < 5);
+    }
+    // Rows run downward, columns across, with the requested size.
+    let (top, bottom) = (r.points[2], r.points[12 * 5 + 2]);
+    assert!(bottom.y < top.y);
+    assert!((top.distance(bottom) - 0.3).abs() < 1e-5);
+    assert!((r.points[0].distance(r.points[4]) - 0.06).abs() < 1e-5);
+    assert!(
+        (r.points[0].y - r.points[4].y).abs() < 1e-6,
+        "row 0 is level"
+    );
+    // Weights: 0 on the pinned row, rising to 1 at a third of the length.
+    assert_eq!(r.weights[0], 0.0);
+    assert!(r.weights[5] > 0.0 && r.weights[5] < 1.0);
+    assert_eq!(r.weights[12 * 5], 1.0);
+    assert!(r.weights.windows(2).all(|w| w[1] >= w[0]));
+    let p = r.patch().unwrap();
+    assert_eq!(p.particle_count(), 65);
 }

@@ -8,7 +8,7 @@
 
 use super::grid::Patch;
 use super::step::step;
-use crate::{SimParams, Sphere};
+use crate::{Error, SimParams, Sphere};
 use glam::Vec3;
 
 /// Iterations of the reference run that [`convergence`] compares against.
@@ -49,11 +49,17 @@ pub fn flag_scene(rows: usize, cols: usize) -> (Vec<Vec3>, Vec<bool>) {
 /// [`REFERENCE_ITERATIONS`] sweeps; at each of the `steps` steps after a
 /// 30-step warm-up, a copy of the state takes one step with `iterations`
 /// sweeps and is compared with the reference's step from the same state
-/// (so the flag's chaotic swing does not enter the error). Steps of 1/60 s;
-/// `rows`, `cols` >= 2.
-pub fn convergence(rows: usize, cols: usize, iterations: u32, steps: usize) -> PatchQuality {
+/// (so the flag's chaotic swing does not enter the error). Steps of 1/60 s.
+/// Errors as [`Patch::new`] for a grid it refuses (`rows`, `cols` must be
+/// >= 2, `cols` <= 256).
+pub fn convergence(
+    rows: usize,
+    cols: usize,
+    iterations: u32,
+    steps: usize,
+) -> Result<PatchQuality, Error> {
     let (points, pinned) = flag_scene(rows, cols);
-    let mut reference = Patch::new(&points, rows, cols, &pinned).expect("valid scene");
+    let mut reference = Patch::new(&points, rows, cols, &pinned)?;
     let exact = SimParams {
         iterations: REFERENCE_ITERATIONS,
         ..Default::default()
@@ -75,7 +81,7 @@ pub fn convergence(rows: usize, cols: usize, iterations: u32, steps: usize) -> P
         for (k, p) in skin.iter_mut().enumerate() {
             *p = points[k] + off;
         }
-        reference.set_skinned(&skin).expect("finite skin");
+        reference.set_skinned(&skin)?;
         if s >= 30 {
             low.clone_from(&reference);
             step(&mut low, &trial, &rig);
@@ -95,12 +101,12 @@ pub fn convergence(rows: usize, cols: usize, iterations: u32, steps: usize) -> P
             stretch = stretch.max(max_edge_stretch(&low));
         }
     }
-    PatchQuality {
+    Ok(PatchQuality {
         iterations,
         rms_distance: (sum2 / count.max(1) as f64).sqrt() as f32,
         max_distance: worst,
         max_stretch: stretch,
-    }
+    })
 }
 
 /// Largest `|x_a - x_b| / rest - 1` over the structural edges of `patch`.
