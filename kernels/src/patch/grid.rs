@@ -90,6 +90,8 @@ pub(crate) struct PatchScratch {
     /// for shear passes).
     pub partner_a: Vec<Vec3x8>,
     pub partner_b: Vec<Vec3x8>,
+    /// Shear corrections permuted to the lower row.
+    pub partner_c: Vec<Vec3x8>,
 }
 
 impl Patch {
@@ -175,6 +177,7 @@ impl Patch {
             scratch: PatchScratch {
                 partner_a: vec![Vec3x8::ZERO; blocks],
                 partner_b: vec![Vec3x8::ZERO; blocks],
+                partner_c: vec![Vec3x8::ZERO; blocks],
                 boxes: Vec::with_capacity(blocks),
                 ..Default::default()
             },

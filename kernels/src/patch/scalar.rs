@@ -110,6 +110,18 @@ fn pair_edge(p: &mut Patch, a: usize, b: usize, from_a: &PairSet, from_b: &PairS
     edge(p, a, b, rest, share, s);
 }
 
+/// A shear edge from `a` (row r) to `b` (row r + 1), solved once:
+/// `x_a += share_a (k delta)`, `x_b -= share_b (k delta)` (the SIMD path
+/// permutes `k delta` to `b`'s lane).
+fn shear_edge(p: &mut Patch, a: usize, b: usize, down: &PairSet, up: &PairSet, s: f32) {
+    let (xa, xb) = (p.get(a), p.get(b));
+    let delta = xb - xa;
+    let k = s * (1.0 - p.lane_value(&down.rest, a) * inv_len(delta));
+    let dk = delta * k;
+    p.put(a, xa + dk * p.lane_value(&down.share, a));
+    p.put(b, xb - dk * p.lane_value(&up.share, b));
+}
+
 fn sweep(p: &mut Patch, k: &StepSetup) {
     let (rows, cols, lanes) = (p.rows, p.cols, padded_lanes(p));
     for c in 0..cols {
@@ -157,7 +169,7 @@ fn sweep(p: &mut Patch, k: &StepSetup) {
                 for c in 0..cols {
                     if let Some(pc) = partner(c, 1, colour, lanes).filter(|&pc| pc < cols) {
                         let (a, b) = (r * cols + c, (r + 1) * cols + pc);
-                        pair_edge(p, a, b, &down[colour], &up[colour], p.shear_stiffness);
+                        shear_edge(p, a, b, &down[colour], &up[colour], p.shear_stiffness);
                     }
                 }
             }

@@ -16,7 +16,8 @@
 //!    when `bend_stiffness > 0`; (b) per row, horizontal edges `(c, c+1)` in
 //!    two colour passes, then the horizontal bending edges `(c, c+2)` in two
 //!    more; (c) per pair of rows, the shear edges (both diagonals of each
-//!    quad) in two colour passes, scaled by the shear stiffness; (d) every
+//!    quad) in two colour passes, scaled by the shear stiffness, each solved
+//!    once as `x_i += share_i (k delta)`, `x_j -= share_j (k delta)`; (d) every
 //!    free particle pushed out of the nearby spheres to `R + r`.
 //! 4. **Long range attachments** (Kim, Chentanez and Muller 2012): a free
 //!    particle farther than `(1 + max_stretch) L` from its anchor, the
@@ -198,19 +199,26 @@ fn sweep(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
             }
         }
     }
-    // c. Shear.
+    // c. Shear: each diagonal is solved once, in the upper row's lane, and
+    // its correction `k delta` is permuted over to the lower row's lane.
     if p.shear_stiffness > 0.0 {
         let shear = f32x8::splat(p.shear_stiffness);
-        let pb = &mut scratch.partner_b;
+        let (pb, pc) = (&mut scratch.partner_b, &mut scratch.partner_c);
         for r in 0..rows - 1 {
             for colour in 0..2 {
                 gather_row(&p.pos, rows, r + 1, 1, colour, pa);
-                gather_row(&p.pos, rows, r, 1, colour, pb);
                 let (down, up) = (&p.shear_down[colour], &p.shear_up[colour]);
                 for b in 0..blocks {
-                    let (i, j) = (b * rows + r, b * rows + r + 1);
-                    p.pos[i] = pair_half(p.pos[i], pa[b], down.rest[i], down.share[i], shear);
-                    p.pos[j] = pair_half(p.pos[j], pb[b], up.rest[j], up.share[j], shear);
+                    let i = b * rows + r;
+                    let delta = pa[b] - p.pos[i];
+                    let k = shear * (f32x8::ONE - down.rest[i] * inv_len(delta));
+                    pb[b] = delta * k;
+                    p.pos[i] = p.pos[i] + pb[b] * down.share[i];
+                }
+                gather_row(pb, 1, 0, 1, colour, pc);
+                for b in 0..blocks {
+                    let j = b * rows + r + 1;
+                    p.pos[j] = p.pos[j] - pc[b] * up.share[j];
                 }
             }
         }
