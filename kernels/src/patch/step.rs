@@ -216,9 +216,9 @@ fn sweep(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
                     p.pos[i] = p.pos[i] + pb[b] * down.share[i];
                 }
                 gather_row(pb, 1, 0, 1, colour, pc);
-                for b in 0..blocks {
+                for (b, correction) in pc.iter().enumerate() {
                     let j = b * rows + r + 1;
-                    p.pos[j] = p.pos[j] - pc[b] * up.share[j];
+                    p.pos[j] = p.pos[j] - *correction * up.share[j];
                 }
             }
         }
