@@ -36,6 +36,6 @@ pub mod scalar;
 mod step;
 
 pub use blend::grid_normals;
-pub use grid::Patch;
+pub use grid::{Patch, MAX_PATCH_COLUMNS};
 pub use ribbon::{ribbon_on_sphere, Ribbon};
 pub use step::step;
