@@ -39,6 +39,11 @@ fn settings(layers: usize, mode: ShadowMode, resolution: usize) -> ShadowSetting
     }
 }
 
+/// The opacity of one hair, `1 - exp(-k)`: the map's `T = exp(-alpha sigma)`.
+fn opacity(s: &ShadowSettings) -> f32 {
+    1.0 - (-s.density).exp()
+}
+
 #[test]
 fn settings_are_validated() {
     assert!(ShadowSettings::default().validate().is_ok());
@@ -90,7 +95,8 @@ fn settings_are_validated() {
 #[test]
 fn slab_between_layers_matches_the_analytic_opacity() {
     // Texels of 3.3 mm span two hair spacings, so the texel average of the
-    // coverage is 1/2 per layer; 16 slices put no hair between the lookup
+    // coverage is 1/2 per layer and T = exp(-alpha sigma) with sigma = 1/2
+    // per layer in front; 16 slices put no hair between the lookup
     // depth (halfway between layers) and the plane behind it, so OSM is exact
     // there up to the splat's resolution.
     let pts = slab();
@@ -99,7 +105,7 @@ fn slab_between_layers_matches_the_analytic_opacity() {
     map.build(Vec3::Z, &pts, VERTS);
     for m in 0..LAYERS - 1 {
         let z = (m as f32 + 0.5) * LAYER_GAP;
-        let expected = (-s.density * 0.5 * (m + 1) as f32).exp();
+        let expected = (-opacity(&s) * 0.5 * (m + 1) as f32).exp();
         for (x, y) in [(0.0, 0.0), (0.013, -0.007), (-0.021, 0.011)] {
             let t = map.transmittance(Vec3::new(x, y, z));
             assert!(
@@ -118,7 +124,7 @@ fn slab_between_layers_matches_the_analytic_opacity() {
 #[test]
 fn slab_behind_everything_holds_all_layers_in_both_modes() {
     let pts = slab();
-    let expected = (-0.5 * 0.5 * LAYERS as f32).exp();
+    let expected = (-opacity(&settings(1, ShadowMode::Slices, 32)) * 0.5 * LAYERS as f32).exp();
     for mode in [ShadowMode::Slices, ShadowMode::Deep] {
         for layers in [1, 3, 4, 16] {
             let mut map = OpacityShadowMap::new(settings(layers, mode, 32)).unwrap();

@@ -32,18 +32,20 @@ pub fn exact_transmittance(
     if !p.is_finite() || verts_per_strand < 2 {
         return 1.0;
     }
-    let n = count_crossings(&frame, settings.hair_radius, points, verts_per_strand, p);
+    let n = count_crossings(&frame, settings.hair_radius, points, verts_per_strand, p, p);
     (-settings.density * n as f32).exp()
 }
 
 /// The number of segment capsules of radius `r` the ray from `p` toward the
-/// light crosses, excluding segments within `2 r` of `p`.
+/// light crosses, excluding segments within `2 r` of `own` (the point whose
+/// shadow is wanted; `p` may be offset from it across the light).
 pub(crate) fn count_crossings(
     frame: &LightFrame,
     r: f32,
     points: &[Vec3],
     verts: usize,
     p: Vec3,
+    own: Vec3,
 ) -> usize {
     let pl = frame.to_light(p);
     let (r2, exclude2) = (r * r, 4.0 * r * r);
@@ -54,7 +56,7 @@ pub(crate) fn count_crossings(
             if !(a.is_finite() && b.is_finite()) {
                 continue;
             }
-            if point_segment_distance_squared(p, a, b) < exclude2 {
+            if point_segment_distance_squared(own, a, b) < exclude2 {
                 continue;
             }
             let (al, bl) = (frame.to_light(a), frame.to_light(b));

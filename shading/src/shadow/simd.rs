@@ -88,7 +88,7 @@ impl OpacityShadowMap {
         let one = f32x8::ONE;
         let s = (sigma[0] * (one - fx) + sigma[1] * fx) * (one - fy)
             + (sigma[2] * (one - fx) + sigma[3] * fx) * fy;
-        let t = (f32x8::splat(-self.settings.density) * s).exp();
+        let t = (f32x8::splat(-self.hair_opacity) * s).exp();
         f32x8::new(finite).simd_gt(f32x8::ZERO).select(t, one)
     }
 
