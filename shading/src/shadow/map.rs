@@ -10,11 +10,15 @@ use glam::Vec3;
 
 /// An opacity shadow map of hair for one directional light.
 ///
-/// Storage (Nalu's packing, GPU Gems 2 ch. 23: four slices per RGBA texel):
-/// `texels[(y * n + x) * G + s / 4][s % 4]` is the opacity `S[s]`
-/// accumulated in front of plane `s` of texel `(x, y)`, with
-/// `G = ceil(layers / 4)` RGBA groups per texel kept next to each other so
-/// a lookup reads one cache line per texel. Deep mode adds the depth map
+/// Storage (Nalu's packing, GPU Gems 2 ch. 23: four slices per RGBA texel,
+/// one RGBA map per group of four slices):
+/// `texels[(s / 4) * n^2 + y * n + x][s % 4]` is the opacity `S[s]`
+/// accumulated in front of plane `s` of texel `(x, y)`, in
+/// `G = ceil(layers / 4)` RGBA maps of `n x n` texels one after another.
+/// Hair at similar depths then writes into one map of `16 n^2` bytes
+/// (1 MiB at 256^2) rather than all of them, and the two planes a lookup
+/// reads per texel are usually in one RGBA texel, with the texel beside it
+/// in the same cache line. Deep mode adds the depth map
 /// `z0[y * n + x]`, the light-space depth of the first hair in the texel.
 ///
 /// Allocated once by [`OpacityShadowMap::new`]; [`OpacityShadowMap::build`]
@@ -22,7 +26,6 @@ use glam::Vec3;
 #[derive(Clone, Debug)]
 pub struct OpacityShadowMap {
     pub(super) settings: ShadowSettings,
-    pub(super) groups: usize,
     pub(super) texels: Vec<[f32; 4]>,
     pub(super) first_depth: Vec<f32>,
     pub(super) frame: LightFrame,
@@ -50,7 +53,6 @@ impl OpacityShadowMap {
                 ShadowMode::Slices => Vec::new(),
                 ShadowMode::Deep => vec![0.0; n * n],
             },
-            groups,
             frame,
             placement: MapPlacement::cover(Vec3::ZERO, Vec3::ZERO, 0.0, n),
             layering: Layering::even(settings.layers, 1.0),
@@ -94,7 +96,7 @@ impl OpacityShadowMap {
         if x >= n || y >= n || s >= self.settings.layers {
             return 0.0;
         }
-        self.texels[(y * n + x) * self.groups + s / 4][s % 4]
+        self.texels[(s / 4) * n * n + y * n + x][s % 4]
     }
 
     /// Rebuilds the map for a directional light shining along `light_dir`
@@ -144,7 +146,7 @@ impl OpacityShadowMap {
 
         let placement = self.placement;
         let layering = self.layering;
-        let groups = self.groups;
+        let nn = n * n;
         match self.settings.mode {
             ShadowMode::Slices => {
                 let texels = &mut self.texels;
@@ -158,7 +160,7 @@ impl OpacityShadowMap {
                     |c, k, z| {
                         let (slice, _) = layering.locate(z - placement.near);
                         for &(t, w) in &c[..k] {
-                            texels[t * groups + slice / 4][slice % 4] += w;
+                            texels[(slice / 4) * nn + t][slice % 4] += w;
                         }
                     },
                 );
@@ -194,18 +196,19 @@ impl OpacityShadowMap {
                     |c, k, z| {
                         for &(t, w) in &c[..k] {
                             let (slice, _) = layering.locate(z - z0[t]);
-                            texels[t * groups + slice / 4][slice % 4] += w;
+                            texels[(slice / 4) * nn + t][slice % 4] += w;
                         }
                     },
                 );
             }
         }
         let layers = self.settings.layers;
-        for texel in self.texels.chunks_exact_mut(groups) {
+        for t in 0..nn {
             let mut sum = 0.0;
             for s in 0..layers {
-                sum += texel[s / 4][s % 4];
-                texel[s / 4][s % 4] = sum;
+                let texel = &mut self.texels[(s / 4) * nn + t][s % 4];
+                sum += *texel;
+                *texel = sum;
             }
         }
         self.ready = true;
@@ -270,12 +273,12 @@ impl OpacityShadowMap {
     /// Stored opacities `(S[s - 1], S[s])` of texel `t` (`S[-1] = 0`).
     #[inline(always)]
     pub(super) fn plane_pair(&self, t: usize, s: usize) -> (f32, f32) {
-        let texel = &self.texels[t * self.groups..(t + 1) * self.groups];
-        let next = texel[s / 4][s % 4];
+        let nn = self.settings.resolution * self.settings.resolution;
+        let next = self.texels[(s / 4) * nn + t][s % 4];
         let prev = if s == 0 {
             0.0
         } else {
-            texel[(s - 1) / 4][(s - 1) % 4]
+            self.texels[((s - 1) / 4) * nn + t][(s - 1) % 4]
         };
         (prev, next)
     }

@@ -1,5 +1,5 @@
 //! Rasterising hair segments into a light-space map: points along each
-//! segment at sub-texel spacing, each splatted bilinearly into the four
+//! segment at texel spacing, each splatted bilinearly into the four
 //! texels around it.
 //!
 //! A segment `a b` of a hair of radius `r` seen from the light covers the
@@ -7,7 +7,10 @@
 //! that starts a strand (a strand's shadow is the union of its capsules;
 //! neighbouring caps overlap, and the exact reference counts a ray through a
 //! joint once). Spread over the `n` samples
-//! (`n = ceil(2 |(b - a)_xy| / h)`, at least 1, half a texel apart), each
+//! (`n = ceil(|(b - a)_xy| / h)`, at least 1, a texel apart: the
+//! bilinear splats of points a texel apart along a line sum to a smooth
+//! band; half a texel apart measured the same error and built 1.6 times
+//! slower), each
 //! deposits `A / (n h^2)`: the map then holds, per texel, the texel-averaged
 //! number of segments a ray through it crosses, which is what the exact
 //! reference counts at a point.
@@ -16,7 +19,7 @@ use super::light_frame::{LightFrame, MapPlacement};
 use glam::Vec3;
 
 /// Samples per texel of projected segment length.
-const SAMPLES_PER_TEXEL: f32 = 2.0;
+const SAMPLES_PER_TEXEL: f32 = 1.0;
 
 /// One bilinear splat target: texel index `y * n + x` and weight.
 pub type Corner = (usize, f32);
