@@ -52,16 +52,27 @@ impl OpacityShadowMap {
         let v = (ly - f32x8::splat(pl.y0)) * inv_h - half;
         let (fu, fv) = (u.floor(), v.floor());
         let (fx, fy) = (u - fu, v - fv);
-        let (fu, fv) = (fu.to_array(), fv.to_array());
 
-        // The four corner texels of each lane (None outside the map).
-        let mut corner = [[None; LANES]; 4];
+        // The four corner texels of each lane: indices clamped into the map
+        // (so the gathers need no branches) and a mask of the corners that
+        // really are inside it; the others contribute 0, as in the scalar.
+        let last = f32x8::splat((self.settings.resolution - 1) as f32);
+        let one = f32x8::ONE;
+        let inside = |a: f32x8| a.simd_ge(f32x8::ZERO) & a.simd_le(last);
+        let clamp = |a: f32x8| a.max(f32x8::ZERO).min(last).to_array();
+        let (fu1, fv1) = (fu + one, fv + one);
+        let (in_x, in_x1, in_y, in_y1) = (inside(fu), inside(fu1), inside(fv), inside(fv1));
+        let valid = [in_x & in_y, in_x1 & in_y, in_x & in_y1, in_x1 & in_y1];
+        let (cx, cx1, cy, cy1) = (clamp(fu), clamp(fu1), clamp(fv), clamp(fv1));
+        let n = self.settings.resolution;
+        let mut corner = [[0usize; LANES]; 4];
         for l in 0..LANES {
-            let (i0, j0) = (fu[l] as isize, fv[l] as isize);
-            corner[0][l] = self.texel_index(i0, j0);
-            corner[1][l] = self.texel_index(i0 + 1, j0);
-            corner[2][l] = self.texel_index(i0, j0 + 1);
-            corner[3][l] = self.texel_index(i0 + 1, j0 + 1);
+            let (i0, i1) = (cx[l] as usize, cx1[l] as usize);
+            let (j0, j1) = (cy[l] as usize * n, cy1[l] as usize * n);
+            corner[0][l] = j0 + i0;
+            corner[1][l] = j0 + i1;
+            corner[2][l] = j1 + i0;
+            corner[3][l] = j1 + i1;
         }
 
         let mut sigma = [f32x8::ZERO; 4];
@@ -69,23 +80,20 @@ impl OpacityShadowMap {
             ShadowMode::Slices => {
                 let (s, frac) = self.locate_x8(lz - f32x8::splat(pl.near));
                 for (c, out) in sigma.iter_mut().enumerate() {
-                    *out = self.corner_sigma_x8(&corner[c], &s, frac);
+                    *out = valid[c].select(self.corner_sigma_x8(&corner[c], &s, frac), f32x8::ZERO);
                 }
             }
             ShadowMode::Deep => {
                 for (c, out) in sigma.iter_mut().enumerate() {
                     let mut base = [0.0f32; LANES];
                     for l in 0..LANES {
-                        if let Some(t) = corner[c][l] {
-                            base[l] = self.first_depth[t];
-                        }
+                        base[l] = self.first_depth[corner[c][l]];
                     }
                     let (s, frac) = self.locate_x8(lz - f32x8::new(base));
-                    *out = self.corner_sigma_x8(&corner[c], &s, frac);
+                    *out = valid[c].select(self.corner_sigma_x8(&corner[c], &s, frac), f32x8::ZERO);
                 }
             }
         }
-        let one = f32x8::ONE;
         let s = (sigma[0] * (one - fx) + sigma[1] * fx) * (one - fy)
             + (sigma[2] * (one - fx) + sigma[3] * fx) * fy;
         let t = (f32x8::splat(-self.hair_opacity) * s).exp();
@@ -117,20 +125,18 @@ impl OpacityShadowMap {
     }
 
     /// Opacity in front of each lane's depth in one corner texel per lane:
-    /// gathers `S[s - 1], S[s]` and interpolates with `frac`.
+    /// gathers `S[s - 1], S[s]` (`S[-1] = 0`) and interpolates with `frac`.
     #[inline(always)]
-    fn corner_sigma_x8(
-        &self,
-        texel: &[Option<usize>; LANES],
-        s: &[usize; LANES],
-        frac: f32x8,
-    ) -> f32x8 {
+    fn corner_sigma_x8(&self, texel: &[usize; LANES], s: &[usize; LANES], frac: f32x8) -> f32x8 {
+        let nn = self.settings.resolution * self.settings.resolution;
         let mut prev = [0.0f32; LANES];
         let mut next = [0.0f32; LANES];
         for l in 0..LANES {
-            if let Some(t) = texel[l] {
-                (prev[l], next[l]) = self.plane_pair(t, s[l]);
-            }
+            let (t, s) = (texel[l], s[l]);
+            next[l] = self.texels[(s / 4) * nn + t][s % 4];
+            let p = s.saturating_sub(1);
+            let below = self.texels[(p / 4) * nn + t][p % 4];
+            prev[l] = if s == 0 { 0.0 } else { below };
         }
         let (prev, next) = (f32x8::new(prev), f32x8::new(next));
         prev + frac * (next - prev)
