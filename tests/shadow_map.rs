@@ -294,3 +294,32 @@ fn empty_and_broken_input_is_lit_and_does_not_panic() {
     broken.transmittance_batch(&[far, far], &mut short);
     assert_eq!(short[0], broken.transmittance(far));
 }
+
+#[test]
+fn the_map_holds_the_hair_shadow_area() {
+    // Behind the last plane every texel holds its average count of segments
+    // in front; summed over texels times the texel area, that is the area of
+    // the hair's shadow: per strand 2 r * (projected length) + pi r^2 (its
+    // round start). The light (0.6, 0, 0.8) is tilted along the hairs (x),
+    // so a 0.1 m hair projects to 0.1 * sqrt(1 - 0.6^2) = 0.08 m.
+    let pts = slab();
+    let strands = pts.len() / VERTS;
+    let cap = std::f32::consts::PI * RADIUS * RADIUS;
+    let expected = strands as f32 * (2.0 * RADIUS * 0.08 + cap);
+    for (mode, layers) in [(ShadowMode::Slices, 16), (ShadowMode::Deep, 3)] {
+        let mut map = OpacityShadowMap::new(settings(layers, mode, 48)).unwrap();
+        map.build(Vec3::new(0.6, 0.0, 0.8), &pts, VERTS);
+        let h = map.placement().texel as f64;
+        let mut total = 0.0f64;
+        for y in 0..48 {
+            for x in 0..48 {
+                total += map.stored_opacity(x, y, layers - 1) as f64;
+            }
+        }
+        let area = (total * h * h) as f32;
+        assert!(
+            (area - expected).abs() < 1e-3 * expected,
+            "{mode:?}: deposited {area} m^2, expected {expected} m^2"
+        );
+    }
+}
