@@ -138,6 +138,12 @@ impl OpacityShadowMap {
         let n = self.settings.resolution;
         let r = self.settings.hair_radius;
         self.placement = MapPlacement::cover(min, max, r, n);
+        let pl = &self.placement;
+        let usable = [pl.inv_texel, pl.x0, pl.y0, max.z - min.z];
+        if !usable.iter().all(|v| v.is_finite()) {
+            // Finite but astronomically large coordinates: no usable map.
+            return;
+        }
         let depth = max.z - min.z;
         self.layering = match self.settings.mode {
             ShadowMode::Slices => Layering::even(self.settings.layers, depth),
@@ -147,6 +153,8 @@ impl OpacityShadowMap {
         let placement = self.placement;
         let layering = self.layering;
         let nn = n * n;
+        // The four texels of a splat, relative to its lower-left one.
+        let offsets = [0, 1, n, n + 1];
         match self.settings.mode {
             ShadowMode::Slices => {
                 let texels = &mut self.texels;
@@ -157,10 +165,11 @@ impl OpacityShadowMap {
                     r,
                     points,
                     verts_per_strand,
-                    |c, k, z| {
+                    |sp, z| {
                         let (slice, _) = layering.locate(z - placement.near);
-                        for &(t, w) in &c[..k] {
-                            texels[(slice / 4) * nn + t][slice % 4] += w;
+                        let plane = &mut texels[(slice / 4) * nn..(slice / 4 + 1) * nn];
+                        for (o, w) in offsets.iter().zip(sp.weights) {
+                            plane[sp.t0 + o][slice % 4] += w;
                         }
                     },
                 );
@@ -175,9 +184,10 @@ impl OpacityShadowMap {
                     r,
                     points,
                     verts_per_strand,
-                    |c, k, z| {
-                        for &(t, _) in &c[..k] {
-                            z0[t] = z0[t].min(z);
+                    |sp, z| {
+                        for o in offsets {
+                            let d = &mut z0[sp.t0 + o];
+                            *d = d.min(z);
                         }
                     },
                 );
@@ -193,8 +203,9 @@ impl OpacityShadowMap {
                     r,
                     points,
                     verts_per_strand,
-                    |c, k, z| {
-                        for &(t, w) in &c[..k] {
+                    |sp, z| {
+                        for (o, w) in offsets.iter().zip(sp.weights) {
+                            let t = sp.t0 + o;
                             let (slice, _) = layering.locate(z - z0[t]);
                             texels[(slice / 4) * nn + t][slice % 4] += w;
                         }

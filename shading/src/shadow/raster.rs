@@ -21,15 +21,22 @@ use glam::Vec3;
 /// Samples per texel of projected segment length.
 const SAMPLES_PER_TEXEL: f32 = 1.0;
 
-/// One bilinear splat target: texel index `y * n + x` and weight.
-pub type Corner = (usize, f32);
+/// One sample's bilinear splat: the four texels `t0`, `t0 + 1`, `t0 + n`,
+/// `t0 + n + 1` around it and their weights times the sample's coverage.
+#[derive(Clone, Copy, Debug)]
+pub struct Splat {
+    pub t0: usize,
+    pub weights: [f32; 4],
+}
 
-/// Calls `deposit(corners, z)` for every sample point of every segment of
-/// the hair (`points`, `verts` per strand), where `corners` are the in-map
-/// texels around the sample with their splat weight times the sample's
-/// coverage, and `z` the sample's light-space depth. Segments with a
-/// non-finite end are skipped. Deterministic: strand after strand, root to
-/// tip.
+/// Calls `deposit(splat, z)` for every sample point of every segment of the
+/// hair (`points`, `verts` per strand), with `z` the sample's light-space
+/// depth. Segments with a non-finite end are skipped. Deterministic: strand
+/// after strand, root to tip.
+///
+/// The placement's margin (hair radius plus a texel on every side) keeps
+/// every sample's four texels inside the map; the lower-left texel is still
+/// clamped to `[0, n - 2]` so that rounding can never index outside it.
 pub fn for_each_sample(
     frame: &LightFrame,
     placement: &MapPlacement,
@@ -37,14 +44,16 @@ pub fn for_each_sample(
     hair_radius: f32,
     points: &[Vec3],
     verts: usize,
-    mut deposit: impl FnMut(&[Corner; 4], usize, f32),
+    mut deposit: impl FnMut(&Splat, f32),
 ) {
-    if verts < 2 {
+    if verts < 2 || resolution < 2 {
         return;
     }
     let max_samples = 4 * resolution;
     let cap_area = std::f32::consts::PI * hair_radius * hair_radius;
-    let inv_h2 = placement.inv_texel * placement.inv_texel;
+    let inv_h = placement.inv_texel;
+    let inv_h2 = inv_h * inv_h;
+    let last = (resolution - 2) as f32;
     for strand in points.chunks_exact(verts) {
         let mut prev = strand[0];
         let mut prev_light = frame.to_light(prev);
@@ -55,19 +64,33 @@ pub fn for_each_sample(
             if prev.is_finite() && next.is_finite() {
                 let d = next_light - prev_light;
                 let len_xy = (d.x * d.x + d.y * d.y).sqrt();
-                let n = ((SAMPLES_PER_TEXEL * len_xy * placement.inv_texel).ceil() as usize)
-                    .clamp(1, max_samples);
+                let n =
+                    ((SAMPLES_PER_TEXEL * len_xy * inv_h).ceil() as usize).clamp(1, max_samples);
                 let inv_n = 1.0 / n as f32;
                 let cap = if first { cap_area } else { 0.0 };
                 let weight = (2.0 * hair_radius * len_xy + cap) * inv_h2 * inv_n;
                 first = false;
+                // Texel coordinates of the segment's start and step.
+                let (ua, va) = placement.texel_coords(prev_light.x, prev_light.y);
+                let (du, dv) = (d.x * inv_h, d.y * inv_h);
                 for j in 0..n {
                     let t = (j as f32 + 0.5) * inv_n;
-                    let q = prev_light + d * t;
-                    let mut corners = [(0usize, 0.0f32); 4];
-                    let count =
-                        splat_corners(placement, resolution, q.x, q.y, weight, &mut corners);
-                    deposit(&corners, count, q.z);
+                    let (u, v) = (ua + du * t, va + dv * t);
+                    let (fu, fv) = (u.floor(), v.floor());
+                    let (fx, fy) = (u - fu, v - fv);
+                    let (gx, gy) = (1.0 - fx, 1.0 - fy);
+                    let i0 = fu.clamp(0.0, last) as usize;
+                    let j0 = fv.clamp(0.0, last) as usize;
+                    let splat = Splat {
+                        t0: j0 * resolution + i0,
+                        weights: [
+                            gx * gy * weight,
+                            fx * gy * weight,
+                            gx * fy * weight,
+                            fx * fy * weight,
+                        ],
+                    };
+                    deposit(&splat, prev_light.z + d.z * t);
                 }
             } else {
                 first = true;
@@ -76,36 +99,4 @@ pub fn for_each_sample(
             prev_light = next_light;
         }
     }
-}
-
-/// The in-map texels around light-space `(x, y)` with bilinear weights times
-/// `weight` (zero weights dropped); returns how many of `out` are filled.
-#[inline(always)]
-fn splat_corners(
-    placement: &MapPlacement,
-    n: usize,
-    x: f32,
-    y: f32,
-    weight: f32,
-    out: &mut [Corner; 4],
-) -> usize {
-    let (u, v) = placement.texel_coords(x, y);
-    let (fu, fv) = (u.floor(), v.floor());
-    let (fx, fy) = (u - fu, v - fv);
-    let (i0, j0) = (fu as isize, fv as isize);
-    let weights = [
-        (1.0 - fx) * (1.0 - fy),
-        fx * (1.0 - fy),
-        (1.0 - fx) * fy,
-        fx * fy,
-    ];
-    let mut count = 0;
-    for (c, w) in weights.into_iter().enumerate() {
-        let (i, j) = (i0 + (c & 1) as isize, j0 + (c >> 1) as isize);
-        if w > 0.0 && i >= 0 && j >= 0 && (i as usize) < n && (j as usize) < n {
-            out[count] = (j as usize * n + i as usize, w * weight);
-            count += 1;
-        }
-    }
-    count
 }
