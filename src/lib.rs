@@ -1,8 +1,9 @@
 //! coif: structure-of-arrays SIMD kernels for real-time hair.
 //!
-//! The data flow of a frame: geometry ([`scene`], [`groom`]) -> dynamics
+//! The data flow of a frame: geometry ([`scene`], [`scalp`], [`groom`]) -> dynamics
 //! ([`kernels`]: Verlet, constraints, collisions) -> LOD ([`lod`]) ->
-//! shading ([`shading`]).
+//! shading ([`shading`]). [`pipeline`] runs a whole frame into buffers
+//! sized once, and [`render`] draws it in software for the demo.
 
 pub use coif_kernels as kernels;
 pub use coif_lod as lod;
@@ -12,4 +13,5 @@ pub mod groom;
 pub mod pipeline;
 pub mod quality;
 pub mod render;
+pub mod scalp;
 pub mod scene;

@@ -11,6 +11,12 @@ pub enum Error {
     InvalidResolution(usize),
     /// A quadrature order of zero.
     InvalidQuadratureOrder(usize),
+    /// A shadow-map setting outside its range (name, value, what is expected).
+    InvalidShadowSetting {
+        name: &'static str,
+        value: f32,
+        expected: &'static str,
+    },
 }
 
 impl fmt::Display for Error {
@@ -25,6 +31,14 @@ impl fmt::Display for Error {
             Error::InvalidQuadratureOrder(n) => {
                 write!(f, "invalid quadrature order {n} (must be at least 1)")
             }
+            Error::InvalidShadowSetting {
+                name,
+                value,
+                expected,
+            } => write!(
+                f,
+                "invalid shadow setting {name} = {value} (expected {expected})"
+            ),
         }
     }
 }

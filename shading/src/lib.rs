@@ -8,6 +8,7 @@ pub mod kajiya_kay;
 pub mod marschner;
 pub mod pbrt;
 pub mod samples;
+pub mod shadow;
 pub mod yardstick;
 
 pub use error::Error;

@@ -52,8 +52,9 @@ pub fn parse(bytes: &[u8]) -> Result<Groom, Error> {
     if offset < HEADER_BYTES as u64 {
         return Err(Error::BadHeader("positions overlap the header"));
     }
-    // u32 * u32 * 16 fits in u64; compare with the input before allocating.
-    let needed = offset + strands * verts * 16;
+    // (2^32 - 1)^2 * 16 does not fit in u64 (found by `cargo fuzz`): saturate,
+    // then compare with the input before allocating anything.
+    let needed = strands.saturating_mul(verts).saturating_mul(16).saturating_add(offset);
     if needed > bytes.len() as u64 {
         return Err(Error::Truncated {
             needed,

@@ -1,33 +1,76 @@
-//! The shadow stage of a frame. This build has no opacity shadow map yet
-//! (`coif::shading::shadow` lands with issue 5's other half): the stage is
-//! disabled, hair is fully visible to the light except where the head's
-//! spheres block it, and no time is recorded for it.
+//! The shadow stage of a frame: an opacity shadow map
+//! (`coif::shading::shadow`, Kim & Neumann 2001, Nalu's 16 slices) of the
+//! render hair, built from the render vertices each frame and looked up at
+//! every vertex (SIMD batch) and at the head's surface.
 
 use super::{Error, FrameSettings};
 use crate::lod::RenderVertex;
+use crate::shading::shadow::{OpacityShadowMap, ShadowSettings};
 use glam::Vec3;
 
-/// Owns the shadow map and its point buffer.
-pub struct ShadowStage;
+/// Opacity of the shadow map per hair crossing (`k` in `alpha = 1 - exp(-k)`).
+pub const SHADOW_DENSITY: f32 = 0.5;
+
+/// Owns the shadow map and its point buffer (sized once).
+pub struct ShadowStage {
+    map: Option<OpacityShadowMap>,
+    points: Vec<Vec3>,
+}
 
 impl ShadowStage {
-    pub fn new(_settings: &FrameSettings, _capacity: usize) -> Result<ShadowStage, Error> {
-        Ok(ShadowStage)
+    /// The map for `settings.shadows` (none if off), with a point buffer for
+    /// `capacity` render vertices. The capsule radius of a render hair is
+    /// half its width at the root (`hair_width.root` times the
+    /// real-to-render density ratio).
+    pub fn new(settings: &FrameSettings, capacity: usize) -> Result<ShadowStage, Error> {
+        if !settings.shadows {
+            return Ok(ShadowStage {
+                map: None,
+                points: Vec::new(),
+            });
+        }
+        let ratio = settings.real_hairs_per_cm2 / settings.render_hairs_per_cm2;
+        let map = OpacityShadowMap::new(ShadowSettings {
+            density: SHADOW_DENSITY,
+            hair_radius: (0.5 * settings.hair_width.root * ratio).max(1e-6),
+            ..ShadowSettings::default()
+        })?;
+        Ok(ShadowStage {
+            map: Some(map),
+            points: Vec::with_capacity(capacity),
+        })
     }
 
     pub fn enabled(&self) -> bool {
-        false
+        self.map.is_some()
     }
 
-    pub fn build(&mut self, _to_light: Vec3, _vertices: &[RenderVertex], _verts_per_strand: usize) {
+    /// Rebuilds the map for a light toward `to_light` from the hair
+    /// polylines of `vertices` (`verts_per_strand` each).
+    pub fn build(&mut self, to_light: Vec3, vertices: &[RenderVertex], verts_per_strand: usize) {
+        let Some(map) = &mut self.map else { return };
+        self.points.clear();
+        let room = self.points.capacity();
+        self.points
+            .extend(vertices.iter().take(room).map(|v| Vec3::from(v.position)));
+        map.build(-to_light, &self.points, verts_per_strand);
     }
 
-    /// Transmittance toward the light of every vertex into `out`.
+    /// Transmittance toward the light of every vertex of the last build
+    /// into `out` (1 without a map).
     pub fn transmittance(&self, _vertices: &[RenderVertex], out: &mut [f32]) {
-        out.fill(1.0);
+        match &self.map {
+            Some(map) => {
+                let n = out.len().min(self.points.len());
+                map.transmittance_batch(&self.points[..n], &mut out[..n]);
+                out[n..].fill(1.0);
+            }
+            None => out.fill(1.0),
+        }
     }
 
-    pub fn transmittance_at(&self, _p: Vec3) -> f32 {
-        1.0
+    /// Transmittance at one point (the head's surface); 1 without a map.
+    pub fn transmittance_at(&self, p: Vec3) -> f32 {
+        self.map.as_ref().map_or(1.0, |m| m.transmittance(p))
     }
 }

@@ -1,0 +1,153 @@
+//! Opacity shadow map benchmarks: build time per hair segment, lookup time
+//! per sample (SIMD and scalar side by side), and build time against error
+//! for slice counts and modes.
+//!
+//! Groups (throughput in segments or samples, so criterion reports time per
+//! element):
+//! - `shadow_build/<mode>_L<layers>`: rebuild a 256^2 map of a draped head
+//!   (2048 strands x 32 vertices, 63,488 segments), per segment.
+//! - `shadow_lookup/<mode>_L<layers>/{simd,scalar}`: transmittance at all
+//!   65,536 vertices of the head, per sample.
+//! - `shadow_time_vs_error/<mode>/L<layers>_err<mean |error|>`: build time
+//!   of a 128^2 map of a smaller draped head (512 x 16) for slices 4..64 and
+//!   deep layers 2..16, with the mean |T error| against the footprint
+//!   reference (16 rays over 2 mm, every 8th strand's vertices) in the id;
+//!   the full error table (mean, RMS, max, bias) is printed first.
+
+use coif::kernels::{self, SimParams, Strands};
+use coif::scene::{grow_on_sphere, GrowOptions};
+use coif::shading::shadow::quality::{error_of_map, reference_transmittance, Footprint};
+use coif::shading::shadow::{OpacityShadowMap, ShadowMode, ShadowSettings};
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use glam::Vec3;
+use std::hint::black_box;
+
+/// Hair grown on a sphere head, draped under gravity for 60 steps.
+fn draped_head(strands: usize, verts: usize) -> (Vec<Vec3>, usize) {
+    let scene = grow_on_sphere(&GrowOptions {
+        strand_count: strands,
+        verts_per_strand: verts,
+        curl: 0.3,
+        ..Default::default()
+    });
+    let rig = [scene.head.clone()];
+    let params = SimParams::default();
+    let mut s = Strands::from_polylines(&scene.points, scene.verts_per_strand).unwrap();
+    for _ in 0..60 {
+        kernels::step(&mut s, &params, &rig);
+    }
+    (s.positions(), scene.verts_per_strand)
+}
+
+fn light() -> Vec3 {
+    Vec3::new(1.0, -0.5, 0.3).normalize()
+}
+
+fn name(s: &ShadowSettings) -> String {
+    let mode = match s.mode {
+        ShadowMode::Slices => "slices",
+        ShadowMode::Deep => "deep",
+    };
+    format!("{mode}_L{}", s.layers)
+}
+
+fn configurations() -> [ShadowSettings; 3] {
+    [
+        ShadowSettings::default(),
+        ShadowSettings {
+            layers: 64,
+            ..Default::default()
+        },
+        ShadowSettings::deep(),
+    ]
+}
+
+fn build_and_lookup(c: &mut Criterion) {
+    let (pts, verts) = draped_head(2048, 32);
+    let segments = pts.len() / verts * (verts - 1);
+    let mut g = c.benchmark_group("shadow_build");
+    g.throughput(Throughput::Elements(segments as u64));
+    for s in configurations() {
+        let mut map = OpacityShadowMap::new(s.clone()).unwrap();
+        g.bench_function(name(&s), |b| {
+            b.iter(|| map.build(black_box(light()), black_box(&pts), verts))
+        });
+    }
+    g.finish();
+
+    let mut out = vec![0.0; pts.len()];
+    let mut g = c.benchmark_group("shadow_lookup");
+    g.throughput(Throughput::Elements(pts.len() as u64));
+    for s in configurations() {
+        let mut map = OpacityShadowMap::new(s.clone()).unwrap();
+        map.build(light(), &pts, verts);
+        g.bench_function(BenchmarkId::new(name(&s), "simd"), |b| {
+            b.iter(|| map.transmittance_batch(black_box(&pts), &mut out))
+        });
+        g.bench_function(BenchmarkId::new(name(&s), "scalar"), |b| {
+            b.iter(|| map.transmittance_batch_scalar(black_box(&pts), &mut out))
+        });
+    }
+    g.finish();
+}
+
+fn time_vs_error(c: &mut Criterion) {
+    let (pts, verts) = draped_head(512, 16);
+    let stride = 8;
+    let footprint = Footprint {
+        rays: 16,
+        radius: 0.002,
+    };
+    let reference = reference_transmittance(
+        &ShadowSettings::default(),
+        light(),
+        &pts,
+        verts,
+        stride,
+        footprint,
+    );
+    let settings: Vec<ShadowSettings> = [4, 8, 16, 32, 64]
+        .map(|layers| (ShadowMode::Slices, layers))
+        .into_iter()
+        .chain([2, 3, 4, 8, 16].map(|layers| (ShadowMode::Deep, layers)))
+        .map(|(mode, layers)| ShadowSettings {
+            mode,
+            layers,
+            resolution: 128,
+            ..Default::default()
+        })
+        .collect();
+    println!("shadow map error against the footprint reference (512 x 16 draped head, 128^2):");
+    println!("setting     mean|e|  rms     max     bias    mean T_ref");
+    let mut g = c.benchmark_group("shadow_time_vs_error");
+    g.throughput(Throughput::Elements(
+        (pts.len() / verts * (verts - 1)) as u64,
+    ));
+    for s in &settings {
+        let mut map = OpacityShadowMap::new(s.clone()).unwrap();
+        map.build(light(), &pts, verts);
+        let e = error_of_map(&map, &pts, verts, stride, &reference);
+        println!(
+            "{:<11} {:.4}  {:.4}  {:.4}  {:+.4}  {:.3}",
+            name(s),
+            e.mean_abs,
+            e.rms,
+            e.max_abs,
+            e.bias,
+            e.mean_reference
+        );
+        let mode = if s.mode == ShadowMode::Deep {
+            "deep"
+        } else {
+            "slices"
+        };
+        let id = BenchmarkId::new(mode, format!("L{}_err{:.4}", s.layers, e.mean_abs));
+        g.bench_function(id, |b| {
+            b.iter(|| map.build(black_box(light()), black_box(&pts), verts))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, build_and_lookup, time_vs_error);
+criterion_main!(benches);

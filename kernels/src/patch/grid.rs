@@ -1,0 +1,522 @@
+//! `Patch`: one cloth grid in SIMD lanes (columns in lanes, see `mod.rs`).
+
+use super::pairs::{mass_share, partner, PairSet};
+use crate::broad_phase::Candidate;
+use crate::lanes::{Vec3x8, LANES};
+use crate::Error;
+use glam::{DVec3, Vec3};
+use wide::f32x8;
+
+/// Local coordinates beyond this distance from the origin trigger a rebase
+/// in [`Patch::set_skinned`] (as for strands).
+const REBASE_DISTANCE: f64 = 64.0;
+
+/// Most columns of a patch: the broad phase tags column blocks in a 32-bit
+/// mask.
+pub const MAX_PATCH_COLUMNS: usize = 32 * LANES;
+
+/// One grid of `rows x cols` cloth particles, simulated in SIMD lanes and
+/// blended with the engine's skinned positions.
+///
+/// Every public slice is a **row-major** world-space grid: particle `(r, c)`
+/// is element `r * cols + c`. Positions are kept relative to an `f64` local
+/// origin ([`Patch::origin`]) so that a patch far from the world origin keeps
+/// sub-millimetre precision.
+#[derive(Clone, Debug)]
+pub struct Patch {
+    pub(crate) rows: usize,
+    pub(crate) cols: usize,
+    pub(crate) blocks: usize,
+    pub(crate) origin: DVec3,
+    /// Current positions relative to `origin`, index `b * rows + r`, lane `c % 8`.
+    pub(crate) pos: Vec<Vec3x8>,
+    /// Positions one step ago (Verlet's implicit velocity).
+    pub(crate) prev: Vec<Vec3x8>,
+    /// Skinned positions relative to `origin` (padding lanes repeat the
+    /// block's last real column).
+    pub(crate) skin: Vec<Vec3x8>,
+    /// The skinned positions as given, row-major world space (for the blend).
+    pub(crate) skin_world: Vec<Vec3>,
+    /// Inverse mass: 0 = pinned to the skin (and padding lanes).
+    pub(crate) inv_mass: Vec<f32x8>,
+    /// Largest distance from the skinned position (INFINITY = no limit).
+    pub(crate) max_distance: Vec<f32x8>,
+    /// Long range attachment: per row-major particle, the pinned particle
+    /// nearest along the grid (`usize::MAX`: none, or pinned itself).
+    pub(crate) anchor: Vec<usize>,
+    /// Rest distance along the grid to the anchor (INFINITY: no anchor).
+    pub(crate) tether_len: Vec<f32x8>,
+    /// All bits set where a free particle's shortest path to its anchor
+    /// leaves through the particle directly above (row r - 1): the column
+    /// strain limit pulls it toward that parent.
+    pub(crate) parent_up: Vec<f32x8>,
+    /// The anchor's skinned position relative to `origin`, per particle.
+    pub(crate) anchor_skin: Vec<Vec3x8>,
+    /// Blend weight per particle, row-major (0 = skin, 1 = simulation).
+    pub(crate) weight: Vec<f32>,
+    /// Vertical edge r -> r + 1: rest length and mass shares of both ends.
+    pub(crate) vert_rest: Vec<f32x8>,
+    pub(crate) vert_share: Vec<[f32x8; 2]>,
+    /// Vertical bending edge r -> r + 2.
+    pub(crate) vbend_rest: Vec<f32x8>,
+    pub(crate) vbend_share: Vec<[f32x8; 2]>,
+    /// Horizontal edges (stride 1) per colour.
+    pub(crate) horiz: [PairSet; 2],
+    /// Horizontal bending edges (stride 2) per colour.
+    pub(crate) hbend: [PairSet; 2],
+    /// Shear edges per colour, seen from the upper particle (partner in row
+    /// r + 1) and from the lower one (partner in row r - 1).
+    pub(crate) shear_down: [PairSet; 2],
+    pub(crate) shear_up: [PairSet; 2],
+    /// Per column block: all bits set in lanes holding a real column.
+    pub(crate) active: Vec<f32x8>,
+    /// Longest rest edge (structural or shear): the broad phase's slack.
+    pub(crate) max_rest_edge: f32,
+    /// Stiffness in [0, 1] of the shear edges (0 = off).
+    pub(crate) shear_stiffness: f32,
+    /// Times the patch was restored to its skin after blowing up.
+    pub(crate) restored: u64,
+    pub(crate) scratch: PatchScratch,
+}
+
+/// Per-step buffers, sized at construction (no per-frame allocation unless
+/// the rig grows).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct PatchScratch {
+    pub spheres_local: Vec<[f32; 4]>,
+    pub candidates: Vec<Candidate>,
+    pub boxes: Vec<crate::broad_phase::Aabb>,
+    /// Partner positions of one row, one entry per column block (two rows
+    /// for shear passes).
+    pub partner_a: Vec<Vec3x8>,
+    pub partner_b: Vec<Vec3x8>,
+    /// Shear corrections permuted to the lower row.
+    pub partner_c: Vec<Vec3x8>,
+}
+
+impl Patch {
+    /// Builds a patch from its rest grid (`rows * cols` world-space points,
+    /// row-major) and a pinned flag per particle (pinned particles follow
+    /// the skin exactly). Needs at least 2 rows and 2 columns, at most
+    /// [`MAX_PATCH_COLUMNS`] columns. Rest lengths come from `grid`; the
+    /// skin starts at `grid`, blend weights at 1, max distances at infinity,
+    /// shear stiffness at 0 (off; see [`Patch::set_shear_stiffness`]).
+    pub fn new(grid: &[Vec3], rows: usize, cols: usize, pinned: &[bool]) -> Result<Patch, Error> {
+        if rows < 2 || cols < 2 {
+            return Err(Error::TooFewVertices {
+                verts_per_strand: rows.min(cols),
+            });
+        }
+        if cols > MAX_PATCH_COLUMNS {
+            return Err(Error::InvalidParameter {
+                name: "cols",
+                value: cols as f32,
+                expected: "at most 256 columns",
+            });
+        }
+        let n = rows * cols;
+        if grid.len() != n {
+            return Err(Error::CountMismatch {
+                expected: n,
+                got: grid.len(),
+            });
+        }
+        if pinned.len() != n {
+            return Err(Error::CountMismatch {
+                expected: n,
+                got: pinned.len(),
+            });
+        }
+        if let Some(index) = grid.iter().position(|p| !p.is_finite()) {
+            return Err(Error::NonFinite { index });
+        }
+        let blocks = cols.div_ceil(LANES);
+        let lanes = blocks * LANES;
+        let slots = blocks * rows;
+        let origin = grid.iter().map(|p| p.as_dvec3()).sum::<DVec3>() / n as f64;
+        let local = |p: Vec3| (p.as_dvec3() - origin).as_vec3();
+        // Padded column -> real column it copies.
+        let real = |c: usize| c.min(cols - 1);
+        let at = |r: usize, c: usize| grid[r * cols + real(c)];
+        let w_of = |r: usize, c: usize| {
+            if c < cols && !pinned[r * cols + c] {
+                1.0
+            } else {
+                0.0
+            }
+        };
+
+        let mut p = Patch {
+            rows,
+            cols,
+            blocks,
+            origin,
+            pos: vec![Vec3x8::ZERO; slots],
+            prev: vec![Vec3x8::ZERO; slots],
+            skin: vec![Vec3x8::ZERO; slots],
+            skin_world: grid.to_vec(),
+            inv_mass: vec![f32x8::ZERO; slots],
+            max_distance: vec![f32x8::splat(f32::INFINITY); slots],
+            anchor: vec![usize::MAX; n],
+            tether_len: vec![f32x8::splat(f32::INFINITY); slots],
+            anchor_skin: vec![Vec3x8::ZERO; slots],
+            parent_up: vec![f32x8::ZERO; slots],
+            weight: vec![1.0; n],
+            vert_rest: vec![f32x8::ZERO; slots],
+            vert_share: vec![[f32x8::ZERO; 2]; slots],
+            vbend_rest: vec![f32x8::ZERO; slots],
+            vbend_share: vec![[f32x8::ZERO; 2]; slots],
+            horiz: [PairSet::zeros(slots), PairSet::zeros(slots)],
+            hbend: [PairSet::zeros(slots), PairSet::zeros(slots)],
+            shear_down: [PairSet::zeros(slots), PairSet::zeros(slots)],
+            shear_up: [PairSet::zeros(slots), PairSet::zeros(slots)],
+            active: Vec::with_capacity(blocks),
+            max_rest_edge: 0.0,
+            shear_stiffness: 0.0,
+            restored: 0,
+            scratch: PatchScratch {
+                partner_a: vec![Vec3x8::ZERO; blocks],
+                partner_b: vec![Vec3x8::ZERO; blocks],
+                partner_c: vec![Vec3x8::ZERO; blocks],
+                boxes: Vec::with_capacity(blocks),
+                ..Default::default()
+            },
+        };
+        for b in 0..blocks {
+            let lane_index = f32x8::new(std::array::from_fn(|l| (b * LANES + l) as f32));
+            p.active.push(lane_index.simd_lt(f32x8::splat(cols as f32)));
+        }
+        let mut max_edge = 0.0f32;
+        for c in 0..lanes {
+            let (b, l) = (c / LANES, c % LANES);
+            let is_real = c < cols;
+            for r in 0..rows {
+                let i = b * rows + r;
+                let x = local(at(r, c));
+                p.pos[i].set_lane(l, x);
+                p.prev[i].set_lane(l, x);
+                p.skin[i].set_lane(l, x);
+                let w = w_of(r, c);
+                set(&mut p.inv_mass[i], l, w);
+                // Vertical edges (lane-parallel).
+                for (step, rest, share) in [
+                    (1, &mut p.vert_rest, &mut p.vert_share),
+                    (2, &mut p.vbend_rest, &mut p.vbend_share),
+                ] {
+                    if is_real && r + step < rows {
+                        let d = (at(r + step, c) - at(r, c)).length();
+                        set(&mut rest[i], l, d);
+                        let wj = w_of(r + step, c);
+                        set(&mut share[i][0], l, mass_share(w, wj));
+                        set(&mut share[i][1], l, mass_share(wj, w));
+                        if step == 1 {
+                            max_edge = max_edge.max(d);
+                        }
+                    }
+                }
+                // Lane-pair edges: (set, stride, row offset).
+                for colour in 0..2 {
+                    let kinds: [(&mut PairSet, usize, isize); 4] = [
+                        (&mut p.horiz[colour], 1, 0),
+                        (&mut p.hbend[colour], 2, 0),
+                        (&mut p.shear_down[colour], 1, 1),
+                        (&mut p.shear_up[colour], 1, -1),
+                    ];
+                    for (set_, stride, dr) in kinds {
+                        let rr = r as isize + dr;
+                        let Some(pc) = partner(c, stride, colour, lanes) else {
+                            continue;
+                        };
+                        if !is_real || pc >= cols || rr < 0 || rr >= rows as isize {
+                            continue;
+                        }
+                        let rr = rr as usize;
+                        let d = (at(rr, pc) - at(r, c)).length();
+                        let wj = w_of(rr, pc);
+                        set(&mut set_.rest[i], l, d);
+                        set(&mut set_.share[i], l, mass_share(w, wj));
+                        set(&mut set_.partner_w[i], l, wj);
+                        if stride == 1 {
+                            max_edge = max_edge.max(d);
+                        }
+                    }
+                }
+            }
+        }
+        p.max_rest_edge = max_edge;
+        let mut up = vec![false; n];
+        let lengths = tether_lengths(grid, rows, cols, pinned, &mut p.anchor, &mut up);
+        for (k, len) in lengths.into_iter().enumerate() {
+            let (i, l) = p.slot(k);
+            set(&mut p.tether_len[i], l, len);
+            if up[k] {
+                set(&mut p.parent_up[i], l, f32::from_bits(!0));
+            }
+        }
+        p.update_anchor_skin();
+        Ok(p)
+    }
+
+    /// Rows of the grid.
+    pub fn rows(&self) -> usize {
+        self.rows
+    }
+
+    /// Columns of the grid.
+    pub fn cols(&self) -> usize {
+        self.cols
+    }
+
+    /// `rows * cols`.
+    pub fn particle_count(&self) -> usize {
+        self.rows * self.cols
+    }
+
+    /// World position of the local origin that positions are relative to.
+    pub fn origin(&self) -> DVec3 {
+        self.origin
+    }
+
+    /// Times the patch blew up (a non-finite coordinate, or one beyond
+    /// 10^6 m) and was restored to its skinned positions.
+    pub fn restored_count(&self) -> u64 {
+        self.restored
+    }
+
+    /// Sets the blend weights (row-major, one per particle, each in [0, 1]):
+    /// 0 = the output follows the skin, 1 = fully simulated.
+    pub fn set_weights(&mut self, weights: &[f32]) -> Result<(), Error> {
+        self.check_len(weights.len())?;
+        if let Some(index) = weights.iter().position(|w| !(0.0..=1.0).contains(w)) {
+            return Err(Error::InvalidParameter {
+                name: "weight",
+                value: weights[index],
+                expected: "0 <= weight <= 1",
+            });
+        }
+        self.weight.copy_from_slice(weights);
+        Ok(())
+    }
+
+    /// Sets the largest distance (metres, row-major, one per particle, `>= 0`,
+    /// `f32::INFINITY` = no limit) a simulated particle may move from its
+    /// skinned position. Enforced inside the step, so it feeds back into the
+    /// motion (PhysX and Unity cloth's "max distance").
+    pub fn set_max_distances(&mut self, max_distance: &[f32]) -> Result<(), Error> {
+        self.check_len(max_distance.len())?;
+        if let Some(index) = max_distance.iter().position(|d| d.is_nan() || *d < 0.0) {
+            return Err(Error::InvalidParameter {
+                name: "max_distance",
+                value: max_distance[index],
+                expected: "max_distance >= 0 (infinity = no limit)",
+            });
+        }
+        for (k, &d) in max_distance.iter().enumerate() {
+            let (i, l) = self.slot(k);
+            set(&mut self.max_distance[i], l, d);
+        }
+        Ok(())
+    }
+
+    /// Sets the stiffness in [0, 1] of the shear (diagonal) edges; 0 (the
+    /// default) turns them off. Shear edges make the grid rigid in its own
+    /// plane; under strong in-plane loads (a 10 g whip) Gauss-Seidel then
+    /// converges slowly and rows stretch (FINS.md), so they are opt-in. Bending edges (skip-one, both directions) use
+    /// [`crate::SimParams::bend_stiffness`] as for strands.
+    pub fn set_shear_stiffness(&mut self, stiffness: f32) -> Result<(), Error> {
+        if !(0.0..=1.0).contains(&stiffness) {
+            return Err(Error::InvalidParameter {
+                name: "shear_stiffness",
+                value: stiffness,
+                expected: "0 <= shear_stiffness <= 1",
+            });
+        }
+        self.shear_stiffness = stiffness;
+        Ok(())
+    }
+
+    /// Gives this frame's skinned positions (world space, row-major). Pinned
+    /// particles move there at the next step; the others are drawn toward
+    /// them by the max distance and the blend. Rejects a wrong count or a
+    /// non-finite point, keeping the previous skin. Rebases the local origin
+    /// when the skin has moved far from it.
+    pub fn set_skinned(&mut self, skinned: &[Vec3]) -> Result<(), Error> {
+        self.check_len(skinned.len())?;
+        if let Some(index) = skinned.iter().position(|p| !p.is_finite()) {
+            return Err(Error::NonFinite { index });
+        }
+        let first = skinned[0].as_dvec3();
+        if (first - self.origin).length() > REBASE_DISTANCE {
+            let shift = (self.origin - first).as_vec3();
+            let s = Vec3x8::splat(shift);
+            for p in self.pos.iter_mut().chain(self.prev.iter_mut()) {
+                *p = *p + s;
+            }
+            self.origin = first;
+        }
+        self.skin_world.copy_from_slice(skinned);
+        let o = self.origin;
+        for r in 0..self.rows {
+            for c in 0..self.blocks * LANES {
+                let x = (skinned[r * self.cols + c.min(self.cols - 1)].as_dvec3() - o).as_vec3();
+                self.skin[(c / LANES) * self.rows + r].set_lane(c % LANES, x);
+            }
+        }
+        self.update_anchor_skin();
+        Ok(())
+    }
+
+    /// Copies each anchor's skinned position into its particles' lanes.
+    fn update_anchor_skin(&mut self) {
+        for k in 0..self.particle_count() {
+            if let Some(&a) = self.anchor.get(k).filter(|&&a| a != usize::MAX) {
+                let (ia, la) = self.slot(a);
+                let (i, l) = self.slot(k);
+                let x = self.skin[ia].lane(la);
+                self.anchor_skin[i].set_lane(l, x);
+            }
+        }
+    }
+
+    /// Moves every particle (and its previous position) onto the skin: a
+    /// teleport without velocity, or a reset.
+    pub fn reset_to_skin(&mut self) {
+        self.pos.copy_from_slice(&self.skin);
+        self.prev.copy_from_slice(&self.skin);
+    }
+
+    /// Writes the simulated world positions, row-major, into `out`
+    /// (`min(out.len(), rows * cols)` points).
+    pub fn write_positions(&self, out: &mut [Vec3]) {
+        let o = self.origin;
+        for (k, slot) in out.iter_mut().enumerate().take(self.particle_count()) {
+            let (i, l) = self.slot(k);
+            *slot = (o + self.pos[i].lane(l).as_dvec3()).as_vec3();
+        }
+    }
+
+    /// Simulated world positions, row-major (allocates; for tests and tools).
+    pub fn positions(&self) -> Vec<Vec3> {
+        let mut out = vec![Vec3::ZERO; self.particle_count()];
+        self.write_positions(&mut out);
+        out
+    }
+
+    /// Simulated positions relative to [`Patch::origin`], row-major.
+    pub fn positions_local(&self) -> Vec<Vec3> {
+        (0..self.particle_count())
+            .map(|k| {
+                let (i, l) = self.slot(k);
+                self.pos[i].lane(l)
+            })
+            .collect()
+    }
+
+    /// Rest distance between row-major particles `a` and `b` if they share a
+    /// structural edge (same row, neighbouring columns, or same column,
+    /// neighbouring rows).
+    pub fn rest_edge(&self, a: usize, b: usize) -> Option<f32> {
+        let n = self.particle_count();
+        if a >= n || b >= n {
+            return None;
+        }
+        let (lo, hi) = (a.min(b), a.max(b));
+        let (r, c) = (lo / self.cols, lo % self.cols);
+        let (i, l) = self.slot(lo);
+        if hi == lo + 1 && c + 1 < self.cols {
+            let colour = c % 2;
+            Some(self.horiz[colour].rest[i].as_array()[l])
+        } else if hi == lo + self.cols && r + 1 < self.rows {
+            Some(self.vert_rest[i].as_array()[l])
+        } else {
+            None
+        }
+    }
+
+    /// Storage slot (index, lane) of row-major particle `k`.
+    #[inline]
+    pub(crate) fn slot(&self, k: usize) -> (usize, usize) {
+        let (r, c) = (k / self.cols, k % self.cols);
+        ((c / LANES) * self.rows + r, c % LANES)
+    }
+
+    fn check_len(&self, got: usize) -> Result<(), Error> {
+        if got == self.particle_count() {
+            Ok(())
+        } else {
+            Err(Error::CountMismatch {
+                expected: self.particle_count(),
+                got,
+            })
+        }
+    }
+}
+
+/// Shortest rest distances along the grid's structural and diagonal edges
+/// from every particle to the nearest pinned one (Dijkstra 1959), writing
+/// that pinned particle into `anchor`; INFINITY where no pinned particle is
+/// connected, and for pinned particles themselves (they need no tether).
+/// `parent_up[k]` is set where the path from free particle `k` leaves
+/// through the particle directly above it.
+fn tether_lengths(
+    grid: &[Vec3],
+    rows: usize,
+    cols: usize,
+    pinned: &[bool],
+    anchor: &mut [usize],
+    parent_up: &mut [bool],
+) -> Vec<f32> {
+    use std::cmp::Reverse;
+    use std::collections::BinaryHeap;
+    let n = rows * cols;
+    let mut dist = vec![f32::INFINITY; n];
+    // Non-negative finite f32s order like their bit patterns.
+    let mut heap = BinaryHeap::new();
+    for k in (0..n).filter(|&k| pinned[k]) {
+        dist[k] = 0.0;
+        anchor[k] = k;
+        heap.push(Reverse((0u32, k)));
+    }
+    while let Some(Reverse((bits, k))) = heap.pop() {
+        if f32::from_bits(bits) > dist[k] {
+            continue;
+        }
+        let (r, c) = ((k / cols) as isize, (k % cols) as isize);
+        for (dr, dc) in [
+            (-1, -1),
+            (-1, 0),
+            (-1, 1),
+            (0, -1),
+            (0, 1),
+            (1, -1),
+            (1, 0),
+            (1, 1),
+        ] {
+            let (rr, cc) = (r + dr, c + dc);
+            if rr < 0 || cc < 0 || rr >= rows as isize || cc >= cols as isize {
+                continue;
+            }
+            let j = rr as usize * cols + cc as usize;
+            let d = dist[k] + grid[k].distance(grid[j]);
+            if d < dist[j] {
+                dist[j] = d;
+                anchor[j] = anchor[k];
+                parent_up[j] = k + cols == j;
+                heap.push(Reverse((d.to_bits(), j)));
+            }
+        }
+    }
+    for k in 0..n {
+        if pinned[k] || dist[k] == f32::INFINITY {
+            dist[k] = f32::INFINITY;
+            anchor[k] = usize::MAX;
+            parent_up[k] = false;
+        }
+    }
+    dist
+}
+
+#[inline]
+fn set(v: &mut f32x8, l: usize, x: f32) {
+    v.as_mut_array()[l] = x;
+}

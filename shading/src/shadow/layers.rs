@@ -1,0 +1,81 @@
+//! The depth axis of one texel: where its planes lie, which interval a depth
+//! falls in, and the piecewise-linear opacity between planes.
+//!
+//! Each texel holds `L` cumulative opacities `S[0..L]` at plane depths
+//! `base + D_1 < ... < base + D_L`; depth `base` itself (`D_0 = 0`) has
+//! opacity 0. Between planes opacity is linear in depth (Kim & Neumann
+//! 2001, section 3): for `D_i <= x = z - base <= D_(i+1)`,
+//! `sigma = S[i-1] + (x - D_i) / (D_(i+1) - D_i) (S[i] - S[i-1])`
+//! with `S[-1] = 0`; in front of `base` sigma is 0 and behind the last plane
+//! it stays `S[L-1]`.
+//!
+//! * Slices (OSM): `base = near` for every texel and even spacing
+//!   `D_i = i (far - near) / L`.
+//! * Deep: `base = z0(x, y)` and `D_i = s (far - near) (i / L)^2` with
+//!   `s = DEEP_SPAN = 1/2`: thin layers at the lit surface, thicker ones
+//!   deeper in, where the opacity has saturated and changes slowly; hair
+//!   more than `s (far - near)` behind `z0` falls in the last layer (as in
+//!   Yuksel & Keyser, whose last layer extends to infinity).
+//!
+//! Measured on a draped head (1024 strands, 128^2 map, footprint reference,
+//! see SHADOWS.md), mean |T error| of deep mode at 3 / 8 / 16 layers:
+//! even spacing over the full depth 0.110 / 0.090 / 0.073, quadratic over the
+//! full depth 0.094 / 0.063 / 0.058, quadratic over half of it 0.082 / 0.066
+//! / 0.063, over a quarter 0.082 / 0.074 / 0.073. Half is the best at the
+//! small layer counts deep maps are for.
+
+/// The share of the hair's depth range that deep mode's layers span.
+pub const DEEP_SPAN: f32 = 0.5;
+
+/// How a texel's planes are spaced; see the module documentation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Layering {
+    /// `L`, the number of planes.
+    pub count: usize,
+    /// `L / (far - near)` (even) or `L^2 / (far - near)` (quadratic).
+    pub scale: f32,
+    /// `D_i` grows as `i^2` (deep mode) rather than as `i`.
+    pub quadratic: bool,
+}
+
+impl Layering {
+    /// Even spacing of `count` planes over `depth`.
+    pub fn even(count: usize, depth: f32) -> Layering {
+        Layering {
+            count,
+            scale: count as f32 / depth.max(1.0e-6),
+            quadratic: false,
+        }
+    }
+
+    /// Quadratic spacing `D_i = depth (i / count)^2`.
+    pub fn quadratic(count: usize, depth: f32) -> Layering {
+        Layering {
+            count,
+            scale: (count * count) as f32 / depth.max(1.0e-6),
+            quadratic: true,
+        }
+    }
+
+    /// The interval `i` in `0..L` holding `x = z - base` (`D_i <= x <
+    /// D_(i+1)`, clamped: in front of `base` gives 0, behind the last plane
+    /// `L - 1`) and the fraction of the way from `D_i` to `D_(i+1)`, clamped
+    /// to [0, 1]. `x` must not be NaN.
+    ///
+    /// Even: `c = x L / depth`, `i = floor(c)`, `f = c - i`. Quadratic:
+    /// `q = x L^2 / depth`, `i = floor(sqrt q)`, `f = (q - i^2) / (2 i + 1)`.
+    #[inline(always)]
+    pub fn locate(&self, x: f32) -> (usize, f32) {
+        let last = (self.count - 1) as f32;
+        let q = x.max(0.0) * self.scale;
+        if self.quadratic {
+            let i = q.sqrt().floor().min(last);
+            let f = ((q - i * i) / (2.0 * i + 1.0)).min(1.0);
+            (i as usize, f)
+        } else {
+            let i = q.floor().min(last);
+            let f = (q - i).min(1.0);
+            (i as usize, f)
+        }
+    }
+}
