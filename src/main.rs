@@ -59,6 +59,9 @@ struct Cli {
     /// built-in head is seen from the front left, grooms from the side).
     #[arg(long, value_name = "X,Y,Z", value_parser = parse_view)]
     view: Option<glam::Vec3>,
+    /// Leave out hair self-shadowing (the opacity shadow map).
+    #[arg(long)]
+    no_shadows: bool,
     /// Render hairs per cm^2 (each widened to keep a real scalp's coverage).
     #[arg(long, default_value_t = 40.0)]
     density: f32,
@@ -141,6 +144,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         shading: cli.shading,
         render_hairs_per_cm2: cli.density,
         view_direction: cli.view,
+        shadows: !cli.no_shadows,
         ..FrameSettings::default()
     };
     let mut pipeline = FramePipeline::new(&scene, settings, 1.5)?;
