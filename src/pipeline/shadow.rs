@@ -1,6 +1,6 @@
 //! The shadow stage of a frame: a deep opacity map
 //! (`coif::shading::shadow`, `ShadowMode::Deep`, Yuksel & Keyser 2008, 3
-//! layers from each texel's first hair) of the render hair, built from the
+//! layers from each texel's first hair, 128 x 128 texels) of the render hair, built from the
 //! render vertices each frame and looked up at every vertex (SIMD batch) and
 //! at the head's surface.
 //!
@@ -10,12 +10,20 @@
 //! scalp. With slices the lit surface hair was interpolated into the first
 //! slice's opacity (mean transmittance 0.48 over the tenth of the vertices
 //! nearest the light) and the grazed hair over the crown showed a dark
-//! ring; deep layers start at the first hit (0.82 for that tenth, no ring).
+//! ring; 64 slices turned the ring into concentric bands. Deep layers
+//! start at the first hit (0.82 for that tenth, no ring). At 256 texels a
+//! side, texels whose first hit is a stray strand in front of the rest
+//! showed as dark blocks on lit hair (bilinear lookups across texels with
+//! different first depths, the deep maps' known artifact); 128 texels
+//! (3 mm over the built-in head) soften them to faint smudges.
 
 use super::{Error, FrameSettings};
 use crate::lod::RenderVertex;
 use crate::shading::shadow::{OpacityShadowMap, ShadowSettings};
 use glam::Vec3;
+
+/// Texels per side of the shadow map.
+pub const SHADOW_RESOLUTION: usize = 128;
 
 /// Opacity of the shadow map per hair crossing (`k` in `alpha = 1 - exp(-k)`).
 pub const SHADOW_DENSITY: f32 = 0.5;
@@ -42,6 +50,7 @@ impl ShadowStage {
         let map = OpacityShadowMap::new(ShadowSettings {
             density: SHADOW_DENSITY,
             hair_radius: (0.5 * settings.hair_width.root * ratio).max(1e-6),
+            resolution: SHADOW_RESOLUTION,
             ..ShadowSettings::deep()
         })?;
         Ok(ShadowStage {
