@@ -336,7 +336,15 @@ impl FramePipeline {
                 .push(t, light.to_light, (eye - p).normalize_or(Vec3::Z));
         }
         self.shader.shade_batch(&self.samples, &mut self.scattering);
-        self.shadow.transmittance(vertices, transmittance);
+        let mut lookup_time = std::time::Duration::ZERO;
+        if self.shadow.enabled() {
+            let lookups = Instant::now();
+            self.shadow.transmittance(vertices, transmittance);
+            lookup_time = lookups.elapsed();
+            self.timings.record(Stage::ShadowLookup, lookup_time);
+        } else {
+            transmittance.fill(1.0);
+        }
         self.colors.resize(self.vertex_count);
         let cosine = self.shader.needs_cosine();
         let irradiance = light.irradiance * self.shader.light_scale();
@@ -355,7 +363,8 @@ impl FramePipeline {
             let c = (direct + ambient) * strand_tint(k / verts_per_hair);
             self.colors.set(k, if c.is_finite() { c } else { ambient });
         }
-        self.timings.record(Stage::Shade, start.elapsed());
+        self.timings
+            .record(Stage::Shade, start.elapsed().saturating_sub(lookup_time));
 
         // Head and background.
         let start = Instant::now();

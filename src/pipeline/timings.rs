@@ -12,7 +12,9 @@ pub enum Stage {
     Lod,
     /// Opacity shadow map build.
     Shadow,
-    /// Per-vertex shading (samples, model, shadow lookups).
+    /// Shadow map lookups at every render vertex (SIMD batch).
+    ShadowLookup,
+    /// Per-vertex shading (samples, model, head shadow, colour).
     Shade,
     /// Background and ray-cast head.
     Head,
@@ -23,10 +25,11 @@ pub enum Stage {
 }
 
 impl Stage {
-    pub const ALL: [Stage; 7] = [
+    pub const ALL: [Stage; 8] = [
         Stage::Simulate,
         Stage::Lod,
         Stage::Shadow,
+        Stage::ShadowLookup,
         Stage::Shade,
         Stage::Head,
         Stage::Sort,
@@ -37,7 +40,8 @@ impl Stage {
         match self {
             Stage::Simulate => "simulate",
             Stage::Lod => "lod",
-            Stage::Shadow => "shadow map",
+            Stage::Shadow => "shadow map build",
+            Stage::ShadowLookup => "shadow lookups",
             Stage::Shade => "shade",
             Stage::Head => "head + background",
             Stage::Sort => "sort strands",
@@ -49,9 +53,9 @@ impl Stage {
 /// Last and accumulated time of each stage.
 #[derive(Clone, Debug, Default)]
 pub struct StageTimings {
-    last: [Duration; 7],
-    total: [Duration; 7],
-    count: [u32; 7],
+    last: [Duration; 8],
+    total: [Duration; 8],
+    count: [u32; 8],
 }
 
 impl StageTimings {
