@@ -156,9 +156,9 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         width,
         height,
         if pipeline.has_shadow_map() {
-            ", opacity shadow map"
+            ", deep opacity shadow map"
         } else {
-            ", no hair self-shadowing in this build"
+            ", no hair self-shadowing (--no-shadows)"
         }
     );
     println!(

@@ -479,7 +479,7 @@ impl FramePipeline {
         self.interpolation.hair_count()
     }
 
-    /// Whether hair self-shadowing (the opacity shadow map) is in this build.
+    /// Whether hair self-shadowing (the deep opacity map) is on.
     pub fn has_shadow_map(&self) -> bool {
         self.shadow.enabled()
     }

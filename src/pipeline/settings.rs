@@ -63,7 +63,7 @@ pub struct FrameSettings {
     pub exposure: f32,
     /// Seed of the hair placement.
     pub seed: u64,
-    /// Use the opacity shadow map (hair self-shadowing) when the build has it.
+    /// Hair self-shadowing with a deep opacity map (see `shadow.rs`).
     pub shadows: bool,
 }
 
