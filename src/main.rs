@@ -24,7 +24,8 @@ struct Cli {
     /// default: the built-in sphere head with grown guides.
     #[arg(long, value_name = "PATH")]
     groom: Option<PathBuf>,
-    /// Hair shading model.
+    /// Hair shading model: kajiya-kay, marschner (Marschner 2003 table) or
+    /// pbrt (pbrt-v3 far-field table).
     #[arg(long, default_value = "kajiya-kay", value_parser = parse_model)]
     shading: ShadingModel,
     /// Frames of motion to simulate (at --fps); the last one is written.
@@ -49,7 +50,7 @@ struct Cli {
     #[arg(long, value_name = "PATH")]
     sheet: Option<PathBuf>,
     /// Also render every N-th frame (for the timing table; 1 = every
-    /// frame). Other frames only simulate.
+    /// frame, 0 = only the written ones). Other frames only simulate.
     #[arg(long, default_value_t = 10, value_name = "N")]
     render_every: usize,
     /// Most guides kept from a groom (every k-th strand).
