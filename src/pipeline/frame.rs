@@ -109,8 +109,11 @@ impl FramePipeline {
         settings: FrameSettings,
         settle_seconds: f32,
     ) -> Result<FramePipeline, Error> {
-        if settings.width == 0 || settings.height == 0 || settings.width * settings.height > 1 << 26
-        {
+        let pixels = settings
+            .width
+            .checked_mul(settings.height)
+            .unwrap_or(usize::MAX);
+        if settings.width == 0 || settings.height == 0 || pixels > 1 << 26 {
             return Err(Error::Setting {
                 name: "width x height",
                 expected: "between 1 x 1 and 64 Mpixels",
