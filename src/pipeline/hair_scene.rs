@@ -41,7 +41,7 @@ impl HairScene {
     /// ([`scene::body_rig`]); triangles come from the roots' directions.
     /// Strands rooted on the face (the front of the sphere below a
     /// hairline, facing +z) are left out, so the head shows a face, and
-    /// every strand is combed back ([`comb_back`]) before the simulation
+    /// every strand is combed back (`comb_back`: turned about its root toward the back of the head) before the simulation
     /// drapes it.
     pub fn procedural(options: &GrowOptions) -> Result<HairScene, Error> {
         let grown = scene::grow_on_sphere(options);

@@ -4,11 +4,11 @@
 //!
 //! Single-threaded and in a fixed order, so the same input gives the same
 //! bytes. Every buffer is owned by the caller and sized once ([`Framebuffer`],
-//! the sort keys of [`sort_back_to_front`]); drawing allocates nothing.
+//! the sort keys of [`sort::DepthOrder`]); drawing allocates nothing.
 //!
 //! - [`Camera`]: perspective look-at camera, projection to pixels.
 //! - [`Framebuffer`]: linear-RGB float colour and view depth per pixel.
-//! - [`line`]: coverage of a pixel by a line of sub-pixel width, and the
+//! - [`mod@line`]: coverage of a pixel by a line of sub-pixel width, and the
 //!   blended segment.
 //! - [`head`]: the ray-cast, Lambert-lit sphere head.
 //! - [`sort`]: back-to-front order of hair strands.
