@@ -109,10 +109,7 @@ impl FramePipeline {
         settings: FrameSettings,
         settle_seconds: f32,
     ) -> Result<FramePipeline, Error> {
-        let pixels = settings
-            .width
-            .checked_mul(settings.height)
-            .unwrap_or(usize::MAX);
+        let pixels = settings.width.saturating_mul(settings.height);
         if settings.width == 0 || settings.height == 0 || pixels > 1 << 26 {
             return Err(Error::Setting {
                 name: "width x height",
