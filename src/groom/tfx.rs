@@ -54,7 +54,10 @@ pub fn parse(bytes: &[u8]) -> Result<Groom, Error> {
     }
     // (2^32 - 1)^2 * 16 does not fit in u64 (found by `cargo fuzz`): saturate,
     // then compare with the input before allocating anything.
-    let needed = strands.saturating_mul(verts).saturating_mul(16).saturating_add(offset);
+    let needed = strands
+        .saturating_mul(verts)
+        .saturating_mul(16)
+        .saturating_add(offset);
     if needed > bytes.len() as u64 {
         return Err(Error::Truncated {
             needed,
