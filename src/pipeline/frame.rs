@@ -37,6 +37,40 @@ pub fn strand_tint(hair: usize) -> f32 {
     0.75 + 0.5 * ((z >> 40) as f32 / (1u64 << 24) as f32)
 }
 
+/// Fills `samples` with one sample per vertex: `t` = the vertex tangent,
+/// `wi` = `to_light`, `wo` = the unit vector toward `eye`. The nine arrays
+/// are written column by column (no allocation once they have the capacity).
+fn write_samples(
+    samples: &mut ShadingSamples,
+    vertices: &[RenderVertex],
+    to_light: Vec3,
+    eye: Vec3,
+) {
+    let n = vertices.len();
+    for (c, a) in samples.wi.iter_mut().enumerate() {
+        a.clear();
+        a.resize(n, to_light[c]);
+    }
+    for (c, a) in samples.t.iter_mut().enumerate() {
+        a.clear();
+        a.extend(vertices.iter().map(|v| v.tangent[c]));
+    }
+    let [wx, wy, wz] = &mut samples.wo;
+    for a in [&mut *wx, &mut *wy, &mut *wz] {
+        a.clear();
+        a.resize(n, 0.0);
+    }
+    for (((v, x), y), z) in vertices
+        .iter()
+        .zip(wx.iter_mut())
+        .zip(wy.iter_mut())
+        .zip(wz.iter_mut())
+    {
+        let wo = (eye - Vec3::from(v.position)).normalize_or(Vec3::Z);
+        (*x, *y, *z) = (wo.x, wo.y, wo.z);
+    }
+}
+
 /// What the last frame did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FrameStats {
@@ -327,14 +361,8 @@ impl FramePipeline {
 
         // Shading.
         let start = Instant::now();
-        self.samples.clear();
         let eye = camera.eye();
-        for v in vertices {
-            let p = Vec3::from(v.position);
-            let t = Vec3::from(v.tangent);
-            self.samples
-                .push(t, light.to_light, (eye - p).normalize_or(Vec3::Z));
-        }
+        write_samples(&mut self.samples, vertices, light.to_light, eye);
         self.shader.shade_batch(&self.samples, &mut self.scattering);
         let mut lookup_time = std::time::Duration::ZERO;
         if self.shadow.enabled() {
@@ -349,19 +377,23 @@ impl FramePipeline {
         let cosine = self.shader.needs_cosine();
         let irradiance = light.irradiance * self.shader.light_scale();
         let ambient = HAIR_AMBIENT_ALBEDO * light.ambient;
-        for (k, v) in vertices.iter().enumerate() {
-            let p = Vec3::from(v.position);
-            let mut visible = transmittance[k];
-            if occluded(p, light.to_light, &self.head_local, 1e-3) {
-                visible = 0.0;
+        for (h, hair) in vertices.chunks(verts_per_hair).enumerate() {
+            let tint = strand_tint(h);
+            for (j, v) in hair.iter().enumerate() {
+                let k = h * verts_per_hair + j;
+                let p = Vec3::from(v.position);
+                let mut visible = transmittance[k];
+                if occluded(p, light.to_light, &self.head_local, 1e-3) {
+                    visible = 0.0;
+                }
+                let mut direct = self.scattering.get(k) * irradiance * visible;
+                if cosine {
+                    let c = Vec3::from(v.tangent).dot(light.to_light);
+                    direct *= (1.0 - c * c).max(0.0).sqrt();
+                }
+                let c = (direct + ambient) * tint;
+                self.colors.set(k, if c.is_finite() { c } else { ambient });
             }
-            let mut direct = self.scattering.get(k) * irradiance * visible;
-            if cosine {
-                let c = Vec3::from(v.tangent).dot(light.to_light);
-                direct *= (1.0 - c * c).max(0.0).sqrt();
-            }
-            let c = (direct + ambient) * strand_tint(k / verts_per_hair);
-            self.colors.set(k, if c.is_finite() { c } else { ambient });
         }
         self.timings
             .record(Stage::Shade, start.elapsed().saturating_sub(lookup_time));
