@@ -1,11 +1,6 @@
 //! A frame of the pipeline allocates nothing: every buffer is sized once
-//! at construction (counting global allocator, as tests/lod_pipeline.rs).
-//!
-//! Known exception, outside this crate: when the LOD level (segments per
-//! span) changes, `coif_lod::RefinedGuides::set_segments_per_span` builds a
-//! `SpanWeights` (two small `Vec`s) although its doc says it does not
-//! allocate. The test therefore runs one warm-up frame (which sets the
-//! level) and checks that the level stays put over the counted frames.
+//! at construction (counting global allocator, as tests/lod_pipeline.rs),
+//! from the very first frame on, including the frame that sets the LOD level.
 
 use coif::pipeline::{motion, FramePipeline, FrameSettings, HairScene, ShadingModel};
 use coif::scene::GrowOptions;
@@ -54,15 +49,17 @@ fn frames_allocate_nothing_for_every_shading_model() {
         };
         let mut p = FramePipeline::new(&scene, settings, 0.1).unwrap();
         let pivot = p.pivot();
-        let level = p
-            .frame(1.0 / 60.0, motion::turn_and_nod(0.0, pivot))
-            .segments_per_span;
+        let mut levels = Vec::with_capacity(8);
         let before = allocations();
         let mut drawn = 0;
-        // Frames with 0, 1, 2 and 4 (capped) substeps, while the head turns.
-        for (f, dt) in [0.01f32, 1.0 / 60.0, 1.0 / 30.0, 0.2].iter().enumerate() {
+        // The first frame sets the level; then frames with 0, 1, 2 and 4
+        // (capped) substeps while the head turns.
+        for (f, dt) in [1.0f32 / 60.0, 0.01, 1.0 / 60.0, 1.0 / 30.0, 0.2]
+            .iter()
+            .enumerate()
+        {
             let stats = p.frame(*dt, motion::turn_and_nod(0.3 * f as f32, pivot));
-            assert_eq!(stats.segments_per_span, level, "the level stays put");
+            levels.push(stats.segments_per_span);
             drawn += stats.segments;
         }
         assert_eq!(
@@ -70,6 +67,7 @@ fn frames_allocate_nothing_for_every_shading_model() {
             0,
             "{model}: allocations during frames"
         );
+        assert!(levels.iter().all(|&l| l >= 1), "{model}: levels {levels:?}");
         assert!(
             drawn > 1000,
             "{model}: the frames drew hair ({drawn} segments)"

@@ -7,7 +7,7 @@
 //! `R = (V - 1) N + 1`. Positions are relative to [`Strands::origin`].
 //! Weights for the current `N` are precomputed; nothing allocates per frame.
 
-use crate::bspline::{refined_len, SpanWeights};
+use crate::bspline::{basis, basis_derivative, refined_len};
 use crate::culling::Visibility;
 use crate::Error;
 use coif_kernels::{Strands, Vec3x8, LANES};
@@ -101,12 +101,15 @@ impl RefinedGuides {
     pub fn set_segments_per_span(&mut self, n: usize) -> usize {
         let n = n.clamp(1, self.max_segments);
         if n != self.segments {
-            let w = SpanWeights::new(n);
+            // Straight from the basis functions into the table reserved for
+            // max_segments + 1 entries: a level change allocates nothing
+            // (SpanWeights::new would).
             self.weights.clear();
             for k in 0..=n {
-                let (p, t) = (w.position(k), w.tangent(k));
+                let t = k as f32 / n as f32;
+                let (p, d) = (basis(t), basis_derivative(t));
                 self.weights
-                    .push([p[0], p[1], p[2], p[3], t[0], t[1], t[2], t[3]]);
+                    .push([p[0], p[1], p[2], p[3], d[0], d[1], d[2], d[3]]);
             }
             self.segments = n;
             self.verts = refined_len(self.control_verts, n);
