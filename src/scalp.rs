@@ -206,16 +206,7 @@ pub fn grow_guides(
     let mut rng = SplitMix64::new(o.seed);
     let mut points = Vec::with_capacity(mesh.positions.len() * verts);
     for (root, n) in mesh.positions.iter().zip(&mesh.normals) {
-        let (u, w) = n.any_orthonormal_pair();
-        let phase = rng.range(0.0, std::f32::consts::TAU);
-        let turns = rng.range(2.0, 4.0);
-        for v in 0..verts {
-            let s = v as f32 / (verts - 1) as f32;
-            let a = phase + turns * std::f32::consts::TAU * s;
-            // Curl grows in over the first fifth of the strand.
-            let curl = (u * a.cos() + w * a.sin()) * (o.curl * seg * (5.0 * s).min(1.0));
-            points.push(*root + *n * (seg * v as f32) + curl);
-        }
+        crate::scene::grow_strand(*root, *n, seg, verts, o.curl, &mut rng, &mut points);
     }
     if o.relax_steps == 0 {
         return Ok(points);

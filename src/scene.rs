@@ -63,16 +63,15 @@ pub fn grow_on_sphere(o: &GrowOptions) -> SphereHead {
         let r = (1.0 - y * y).max(0.0).sqrt();
         let a = golden * i as f32;
         let n = Vec3::new(r * a.cos(), y, r * a.sin()).normalize();
-        let root = o.center + n * o.radius;
-        let (u, w) = n.any_orthonormal_pair();
-        let phase = rng.range(0.0, std::f32::consts::TAU);
-        let turns = rng.range(2.0, 4.0);
-        for v in 0..verts {
-            let s = v as f32 / (verts - 1) as f32;
-            let angle = phase + turns * std::f32::consts::TAU * s;
-            let curl = (u * angle.cos() + w * angle.sin()) * (o.curl * seg * s.min(0.2) * 5.0);
-            points.push(root + n * (seg * v as f32) + curl);
-        }
+        grow_strand(
+            o.center + n * o.radius,
+            n,
+            seg,
+            verts,
+            o.curl,
+            &mut rng,
+            &mut points,
+        );
     }
     SphereHead {
         head: Sphere {
@@ -81,6 +80,30 @@ pub fn grow_on_sphere(o: &GrowOptions) -> SphereHead {
         },
         points,
         verts_per_strand: verts,
+    }
+}
+
+/// Appends one strand of `verts` points `seg` apart growing from `root`
+/// along the unit `normal`, curling around it: a helix of 2-4 random turns
+/// with a random phase, of radius `curl * seg`, growing in over the first
+/// fifth of the strand.
+pub fn grow_strand(
+    root: Vec3,
+    normal: Vec3,
+    seg: f32,
+    verts: usize,
+    curl: f32,
+    rng: &mut SplitMix64,
+    out: &mut Vec<Vec3>,
+) {
+    let (u, w) = normal.any_orthonormal_pair();
+    let phase = rng.range(0.0, std::f32::consts::TAU);
+    let turns = rng.range(2.0, 4.0);
+    for v in 0..verts {
+        let s = v as f32 / (verts.max(2) - 1) as f32;
+        let angle = phase + turns * std::f32::consts::TAU * s;
+        let around = (u * angle.cos() + w * angle.sin()) * (curl * seg * s.min(0.2) * 5.0);
+        out.push(root + normal * (seg * v as f32) + around);
     }
 }
 

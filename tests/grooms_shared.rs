@@ -1,23 +1,11 @@
 //! The real TressFX grooms in `shared/data/grooms` load and simulate.
 
+mod common;
+
+use common::groom_path;
+
 use coif::groom::{self, cyhair, tfx};
 use coif::kernels::{self, SimParams, Strands};
-use std::path::PathBuf;
-
-fn groom_path(name: &str) -> Option<PathBuf> {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/data/grooms")
-        .join(name);
-    if p.exists() {
-        Some(p)
-    } else {
-        eprintln!(
-            "skipping: {} is absent (the shared groom folder is not beside the repository)",
-            p.display()
-        );
-        None
-    }
-}
 
 #[test]
 fn both_shared_grooms_parse_with_their_documented_sizes() {

@@ -1,25 +1,13 @@
 //! Both shared TressFX grooms load, become guides with scalp triangles and
 //! render a frame with hair in it.
 
+mod common;
+
+use common::groom_path;
+
 use coif::groom;
 use coif::pipeline::{FramePipeline, FrameSettings, HairScene};
 use glam::Affine3A;
-use std::path::PathBuf;
-
-fn groom_path(name: &str) -> Option<PathBuf> {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/data/grooms")
-        .join(name);
-    if p.exists() {
-        Some(p)
-    } else {
-        eprintln!(
-            "skipping: {} is absent (the shared groom folder is not beside the repository)",
-            p.display()
-        );
-        None
-    }
-}
 
 #[test]
 fn both_shared_grooms_render_a_frame_with_hair() {
