@@ -81,7 +81,8 @@ impl Lane<'_> {
     }
 }
 
-fn dot(a: Vec3, b: Vec3) -> f32 {
+/// `a.b` summed x, y, z in that order (the SIMD paths' order).
+pub(crate) fn dot(a: Vec3, b: Vec3) -> f32 {
     a.x * b.x + a.y * b.y + a.z * b.z
 }
 
@@ -198,7 +199,7 @@ fn strain_limit_and_collide(lane: &mut Lane, k: &StepSetup, g: usize, candidates
 }
 
 /// Outward unit normal and distance; +y and 0 where the point sits on the centre.
-fn outward(d: Vec3, d2: f32) -> (Vec3, f32) {
+pub(crate) fn outward(d: Vec3, d2: f32) -> (Vec3, f32) {
     let inv = inv_sqrt_scalar(d2.max(1e-30));
     if d2 > 1e-30 {
         (d * inv, d2 * inv)
@@ -207,20 +208,33 @@ fn outward(d: Vec3, d2: f32) -> (Vec3, f32) {
     }
 }
 
-/// Pushes vertex `v` out of the sphere; returns the outward normal if it did.
-fn collide_vertex(lane: &mut Lane, v: usize, sphere: [f32; 4], pearl_radius: f32) -> Option<Vec3> {
+/// A free point `x` (inverse mass `w`) pushed out of the sphere to distance
+/// `R + r`: the new position and the outward normal, or None if it is outside
+/// (or pinned). The scalar twin of `step::collide_vertex`, shared by strands
+/// and patches.
+pub(crate) fn push_out(
+    x: Vec3,
+    w: f32,
+    sphere: [f32; 4],
+    pearl_radius: f32,
+) -> Option<(Vec3, Vec3)> {
     let centre = Vec3::new(sphere[0], sphere[1], sphere[2]);
     let reach = sphere[3] + pearl_radius;
-    let x = lane.x(v);
     let d = x - centre;
     let d2 = dot(d, d);
-    if d2 < reach * reach && lane.w(v) > 0.0 {
+    if d2 < reach * reach && w > 0.0 {
         let (n, dist) = outward(d, d2);
-        lane.set_x(v, x + n * (reach - dist));
-        Some(n)
+        Some((x + n * (reach - dist), n))
     } else {
         None
     }
+}
+
+/// Pushes vertex `v` out of the sphere; returns the outward normal if it did.
+fn collide_vertex(lane: &mut Lane, v: usize, sphere: [f32; 4], pearl_radius: f32) -> Option<Vec3> {
+    let (x, n) = push_out(lane.x(v), lane.w(v), sphere, pearl_radius)?;
+    lane.set_x(v, x);
+    Some(n)
 }
 
 /// `v_t = v - n (v.n)`, `x_prev += mu v_t` with `v = x - x_prev`.

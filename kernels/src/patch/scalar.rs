@@ -9,6 +9,7 @@ use super::pairs::{partner, PairSet};
 use super::step::{padded_lanes, setup};
 use crate::broad_phase::{block_aabb_scalar, select_candidates, spheres_to_local, Candidate};
 use crate::lanes::{inv_sqrt_scalar, LANES};
+use crate::scalar::{dot, outward, push_out};
 use crate::step::{StepSetup, BLOWN_UP, MIN_LENGTH, STRAIN_COLLIDE_ROUNDS};
 use crate::{SimParams, Sphere};
 use glam::Vec3;
@@ -46,10 +47,6 @@ pub fn step(patch: &mut Patch, params: &SimParams, spheres: &[Sphere]) {
         patch.restored += 1;
     }
     patch.scratch = scratch;
-}
-
-fn dot(a: Vec3, b: Vec3) -> f32 {
-    a.x * b.x + a.y * b.y + a.z * b.z
 }
 
 fn inv_len(delta: Vec3) -> f32 {
@@ -179,15 +176,6 @@ fn sweep(p: &mut Patch, k: &StepSetup) {
     }
 }
 
-fn outward(d: Vec3, d2: f32) -> (Vec3, f32) {
-    let inv = inv_sqrt_scalar(d2.max(1e-30));
-    if d2 > 1e-30 {
-        (d * inv, d2 * inv)
-    } else {
-        (Vec3::Y, 0.0)
-    }
-}
-
 /// Pushes the pearl `p = u x_a + t x_b` of edge `(a, b)` out of the sphere
 /// (`centre`, `reach`), moving both ends by their share.
 fn pearl(p: &mut Patch, a: usize, b: usize, u: f32, t: f32, centre: Vec3, reach: f32) {
@@ -205,14 +193,8 @@ fn pearl(p: &mut Patch, a: usize, b: usize, u: f32, t: f32, centre: Vec3, reach:
 }
 
 fn collide_vertex(p: &mut Patch, q: usize, sphere: [f32; 4], pearl_radius: f32) {
-    let centre = Vec3::new(sphere[0], sphere[1], sphere[2]);
-    let reach = sphere[3] + pearl_radius;
-    let x = p.get(q);
-    let d = x - centre;
-    let d2 = dot(d, d);
-    if d2 < reach * reach && p.w(q) > 0.0 {
-        let (n, dist) = outward(d, d2);
-        p.put(q, x + n * (reach - dist));
+    if let Some((x, _)) = push_out(p.get(q), p.w(q), sphere, pearl_radius) {
+        p.put(q, x);
     }
 }
 
