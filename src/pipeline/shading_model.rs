@@ -70,7 +70,7 @@ pub fn demo_sigma_a() -> glam::Vec3 {
 /// the three pictures are comparable; the relative shading is untouched.
 pub const PHYSICAL_LIGHT_SCALE: f32 = 6.0;
 
-/// Marschner table resolution (1% relative RMS of the direct model with the default layout).
+/// Marschner table resolution (1-3 % relative RMS of the direct model with the default layout).
 pub const MARSCHNER_RESOLUTION: usize = 128;
 /// pbrt table resolution.
 pub const PBRT_RESOLUTION: usize = 64;
