@@ -50,6 +50,7 @@ fn quick_report_rows_are_finite_and_files_are_written() {
         "models vs pbrt",
         "shadow build",
         "shadow lookup",
+        "fins",
     ] {
         assert!(
             rows.iter().any(|r| r.kernel == family),

@@ -13,6 +13,7 @@
 //! each crate's public quality functions (see each family's module).
 
 pub mod csv;
+pub mod fins;
 pub mod fits;
 pub mod plot;
 pub mod refinement;
@@ -92,15 +93,16 @@ impl Row {
 type Family = fn(Options) -> Vec<Row>;
 
 /// Measures every kernel family, in order: simulation, refinement, fits,
-/// shading, shadow maps.
+/// shading, shadow maps, fins.
 pub fn run(options: Options) -> Vec<Row> {
     let mut rows = Vec::new();
-    let families: [(&str, Family); 5] = [
+    let families: [(&str, Family); 6] = [
         ("simulation", simulation::rows),
         ("refinement", refinement::rows),
         ("fits", fits::rows),
         ("shading", shading::rows),
         ("shadow maps", shadow::rows),
+        ("fins", fins::rows),
     ];
     for (name, family) in families {
         let t0 = std::time::Instant::now();
