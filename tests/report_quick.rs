@@ -41,7 +41,8 @@ fn pareto_front_is_per_kernel_and_path() {
 fn quick_report_rows_are_finite_and_files_are_written() {
     let rows = report::run(Options { quick: true });
     for family in [
-        "simulation",
+        "simulation settling",
+        "simulation whipping penetration",
         "refinement",
         "fits",
         "kajiya-kay",
