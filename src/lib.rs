@@ -13,5 +13,6 @@ pub mod groom;
 pub mod pipeline;
 pub mod quality;
 pub mod render;
+pub mod report;
 pub mod scalp;
 pub mod scene;

@@ -1,0 +1,230 @@
+//! Time-against-error plots as SVG, written by hand (a few dozen shapes
+//! per plot; no plotting dependency, no fonts needed at build time: the
+//! viewer renders the `<text>` elements).
+//!
+//! Both axes are logarithmic: x is nanoseconds per element, y the error.
+//! One colour per path; the Pareto front of each path is joined by a line
+//! and its points filled; other points are hollow; the default setting
+//! gets a red ring. Errors of exactly 0 (a reference measured against
+//! itself) are drawn on the bottom edge and labelled so.
+
+use super::summary::on_pareto_front;
+use super::{Path, Row};
+use std::fmt::Write;
+
+const W: f64 = 720.0;
+const H: f64 = 480.0;
+const LEFT: f64 = 80.0;
+const RIGHT: f64 = 170.0;
+const TOP: f64 = 40.0;
+const BOTTOM: f64 = 60.0;
+
+/// A file name for a kernel: lower case, spaces and punctuation as `-`.
+pub fn file_stem(kernel: &str) -> String {
+    kernel
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() {
+                c.to_ascii_lowercase()
+            } else {
+                '-'
+            }
+        })
+        .collect()
+}
+
+fn colour(path: Path) -> &'static str {
+    match path {
+        Path::Simd => "#1f77b4",
+        Path::Scalar => "#ff7f0e",
+    }
+}
+
+fn escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
+
+/// Decade range `[10^floor(log lo), 10^ceil(log hi)]` of positive values.
+fn decades(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = values
+        .filter(|v| *v > 0.0 && v.is_finite())
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    if !lo.is_finite() {
+        return (0.0, 1.0);
+    }
+    let (a, mut b) = (lo.log10().floor(), hi.log10().ceil());
+    if b <= a {
+        b = a + 1.0;
+    }
+    (a, b)
+}
+
+/// The plot of one kernel's rows (all with the same kernel name).
+pub fn svg(kernel: &str, rows: &[&Row]) -> String {
+    let all: Vec<Row> = rows.iter().map(|r| (*r).clone()).collect();
+    let (x0, x1) = decades(rows.iter().map(|r| r.time.median));
+    let (mut y0, y1) = decades(rows.iter().map(|r| r.error));
+    let has_zero = rows.iter().any(|r| r.error <= 0.0);
+    if has_zero {
+        y0 -= 1.0;
+    }
+    let pw = W - LEFT - RIGHT;
+    let ph = H - TOP - BOTTOM;
+    let px = |ns: f64| LEFT + (ns.max(1e-30).log10() - x0) / (x1 - x0) * pw;
+    let py = |e: f64| {
+        let l = if e > 0.0 { e.log10().max(y0) } else { y0 };
+        TOP + ph - (l - y0) / (y1 - y0) * ph
+    };
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{H}" viewBox="0 0 {W} {H}" font-family="sans-serif" font-size="11">"#
+    );
+    let _ = writeln!(s, r#"<rect width="{W}" height="{H}" fill="white"/>"#);
+    let _ = writeln!(
+        s,
+        r#"<text x="{}" y="22" font-size="15" text-anchor="middle">{}: time against error</text>"#,
+        LEFT + pw / 2.0,
+        escape(kernel)
+    );
+    // Grid and decade ticks.
+    for d in (x0 as i32)..=(x1 as i32) {
+        let x = px(10f64.powi(d));
+        let _ = writeln!(
+            s,
+            r##"<line x1="{x:.1}" y1="{TOP}" x2="{x:.1}" y2="{:.1}" stroke="#ddd"/><text x="{x:.1}" y="{:.1}" text-anchor="middle">1e{d}</text>"##,
+            TOP + ph,
+            TOP + ph + 16.0
+        );
+    }
+    for d in (y0 as i32)..=(y1 as i32) {
+        let y = TOP + ph - (d as f64 - y0) / (y1 - y0) * ph;
+        let label = if has_zero && d as f64 == y0 {
+            "0".to_string()
+        } else {
+            format!("1e{d}")
+        };
+        let _ = writeln!(
+            s,
+            r##"<line x1="{LEFT}" y1="{y:.1}" x2="{:.1}" y2="{y:.1}" stroke="#ddd"/><text x="{:.1}" y="{:.1}" text-anchor="end">{label}</text>"##,
+            LEFT + pw,
+            LEFT - 6.0,
+            y + 4.0
+        );
+    }
+    let _ = writeln!(
+        s,
+        r#"<rect x="{LEFT}" y="{TOP}" width="{pw}" height="{ph}" fill="none" stroke="black"/>"#
+    );
+    let element = rows.first().map_or("element", |r| r.element);
+    let metric = rows.first().map_or("error", |r| r.error_metric);
+    let _ = writeln!(
+        s,
+        r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">ns per {} (median, log scale)</text>"#,
+        LEFT + pw / 2.0,
+        H - 18.0,
+        escape(element)
+    );
+    let _ = writeln!(
+        s,
+        r#"<text transform="translate(18 {:.1}) rotate(-90)" text-anchor="middle">{} (log scale)</text>"#,
+        TOP + ph / 2.0,
+        escape(metric)
+    );
+    // Per path: front line, points, labels.
+    let mut legend_y = TOP + 10.0;
+    for path in [Path::Simd, Path::Scalar] {
+        let of: Vec<&Row> = rows.iter().copied().filter(|r| r.path == path).collect();
+        if of.is_empty() {
+            continue;
+        }
+        let c = colour(path);
+        let mut front: Vec<&Row> = of
+            .iter()
+            .copied()
+            .filter(|r| on_pareto_front(&all, r))
+            .collect();
+        front.sort_by(|a, b| a.time.median.total_cmp(&b.time.median));
+        if front.len() > 1 {
+            let pts: Vec<String> = front
+                .iter()
+                .map(|r| format!("{:.1},{:.1}", px(r.time.median), py(r.error)))
+                .collect();
+            let _ = writeln!(
+                s,
+                r#"<polyline points="{}" fill="none" stroke="{c}" stroke-width="1.5" stroke-dasharray="5 3"/>"#,
+                pts.join(" ")
+            );
+        }
+        for r in &of {
+            let (x, y) = (px(r.time.median), py(r.error));
+            // Spread of the timing as a horizontal bar.
+            let _ = writeln!(
+                s,
+                r#"<line x1="{:.1}" y1="{y:.1}" x2="{:.1}" y2="{y:.1}" stroke="{c}" stroke-opacity="0.5"/>"#,
+                px(r.time.min),
+                px(r.time.max)
+            );
+            let fill = if on_pareto_front(&all, r) { c } else { "white" };
+            let _ = writeln!(
+                s,
+                r#"<circle cx="{x:.1}" cy="{y:.1}" r="4" fill="{fill}" stroke="{c}" stroke-width="1.5"/>"#
+            );
+            if r.is_default {
+                let _ = writeln!(
+                    s,
+                    r#"<circle cx="{x:.1}" cy="{y:.1}" r="8" fill="none" stroke="red" stroke-width="2"/>"#
+                );
+            }
+            let _ = writeln!(
+                s,
+                r##"<text x="{:.1}" y="{:.1}" font-size="9" fill="#333">{}</text>"##,
+                x + 6.0,
+                y - 5.0,
+                escape(&r.setting)
+            );
+        }
+        let lx = LEFT + pw + 12.0;
+        let _ = writeln!(
+            s,
+            r#"<circle cx="{lx}" cy="{legend_y}" r="4" fill="{c}" stroke="{c}"/><text x="{}" y="{}">{}</text>"#,
+            lx + 10.0,
+            legend_y + 4.0,
+            path.name()
+        );
+        legend_y += 18.0;
+    }
+    let lx = LEFT + pw + 12.0;
+    let _ = writeln!(
+        s,
+        r#"<circle cx="{lx}" cy="{legend_y}" r="4" fill="gray"/><text x="{}" y="{}">on Pareto front</text>"#,
+        lx + 10.0,
+        legend_y + 4.0
+    );
+    legend_y += 18.0;
+    let _ = writeln!(
+        s,
+        r#"<circle cx="{lx}" cy="{legend_y}" r="4" fill="white" stroke="gray"/><text x="{}" y="{}">dominated</text>"#,
+        lx + 10.0,
+        legend_y + 4.0
+    );
+    legend_y += 18.0;
+    let _ = writeln!(
+        s,
+        r#"<circle cx="{lx}" cy="{legend_y}" r="8" fill="none" stroke="red" stroke-width="2"/><text x="{}" y="{}">default</text>"#,
+        lx + 14.0,
+        legend_y + 4.0
+    );
+    legend_y += 18.0;
+    let _ = writeln!(
+        s,
+        r#"<text x="{lx}" y="{}" font-size="9">bars: fastest-slowest run</text>"#,
+        legend_y + 4.0
+    );
+    s += "</svg>\n";
+    s
+}
