@@ -81,6 +81,11 @@ impl Lane<'_> {
     }
 }
 
+/// `1 / max(|delta|, MIN_LENGTH)`, the twin of `step::inv_len`.
+pub(crate) fn inv_len(delta: Vec3) -> f32 {
+    inv_sqrt_scalar(dot(delta, delta).max(MIN_LENGTH * MIN_LENGTH))
+}
+
 /// `a.b` summed x, y, z in that order (the SIMD paths' order).
 pub(crate) fn dot(a: Vec3, b: Vec3) -> f32 {
     a.x * b.x + a.y * b.y + a.z * b.z
@@ -168,8 +173,7 @@ fn distance_constraint(
 ) {
     let (xi, xj) = (lane.x(i), lane.x(j));
     let delta = xj - xi;
-    let inv_len = inv_sqrt_scalar(dot(delta, delta).max(MIN_LENGTH * MIN_LENGTH));
-    let k = stiffness * (1.0 - rest * inv_len);
+    let k = stiffness * (1.0 - rest * inv_len(delta));
     lane.set_x(i, xi + delta * (k * share[0]));
     lane.set_x(j, xj - delta * (k * share[1]));
 }

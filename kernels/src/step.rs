@@ -248,12 +248,23 @@ pub(crate) fn restore_lanes(s: &mut Strands, first: usize, bad: &[u32; GROUP]) {
     }
 }
 
-/// Mass-weighted distance constraint between vertices `i` and `j` of a block:
+/// `1 / max(|delta|, MIN_LENGTH)` by [`inv_sqrt`] (shared with patches).
+#[inline(always)]
+pub(crate) fn inv_len(delta: Vec3x8) -> f32x8 {
+    inv_sqrt(
+        delta
+            .length_squared()
+            .fast_max(f32x8::splat(MIN_LENGTH * MIN_LENGTH)),
+    )
+}
+
+/// Mass-weighted distance constraint between vertices `i` and `j` of one
+/// lane chain (a block of strands, or a column block of a patch):
 /// `k = stiffness (|delta| - l) / |delta|`, `x_i += share_i k delta`,
 /// `x_j -= share_j k delta` with `share_i = w_i / (w_i + w_j)` (Jakobsen
-/// 2001's rule, with `1/|delta|` from [`inv_sqrt`] of `max(|delta|^2, 1e-14)`).
+/// 2001's rule, with `1/|delta|` from [`inv_len`]).
 #[inline(always)]
-fn distance_constraint(
+pub(crate) fn distance_constraint(
     pos: &mut [Vec3x8],
     i: usize,
     j: usize,
@@ -262,11 +273,7 @@ fn distance_constraint(
     stiffness: f32x8,
 ) {
     let delta = pos[j] - pos[i];
-    let inv_len = inv_sqrt(
-        delta
-            .length_squared()
-            .fast_max(f32x8::splat(MIN_LENGTH * MIN_LENGTH)),
-    );
+    let inv_len = inv_len(delta);
     let k = stiffness * (f32x8::ONE - rest * inv_len);
     // A pinned end has share 0 and does not move. (A lane whose positions
     // went NaN can move its root; the guard then restores the whole strand,

@@ -9,8 +9,8 @@ use super::pairs::{partner, PairSet};
 use super::step::{padded_lanes, setup};
 use crate::broad_phase::{block_aabb_scalar, select_candidates, spheres_to_local, Candidate};
 use crate::lanes::{inv_sqrt_scalar, LANES};
-use crate::scalar::{dot, outward, push_out};
-use crate::step::{StepSetup, BLOWN_UP, MIN_LENGTH, STRAIN_COLLIDE_ROUNDS};
+use crate::scalar::{dot, inv_len, outward, push_out};
+use crate::step::{StepSetup, BLOWN_UP, STRAIN_COLLIDE_ROUNDS};
 use crate::{SimParams, Sphere};
 use glam::Vec3;
 
@@ -47,10 +47,6 @@ pub fn step(patch: &mut Patch, params: &SimParams, spheres: &[Sphere]) {
         patch.restored += 1;
     }
     patch.scratch = scratch;
-}
-
-fn inv_len(delta: Vec3) -> f32 {
-    inv_sqrt_scalar(dot(delta, delta).max(MIN_LENGTH * MIN_LENGTH))
 }
 
 /// Row-major particle access through the lane layout.

@@ -50,8 +50,8 @@ use super::pairs::gather_row;
 use crate::broad_phase::{block_aabb, select_candidates, spheres_to_local, Candidate};
 use crate::lanes::{inv_sqrt, Vec3x8, LANES};
 use crate::step::{
-    collide_pearls, collide_vertex, outward, Reach, StepSetup, BLOWN_UP, MIN_LENGTH,
-    STRAIN_COLLIDE_ROUNDS,
+    collide_pearls, collide_vertex, distance_constraint, inv_len, outward, Reach, StepSetup,
+    BLOWN_UP, STRAIN_COLLIDE_ROUNDS,
 };
 use crate::{SimParams, Sphere, MAX_PEARLS_PER_SEGMENT};
 use glam::{Mat3, Vec3};
@@ -122,32 +122,6 @@ fn integrate(p: &mut Patch, k: &StepSetup) {
     }
 }
 
-/// Mass-weighted distance constraint between `i` and `j` of the same lane.
-#[inline(always)]
-fn column_constraint(
-    pos: &mut [Vec3x8],
-    i: usize,
-    j: usize,
-    rest: f32x8,
-    share: [f32x8; 2],
-    stiffness: f32x8,
-) {
-    let delta = pos[j] - pos[i];
-    let k = stiffness * (f32x8::ONE - rest * inv_len(delta));
-    pos[i] = pos[i] + delta * (k * share[0]);
-    pos[j] = pos[j] - delta * (k * share[1]);
-}
-
-/// `1 / max(|delta|, MIN_LENGTH)` by [`inv_sqrt`].
-#[inline(always)]
-fn inv_len(delta: Vec3x8) -> f32x8 {
-    inv_sqrt(
-        delta
-            .length_squared()
-            .fast_max(f32x8::splat(MIN_LENGTH * MIN_LENGTH)),
-    )
-}
-
 /// One lane's half of a pair constraint: `x` moves toward (or away from) its
 /// partner `p` by its mass share.
 #[inline(always)]
@@ -165,9 +139,9 @@ fn sweep(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
     for r in 0..rows - 1 {
         for b in 0..blocks {
             let i = b * rows + r;
-            column_constraint(&mut p.pos, i, i + 1, p.vert_rest[i], p.vert_share[i], one);
+            distance_constraint(&mut p.pos, i, i + 1, p.vert_rest[i], p.vert_share[i], one);
             if k.bend > 0.0 && r + 2 < rows {
-                column_constraint(
+                distance_constraint(
                     &mut p.pos,
                     i,
                     i + 2,
