@@ -72,6 +72,41 @@ fn pinned_flag_hangs_under_gravity_within_the_stretch_tolerance() {
 }
 
 #[test]
+fn flag_on_a_pole_hangs_within_the_stretch_tolerance() {
+    // A 12 x 16 flag, 2 cm spacing, its first column pinned (the pole),
+    // blown out horizontally: it must fall against the pole. Its rows carry
+    // the weight, so only the row strain limit (from the pinned column
+    // outward) and the long range attachments keep them at length.
+    let (rows, cols, spacing) = (12, 16, 0.02);
+    let points: Vec<Vec3> = (0..rows * cols)
+        .map(|k| {
+            let (r, c) = ((k / cols) as f32, (k % cols) as f32);
+            Vec3::new(c * spacing, 1.0 - r * spacing, 0.0)
+        })
+        .collect();
+    let pinned: Vec<bool> = (0..rows * cols).map(|k| k % cols == 0).collect();
+    let tolerance = SimParams::default().max_stretch + 0.005;
+    for iterations in [1u32, 4, 32] {
+        let mut p = Patch::new(&points, rows, cols, &pinned).unwrap();
+        let params = SimParams {
+            iterations,
+            ..Default::default()
+        };
+        let mut worst = f32::NEG_INFINITY;
+        for _ in 0..600 {
+            patch::step(&mut p, &params, &[]);
+            worst = worst.max(quality::max_edge_stretch(&p));
+        }
+        let x = p.positions();
+        // It hangs: the free end has fallen well below where it started.
+        let tip = x[cols - 1];
+        assert!(tip.y < 1.0 - 0.2, "free corner at {tip}");
+        println!("pole flag, {iterations} iterations: worst stretch {worst}");
+        assert!(worst < tolerance, "{iterations} iterations: {worst}");
+    }
+}
+
+#[test]
 fn weight_zero_gives_the_skin_and_weight_one_the_simulation() {
     let (rows, cols) = (8, 11);
     let (points, pinned) = flag(rows, cols, 0.02);

@@ -17,8 +17,9 @@
 //!   (`pairs.rs`). FINS.md gives the measurements behind this choice.
 //! - **Step** ([`step`], SIMD; [`scalar::step`], its scalar twin): Verlet
 //!   with damping, pinned particles placed on their skinned positions,
-//!   `iterations` sweeps of distance constraints, long range attachments and
-//!   a column strain limit (`max_stretch`), the max-distance clamp around
+//!   `iterations` sweeps of distance constraints, long range attachments,
+//!   column and row strain limits (`max_stretch`; `row_limit.rs`), the
+//!   max-distance clamp around
 //!   the skinned positions, sphere and pearl collisions after a broad phase,
 //!   and a guard that restores a blown-up patch to its skin.
 //! - **Output** (`blend.rs`): `lerp(skinned, simulated, weight)` per
@@ -32,6 +33,7 @@ mod grid;
 mod pairs;
 pub mod quality;
 mod ribbon;
+mod row_limit;
 pub mod scalar;
 mod step;
 

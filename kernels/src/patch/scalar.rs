@@ -6,6 +6,7 @@
 
 use super::grid::Patch;
 use super::pairs::{partner, PairSet};
+use super::row_limit::limit_row;
 use super::step::{padded_lanes, setup};
 use crate::broad_phase::{block_aabb_scalar, select_candidates, spheres_to_local, Candidate};
 use crate::lanes::{inv_sqrt_scalar, LANES};
@@ -206,19 +207,21 @@ fn push_out_vertices(p: &mut Patch, k: &StepSetup, candidates: &[Candidate]) {
 
 fn clamp_and_collide(p: &mut Patch, k: &StepSetup, candidates: &[Candidate]) {
     let (rows, cols) = (p.rows, p.cols);
-    for q in 0..p.particle_count() {
-        let (i, l) = p.slot(q);
-        let block = (q % cols) / LANES;
-        let limit = p.tether_len[i].as_array()[l] * k.stretch_factor;
-        let anchor = p.anchor_skin[i].lane(l);
-        let d = p.get(q) - anchor;
-        let d2 = dot(d, d);
-        if d2 > limit * limit && p.w(q) > 0.0 {
-            p.put(q, anchor + d * (limit * inv_sqrt_scalar(d2)));
+    for r in 0..rows {
+        for q in r * cols..(r + 1) * cols {
+            let (i, l) = p.slot(q);
+            let limit = p.tether_len[i].as_array()[l] * k.stretch_factor;
+            let anchor = p.anchor_skin[i].lane(l);
+            let d = p.get(q) - anchor;
+            let d2 = dot(d, d);
+            if d2 > limit * limit && p.w(q) > 0.0 {
+                p.put(q, anchor + d * (limit * inv_sqrt_scalar(d2)));
+            }
         }
-        let up = p.parent_up[i].as_array()[l].to_bits() != 0;
-        for _ in 0..STRAIN_COLLIDE_ROUNDS {
-            if q >= cols {
+        for round in 0..STRAIN_COLLIDE_ROUNDS {
+            for q in (r * cols..(r + 1) * cols).filter(|&q| q >= cols) {
+                let (i, l) = p.slot(q);
+                let up = p.parent_up[i].as_array()[l].to_bits() != 0;
                 let limit = p.lane_value(&p.vert_rest, q - cols) * k.stretch_factor;
                 let (parent, x) = (p.get(q - cols), p.get(q));
                 let d = x - parent;
@@ -227,15 +230,22 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, candidates: &[Candidate]) {
                     p.put(q, parent + d * (limit * inv_sqrt_scalar(d2)));
                 }
             }
-            let m = p.max_distance[i].as_array()[l];
-            let s = p.skin[i].lane(l);
-            let d = p.get(q) - s;
-            let d2 = dot(d, d);
-            if d2 > m * m && p.w(q) > 0.0 {
-                p.put(q, s + d * (m * inv_sqrt_scalar(d2)));
+            if round + 1 == STRAIN_COLLIDE_ROUNDS {
+                limit_row(p, r, k.stretch_factor);
             }
-            for c in candidates.iter().filter(|c| c.touches(block)) {
-                collide_vertex(p, q, c.sphere, k.pearl_radius);
+            for q in r * cols..(r + 1) * cols {
+                let (i, l) = p.slot(q);
+                let m = p.max_distance[i].as_array()[l];
+                let s = p.skin[i].lane(l);
+                let d = p.get(q) - s;
+                let d2 = dot(d, d);
+                if d2 > m * m && p.w(q) > 0.0 {
+                    p.put(q, s + d * (m * inv_sqrt_scalar(d2)));
+                }
+                let block = (q % cols) / LANES;
+                for c in candidates.iter().filter(|c| c.touches(block)) {
+                    collide_vertex(p, q, c.sphere, k.pearl_radius);
+                }
             }
         }
     }

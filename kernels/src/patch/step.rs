@@ -23,14 +23,18 @@
 //!    particle farther than `(1 + max_stretch) L` from its anchor, the
 //!    pinned particle nearest along the grid (`L` = the shortest rest path
 //!    over structural and diagonal edges), is pulled back onto that sphere.
-//! 5. Per particle, top to bottom, twice (the strands' alternation of strain
+//! 5. Row by row, top to bottom, twice (the strands' alternation of strain
 //!    limit and collisions): the **column strain limit** (Provot 1995, in
 //!    Follow-The-Leader order, Muller et al. 2012) pulls a particle whose
 //!    shortest path to the pins goes through the particle above toward it
-//!    until `|x_r - x_{r-1}| <= (1 + max_stretch) l`; the **max distance**
-//!    moves a particle farther than `m` from its skinned position `s` to
-//!    `s + m (x - s) / |x - s|` (the cloth constraint of PhysX and Unity);
-//!    then the particle is pushed out of every nearby sphere to `R + r`.
+//!    until `|x_r - x_{r-1}| <= (1 + max_stretch) l`; in the second round
+//!    the **row strain limit** (`row_limit.rs`) then walks the row from its
+//!    root column outward, moving each particle to the nearest point within
+//!    `(1 + max_stretch) l` of its row leader that keeps the column limit;
+//!    the **max distance** moves a particle farther than `m` from its
+//!    skinned position `s` to `s + m (x - s) / |x - s|` (the cloth
+//!    constraint of PhysX and Unity); then the particle is pushed out of
+//!    every nearby sphere to `R + r`.
 //! 6. **Pearls** along columns and rows, pushed out by the point-on-segment
 //!    rule (Nalu; DESIGN.md): `p = (1-t) x_i + t x_j`,
 //!    `s = -C / (w_i (1-t)^2 + w_j t^2)`, `x_i += w_i (1-t) s n`,
@@ -47,6 +51,7 @@
 
 use super::grid::{Patch, PatchScratch};
 use super::pairs::gather_row;
+use super::row_limit::limit_row;
 use crate::broad_phase::{block_aabb, select_candidates, spheres_to_local, Candidate};
 use crate::lanes::{inv_sqrt, Vec3x8, LANES};
 use crate::step::{
@@ -218,8 +223,9 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
     let zero = f32x8::ZERO;
     let candidates: &[Candidate] = &scratch.candidates;
     let factor = f32x8::splat(k.stretch_factor);
-    for b in 0..p.blocks {
-        for i in b * rows..(b + 1) * rows {
+    for r in 0..rows {
+        for b in 0..p.blocks {
+            let i = b * rows + r;
             let free = p.inv_mass[i].simd_gt(zero);
             let limit = p.tether_len[i] * factor;
             let d = p.pos[i] - p.anchor_skin[i];
@@ -229,8 +235,11 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
                 let pulled = p.anchor_skin[i] + d * (limit * inv_sqrt(d2));
                 p.pos[i] = Vec3x8::select(over, pulled, p.pos[i]);
             }
-            for _ in 0..STRAIN_COLLIDE_ROUNDS {
-                if i > b * rows {
+        }
+        for round in 0..STRAIN_COLLIDE_ROUNDS {
+            if r > 0 {
+                for b in 0..p.blocks {
+                    let i = b * rows + r;
                     let limit = p.vert_rest[i - 1] * factor;
                     let d = p.pos[i] - p.pos[i - 1];
                     let d2 = d.length_squared();
@@ -240,6 +249,13 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
                         p.pos[i] = Vec3x8::select(over, pulled, p.pos[i]);
                     }
                 }
+            }
+            if round + 1 == STRAIN_COLLIDE_ROUNDS {
+                limit_row(p, r, k.stretch_factor);
+            }
+            for b in 0..p.blocks {
+                let i = b * rows + r;
+                let free = p.inv_mass[i].simd_gt(zero);
                 let m = p.max_distance[i];
                 let d = p.pos[i] - p.skin[i];
                 let d2 = d.length_squared();
