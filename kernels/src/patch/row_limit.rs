@@ -88,7 +88,8 @@ fn follow(p: &mut Patch, (i, l): (usize, usize), lead: Vec3, limit: f32, factor:
 }
 
 /// The point of `ball(c1, r1) ∩ ball(c2, r2)` nearest `x`, for `x` outside
-/// the second ball whose projection onto it leaves the first: a point of the
+/// the second ball whose projection onto it leaves the first: the projection
+/// onto the first ball if that lies in the second, else a point of the
 /// circle where the two spheres meet (centre `c1 + a n`, radius
 /// `sqrt(r1^2 - a^2)`, `a = (d^2 + r1^2 - r2^2) / 2d`, `n` the unit vector
 /// from `c1` to `c2`, `d` their distance). If the balls do not meet, the
@@ -101,6 +102,17 @@ fn nearest_on_lens(x: Vec3, c1: Vec3, r1: f32, c2: Vec3, r2: f32) -> Vec3 {
     let n = between * inv_d;
     if d >= r1 + r2 {
         return c1 + n * r1;
+    }
+    // Outside the first ball too: its projection onto the first ball, if
+    // that lies in the second.
+    let from1 = x - c1;
+    let e2 = dot(from1, from1);
+    if e2 > r1 * r1 {
+        let on1 = c1 + from1 * (r1 * inv_sqrt_scalar(e2));
+        let f = on1 - c2;
+        if dot(f, f) <= r2 * r2 {
+            return on1;
+        }
     }
     let a = (d2 + r1 * r1 - r2 * r2) * (0.5 * inv_d);
     let h = (r1 * r1 - a * a).max(0.0).sqrt();
@@ -117,4 +129,58 @@ fn nearest_on_lens(x: Vec3, c1: Vec3, r1: f32, c2: Vec3, r2: f32) -> Vec3 {
 #[inline]
 fn dot(a: Vec3, b: Vec3) -> f32 {
     a.x * b.x + a.y * b.y + a.z * b.z
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::SplitMix64;
+
+    /// The lens point lies in both balls, and no point of the intersection
+    /// found by brute force (rejection sampling) is nearer to `x`.
+    #[test]
+    fn nearest_on_lens_is_the_nearest_point_of_both_balls() {
+        let mut rng = SplitMix64::new(7);
+        let mut checked = 0;
+        for _ in 0..200 {
+            let c1 = Vec3::ZERO;
+            let r1 = rng.range(0.5, 1.5);
+            let c2 = rng.unit_vector() * rng.range(0.2, 2.0);
+            let r2 = rng.range(0.5, 1.5);
+            let x = rng.unit_vector() * rng.range(0.0, 3.0);
+            let in_both = |p: Vec3| p.distance(c1) <= r1 * 1.0001 && p.distance(c2) <= r2 * 1.0001;
+            // The case the function is called for: outside ball 2, and its
+            // projection onto ball 2 leaves ball 1.
+            let on2 = c2 + (x - c2).normalize() * r2;
+            if x.distance(c2) <= r2 || on2.distance(c1) <= r1 || c1.distance(c2) >= r1 + r2 {
+                continue;
+            }
+            checked += 1;
+            let y = nearest_on_lens(x, c1, r1, c2, r2);
+            assert!(in_both(y), "{y} outside a ball");
+            for _ in 0..2000 {
+                let q = c1 + rng.unit_vector() * (r1 * rng.next_f32().cbrt());
+                if in_both(q) {
+                    assert!(
+                        q.distance(x) >= y.distance(x) - 1e-4,
+                        "{q} is nearer to {x} than {y}"
+                    );
+                }
+            }
+        }
+        assert!(checked > 20, "only {checked} configurations exercised");
+    }
+
+    /// Balls that do not meet: the column (first ball) wins.
+    #[test]
+    fn disjoint_balls_keep_the_first() {
+        let y = nearest_on_lens(
+            Vec3::new(5.0, 1.0, 0.0),
+            Vec3::ZERO,
+            1.0,
+            Vec3::new(3.0, 0.0, 0.0),
+            1.0,
+        );
+        assert!(y.distance(Vec3::X) < 1e-6, "{y}");
+    }
 }
