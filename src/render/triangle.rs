@@ -154,7 +154,7 @@ pub fn fill_triangle(
             let depth = 1.0 / one_over_z;
             let i = frame.index(x, y);
             let dst = &mut frame.pixels[i];
-            if !(depth < dst.depth) {
+            if depth.is_nan() || depth >= dst.depth {
                 continue;
             }
             let color = (color_z[0] * l[0] + color_z[1] * l[1] + color_z[2] * l[2]) * depth;
