@@ -75,7 +75,9 @@ fn the_attached_row_follows_the_head_and_the_ribbon_stays_out_of_it() {
     // simulated frame by frame as the binary does.
     let scene = scene();
     let head = scene.head[0].clone();
-    let mut p = FramePipeline::new(&scene, FrameSettings::small(64), 0.5).unwrap();
+    // Settled 1.5 s like the binary (FrameSettings::small differs from the
+    // default in rendering settings only).
+    let mut p = FramePipeline::new(&scene, FrameSettings::small(64), 1.5).unwrap();
     let pivot = p.pivot();
     let ribbons = p.ribbons().len();
     assert_eq!(ribbons, 2);
