@@ -69,6 +69,36 @@ pub fn bow_tails(head: &Sphere, attach: Vec3) -> Vec<Ribbon> {
         .collect()
 }
 
+/// Colour of a two-sided silk point `p` with unit normal `n` (either side),
+/// seen from `eye`, lit by `light` with visibility `visible` in [0, 1]
+/// (shadows): the module doc's Lambert + Blinn-Phong, with the normal
+/// turned toward the eye, so the side away from the light gets the ambient
+/// term only. Non-finite input or output gives the ambient colour.
+pub fn shade_silk(p: Vec3, n: Vec3, eye: Vec3, light: &Light, visible: f32) -> Vec3 {
+    let ambient = RIBBON_ALBEDO * light.ambient;
+    if !(p.is_finite() && n.is_finite() && eye.is_finite()) {
+        return ambient;
+    }
+    let (k_s, exponent) = RIBBON_SPECULAR;
+    let l = light.to_light;
+    let v = (eye - p).normalize_or_zero();
+    let n = if n.dot(v) < 0.0 { -n } else { n };
+    let n_dot_l = n.dot(l);
+    let direct = if n_dot_l > 0.0 {
+        light.irradiance * visible.clamp(0.0, 1.0)
+    } else {
+        Vec3::ZERO
+    };
+    let h = (l + v).normalize_or_zero();
+    let highlight = k_s * n.dot(h).max(0.0).powf(exponent);
+    let c = ambient + RIBBON_ALBEDO * direct * n_dot_l.max(0.0) + direct * highlight;
+    if c.is_finite() {
+        c
+    } else {
+        ambient
+    }
+}
+
 /// One simulated ribbon and its per-frame buffers (sized once).
 struct RibbonState {
     patch: Patch,
@@ -195,31 +225,17 @@ impl RibbonStage {
         shadow: &ShadowStage,
     ) {
         let l = light.to_light;
-        let (k_s, exponent) = RIBBON_SPECULAR;
         for r in &mut self.ribbons {
             for k in 0..r.blended.len() {
                 let p = r.blended[k] - origin;
                 r.local[k] = p;
-                let v = (eye - p).normalize_or_zero();
-                let mut n = r.normals[k];
-                if n.dot(v) < 0.0 {
-                    n = -n;
-                }
-                let n_dot_l = n.dot(l);
-                let mut visible = 0.0;
-                if n_dot_l > 0.0 && !occluded(p, l, head, 1e-3) {
-                    visible = shadow.transmittance_at(p).clamp(0.0, 1.0);
-                }
-                let h = (l + v).normalize_or_zero();
-                let highlight = k_s * n.dot(h).max(0.0).powf(exponent);
-                let direct = light.irradiance * visible;
-                let c = RIBBON_ALBEDO * (light.ambient + direct * n_dot_l.max(0.0))
-                    + direct * highlight;
-                r.colors[k] = if c.is_finite() {
-                    c
+                let facing = r.normals[k].dot(l) * r.normals[k].dot(eye - p) > 0.0;
+                let visible = if facing && !occluded(p, l, head, 1e-3) {
+                    shadow.transmittance_at(p)
                 } else {
-                    RIBBON_ALBEDO * light.ambient
+                    0.0
                 };
+                r.colors[k] = shade_silk(p, r.normals[k], eye, light, visible);
             }
         }
     }
@@ -258,5 +274,64 @@ impl RibbonStage {
     /// The ribbons' collision spheres as posed in the last substep.
     pub fn rig(&self) -> &[Sphere] {
         &self.rig
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn silk_is_lit_on_the_side_facing_the_light_from_either_side() {
+        let light = Light {
+            to_light: Vec3::Z,
+            irradiance: Vec3::ONE,
+            ambient: Vec3::splat(0.1),
+        };
+        let ambient = RIBBON_ALBEDO * light.ambient;
+        // Light and eye on the same side: lit, whichever way n points.
+        let front = shade_silk(Vec3::ZERO, Vec3::Z, Vec3::Z, &light, 1.0);
+        let flipped = shade_silk(Vec3::ZERO, -Vec3::Z, Vec3::Z, &light, 1.0);
+        assert_eq!(front, flipped);
+        // Head-on: Lambert 1 plus the full highlight k_s.
+        let expected = RIBBON_ALBEDO * (light.ambient + Vec3::ONE) + Vec3::splat(RIBBON_SPECULAR.0);
+        assert!((front - expected).length() < 1e-5, "{front} vs {expected}");
+        // The eye behind the ribbon sees its unlit side: ambient only.
+        let back = shade_silk(Vec3::ZERO, Vec3::Z, -Vec3::Z, &light, 1.0);
+        assert_eq!(back, ambient);
+        // In shadow: ambient only; half shadow: between.
+        assert_eq!(
+            shade_silk(Vec3::ZERO, Vec3::Z, Vec3::Z, &light, 0.0),
+            ambient
+        );
+        let half = shade_silk(Vec3::ZERO, Vec3::Z, Vec3::Z, &light, 0.5);
+        assert!(half.x > ambient.x && half.x < front.x);
+        // Grazing light: darker than head-on, highlight off the mirror direction.
+        let oblique = Light {
+            to_light: Vec3::new(0.8, 0.0, 0.6),
+            ..light
+        };
+        let side = shade_silk(
+            Vec3::ZERO,
+            Vec3::Z,
+            Vec3::new(-0.8, 0.0, 0.6),
+            &oblique,
+            1.0,
+        );
+        let off = shade_silk(Vec3::ZERO, Vec3::Z, Vec3::Z, &oblique, 1.0);
+        assert!(
+            side.y > off.y,
+            "mirror view shows the highlight: {side} vs {off}"
+        );
+        assert!(off.x < front.x);
+        // NaN in, the ambient colour out.
+        assert_eq!(
+            shade_silk(Vec3::NAN, Vec3::Z, Vec3::Z, &light, 1.0),
+            ambient
+        );
+        assert_eq!(
+            shade_silk(Vec3::ZERO, Vec3::NAN, Vec3::Z, &light, 1.0),
+            ambient
+        );
     }
 }
