@@ -10,6 +10,10 @@
 //!   wide) blended into a 512 x 512 frame, elements = segments, so the
 //!   reported time per element is ns per segment.
 //! - `raster/sort`: back-to-front sort of 10,000 strands.
+//! - `raster/triangles`: opaque, depth-tested triangles of a ribbon quad's
+//!   size (random, edges 4-14 px, about 30 px^2) into a 512 x 512 frame,
+//!   every pixel passing the depth test (each iteration is nearer than the
+//!   last), elements = triangles.
 //! - `shade/{kajiya-kay,marschner,pbrt}`: per-vertex shading batch of 65,536
 //!   samples.
 
@@ -18,6 +22,7 @@ use coif::kernels::rng::SplitMix64;
 use coif::pipeline::{motion, FramePipeline, FrameSettings, HairScene, Shader, ShadingModel};
 use coif::render::line::{draw_segment, ScreenVertex};
 use coif::render::sort::DepthOrder;
+use coif::render::triangle::{fill_triangle, TriangleVertex};
 use coif::render::Framebuffer;
 use coif::scene::GrowOptions;
 use coif::shading::{RgbBuffer, ShadingSamples};
@@ -109,6 +114,35 @@ fn raster(c: &mut Criterion) {
     g.throughput(Throughput::Elements(depths.len() as u64));
     g.bench_function("sort", |b| {
         b.iter(|| order.sort_by_depths(depths.iter().copied()))
+    });
+    let triangles: Vec<[TriangleVertex; 3]> = (0..10_000)
+        .map(|_| {
+            let (x, y) = (rng.range(20.0, 490.0), rng.range(20.0, 490.0));
+            [0.0f32, 2.1, 4.2].map(|turn| {
+                let r = rng.range(3.0, 7.0);
+                let a = turn + rng.range(-0.4, 0.4);
+                TriangleVertex {
+                    x: x + r * a.cos(),
+                    y: y + r * a.sin(),
+                    depth: 1.0,
+                    color: Vec3::new(0.4, 0.03, 0.04),
+                }
+            })
+        })
+        .collect();
+    let mut pass = 0u32;
+    g.throughput(Throughput::Elements(triangles.len() as u64));
+    g.bench_function("triangles", |b| {
+        b.iter(|| {
+            pass += 1;
+            let depth = 1.0 / (1.0 + pass as f32 * 1e-4);
+            let mut written = 0;
+            for t in &triangles {
+                let [a, e, f] = t.map(|v| TriangleVertex { depth, ..v });
+                written += fill_triangle(&mut frame, &a, &e, &f, |_| {});
+            }
+            written
+        })
     });
     g.finish();
 }

@@ -2,7 +2,9 @@
 //!
 //! By default: the built-in sphere head with 2,048 grown guides and
 //! interpolated hair, three seconds of head motion (a turn and a nod),
-//! `hair.png` (512 x 512) and a per-stage timing table. See `--help`.
+//! a bow's two silk ribbons swinging from the back of the head (cloth
+//! patches), `hair.png` (512 x 512) and a per-stage timing table. See
+//! `--help`.
 
 use clap::Parser;
 use coif::pipeline::{motion, FramePipeline, FrameSettings, HairScene, ShadingModel};
@@ -63,6 +65,10 @@ struct Cli {
     /// Leave out hair self-shadowing (the opacity shadow map).
     #[arg(long)]
     no_shadows: bool,
+    /// Leave out the silk ribbons tied to the head (a bow's two tails,
+    /// simulated as cloth patches).
+    #[arg(long)]
+    no_ribbon: bool,
     /// Render hairs per cm^2 (each widened to keep a real scalp's coverage).
     #[arg(long, default_value_t = 40.0)]
     density: f32,
@@ -139,6 +145,11 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             (scene, what)
         }
     };
+    let scene = if cli.no_ribbon {
+        scene.without_ribbons()
+    } else {
+        scene
+    };
     let settings = FrameSettings {
         width,
         height,
@@ -150,9 +161,10 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     };
     let mut pipeline = FramePipeline::new(&scene, settings, 1.5)?;
     println!(
-        "coif: {what}; {} scalp triangles, {} render hairs, {} shading, {}x{} px{}",
+        "coif: {what}; {} scalp triangles, {} render hairs, {} ribbons, {} shading, {}x{} px{}",
         scene.triangles.len(),
         pipeline.render_hair_count(),
+        scene.ribbons.len(),
         cli.shading,
         width,
         height,

@@ -1,6 +1,7 @@
 //! A frame of the pipeline allocates nothing: every buffer is sized once
 //! at construction (counting global allocator, as tests/lod_pipeline.rs),
-//! from the very first frame on, including the frame that sets the LOD level.
+//! from the very first frame on, including the frame that sets the LOD level,
+//! with the ribbons on (cloth steps, blend, normals, shading, triangles).
 
 use coif::pipeline::{motion, FramePipeline, FrameSettings, HairScene, ShadingModel};
 use coif::scene::GrowOptions;
@@ -48,10 +49,12 @@ fn frames_allocate_nothing_for_every_shading_model() {
             ..FrameSettings::small(64)
         };
         let mut p = FramePipeline::new(&scene, settings, 0.1).unwrap();
+        assert_eq!(p.ribbons().len(), 2, "the ribbons are on");
         let pivot = p.pivot();
         let mut levels = Vec::with_capacity(8);
         let before = allocations();
         let mut drawn = 0;
+        let mut ribbon_pixels = 0;
         // The first frame sets the level; then frames with 0, 1, 2 and 4
         // (capped) substeps while the head turns.
         for (f, dt) in [1.0f32 / 60.0, 0.01, 1.0 / 60.0, 1.0 / 30.0, 0.2]
@@ -61,6 +64,7 @@ fn frames_allocate_nothing_for_every_shading_model() {
             let stats = p.frame(*dt, motion::turn_and_nod(0.3 * f as f32, pivot));
             levels.push(stats.segments_per_span);
             drawn += stats.segments;
+            ribbon_pixels += stats.ribbon_pixels;
         }
         assert_eq!(
             allocations() - before,
@@ -68,6 +72,10 @@ fn frames_allocate_nothing_for_every_shading_model() {
             "{model}: allocations during frames"
         );
         assert!(levels.iter().all(|&l| l >= 1), "{model}: levels {levels:?}");
+        assert!(
+            ribbon_pixels > 0,
+            "{model}: the frames drew the ribbons ({ribbon_pixels} pixels)"
+        );
         assert!(
             drawn > 1000,
             "{model}: the frames drew hair ({drawn} segments)"

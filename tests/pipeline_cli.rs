@@ -52,12 +52,45 @@ fn the_binary_writes_the_picture_and_the_contact_sheet() {
     assert_eq!(png_size(&image), (96, 80));
     // 3 x 2 tiles of 96 x 80 with 4-pixel gaps.
     assert_eq!(png_size(&sheet), (3 * 96 + 4 * 4, 2 * 80 + 3 * 4));
-    for stage in ["simulate", "lod", "shade", "rasterise hair"] {
+    for stage in [
+        "simulate",
+        "ribbon",
+        "lod",
+        "shade",
+        "rasterise ribbon",
+        "rasterise hair",
+    ] {
         assert!(
             stdout.contains(stage),
             "the timing table lists {stage}:\n{stdout}"
         );
     }
+}
+
+#[test]
+fn no_ribbon_leaves_the_ribbons_out() {
+    let image = out_dir().join("no_ribbon.png");
+    let run = |extra: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_coif"))
+            .args(["--size", "64x64", "--frames", "3", "--density", "8"])
+            .args(["--render-every", "0", "--output"])
+            .arg(&image)
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(out.status.success());
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    let with = run(&[]);
+    assert!(
+        with.contains("2 ribbons") && with.contains("rasterise ribbon"),
+        "{with}"
+    );
+    let without = run(&["--no-ribbon"]);
+    assert!(
+        without.contains("0 ribbons") && !without.contains("rasterise ribbon"),
+        "{without}"
+    );
 }
 
 #[test]

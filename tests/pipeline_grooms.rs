@@ -1,5 +1,5 @@
 //! Both shared TressFX grooms load, become guides with scalp triangles and
-//! render a frame with hair in it.
+//! render a frame with hair and the bow's ribbons in it.
 
 mod common;
 
@@ -63,6 +63,21 @@ fn both_shared_grooms_render_a_frame_with_hair() {
             "{name}: hair covers {changed} pixels"
         );
         assert!(p.vertex_colors().r.iter().all(|c| c.is_finite()));
+        // A loaded groom gets the bow too, drawn in the picture, and every
+        // ribbon point stays out of the drawn head.
+        assert_eq!(scene.ribbons.len(), 2, "{name}");
+        assert!(stats.ribbon_pixels > 20, "{name}: {stats:?}");
+        for i in 0..p.ribbons().len() {
+            for q in p.ribbons().blended(i) {
+                assert!(q.is_finite(), "{name}");
+                for s in &scene.head {
+                    assert!(
+                        q.distance(s.center) > s.radius - 1e-3,
+                        "{name}: {q} in {s:?}"
+                    );
+                }
+            }
+        }
     }
 }
 

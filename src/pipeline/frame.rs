@@ -1,6 +1,7 @@
 //! The frame pipeline: one struct owning every buffer, one call per frame.
 
 use super::motion::blend_poses;
+use super::ribbon::RibbonStage;
 use super::timings::{Stage, StageTimings};
 use super::{Error, FrameSettings, HairScene, Shader};
 use crate::kernels::{self, FixedStep, SimParams, Sphere, Strands};
@@ -88,6 +89,8 @@ pub struct FrameStats {
     pub segments: usize,
     /// Pixels covered by the head.
     pub head_pixels: usize,
+    /// Pixels written by the ribbons (opaque triangles).
+    pub ribbon_pixels: usize,
 }
 
 /// One hair frame, end to end, into buffers sized once at construction:
@@ -110,6 +113,7 @@ pub struct FramePipeline {
     roots: Vec<Vec3>,
     rig: Vec<Sphere>,
     head_local: Vec<Sphere>,
+    ribbons: RibbonStage,
     // LOD.
     interpolation: Interpolation,
     visibility: Visibility,
@@ -161,9 +165,11 @@ impl FramePipeline {
         let params = settings.simulation.clone();
         let fixed = FixedStep::new(params.dt, settings.max_substeps.max(1))?;
         let rest_roots: Vec<Vec3> = scene.roots().collect();
-        for _ in 0..(settle_seconds.max(0.0) / params.dt).round() as usize {
+        let settle_steps = (settle_seconds.max(0.0) / params.dt).round() as usize;
+        for _ in 0..settle_steps {
             kernels::step(&mut strands, &params, &scene.rig);
         }
+        let ribbons = RibbonStage::new(scene, &params, settle_steps)?;
 
         // Frame the settled hair and the head.
         let settled = strands.positions();
@@ -212,6 +218,7 @@ impl FramePipeline {
             rest_rig: scene.rig.clone(),
             rest_head: scene.head.clone(),
             head_local: scene.head.clone(),
+            ribbons,
             rig: scene.rig.clone(),
             roots: rest_roots.clone(),
             rest_roots,
@@ -262,6 +269,7 @@ impl FramePipeline {
         };
         let steps = self.fixed.advance(frame_time);
         let from = self.pose;
+        let mut ribbon_time = std::time::Duration::ZERO;
         for k in 0..steps.max(1) {
             let pose = if steps == 0 {
                 head_pose
@@ -272,10 +280,23 @@ impl FramePipeline {
             if steps > 0 {
                 kernels::step(&mut self.strands, &self.params, &self.rig);
             }
+            let ribbon_start = Instant::now();
+            self.ribbons.place(&pose);
+            if steps > 0 {
+                self.ribbons.step();
+            }
+            ribbon_time += ribbon_start.elapsed();
         }
+        let ribbon_start = Instant::now();
+        self.ribbons.finish();
+        ribbon_time += ribbon_start.elapsed();
         self.pose = head_pose;
         self.stats.substeps = steps;
-        self.timings.record(Stage::Simulate, start.elapsed());
+        self.timings
+            .record(Stage::Simulate, start.elapsed().saturating_sub(ribbon_time));
+        if !self.ribbons.is_empty() {
+            self.timings.record(Stage::Ribbon, ribbon_time);
+        }
     }
 
     fn place_head(&mut self, pose: &Affine3A) {
@@ -417,6 +438,16 @@ impl FramePipeline {
         );
         self.timings.record(Stage::Head, start.elapsed());
 
+        // Ribbons: opaque, depth-tested and depth-writing, so the hair
+        // drawn next is hidden behind them and blends over them in front.
+        if !self.ribbons.is_empty() {
+            let start = Instant::now();
+            self.ribbons
+                .shade(origin, eye, &light, &self.head_local, &self.shadow);
+            self.stats.ribbon_pixels = self.ribbons.draw(&mut self.framebuffer, &camera);
+            self.timings.record(Stage::RibbonDraw, start.elapsed());
+        }
+
         // Sort and draw the hair, back to front.
         let start = Instant::now();
         self.order.sort(&camera, vertices, verts_per_hair);
@@ -473,6 +504,11 @@ impl FramePipeline {
     /// The point the head turns about (for [`super::motion`]).
     pub fn pivot(&self) -> Vec3 {
         self.pivot
+    }
+
+    /// The ribbons: blended and skinned positions, colours of the last frame.
+    pub fn ribbons(&self) -> &RibbonStage {
+        &self.ribbons
     }
 
     /// The simulated guides.

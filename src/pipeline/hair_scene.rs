@@ -1,9 +1,12 @@
 //! What a frame pipeline draws: guide strands at rest, their scalp
-//! triangles, the collision rig and the head drawn under the hair.
+//! triangles, the collision rig, the head drawn under the hair and the
+//! ribbons tied to it.
 
+use super::ribbon::bow_tails;
 use super::triangulate::{median_edge, triangulate_roots};
 use super::Error;
 use crate::groom::Groom;
+use crate::kernels::patch::Ribbon;
 use crate::kernels::Sphere;
 use crate::lod::arc_length_samples;
 use crate::scene::{self, GrowOptions};
@@ -30,7 +33,18 @@ pub struct HairScene {
     pub extent: f32,
     /// Where a camera looks from (direction from the hair toward the eye).
     pub view_direction: Vec3,
+    /// Ribbons tied to the head (rest grids, world space at rest, row 0
+    /// attached), simulated as cloth patches rigidly skinned to the head;
+    /// empty for none ([`HairScene::without_ribbons`]).
+    pub ribbons: Vec<Ribbon>,
 }
+
+/// Where the built-in head's ribbons are tied (direction from its centre):
+/// the upper left of the back, seen by the default camera.
+pub const PROCEDURAL_RIBBON_ATTACH: Vec3 = Vec3::new(-0.85, 0.4, 0.1);
+/// Where a loaded groom's ribbons are tied: the back of the head (grooms
+/// face +z), toward the side camera.
+pub const GROOM_RIBBON_ATTACH: Vec3 = Vec3::new(-0.6, 0.5, -0.6);
 
 /// Edges longer than this many median edges are gaps between hair patches.
 const MAX_EDGE_IN_MEDIANS: f32 = 3.0;
@@ -42,7 +56,8 @@ impl HairScene {
     /// Strands rooted on the face (the front of the sphere below a
     /// hairline, facing +z) are left out, so the head shows a face, and
     /// every strand is combed back (`comb_back`: turned about its root toward the back of the head) before the simulation
-    /// drapes it.
+    /// drapes it. A bow's two silk tails ([`bow_tails`]) hang from the
+    /// upper left of the back of the head, the side the default camera sees.
     pub fn procedural(options: &GrowOptions) -> Result<HairScene, Error> {
         let grown = scene::grow_on_sphere(options);
         let rig = scene::body_rig(&grown.head, 2);
@@ -54,14 +69,22 @@ impl HairScene {
             .filter(|s| !on_face((s[0] - head.center) / head.radius))
             .flat_map(|s| comb_back(s, head.center))
             .collect();
-        HairScene::assemble(
+        let mut scene = HairScene::assemble(
             points,
             verts,
             rig.clone(),
             rig,
             head.center - Vec3::Y * (1.1 * head.radius),
             head.center,
-        )
+        )?;
+        scene.ribbons = bow_tails(&head, PROCEDURAL_RIBBON_ATTACH);
+        Ok(scene)
+    }
+
+    /// The same scene without ribbons (`--no-ribbon`).
+    pub fn without_ribbons(mut self) -> HairScene {
+        self.ribbons.clear();
+        self
     }
 
     /// A loaded groom in centimetres (TressFX's and cyHair's usual unit):
@@ -71,7 +94,9 @@ impl HairScene {
     /// vertex count). The rig is [`scene::scalp_spheres`] under the roots;
     /// the drawn head is the sphere fitted to the roots
     /// ([`scene::fit_sphere`]), shrunk so no root is inside it; triangles
-    /// are the root directions from its centre, without long edges.
+    /// are the root directions from its centre, without long edges. A bow's
+    /// two tails hang from the back of the drawn head (or of the sphere
+    /// around the scalp spheres), on the side the camera sees.
     pub fn from_groom(
         groom: &Groom,
         max_guides: usize,
@@ -152,6 +177,11 @@ impl HairScene {
         // From the side, a little above and behind: authored grooms face +z
         // and their hair falls back and down, behind the head from the front.
         scene.view_direction = Vec3::new(-1.0, 0.3, -0.35).normalize();
+        let anchor = Sphere {
+            center: pivot_from,
+            radius: drop,
+        };
+        scene.ribbons = bow_tails(&anchor, GROOM_RIBBON_ATTACH);
         Ok(scene)
     }
 
@@ -187,6 +217,7 @@ impl HairScene {
             focus,
             extent,
             view_direction: Vec3::new(-0.45, 0.15, 1.0).normalize(),
+            ribbons: Vec::new(),
         })
     }
 

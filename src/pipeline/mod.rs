@@ -17,6 +17,7 @@ mod error;
 mod frame;
 mod hair_scene;
 pub mod motion;
+pub mod ribbon;
 mod settings;
 mod shading_model;
 mod shadow;
@@ -27,7 +28,7 @@ pub use error::Error;
 pub use frame::{
     strand_tint, FramePipeline, FrameStats, BACKGROUND, HAIR_AMBIENT_ALBEDO, SKIN_ALBEDO,
 };
-pub use hair_scene::HairScene;
+pub use hair_scene::{HairScene, GROOM_RIBBON_ATTACH, PROCEDURAL_RIBBON_ATTACH};
 pub use settings::{FrameSettings, Light};
 pub use shading_model::{demo_sigma_a, Shader, ShadingModel, PHYSICAL_LIGHT_SCALE};
 pub use timings::{Stage, StageTimings};

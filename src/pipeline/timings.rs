@@ -6,8 +6,10 @@ use std::time::Duration;
 /// The stages of a frame, in order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Stage {
-    /// Head pose, roots and rig, fixed simulation steps.
+    /// Head pose, roots and rig, fixed simulation steps of the hair.
     Simulate,
+    /// Ribbons: skin, fixed cloth steps, blend and normals.
+    Ribbon,
     /// Distance LOD, cull, level, refine, interpolate, render vertices.
     Lod,
     /// Opacity shadow map build.
@@ -18,6 +20,8 @@ pub enum Stage {
     Shade,
     /// Background and ray-cast head.
     Head,
+    /// Ribbons shaded per vertex and rasterised as opaque triangles.
+    RibbonDraw,
     /// Back-to-front strand sort.
     Sort,
     /// Hair segments rasterised and blended.
@@ -25,13 +29,15 @@ pub enum Stage {
 }
 
 impl Stage {
-    pub const ALL: [Stage; 8] = [
+    pub const ALL: [Stage; 10] = [
         Stage::Simulate,
+        Stage::Ribbon,
         Stage::Lod,
         Stage::Shadow,
         Stage::ShadowLookup,
         Stage::Shade,
         Stage::Head,
+        Stage::RibbonDraw,
         Stage::Sort,
         Stage::Hair,
     ];
@@ -39,11 +45,13 @@ impl Stage {
     pub fn name(self) -> &'static str {
         match self {
             Stage::Simulate => "simulate",
+            Stage::Ribbon => "ribbon",
             Stage::Lod => "lod",
             Stage::Shadow => "shadow map build",
             Stage::ShadowLookup => "shadow lookups",
             Stage::Shade => "shade",
             Stage::Head => "head + background",
+            Stage::RibbonDraw => "rasterise ribbon",
             Stage::Sort => "sort strands",
             Stage::Hair => "rasterise hair",
         }
@@ -53,9 +61,9 @@ impl Stage {
 /// Last and accumulated time of each stage.
 #[derive(Clone, Debug, Default)]
 pub struct StageTimings {
-    last: [Duration; 8],
-    total: [Duration; 8],
-    count: [u32; 8],
+    last: [Duration; 10],
+    total: [Duration; 10],
+    count: [u32; 10],
 }
 
 impl StageTimings {

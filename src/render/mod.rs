@@ -13,15 +13,19 @@
 //! - [`head`]: the ray-cast, Lambert-lit sphere head.
 //! - [`sort`]: back-to-front order of hair strands.
 //! - [`hair`]: drawing every strand's segments in that order.
+//! - [`triangle`]: opaque triangles (edge functions, top-left rule, depth
+//!   test) and [`grid`]: a row-major grid mesh of them (the ribbon).
 //! - [`image`]: tone map and sRGB encode to 8-bit RGB, contact sheets, PNG.
 
 mod camera;
 mod framebuffer;
+pub mod grid;
 pub mod hair;
 pub mod head;
 pub mod image;
 pub mod line;
 pub mod sort;
+pub mod triangle;
 
 pub use camera::Camera;
 pub use framebuffer::{Framebuffer, Pixel};
