@@ -106,6 +106,20 @@ fn quick_report_rows_are_finite_and_files_are_written() {
     };
     assert!(thinned_error("12.5 % of hairs") > thinned_error("50.0 % of hairs"));
     assert!(thinned_error("50.0 % of hairs") > 0.0);
+    // Time is per vertex of the full density: drawing an eighth is faster.
+    for path in [Path::Simd, Path::Scalar] {
+        let ns = |setting: &str| {
+            interpolation
+                .iter()
+                .find(|r| r.setting == setting && r.path == path)
+                .map(|r| r.time.median)
+                .expect("interpolation row")
+        };
+        assert!(
+            ns("12.5 % of hairs") < 0.5 * ns("100.0 % of hairs"),
+            "{path:?}"
+        );
+    }
     // Every kernel that has a SIMD path has its scalar twin at the same setting.
     for r in rows.iter().filter(|r| r.path == Path::Simd) {
         assert!(

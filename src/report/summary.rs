@@ -73,7 +73,9 @@ step, so each setting runs with them rescaled to keep the velocity kept per seco
 - **fits**: controls x smoothing; ns per strand; RMS distance to the noise-free curve \
 (scalar only: faer's Cholesky).
 - **interpolation**: the share of render hairs drawn (the distance-LOD prefix, widened to \
-keep coverage: 100, 50, 25, 12.5 %); ns per output vertex; relative RMS difference of \
+keep coverage: 100, 50, 25, 12.5 %); ns per output vertex of the full density (the same \
+unit at every setting, so the time thinning saves shows; divide by the share for the time \
+per vertex written); relative RMS difference of \
 per-pixel optical depth (projected hair area per pixel) against all hairs, on the built-in \
 head from the default camera at 64 x 64 pixels. The default is what the pipeline draws at \
 its default settings.
