@@ -401,11 +401,11 @@ pub const PEARLS: [u32; 4] = [0, 1, 2, 3];
 /// Rows as CSV with a header line.
 pub fn to_csv(rows: &[Row]) -> String {
     let mut out = String::from(
-        "scene,iterations,pearls,substeps,simd_ns_per_vertex_step,scalar_ns_per_vertex_step,max_stretch,max_penetration_m,max_distance_to_converged_m,rms_distance_to_converged_m\n",
+        "scene,iterations,pearls,substeps,simd_ns_per_vertex_step,scalar_ns_per_vertex_step,max_stretch,max_penetration_m,max_distance_to_converged_m,rms_distance_to_converged_m,rms_distance_over_frames_m\n",
     );
     for r in rows {
         out += &format!(
-            "{},{},{},{},{:.3},{:.3},{:.5},{:.6},{:.6},{:.6}\n",
+            "{},{},{},{},{:.3},{:.3},{:.5},{:.6},{:.6},{:.6},{:.6}\n",
             r.scene.name(),
             r.iterations,
             r.pearls,
@@ -415,7 +415,8 @@ pub fn to_csv(rows: &[Row]) -> String {
             r.max_stretch,
             r.max_penetration,
             r.max_distance_to_converged,
-            r.rms_distance_to_converged
+            r.rms_distance_to_converged,
+            r.rms_distance_over_frames
         );
     }
     out
