@@ -49,7 +49,13 @@ fn escape(s: &str) -> String {
         .replace('>', "&gt;")
 }
 
-/// Decade range `[10^floor(log lo), 10^ceil(log hi)]` of positive values.
+/// Values closer than this (in decades) to a whole decade get one more
+/// decade of room, so points do not sit on the frame where their labels
+/// cannot be placed.
+const EDGE_ROOM: f64 = 0.15;
+
+/// Decade range `[floor(log lo - room), ceil(log hi + room)]` (as
+/// exponents) of the positive values, with `room` = [`EDGE_ROOM`].
 fn decades(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (lo, hi) = values
         .filter(|v| *v > 0.0 && v.is_finite())
@@ -59,7 +65,10 @@ fn decades(values: impl Iterator<Item = f64>) -> (f64, f64) {
     if !lo.is_finite() {
         return (0.0, 1.0);
     }
-    let (a, mut b) = (lo.log10().floor(), hi.log10().ceil());
+    let (a, mut b) = (
+        (lo.log10() - EDGE_ROOM).floor(),
+        (hi.log10() + EDGE_ROOM).ceil(),
+    );
     if b <= a {
         b = a + 1.0;
     }
