@@ -289,6 +289,15 @@ impl Rect {
         self.x0 < o.x1 && o.x0 < self.x1 && self.y0 < o.y1 && o.y0 < self.y1
     }
 
+    fn grown(&self, by: f64) -> Rect {
+        Rect {
+            x0: self.x0 - by,
+            y0: self.y0 - by,
+            x1: self.x1 + by,
+            y1: self.y1 + by,
+        }
+    }
+
     fn inside(&self, o: &Rect) -> bool {
         self.x0 >= o.x0 && self.x1 <= o.x1 && self.y0 >= o.y0 && self.y1 <= o.y1
     }
@@ -298,21 +307,28 @@ impl Rect {
 /// (an estimate for sans-serif digits and lower case).
 const LABEL_SIZE: f64 = 9.0;
 const LABEL_CHAR_WIDTH: f64 = 5.2;
+/// Least space between two labels.
+const LABEL_GAP: f64 = 3.0;
 
 /// Writes the labels that fit: in order of priority (default, Pareto
 /// front, dominated; left to right within each), each at the first of
-/// eight positions around its point where its box stays inside `area`
-/// and overlaps neither an already placed label nor any point. Labels with
+/// eight positions around its point where its box stays inside `area`,
+/// keeps [`LABEL_GAP`] from every placed label and overlaps no point
+/// marker (the default's ring included). Labels with
 /// no such position are left out; returns how many.
 fn place_labels(s: &mut String, labels: &mut [Label], area: Rect) -> usize {
     labels.sort_by(|a, b| a.priority.cmp(&b.priority).then(a.x.total_cmp(&b.x)));
+    // A point's marker: radius 4, or the default's ring of radius 8.
     let points: Vec<Rect> = labels
         .iter()
-        .map(|l| Rect {
-            x0: l.x - 4.0,
-            y0: l.y - 4.0,
-            x1: l.x + 4.0,
-            y1: l.y + 4.0,
+        .map(|l| {
+            let r = if l.priority == 0 { 9.0 } else { 4.0 };
+            Rect {
+                x0: l.x - r,
+                y0: l.y - r,
+                x1: l.x + r,
+                y1: l.y + r,
+            }
         })
         .collect();
     let mut placed: Vec<Rect> = Vec::new();
@@ -320,17 +336,20 @@ fn place_labels(s: &mut String, labels: &mut [Label], area: Rect) -> usize {
     for l in labels.iter() {
         let w = LABEL_CHAR_WIDTH * l.text.chars().count() as f64;
         let h = LABEL_SIZE;
+        // Clear of the point's own marker (radius 4, the default's ring 9).
+        let r = if l.priority == 0 { 9.0 } else { 4.0 };
+        let (dx, dy) = (r + 2.0, r + 1.0);
         // Top-left corners: right above, right below, left above, left
-        // below, centred above and below, then further out on the right.
+        // below, centred above and below, then level on the right and left.
         let candidates = [
-            (l.x + 6.0, l.y - 5.0 - h),
-            (l.x + 6.0, l.y + 5.0),
-            (l.x - 6.0 - w, l.y - 5.0 - h),
-            (l.x - 6.0 - w, l.y + 5.0),
-            (l.x - 0.5 * w, l.y - 7.0 - h),
-            (l.x - 0.5 * w, l.y + 7.0),
-            (l.x + 6.0, l.y - 0.5 * h),
-            (l.x - 6.0 - w, l.y - 0.5 * h),
+            (l.x + dx, l.y - dy - h),
+            (l.x + dx, l.y + dy),
+            (l.x - dx - w, l.y - dy - h),
+            (l.x - dx - w, l.y + dy),
+            (l.x - 0.5 * w, l.y - dy - 2.0 - h),
+            (l.x - 0.5 * w, l.y + dy + 2.0),
+            (l.x + dx, l.y - 0.5 * h),
+            (l.x - dx - w, l.y - 0.5 * h),
         ];
         let spot = candidates.iter().map(|&(x0, y0)| Rect {
             x0,
@@ -339,8 +358,9 @@ fn place_labels(s: &mut String, labels: &mut [Label], area: Rect) -> usize {
             y1: y0 + h,
         });
         let free = spot.into_iter().find(|r| {
+            let padded = r.grown(LABEL_GAP);
             r.inside(&area)
-                && !placed.iter().any(|p| p.overlaps(r))
+                && !placed.iter().any(|p| p.overlaps(&padded))
                 && !points.iter().any(|p| p.overlaps(r))
         });
         match free {
@@ -420,7 +440,7 @@ mod tests {
         for (i, a) in boxes.iter().enumerate() {
             assert!(a.inside(&area));
             for b in &boxes[i + 1..] {
-                assert!(!a.overlaps(b), "{a:?} overlaps {b:?}");
+                assert!(!a.grown(LABEL_GAP - 0.1).overlaps(b), "{a:?} touches {b:?}");
             }
         }
     }
