@@ -43,11 +43,17 @@ fn quick_report_rows_are_finite_and_files_are_written() {
     for family in [
         "simulation settling",
         "simulation whipping penetration",
+        "simulation settling substeps",
+        "simulation whipping substeps",
+        "simulation whipping substeps stretch",
+        "simulation settling substeps penetration",
         "refinement",
         "fits",
+        "interpolation",
         "kajiya-kay",
         "marschner",
         "pbrt",
+        "pbrt exact",
         "models vs pbrt",
         "shadow build",
         "shadow lookup",
@@ -63,6 +69,55 @@ fn quick_report_rows_are_finite_and_files_are_written() {
         assert!(
             r.time.min <= r.time.median && r.time.median <= r.time.max,
             "{r:?}"
+        );
+    }
+    // Time is per vertex-frame: 4 substeps of a frame take longer than 1.
+    for scene in ["settling", "whipping"] {
+        let kernel = format!("simulation {scene} substeps");
+        for path in [Path::Simd, Path::Scalar] {
+            let ns = |setting: &str| {
+                rows.iter()
+                    .find(|r| r.kernel == kernel && r.setting == setting && r.path == path)
+                    .map(|r| r.time.median)
+                    .expect("substeps row")
+            };
+            assert!(
+                ns("substeps=4") > 1.5 * ns("substeps=1"),
+                "{kernel} {path:?}: {} vs {}",
+                ns("substeps=4"),
+                ns("substeps=1")
+            );
+        }
+    }
+    // Drawing every render hair is the reference of the thinning error.
+    let interpolation: Vec<&Row> = rows
+        .iter()
+        .filter(|r| r.kernel == "interpolation")
+        .collect();
+    assert!(interpolation
+        .iter()
+        .any(|r| r.setting == "100.0 % of hairs" && r.error == 0.0));
+    let thinned_error = |setting: &str| {
+        interpolation
+            .iter()
+            .find(|r| r.setting == setting)
+            .map(|r| r.error)
+            .expect("interpolation row")
+    };
+    assert!(thinned_error("12.5 % of hairs") > thinned_error("50.0 % of hairs"));
+    assert!(thinned_error("50.0 % of hairs") > 0.0);
+    // Time is per vertex of the full density: drawing an eighth is faster.
+    for path in [Path::Simd, Path::Scalar] {
+        let ns = |setting: &str| {
+            interpolation
+                .iter()
+                .find(|r| r.setting == setting && r.path == path)
+                .map(|r| r.time.median)
+                .expect("interpolation row")
+        };
+        assert!(
+            ns("12.5 % of hairs") < 0.5 * ns("100.0 % of hairs"),
+            "{path:?}"
         );
     }
     // Every kernel that has a SIMD path has its scalar twin at the same setting.

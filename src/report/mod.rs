@@ -15,6 +15,7 @@
 pub mod csv;
 pub mod fins;
 pub mod fits;
+pub mod interpolation;
 pub mod plot;
 pub mod refinement;
 pub mod shading;
@@ -93,13 +94,14 @@ impl Row {
 type Family = fn(Options) -> Vec<Row>;
 
 /// Measures every kernel family, in order: simulation, refinement, fits,
-/// shading, shadow maps, fins.
+/// interpolation, shading, shadow maps, fins.
 pub fn run(options: Options) -> Vec<Row> {
     let mut rows = Vec::new();
-    let families: [(&str, Family); 6] = [
+    let families: [(&str, Family); 7] = [
         ("simulation", simulation::rows),
         ("refinement", refinement::rows),
         ("fits", fits::rows),
+        ("interpolation", interpolation::rows),
         ("shading", shading::rows),
         ("shadow maps", shadow::rows),
         ("fins", fins::rows),

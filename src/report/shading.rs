@@ -12,6 +12,13 @@
 //!   `models vs pbrt`): how far each cheaper model is from the physical one,
 //!   after the least-squares gain (Kajiya-Kay has no physical scale, so
 //!   the error before the gain mostly measures its brightness).
+//! - pbrt exact (kernel `pbrt exact`): the exact per-`h` model averaged over
+//!   1, 4, 16, 64 stratified (jittered) offsets per shading point
+//!   ([`crate::shading::pbrt::scattering_batch_monte_carlo`], the Monte
+//!   Carlo estimate pbrt makes with one random `h` per camera ray), against
+//!   the same far field at 4x order
+//!   ([`crate::shading::pbrt::quality::monte_carlo_error`]); time per
+//!   shading point (all its offsets). Scalar only: there is no SIMD path.
 
 use super::timing::time_batch;
 use super::{Options, Path, Row, Timing};
@@ -31,6 +38,8 @@ pub const PBRT_RESOLUTION: usize = 64;
 pub const RESOLUTIONS: [usize; 4] = [32, 64, 128, 256];
 /// pbrt far-field quadrature orders measured.
 pub const ORDERS: [usize; 4] = [16, 36, 72, 144];
+/// Offsets `h` per shading point of the exact pbrt model measured.
+pub const H_SAMPLES: [usize; 4] = [1, 4, 16, 64];
 
 struct Bench {
     samples: ShadingSamples,
@@ -194,6 +203,21 @@ pub fn rows(options: Options) -> Vec<Row> {
             VS_REF,
             error,
             default,
+        ));
+    }
+    // pbrt exact: the per-h model averaged over stratified offsets.
+    for &n in &H_SAMPLES {
+        let time = bench.time(|s, o| pbrt::scattering_batch_monte_carlo(&pbrt_params, s, n, 3, o));
+        let error = quality::monte_carlo_error(&pbrt_params, n, error_samples, seed)
+            .expect("default material") as f64;
+        rows.push(row(
+            "pbrt exact",
+            format!("{n} h per point"),
+            Path::Scalar,
+            time,
+            VS_REF,
+            error,
+            false,
         ));
     }
     for (i, &res) in RESOLUTIONS.iter().enumerate() {

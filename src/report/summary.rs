@@ -53,6 +53,45 @@ fn fmt_ns(ns: f64) -> String {
     }
 }
 
+/// What the run measures, per kernel family (the summary's first list).
+pub const MEASURED: &str = "What is measured (knob; time per element; error):
+
+- **simulation** (`simulation <scene>`, settling and whipping): iterations x pearls at one \
+step of 1/60 s per frame; ns per vertex-step; RMS distance at the end to a converged run \
+(256 iterations, 3 pearls), and as their own kernels the largest stretch and the deepest \
+penetration seen.
+- **simulation substeps** (`simulation <scene> substeps`): frames of 1/30 s (the `coif` \
+binary's 30 fps) in 1, 2, 4, 8 substeps at the default 4 iterations and 1 pearl; ns per \
+vertex-frame (all substeps of a frame), so the settings compare; the same three errors \
+against a run of 16 substeps of 32 iterations and 3 pearls, the distance taken at the end of \
+every frame (RMS over all frames). That reference is itself resolved to about 4 mm \
+(settling) and 8 cm (whipping, whose flailing hair is chaotic) against 32 substeps \
+(`cargo run --release --example substeps_reference`): smaller differences are noise. Damping and friction act per \
+step, so each setting runs with them rescaled to keep the velocity kept per second equal \
+(`d' = d^(dt'/dt)`); the default is the 2 substeps the pipeline's dt = 1/60 s gives at 30 fps.
+- **refinement**: segments per span; ns per guide (input) vertex; largest chord error.
+- **fits**: controls x smoothing; ns per strand; RMS distance to the noise-free curve \
+(scalar only: faer's Cholesky).
+- **interpolation**: the share of render hairs drawn (the distance-LOD prefix, widened to \
+keep coverage: 100, 50, 25, 12.5 %); ns per output vertex of the full density (the same \
+unit at every setting, so the time thinning saves shows; divide by the share for the time \
+per vertex written); relative RMS difference of \
+per-pixel optical depth (projected hair area per pixel) against all hairs, on the built-in \
+head from the default camera at 64 x 64 pixels. The default is what the pipeline draws at \
+its default settings.
+- **shading**: Kajiya-Kay, Marschner direct and tables (error against direct), pbrt far \
+field per quadrature order and tables (error against a 4x-order far field), every model \
+against pbrt's far field (`models vs pbrt`); ns per sample.
+- **pbrt exact**: the exact per-h model averaged over 1, 4, 16, 64 stratified (jittered) \
+offsets h per shading point, the Monte Carlo estimate pbrt makes with one random h per \
+camera ray; ns per shading point (all its offsets); error against the same 4x-order far \
+field and direction samples as the pbrt rows. Scalar only: there is no SIMD path.
+- **shadow maps**: slices 4-64 and deep opacity 2-4 layers; build per segment, lookup per \
+sample; error against the exact footprint transmittance.
+- **fins**: constraint sweeps of a cloth patch; ns per particle-step; per-step solver error.
+
+";
+
 /// The summary; `plots` lists (kernel, file name) of the SVG plots.
 pub fn to_markdown(rows: &[Row], plots: &[(String, String)], machine: &str) -> String {
     let mut md = String::from("# Time against error, every kernel\n\n");
@@ -63,6 +102,7 @@ was shared with other work, so absolute times are noisy (compare within a table)
 is on the Pareto front if no other setting of the same kernel and path is both faster and \
 more accurate. Defaults are the settings the library or the frame pipeline uses.\n\n"
     );
+    md += MEASURED;
     let names = kernels(rows);
 
     md += "## Defaults not on the Pareto front\n\n";

@@ -8,6 +8,9 @@
 //!   in [-1, 1], in world space (what a rasteriser shading a thin fibre needs).
 //! * [`Table`]: the far-field form baked into two 2D tables, with scalar and
 //!   `wide` SIMD batch lookups.
+//! * [`scattering_monte_carlo`]: the far field estimated from `n`
+//!   stratified offsets of [`scattering_local`], as pbrt's one random `h`
+//!   per camera ray estimates it (scalar only).
 //! * [`melanin`]: absorption from pigment concentrations or from a colour.
 //! * [`quality`]: error measurements for reports and benches.
 //!
@@ -20,6 +23,7 @@ mod far_field;
 mod fast_acos;
 pub mod longitudinal;
 pub mod melanin;
+mod monte_carlo;
 mod params;
 pub mod quality;
 mod table;
@@ -29,6 +33,7 @@ pub use far_field::{
     DEFAULT_QUADRATURE_ORDER, MAX_QUADRATURE_ORDER,
 };
 pub use melanin::{sigma_a_from_concentration, sigma_a_from_reflectance};
+pub use monte_carlo::{local_directions, scattering_batch_monte_carlo, scattering_monte_carlo};
 pub use params::{Lobes, Params};
 pub use table::{Parameterisation, Table};
 

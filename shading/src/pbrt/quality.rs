@@ -1,5 +1,6 @@
-//! Error measurements for reports and benches: the lookup tables and the
-//! far-field quadrature against a high-order far-field reference.
+//! Error measurements for reports and benches: the lookup tables, the
+//! far-field quadrature and the Monte Carlo estimate from the exact per-`h`
+//! model against a high-order far-field reference.
 //!
 //! Relative RMS error over `samples` random configurations (tangent, `wi`,
 //! `wo` independent and uniform on the sphere, from `seed`):
@@ -7,7 +8,8 @@
 //! three colour channels.
 
 use super::far_field::{recommended_order, FarField};
-use super::params::Params;
+use super::monte_carlo::scattering_monte_carlo;
+use super::params::{Lobes, Params};
 use super::table::{Parameterisation, Table};
 use crate::Error;
 use coif_kernels::rng::SplitMix64;
@@ -88,5 +90,27 @@ pub fn far_field_error(
         &configs,
         |t, wi, wo| reference.eval(t, wi, wo),
         |t, wi, wo| approx.eval(t, wi, wo),
+    ))
+}
+
+/// Relative RMS error of [`scattering_monte_carlo`] with `h_samples`
+/// stratified offsets per configuration (offsets from one generator seeded
+/// with `seed + 1`) against the far field at [`reference_order`].
+pub fn monte_carlo_error(
+    params: &Params,
+    h_samples: usize,
+    samples: usize,
+    seed: u64,
+) -> Result<f32, Error> {
+    let reference = FarField::new(params, reference_order(params))?;
+    let lobes = Lobes::new(params);
+    let configs = random_configurations(samples, seed);
+    let rng = std::cell::RefCell::new(SplitMix64::new(seed.wrapping_add(1)));
+    Ok(relative_rms(
+        &configs,
+        |t, wi, wo| reference.eval(t, wi, wo),
+        |t, wi, wo| {
+            scattering_monte_carlo(&lobes, params, t, wi, wo, h_samples, &mut rng.borrow_mut())
+        },
     ))
 }
