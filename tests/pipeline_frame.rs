@@ -2,21 +2,16 @@
 //! picture is deterministic and shows hair on a head, and the side of the
 //! hair away from the light is darker than the lit side.
 
+mod common;
+
 use coif::pipeline::{
     motion, FramePipeline, FrameSettings, HairScene, ShadingModel, HAIR_AMBIENT_ALBEDO,
 };
 use coif::render::RgbImage;
-use coif::scene::GrowOptions;
 use glam::Vec3;
 
 fn scene() -> HairScene {
-    HairScene::procedural(&GrowOptions {
-        strand_count: 384,
-        verts_per_strand: 16,
-        curl: 0.15,
-        ..GrowOptions::default()
-    })
-    .unwrap()
+    common::small_hair_scene()
 }
 
 /// Builds a pipeline and runs `frames` frames of the built-in motion.

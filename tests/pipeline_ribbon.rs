@@ -1,18 +1,13 @@
 //! The ribbons of the demo: they show in the default render, their
 //! attached row follows the head exactly, and they stay out of the head.
 
+mod common;
+
 use coif::pipeline::ribbon::RIBBON_CLEARANCE;
 use coif::pipeline::{motion, FramePipeline, FrameSettings, HairScene};
-use coif::scene::GrowOptions;
 
 fn scene() -> HairScene {
-    HairScene::procedural(&GrowOptions {
-        strand_count: 384,
-        verts_per_strand: 16,
-        curl: 0.15,
-        ..GrowOptions::default()
-    })
-    .unwrap()
+    common::small_hair_scene()
 }
 
 /// Pixels of the ribbon's colour family: saturated red, red well over

@@ -1,18 +1,13 @@
 //! Hair self-shadowing with the opacity shadow map: hair deeper from the
 //! light is darker than hair at the lit surface.
 
-use coif::pipeline::{FramePipeline, FrameSettings, HairScene, ShadingModel};
-use coif::scene::GrowOptions;
+mod common;
+
+use coif::pipeline::{FramePipeline, FrameSettings, ShadingModel};
 use glam::{Affine3A, Vec3};
 
 fn pipeline(settings: FrameSettings) -> FramePipeline {
-    let scene = HairScene::procedural(&GrowOptions {
-        strand_count: 384,
-        verts_per_strand: 16,
-        curl: 0.15,
-        ..GrowOptions::default()
-    })
-    .unwrap();
+    let scene = common::small_hair_scene();
     let mut p = FramePipeline::new(&scene, settings, 0.5).unwrap();
     p.frame(1.0 / 30.0, Affine3A::IDENTITY);
     p

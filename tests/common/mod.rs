@@ -1,4 +1,4 @@
-//! Scenes shared by the cross-crate simulation tests.
+//! Scenes shared by the cross-crate tests.
 #![allow(dead_code)]
 
 use coif::kernels::rng::SplitMix64;
@@ -72,4 +72,16 @@ pub fn curly_strands(count: usize, verts: usize, seed: u64) -> (Vec<Vec3>, Vec<S
 /// Roots of a grown set moved by `offset`.
 pub fn shifted_roots(points: &[Vec3], verts: usize, offset: Vec3) -> Vec<Vec3> {
     points.iter().step_by(verts).map(|p| *p + offset).collect()
+}
+
+/// The small procedural head of the pipeline tests: 384 guides of 16
+/// vertices, light curl.
+pub fn small_hair_scene() -> coif::pipeline::HairScene {
+    coif::pipeline::HairScene::procedural(&coif::scene::GrowOptions {
+        strand_count: 384,
+        verts_per_strand: 16,
+        curl: 0.15,
+        ..Default::default()
+    })
+    .expect("the small procedural scene is valid")
 }
