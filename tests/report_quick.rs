@@ -58,6 +58,7 @@ fn quick_report_rows_are_finite_and_files_are_written() {
         "shadow build",
         "shadow lookup",
         "fins",
+        "fins stretch",
     ] {
         assert!(
             rows.iter().any(|r| r.kernel == family),

@@ -1,7 +1,9 @@
 //! Fins (cloth patches): constraint sweeps against the per-step solver
 //! error, via [`crate::kernels::patch::quality::convergence`] (a 16 x 32
 //! flag with its pinned row circling past a sphere; RMS distance, metres,
-//! of one step with few sweeps from one with 256 from the same state).
+//! of one step with few sweeps from one with 256 from the same state), and
+//! as its own kernel (`fins stretch`) the largest structural edge stretch
+//! after those steps (the strain limits hold it near `max_stretch`).
 //!
 //! Times [`crate::kernels::patch::step`] (SIMD) and
 //! [`crate::kernels::patch::scalar::step`] on the same flag, per
@@ -38,9 +40,7 @@ pub fn rows(options: Options) -> Vec<Row> {
             iterations: it,
             ..Default::default()
         };
-        let error = quality::convergence(ROWS, COLS, it, error_steps)
-            .expect("valid flag")
-            .rms_distance as f64;
+        let q = quality::convergence(ROWS, COLS, it, error_steps).expect("valid flag");
         let elements = STEPS * ROWS * COLS;
         let mut flag = start.clone();
         let simd = time_batch(options.reps(), elements, || {
@@ -54,17 +54,31 @@ pub fn rows(options: Options) -> Vec<Row> {
                 patch::scalar::step(&mut flag, &params, &rig);
             }
         });
-        for (path, time) in [(Path::Simd, simd), (Path::Scalar, scalar)] {
-            rows.push(Row {
-                kernel: "fins".into(),
-                setting: format!("iterations={it}"),
-                path,
-                element: "particle-step",
-                time,
-                error_metric: "RMS per-step distance to 256 sweeps (m)",
-                error,
-                is_default: it == default_iterations,
-            });
+        let errors = [
+            (
+                "fins",
+                "RMS per-step distance to 256 sweeps (m)",
+                q.rms_distance,
+            ),
+            (
+                "fins stretch",
+                "largest structural edge stretch after a step",
+                q.max_stretch,
+            ),
+        ];
+        for (kernel, metric, error) in errors {
+            for (path, time) in [(Path::Simd, simd), (Path::Scalar, scalar)] {
+                rows.push(Row {
+                    kernel: kernel.into(),
+                    setting: format!("iterations={it}"),
+                    path,
+                    element: "particle-step",
+                    time,
+                    error_metric: metric,
+                    error: error as f64,
+                    is_default: it == default_iterations,
+                });
+            }
         }
     }
     rows

@@ -88,7 +88,7 @@ camera ray; ns per shading point (all its offsets); error against the same 4x-or
 field and direction samples as the pbrt rows. Scalar only: there is no SIMD path.
 - **shadow maps**: slices 4-64 and deep opacity 2-4 layers; build per segment, lookup per \
 sample; error against the exact footprint transmittance.
-- **fins**: constraint sweeps of a cloth patch; ns per particle-step; per-step solver error.
+- **fins**: constraint sweeps of a cloth patch (a 16 x 32 flag circling past a sphere); ns per particle-step; RMS per-step distance to a 256-sweep step, and as its own kernel (`fins stretch`) the largest structural edge stretch after a step.
 
 ";
 
