@@ -1,4 +1,4 @@
-//! The shadow map's per-frame calls (build, lookups) allocate nothing, and a
+//! The shadow map's per-frame calls (SIMD and scalar builds, lookups) allocate nothing, and a
 //! rebuild is deterministic: the same hair gives the same map bit for bit,
 //! whatever was built before.
 
@@ -77,6 +77,7 @@ fn build_and_lookups_allocate_nothing_and_rebuilds_are_deterministic() {
 
         let before = ALLOCATIONS.load(Ordering::Relaxed);
         map.build(light, &other, 16);
+        map.build_scalar(light, &other, 16);
         map.build(light, &hair, 16);
         map.transmittance_batch(&queries, &mut out);
         map.transmittance_batch_scalar(&queries, &mut out);
@@ -92,5 +93,14 @@ fn build_and_lookups_allocate_nothing_and_rebuilds_are_deterministic() {
         // The counter does see allocations (the snapshot makes one).
         assert!(snapshot(&map) == first, "{mode:?}: rebuild differs");
         assert!(ALLOCATIONS.load(Ordering::Relaxed) > after);
+
+        // The scalar build allocates nothing either.
+        let before = ALLOCATIONS.load(Ordering::Relaxed);
+        map.build_scalar(light, &hair, 16);
+        assert_eq!(
+            ALLOCATIONS.load(Ordering::Relaxed) - before,
+            0,
+            "{mode:?}: allocations in build_scalar"
+        );
     }
 }

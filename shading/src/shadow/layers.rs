@@ -24,6 +24,9 @@
 //! / 0.063, over a quarter 0.082 / 0.074 / 0.073. Half is the best at the
 //! small layer counts deep maps are for.
 
+use coif_kernels::LANES;
+use wide::f32x8;
+
 /// The share of the hair's depth range that deep mode's layers span.
 pub const DEEP_SPAN: f32 = 0.5;
 
@@ -77,5 +80,18 @@ impl Layering {
             let f = (q - i).min(1.0);
             (i as usize, f)
         }
+    }
+
+    /// The interval index of [`Layering::locate`] on eight depths, with the
+    /// same operations in the same order (`max`, multiply, `sqrt`, `floor`,
+    /// `min`: each correctly rounded, so every lane equals the scalar index).
+    /// `x` must not be NaN.
+    #[inline(always)]
+    pub fn interval_x8(&self, x: f32x8) -> [usize; LANES] {
+        let last = f32x8::splat((self.count - 1) as f32);
+        let q = x.max(f32x8::ZERO) * f32x8::splat(self.scale);
+        let i = if self.quadratic { q.sqrt() } else { q };
+        let i = i.floor().min(last).fast_trunc_int().to_array();
+        i.map(|i| i as usize)
     }
 }

@@ -4,9 +4,12 @@
 use super::layers::{Layering, DEEP_SPAN};
 use super::light_frame::{LightFrame, MapPlacement};
 use super::raster::for_each_sample;
+use super::raster_simd::for_each_sample_x8;
 use super::settings::{ShadowMode, ShadowSettings};
 use crate::Error;
+use coif_kernels::{Vec3x8, LANES};
 use glam::Vec3;
+use wide::f32x8;
 
 /// An opacity shadow map of hair for one directional light.
 ///
@@ -111,47 +114,85 @@ impl OpacityShadowMap {
     /// sample splatted into each texel); every segment's samples deposit
     /// their coverage into the interval of planes they lie in; a prefix sum
     /// along depth per texel makes the opacity cumulative.
+    ///
+    /// The SIMD path: bounds, sample positions, bilinear weights, depths and
+    /// plane intervals eight at a time in `f32x8` lanes, deposits in lane
+    /// order with scalar adds (the scalar sample order), and the prefix sum
+    /// sixteen texels at a time. The map is bit for bit the one
+    /// [`OpacityShadowMap::build_scalar`] makes (tested).
     pub fn build(&mut self, light_dir: Vec3, points: &[Vec3], verts_per_strand: usize) {
-        self.ready = false;
-        self.texels.fill([0.0; 4]);
-        let Some(frame) = LightFrame::new(light_dir) else {
+        let Some(points) = self.prepare(light_dir, points, verts_per_strand, light_bounds_x8)
+        else {
             return;
         };
-        self.frame = frame;
-        if verts_per_strand < 2 {
-            return;
+        let (frame, placement, layering) = (self.frame, self.placement, self.layering);
+        let (n, r) = (self.settings.resolution, self.settings.hair_radius);
+        let nn = n * n;
+        let offsets = [0, 1, n, n + 1];
+        match self.settings.mode {
+            ShadowMode::Slices => {
+                let texels = &mut self.texels;
+                let near = f32x8::splat(placement.near);
+                for_each_sample_x8(&frame, &placement, n, r, points, verts_per_strand, |sp| {
+                    let slices = layering.interval_x8(sp.z - near);
+                    let w = sp.weights.map(|w| w.to_array());
+                    for l in 0..sp.count {
+                        let slice = slices[l];
+                        let plane = &mut texels[(slice / 4) * nn..(slice / 4 + 1) * nn];
+                        for (c, o) in offsets.iter().enumerate() {
+                            plane[sp.t0[l] + o][slice % 4] += w[c][l];
+                        }
+                    }
+                });
+            }
+            ShadowMode::Deep => {
+                let z0 = &mut self.first_depth;
+                z0.fill(f32::INFINITY);
+                for_each_sample_x8(&frame, &placement, n, r, points, verts_per_strand, |sp| {
+                    let z = sp.z.to_array();
+                    for l in 0..sp.count {
+                        for o in offsets {
+                            let d = &mut z0[sp.t0[l] + o];
+                            *d = d.min(z[l]);
+                        }
+                    }
+                });
+                for z in z0.iter_mut().filter(|z| **z == f32::INFINITY) {
+                    *z = placement.near;
+                }
+                let z0 = &self.first_depth;
+                let texels = &mut self.texels;
+                for_each_sample_x8(&frame, &placement, n, r, points, verts_per_strand, |sp| {
+                    // Each corner's plane interval, relative to its own z0
+                    // (gathered lane by lane; lanes past `count` read the
+                    // lower-left texel of lane 0, always inside the map).
+                    let slices = offsets.map(|o| {
+                        let base = std::array::from_fn(|l| z0[sp.t0[l.min(sp.count - 1)] + o]);
+                        layering.interval_x8(sp.z - f32x8::new(base))
+                    });
+                    let w = sp.weights.map(|w| w.to_array());
+                    for l in 0..sp.count {
+                        for (c, o) in offsets.iter().enumerate() {
+                            let slice = slices[c][l];
+                            texels[(slice / 4) * nn + sp.t0[l] + o][slice % 4] += w[c][l];
+                        }
+                    }
+                });
+            }
         }
-        let used = points.len() - points.len() % verts_per_strand;
-        let points = &points[..used];
+        prefix_sum_x8(&mut self.texels, nn, self.settings.layers);
+        self.ready = true;
+    }
 
-        let mut min = Vec3::splat(f32::INFINITY);
-        let mut max = Vec3::splat(f32::NEG_INFINITY);
-        // Stays inverted (min > max) when no point is finite.
-        for p in points.iter().filter(|p| p.is_finite()) {
-            let l = frame.to_light(*p);
-            min = min.min(l);
-            max = max.max(l);
-        }
-        if min.x > max.x {
+    /// The scalar reference of [`OpacityShadowMap::build`]: the same steps,
+    /// one sample at a time, one texel at a time in the prefix sum. Makes
+    /// the same map bit for bit.
+    pub fn build_scalar(&mut self, light_dir: Vec3, points: &[Vec3], verts_per_strand: usize) {
+        let Some(points) = self.prepare(light_dir, points, verts_per_strand, light_bounds) else {
             return;
-        }
-        let n = self.settings.resolution;
-        let r = self.settings.hair_radius;
-        self.placement = MapPlacement::cover(min, max, r, n);
-        let pl = &self.placement;
-        let usable = [pl.inv_texel, pl.x0, pl.y0, max.z - min.z];
-        if !usable.iter().all(|v| v.is_finite()) {
-            // Finite but astronomically large coordinates: no usable map.
-            return;
-        }
-        let depth = max.z - min.z;
-        self.layering = match self.settings.mode {
-            ShadowMode::Slices => Layering::even(self.settings.layers, depth),
-            ShadowMode::Deep => Layering::quadratic(self.settings.layers, depth * DEEP_SPAN),
         };
-
-        let placement = self.placement;
-        let layering = self.layering;
+        let (frame, placement, layering) = (self.frame, self.placement, self.layering);
+        let (n, r) = (self.settings.resolution, self.settings.hair_radius);
         let nn = n * n;
         // The four texels of a splat, relative to its lower-left one.
         let offsets = [0, 1, n, n + 1];
@@ -223,6 +264,45 @@ impl OpacityShadowMap {
             }
         }
         self.ready = true;
+    }
+
+    /// The steps both builds share before rasterising: clears the map, sets
+    /// the light frame, takes the light-space bounds of the finite points
+    /// (with `bounds`, scalar or SIMD), places the map and its layering.
+    /// Returns the whole strands of `points`, or `None` when there is no
+    /// usable map (zero or non-finite light, fewer than two vertices per
+    /// strand, no finite point, coordinates so large that light space
+    /// overflows).
+    fn prepare<'p>(
+        &mut self,
+        light_dir: Vec3,
+        points: &'p [Vec3],
+        verts_per_strand: usize,
+        bounds: fn(&LightFrame, &[Vec3]) -> Option<(Vec3, Vec3)>,
+    ) -> Option<&'p [Vec3]> {
+        self.ready = false;
+        self.texels.fill([0.0; 4]);
+        self.frame = LightFrame::new(light_dir)?;
+        if verts_per_strand < 2 {
+            return None;
+        }
+        let used = points.len() - points.len() % verts_per_strand;
+        let points = &points[..used];
+        let (min, max) = bounds(&self.frame, points)?;
+        let n = self.settings.resolution;
+        self.placement = MapPlacement::cover(min, max, self.settings.hair_radius, n);
+        let pl = &self.placement;
+        let usable = [pl.inv_texel, pl.x0, pl.y0, max.z - min.z];
+        if !usable.iter().all(|v| v.is_finite()) {
+            // Finite but astronomically large coordinates: no usable map.
+            return None;
+        }
+        let depth = max.z - min.z;
+        self.layering = match self.settings.mode {
+            ShadowMode::Slices => Layering::even(self.settings.layers, depth),
+            ShadowMode::Deep => Layering::quadratic(self.settings.layers, depth * DEEP_SPAN),
+        };
+        Some(points)
     }
 
     /// Transmittance toward the light, in [0, 1] (1 = fully lit), at a
@@ -304,5 +384,110 @@ impl OpacityShadowMap {
         let (s, f) = self.layering.locate(z - self.base_depth(t));
         let (prev, next) = self.plane_pair(t, s);
         prev + f * (next - prev)
+    }
+}
+
+/// Light-space bounding box `(min, max)` of the finite points, or `None`
+/// when no point is finite or a finite point's light-space coordinates
+/// overflow (then no map is usable). Light space as
+/// [`LightFrame::to_light`]: `x = p . x_axis` and so on.
+fn light_bounds(frame: &LightFrame, points: &[Vec3]) -> Option<(Vec3, Vec3)> {
+    let mut min = Vec3::splat(f32::INFINITY);
+    let mut max = Vec3::splat(f32::NEG_INFINITY);
+    for p in points.iter().filter(|p| p.is_finite()) {
+        let l = frame.to_light(*p);
+        if !l.is_finite() {
+            return None;
+        }
+        min = min.min(l);
+        max = max.max(l);
+    }
+    // Stays inverted (min > max) when no point is finite.
+    (min.x <= max.x).then_some((min, max))
+}
+
+/// SIMD twin of [`light_bounds`]: eight points per step, the same dot
+/// products (`p.x a.x + p.y a.y + p.z a.z`, unfused), lane-wise minimum and
+/// maximum over the finite points, reduced over the lanes at the end (min
+/// and max of non-NaN numbers do not depend on the order).
+fn light_bounds_x8(frame: &LightFrame, points: &[Vec3]) -> Option<(Vec3, Vec3)> {
+    let axes = [frame.x_axis, frame.y_axis, frame.z_axis].map(Vec3x8::splat);
+    let (inf, neg_inf) = (f32x8::splat(f32::INFINITY), f32x8::splat(f32::NEG_INFINITY));
+    let mut min = [inf; 3];
+    let mut max = [neg_inf; 3];
+    let mut overflow = f32x8::ZERO;
+    for chunk in points.chunks(LANES) {
+        let mut p = Vec3x8::ZERO;
+        let mut finite = [0.0f32; LANES];
+        for (l, q) in chunk.iter().enumerate() {
+            if q.is_finite() {
+                p.set_lane(l, *q);
+                finite[l] = 1.0;
+            }
+        }
+        let finite = f32x8::new(finite).simd_gt(f32x8::ZERO);
+        for k in 0..3 {
+            let c = p.dot(axes[k]);
+            overflow |= finite & !c.is_finite();
+            min[k] = min[k].min(finite.select(c, inf));
+            max[k] = max[k].max(finite.select(c, neg_inf));
+        }
+    }
+    if overflow.any() {
+        return None;
+    }
+    let reduce = |v: [f32x8; 3], f: fn(f32, f32) -> f32| {
+        let [x, y, z] = v.map(|c| c.to_array().into_iter().reduce(f).unwrap_or(0.0));
+        Vec3::new(x, y, z)
+    };
+    let (min, max) = (reduce(min, f32::min), reduce(max, f32::max));
+    (min.x <= max.x).then_some((min, max))
+}
+
+/// SIMD twin of the scalar build's prefix sum along depth
+/// (`S[s] = S[s - 1] + deposit[s]` per texel, `S[-1] = 0`, in plane order):
+/// sixteen texels at a time, whose four-plane groups (two texels per
+/// `f32x8`) are transposed into one vector per plane of the even and one
+/// per plane of the odd texels, summed plane after plane (the same adds in
+/// the same order as the scalar, so the same bits), and transposed back.
+/// Texels past the last multiple of sixteen take the scalar loop. Planes
+/// past `layers` in the last group stay untouched, as in the scalar.
+fn prefix_sum_x8(texels: &mut [[f32; 4]], nn: usize, layers: usize) {
+    const BLOCK: usize = 16;
+    let groups = layers.div_ceil(4);
+    let blocks = nn / BLOCK;
+    let flat = texels.as_flattened_mut();
+    for b in 0..blocks {
+        let mut carry = [f32x8::ZERO; 2];
+        for g in 0..groups {
+            let start = (g * nn + b * BLOCK) * 4;
+            let chunk = &mut flat[start..start + 4 * BLOCK];
+            let rows: [f32x8; 8] = std::array::from_fn(|r| {
+                let lanes: [f32; LANES] = chunk[r * LANES..(r + 1) * LANES].try_into().unwrap();
+                f32x8::new(lanes)
+            });
+            // planes[k] = plane 4g + k of the even texels, planes[4 + k] of the odd.
+            let mut planes = f32x8::transpose(rows);
+            let valid = (layers - 4 * g).min(4);
+            for half in 0..2 {
+                let p = &mut planes[4 * half..4 * half + 4];
+                p[0] = carry[half] + p[0];
+                for k in 1..valid {
+                    p[k] = p[k - 1] + p[k];
+                }
+                carry[half] = p[3];
+            }
+            for (r, row) in f32x8::transpose(planes).iter().enumerate() {
+                chunk[r * LANES..(r + 1) * LANES].copy_from_slice(row.as_array());
+            }
+        }
+    }
+    for t in blocks * BLOCK..nn {
+        let mut sum = 0.0;
+        for s in 0..layers {
+            let texel = &mut texels[(s / 4) * nn + t][s % 4];
+            sum += *texel;
+            *texel = sum;
+        }
     }
 }

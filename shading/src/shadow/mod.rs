@@ -23,6 +23,7 @@ pub mod light_frame;
 mod map;
 pub mod quality;
 mod raster;
+mod raster_simd;
 mod settings;
 mod simd;
 

@@ -29,22 +29,35 @@ pub struct Splat {
     pub weights: [f32; 4],
 }
 
-/// Calls `deposit(splat, z)` for every sample point of every segment of the
-/// hair (`points`, `verts` per strand), with `z` the sample's light-space
-/// depth. Segments with a non-finite end are skipped. Deterministic: strand
-/// after strand, root to tip.
-///
-/// The placement's margin (hair radius plus a texel on every side) keeps
-/// every sample's four texels inside the map; the lower-left texel is still
-/// clamped to `[0, n - 2]` so that rounding can never index outside it.
-pub fn for_each_sample(
+/// One finite segment ready to sample: its start in texel coordinates
+/// `(ua, va)` and light-space depth `za`, its extent `(du, dv, dz)` (texels,
+/// texels, depth), the number of samples `n`, `1 / n`, and the coverage each
+/// sample deposits, `A / (n h^2)`.
+#[derive(Clone, Copy, Debug)]
+pub struct Segment {
+    pub ua: f32,
+    pub va: f32,
+    pub za: f32,
+    pub du: f32,
+    pub dv: f32,
+    pub dz: f32,
+    pub samples: usize,
+    pub inv_n: f32,
+    pub weight: f32,
+}
+
+/// Calls `visit(segment)` for every segment of the hair (`points`, `verts`
+/// per strand) whose two ends are finite, strand after strand, root to tip.
+/// Shared by the scalar and SIMD rasterisers, so both sample the same
+/// segments with the same numbers.
+pub fn for_each_segment(
     frame: &LightFrame,
     placement: &MapPlacement,
     resolution: usize,
     hair_radius: f32,
     points: &[Vec3],
     verts: usize,
-    mut deposit: impl FnMut(&Splat, f32),
+    mut visit: impl FnMut(&Segment),
 ) {
     if verts < 2 || resolution < 2 {
         return;
@@ -53,7 +66,6 @@ pub fn for_each_sample(
     let cap_area = std::f32::consts::PI * hair_radius * hair_radius;
     let inv_h = placement.inv_texel;
     let inv_h2 = inv_h * inv_h;
-    let last = (resolution - 2) as f32;
     for strand in points.chunks_exact(verts) {
         let mut prev = strand[0];
         let mut prev_light = frame.to_light(prev);
@@ -68,30 +80,19 @@ pub fn for_each_sample(
                     ((SAMPLES_PER_TEXEL * len_xy * inv_h).ceil() as usize).clamp(1, max_samples);
                 let inv_n = 1.0 / n as f32;
                 let cap = if first { cap_area } else { 0.0 };
-                let weight = (2.0 * hair_radius * len_xy + cap) * inv_h2 * inv_n;
                 first = false;
-                // Texel coordinates of the segment's start and step.
                 let (ua, va) = placement.texel_coords(prev_light.x, prev_light.y);
-                let (du, dv) = (d.x * inv_h, d.y * inv_h);
-                for j in 0..n {
-                    let t = (j as f32 + 0.5) * inv_n;
-                    let (u, v) = (ua + du * t, va + dv * t);
-                    let (fu, fv) = (u.floor(), v.floor());
-                    let (fx, fy) = (u - fu, v - fv);
-                    let (gx, gy) = (1.0 - fx, 1.0 - fy);
-                    let i0 = fu.clamp(0.0, last) as usize;
-                    let j0 = fv.clamp(0.0, last) as usize;
-                    let splat = Splat {
-                        t0: j0 * resolution + i0,
-                        weights: [
-                            gx * gy * weight,
-                            fx * gy * weight,
-                            gx * fy * weight,
-                            fx * fy * weight,
-                        ],
-                    };
-                    deposit(&splat, prev_light.z + d.z * t);
-                }
+                visit(&Segment {
+                    ua,
+                    va,
+                    za: prev_light.z,
+                    du: d.x * inv_h,
+                    dv: d.y * inv_h,
+                    dz: d.z,
+                    samples: n,
+                    inv_n,
+                    weight: (2.0 * hair_radius * len_xy + cap) * inv_h2 * inv_n,
+                });
             } else {
                 first = true;
             }
@@ -99,4 +100,54 @@ pub fn for_each_sample(
             prev_light = next_light;
         }
     }
+}
+
+/// Calls `deposit(splat, z)` for every sample point of every segment of the
+/// hair (`points`, `verts` per strand), with `z` the sample's light-space
+/// depth. Segments with a non-finite end are skipped. Deterministic: strand
+/// after strand, root to tip. The scalar reference; the SIMD twin is
+/// [`super::raster_simd::for_each_sample_x8`].
+///
+/// Sample `j` of a segment lies at `t = (j + 1/2) / n` along it; its
+/// texel coordinates `(u, v)` split into the lower-left texel
+/// `(floor u, floor v)` and bilinear fractions `(fx, fy)`.
+/// The placement's margin (hair radius plus a texel on every side) keeps
+/// every sample's four texels inside the map; the lower-left texel is still
+/// clamped to `[0, n - 2]` so that rounding can never index outside it.
+pub fn for_each_sample(
+    frame: &LightFrame,
+    placement: &MapPlacement,
+    resolution: usize,
+    hair_radius: f32,
+    points: &[Vec3],
+    verts: usize,
+    mut deposit: impl FnMut(&Splat, f32),
+) {
+    let last = resolution.saturating_sub(2) as f32;
+    let each = |seg: &Segment| {
+        for j in 0..seg.samples {
+            let t = (j as f32 + 0.5) * seg.inv_n;
+            let (u, v) = (seg.ua + seg.du * t, seg.va + seg.dv * t);
+            let (fu, fv) = (u.floor(), v.floor());
+            let (fx, fy) = (u - fu, v - fv);
+            let (gx, gy) = (1.0 - fx, 1.0 - fy);
+            let i0 = fu.clamp(0.0, last) as usize;
+            let j0 = fv.clamp(0.0, last) as usize;
+            let w = seg.weight;
+            let splat = Splat {
+                t0: j0 * resolution + i0,
+                weights: [gx * gy * w, fx * gy * w, gx * fy * w, fx * fy * w],
+            };
+            deposit(&splat, seg.za + seg.dz * t);
+        }
+    };
+    for_each_segment(
+        frame,
+        placement,
+        resolution,
+        hair_radius,
+        points,
+        verts,
+        each,
+    );
 }
