@@ -4,12 +4,13 @@
 //!
 //! Groups (throughput in segments or samples, so criterion reports time per
 //! element):
-//! - `shadow_build/<mode>_L<layers>`: rebuild a 256^2 map of a draped head
-//!   (2048 strands x 32 vertices, 63,488 segments), per segment.
+//! - `shadow_build/<mode>_L<layers>/{simd,scalar}`: rebuild a 256^2 map of
+//!   a draped head (2048 strands x 32 vertices, 63,488 segments), per
+//!   segment, with `build` (SIMD) and `build_scalar`.
 //! - `shadow_lookup/<mode>_L<layers>/{simd,scalar}`: transmittance at all
 //!   65,536 vertices of the head, per sample.
 //! - `shadow_time_vs_error/<mode>/L<layers>_err<mean |error|>`: build time
-//!   of a 128^2 map of a smaller draped head (512 x 16) for slices 4..64 and
+//!   (SIMD `build`) of a 128^2 map of a smaller draped head (512 x 16) for slices 4..64 and
 //!   deep layers 2..16, with the mean |T error| against the footprint
 //!   reference (16 rays over 2 mm, every 8th strand's vertices) in the id;
 //!   the full error table (mean, RMS, max, bias) is printed first.
@@ -69,8 +70,11 @@ fn build_and_lookup(c: &mut Criterion) {
     g.throughput(Throughput::Elements(segments as u64));
     for s in configurations() {
         let mut map = OpacityShadowMap::new(s.clone()).unwrap();
-        g.bench_function(name(&s), |b| {
+        g.bench_function(BenchmarkId::new(name(&s), "simd"), |b| {
             b.iter(|| map.build(black_box(light()), black_box(&pts), verts))
+        });
+        g.bench_function(BenchmarkId::new(name(&s), "scalar"), |b| {
+            b.iter(|| map.build_scalar(black_box(light()), black_box(&pts), verts))
         });
     }
     g.finish();

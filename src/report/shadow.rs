@@ -9,8 +9,8 @@
 //! ([`crate::shading::shadow::quality::reference_transmittance`], 16 rays
 //! over a 2 mm disk), computed once for all settings.
 //!
-//! Two timed kernels per setting: `shadow build` (per hair segment; the
-//! build has one path, the scalar splatting code, reported as `scalar`)
+//! Two timed kernels per setting: `shadow build` (per hair segment: SIMD
+//! `build` and scalar `build_scalar`, which make the same map bit for bit)
 //! and `shadow lookup` (per sample: SIMD `transmittance_batch` and scalar
 //! `transmittance_batch_scalar` at every vertex).
 
@@ -92,6 +92,9 @@ pub fn rows(options: Options) -> Vec<Row> {
     const METRIC: &str = "mean |T_map - T_exact| (footprint reference)";
     for (name, s, is_default) in settings {
         let mut map = OpacityShadowMap::new(s).expect("valid shadow settings");
+        let build_scalar = time_batch(options.reps(), segments, || {
+            map.build_scalar(light, &points, verts)
+        });
         let build = time_batch(options.reps(), segments, || {
             map.build(light, &points, verts)
         });
@@ -105,7 +108,8 @@ pub fn rows(options: Options) -> Vec<Row> {
             std::hint::black_box(&out);
         });
         for (kernel, element, path, time) in [
-            ("shadow build", "segment", Path::Scalar, build),
+            ("shadow build", "segment", Path::Simd, build),
+            ("shadow build", "segment", Path::Scalar, build_scalar),
             ("shadow lookup", "sample", Path::Simd, simd),
             ("shadow lookup", "sample", Path::Scalar, scalar),
         ] {
