@@ -163,13 +163,16 @@ impl OpacityShadowMap {
                 let z0 = &self.first_depth;
                 let texels = &mut self.texels;
                 for_each_sample_x8(&frame, &placement, n, r, points, verts_per_strand, |sp| {
-                    // Each corner's plane interval, relative to its own z0
-                    // (gathered lane by lane; lanes past `count` read the
-                    // lower-left texel of lane 0, always inside the map).
-                    let slices = offsets.map(|o| {
-                        let base = std::array::from_fn(|l| z0[sp.t0[l.min(sp.count - 1)] + o]);
-                        layering.interval_x8(sp.z - f32x8::new(base))
-                    });
+                    // Each corner's plane interval, relative to its own z0,
+                    // gathered lane by lane (every lane's `t0` is clamped
+                    // into the map, also past `count`).
+                    let mut base = [[0.0f32; LANES]; 4];
+                    for l in 0..LANES {
+                        for (c, o) in offsets.iter().enumerate() {
+                            base[c][l] = z0[sp.t0[l] + o];
+                        }
+                    }
+                    let slices = base.map(|b| layering.interval_x8(sp.z - f32x8::new(b)));
                     let w = sp.weights.map(|w| w.to_array());
                     for l in 0..sp.count {
                         for (c, o) in offsets.iter().enumerate() {

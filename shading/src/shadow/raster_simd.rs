@@ -53,7 +53,8 @@ pub fn for_each_sample_x8(
             f32x8::splat(seg.dz),
         );
         let (inv_n, w) = (f32x8::splat(seg.inv_n), f32x8::splat(seg.weight));
-        for base in (0..seg.samples).step_by(LANES) {
+        let mut base = 0;
+        while base < seg.samples {
             let j = f32x8::splat(base as f32) + LANE_INDEX;
             let t = (j + half) * inv_n;
             let (u, v) = (ua + du * t, va + dv * t);
@@ -74,6 +75,7 @@ pub fn for_each_sample_x8(
                 z: za + dz * t,
                 count: (seg.samples - base).min(LANES),
             });
+            base += LANES;
         }
     };
     for_each_segment(
