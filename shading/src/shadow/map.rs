@@ -281,7 +281,7 @@ impl OpacityShadowMap {
         light_dir: Vec3,
         points: &'p [Vec3],
         verts_per_strand: usize,
-        bounds: fn(&LightFrame, &[Vec3]) -> Option<(Vec3, Vec3)>,
+        bounds: LightBounds,
     ) -> Option<&'p [Vec3]> {
         self.ready = false;
         self.texels.fill([0.0; 4]);
@@ -389,6 +389,9 @@ impl OpacityShadowMap {
         prev + f * (next - prev)
     }
 }
+
+/// A light-space bounds pass: [`light_bounds`] or [`light_bounds_x8`].
+type LightBounds = fn(&LightFrame, &[Vec3]) -> Option<(Vec3, Vec3)>;
 
 /// Light-space bounding box `(min, max)` of the finite points, or `None`
 /// when no point is finite or a finite point's light-space coordinates
