@@ -138,9 +138,11 @@ impl OpacityShadowMap {
                     let w = sp.weights.map(|w| w.to_array());
                     for l in 0..sp.count {
                         let slice = slices[l];
-                        let plane = &mut texels[(slice / 4) * nn..(slice / 4 + 1) * nn];
+                        let start = (slice / 4) * nn + sp.t0[l];
+                        // One bounds check for the four texels.
+                        let quad = &mut texels[start..start + n + 2];
                         for (c, o) in offsets.iter().enumerate() {
-                            plane[sp.t0[l] + o][slice % 4] += w[c][l];
+                            quad[*o][slice % 4] += w[c][l];
                         }
                     }
                 });
@@ -151,9 +153,9 @@ impl OpacityShadowMap {
                 for_each_sample_x8(&frame, &placement, n, r, points, verts_per_strand, |sp| {
                     let z = sp.z.to_array();
                     for l in 0..sp.count {
+                        let quad = &mut z0[sp.t0[l]..sp.t0[l] + n + 2];
                         for o in offsets {
-                            let d = &mut z0[sp.t0[l] + o];
-                            *d = d.min(z[l]);
+                            quad[o] = quad[o].min(z[l]);
                         }
                     }
                 });
@@ -168,8 +170,9 @@ impl OpacityShadowMap {
                     // into the map, also past `count`).
                     let mut base = [[0.0f32; LANES]; 4];
                     for l in 0..LANES {
+                        let quad = &z0[sp.t0[l]..sp.t0[l] + n + 2];
                         for (c, o) in offsets.iter().enumerate() {
-                            base[c][l] = z0[sp.t0[l] + o];
+                            base[c][l] = quad[*o];
                         }
                     }
                     let slices = base.map(|b| layering.interval_x8(sp.z - f32x8::new(b)));
