@@ -113,12 +113,24 @@ fn simd_build_equals_scalar_with_nan_vertices_partial_strands_and_far_hair() {
     pts.extend_from_slice(&[Vec3::ZERO, Vec3::new(0.05, 0.0, 0.0), Vec3::ONE]);
     // Hair a kilometre from the origin (coarse f32 positions).
     let far = hair(80, 9, 0.015, Vec3::new(1000.0, -700.0, 300.0), 13);
+    // Strands of 20 vertices (19 segments: chunks of 8, 8 and 3 in the
+    // SIMD segment setup) broken at vertex 7 (the last of the first chunk:
+    // segment 8, the next chunk's first, starts a new piece and gets the
+    // cap), at vertex 8 and at vertex 16.
+    let mut long = hair(60, 20, 0.015, Vec3::ZERO, 17);
+    for (strand, vertex) in [(3, 7), (10, 8), (11, 16), (12, 7), (12, 9)] {
+        long[strand * 20 + vertex].x = f32::NAN;
+    }
     for (mode, layers) in [(ShadowMode::Slices, 16), (ShadowMode::Deep, 3)] {
         for light in lights() {
             let s = settings(mode, layers, 48);
-            for (name, p) in [("nan/partial", &pts), ("far", &far)] {
+            for (name, p, verts) in [
+                ("nan/partial", &pts, 9),
+                ("far", &far, 9),
+                ("long broken", &long, 20),
+            ] {
                 let what = format!("{name} {mode:?} light {light}");
-                let filled = assert_same(&s, light, p, 9, &what);
+                let filled = assert_same(&s, light, p, verts, &what);
                 assert!(filled > 300, "{what}: only {filled} planes filled");
             }
         }

@@ -5,8 +5,8 @@
 //! deposits the lanes in lane order, which is the scalar sample order.
 
 use super::light_frame::{LightFrame, MapPlacement};
-use super::raster::{for_each_segment, Segment};
-use coif_kernels::LANES;
+use super::raster::Segment;
+use coif_kernels::{Vec3x8, LANES};
 use glam::Vec3;
 use wide::f32x8;
 
@@ -23,6 +23,102 @@ pub struct SplatX8 {
     pub weights: [f32x8; 4],
     pub z: f32x8,
     pub count: usize,
+}
+
+/// SIMD twin of [`super::raster::for_each_segment`]: the setup of eight
+/// consecutive segments of a strand per step (light-space ends, length
+/// across the light, sample count `n = ceil(|d_xy| / h)` clamped to
+/// `[1, 4 res]`, `1 / n`, coverage per sample, start and step in texel
+/// coordinates), with the same operations in the same order, so each
+/// [`Segment`] equals the scalar one bit for bit. `visit` is called for the
+/// segments whose two ends are finite, in strand order. A segment starts a
+/// piece (and gets the cap `pi r^2`) when it is the strand's first or the
+/// vertex before it is not finite, as in the scalar.
+pub fn for_each_segment_x8(
+    frame: &LightFrame,
+    placement: &MapPlacement,
+    resolution: usize,
+    hair_radius: f32,
+    points: &[Vec3],
+    verts: usize,
+    mut visit: impl FnMut(&Segment),
+) {
+    if verts < 2 || resolution < 2 {
+        return;
+    }
+    let axes = [frame.x_axis, frame.y_axis, frame.z_axis].map(Vec3x8::splat);
+    let to_light = |p: Vec3x8| Vec3x8 {
+        x: p.dot(axes[0]),
+        y: p.dot(axes[1]),
+        z: p.dot(axes[2]),
+    };
+    let max_samples = f32x8::splat((4 * resolution) as f32);
+    let cap_area = std::f32::consts::PI * hair_radius * hair_radius;
+    let inv_h = placement.inv_texel;
+    let inv_h_x8 = f32x8::splat(inv_h);
+    let inv_h2 = f32x8::splat(inv_h * inv_h);
+    let diameter = f32x8::splat(2.0 * hair_radius);
+    let (x0, y0) = (f32x8::splat(placement.x0), f32x8::splat(placement.y0));
+    let (one, half) = (f32x8::ONE, f32x8::splat(0.5));
+    for strand in points.chunks_exact(verts) {
+        let segments = verts - 1;
+        let mut k0 = 0;
+        while k0 < segments {
+            let count = (segments - k0).min(LANES);
+            // Vertices k0 - 1 ..= k0 + count: `finite[i]` is vertex
+            // k0 - 1 + i (false before the root); lane l's segment runs
+            // from vertex k0 + l to k0 + l + 1.
+            let mut finite = [false; LANES + 2];
+            let (mut a, mut b) = (Vec3x8::ZERO, Vec3x8::ZERO);
+            finite[0] = k0 > 0 && strand[k0 - 1].is_finite();
+            finite[1] = strand[k0].is_finite();
+            for l in 0..count {
+                let (p, q) = (strand[k0 + l], strand[k0 + l + 1]);
+                finite[l + 2] = q.is_finite();
+                a.set_lane(l, p);
+                b.set_lane(l, q);
+            }
+            let (la, lb) = (to_light(a), to_light(b));
+            let d = lb - la;
+            let len_xy = (d.x * d.x + d.y * d.y).sqrt();
+            // The scalar's `ceil as usize` clamped to [1, 4 res]: equal for
+            // the finite, non-negative lengths of finite segments.
+            let n = (one * len_xy * inv_h_x8).ceil().max(one).min(max_samples);
+            let inv_n = one / n;
+            let cap = f32x8::new(std::array::from_fn(
+                |l| {
+                    if finite[l] {
+                        0.0
+                    } else {
+                        cap_area
+                    }
+                },
+            ));
+            let weight = (diameter * len_xy + cap) * inv_h2 * inv_n;
+            let ua = (la.x - x0) * inv_h_x8 - half;
+            let va = (la.y - y0) * inv_h_x8 - half;
+            let (du, dv) = (d.x * inv_h_x8, d.y * inv_h_x8);
+            let n = n.fast_trunc_int().to_array();
+            let [ua, va, za, du, dv, dz, inv_n, weight] =
+                [ua, va, la.z, du, dv, d.z, inv_n, weight].map(|v| v.to_array());
+            for l in 0..count {
+                if finite[l + 1] && finite[l + 2] {
+                    visit(&Segment {
+                        ua: ua[l],
+                        va: va[l],
+                        za: za[l],
+                        du: du[l],
+                        dv: dv[l],
+                        dz: dz[l],
+                        samples: n[l] as usize,
+                        inv_n: inv_n[l],
+                        weight: weight[l],
+                    });
+                }
+            }
+            k0 += LANES;
+        }
+    }
 }
 
 /// SIMD twin of [`super::raster::for_each_sample`]: calls `deposit` once per
@@ -78,7 +174,7 @@ pub fn for_each_sample_x8(
             base += LANES;
         }
     };
-    for_each_segment(
+    for_each_segment_x8(
         frame,
         placement,
         resolution,
