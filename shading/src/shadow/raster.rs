@@ -48,8 +48,10 @@ pub struct Segment {
 
 /// Calls `visit(segment)` for every segment of the hair (`points`, `verts`
 /// per strand) whose two ends are finite, strand after strand, root to tip.
-/// Shared by the scalar and SIMD rasterisers, so both sample the same
-/// segments with the same numbers.
+/// A segment starts a piece (and gets the cap) when it is the strand's
+/// first or follows a broken one. The scalar setup; the SIMD twin,
+/// [`super::raster_simd::for_each_segment_x8`], makes the same segments bit
+/// for bit.
 pub fn for_each_segment(
     frame: &LightFrame,
     placement: &MapPlacement,
