@@ -10,6 +10,9 @@
 //! * [`ShadowMode::Deep`]: deep opacity maps (Yuksel & Keyser 2008), the
 //!   layers start at a depth map of the first hair per texel, which removes
 //!   OSM's layering artefacts with few (3) layers.
+//! * Builds: [`OpacityShadowMap::build`] (SIMD, eight samples per `f32x8`,
+//!   deposits in the scalar order) and [`OpacityShadowMap::build_scalar`]
+//!   (the reference) make the same map bit for bit.
 //! * [`exact_transmittance`]: the reference, `exp(-k n)` with `n` the number
 //!   of hair segments (capsules) the ray toward the light passes through.
 //! * [`quality`]: error of a setting against the reference.
