@@ -1,5 +1,7 @@
-//! The SIMD rasteriser: the samples of each segment eight at a time in
-//! `f32x8` lanes, the same arithmetic in the same order as the scalar
+//! The SIMD rasteriser: the setup of eight segments of a strand at a time,
+//! then the samples of each segment eight at a time in `f32x8` lanes, the
+//! same arithmetic in the same order as the scalar
+//! [`super::raster::for_each_segment`] and
 //! [`super::raster::for_each_sample`] (no fused multiply-adds in either), so
 //! every lane's splat is bit for bit the scalar one. The caller then
 //! deposits the lanes in lane order, which is the scalar sample order.
@@ -16,7 +18,8 @@ const LANE_INDEX: f32x8 = f32x8::new([0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
 /// Up to eight consecutive samples of one segment: per lane the lower-left
 /// texel `t0` of the splat, the four bilinear weights times the coverage
 /// (texels `t0`, `t0 + 1`, `t0 + n`, `t0 + n + 1`) and the depth `z`.
-/// Lanes `count..8` are past the segment's end and must be ignored.
+/// Lanes `count..8` are past the segment's end and must not be deposited
+/// (their `t0` is still clamped into the map, so they may be read from).
 #[derive(Clone, Copy, Debug)]
 pub struct SplatX8 {
     pub t0: [usize; LANES],
