@@ -10,7 +10,7 @@ use super::light_frame::{LightFrame, MapPlacement};
 use super::raster::Segment;
 use coif_kernels::{Vec3x8, LANES};
 use glam::Vec3;
-use wide::f32x8;
+use wide::{f32x8, i32x8};
 
 /// Lane `l` holds `l`: sample `base + l` of a segment.
 const LANE_INDEX: f32x8 = f32x8::new([0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
@@ -140,6 +140,7 @@ pub fn for_each_sample_x8(
 ) {
     let last = f32x8::splat(resolution.saturating_sub(2) as f32);
     let (zero, one, half) = (f32x8::ZERO, f32x8::ONE, f32x8::splat(0.5));
+    let row = i32x8::splat(resolution as i32);
     let each = |seg: &Segment| {
         let (ua, va, za) = (
             f32x8::splat(seg.ua),
@@ -162,14 +163,12 @@ pub fn for_each_sample_x8(
             let (gx, gy) = (one - fx, one - fy);
             // In range and never NaN (finite segment, usable placement), so
             // max/min equal the scalar clamp and the truncation is exact.
-            let i0 = fu.max(zero).min(last).fast_trunc_int().to_array();
-            let j0 = fv.max(zero).min(last).fast_trunc_int().to_array();
-            let mut t0 = [0usize; LANES];
-            for l in 0..LANES {
-                t0[l] = j0[l] as usize * resolution + i0[l] as usize;
-            }
+            let i0 = fu.max(zero).min(last).fast_trunc_int();
+            let j0 = fv.max(zero).min(last).fast_trunc_int();
+            // Below n^2 <= 8192^2 < 2^31: no overflow in i32.
+            let t0 = (j0 * row + i0).to_array();
             deposit(&SplatX8 {
-                t0,
+                t0: t0.map(|t| t as usize),
                 weights: [gx * gy * w, fx * gy * w, gx * fy * w, fx * fy * w],
                 z: za + dz * t,
                 count: (seg.samples - base).min(LANES),
