@@ -15,8 +15,7 @@
 //!   reference (16 rays over 2 mm, every 8th strand's vertices) in the id;
 //!   the full error table (mean, RMS, max, bias) is printed first.
 
-use coif::kernels::{self, SimParams, Strands};
-use coif::scene::{grow_on_sphere, GrowOptions};
+use coif::scene::draped_on_sphere;
 use coif::shading::shadow::quality::{error_of_map, reference_transmittance, Footprint};
 use coif::shading::shadow::{OpacityShadowMap, ShadowMode, ShadowSettings};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
@@ -25,19 +24,7 @@ use std::hint::black_box;
 
 /// Hair grown on a sphere head, draped under gravity for 60 steps.
 fn draped_head(strands: usize, verts: usize) -> (Vec<Vec3>, usize) {
-    let scene = grow_on_sphere(&GrowOptions {
-        strand_count: strands,
-        verts_per_strand: verts,
-        curl: 0.3,
-        ..Default::default()
-    });
-    let rig = [scene.head.clone()];
-    let params = SimParams::default();
-    let mut s = Strands::from_polylines(&scene.points, scene.verts_per_strand).unwrap();
-    for _ in 0..60 {
-        kernels::step(&mut s, &params, &rig);
-    }
-    (s.positions(), scene.verts_per_strand)
+    draped_on_sphere(strands, verts, 60)
 }
 
 fn light() -> Vec3 {

@@ -6,8 +6,7 @@
 //! cargo run --release --example shadow_profile -- MODE(slices|deep) LAYERS BUILDS RES STRANDS VERTS PATH(simd|scalar)
 //! valgrind --tool=callgrind target/release/examples/shadow_profile slices 16 10 256 2048 32 simd
 //! ```
-use coif::kernels::{self, SimParams, Strands};
-use coif::scene::{grow_on_sphere, GrowOptions};
+use coif::scene::draped_on_sphere;
 use coif::shading::shadow::{OpacityShadowMap, ShadowMode, ShadowSettings};
 use glam::Vec3;
 use std::time::Instant;
@@ -25,18 +24,7 @@ fn main() {
     let strands: usize = a.get(5).map(|s| s.parse().unwrap()).unwrap_or(2048);
     let verts: usize = a.get(6).map(|s| s.parse().unwrap()).unwrap_or(32);
     let scalar = a.get(7).map(|s| s.as_str()) == Some("scalar");
-    let scene = grow_on_sphere(&GrowOptions {
-        strand_count: strands,
-        verts_per_strand: verts,
-        curl: 0.3,
-        ..Default::default()
-    });
-    let rig = [scene.head.clone()];
-    let mut s = Strands::from_polylines(&scene.points, verts).unwrap();
-    for _ in 0..60 {
-        kernels::step(&mut s, &SimParams::default(), &rig);
-    }
-    let pts = s.positions();
+    let (pts, _) = draped_on_sphere(strands, verts, 60);
     let light = Vec3::new(1.0, -0.5, 0.3).normalize();
     let mut map = OpacityShadowMap::new(ShadowSettings {
         mode,

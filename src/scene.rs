@@ -48,6 +48,27 @@ impl Default for GrowOptions {
     }
 }
 
+/// Hair grown on the default sphere head ([`grow_on_sphere`], curl 0.3) and
+/// draped under gravity for `steps` steps of the default simulation: the
+/// draped head the shadow-map tests, bench, report and profiling harness
+/// measure on. Returns the world positions and the vertices per strand.
+pub fn draped_on_sphere(strands: usize, verts: usize, steps: usize) -> (Vec<Vec3>, usize) {
+    let scene = grow_on_sphere(&GrowOptions {
+        strand_count: strands,
+        verts_per_strand: verts,
+        curl: 0.3,
+        ..Default::default()
+    });
+    let rig = [scene.head.clone()];
+    let params = crate::kernels::SimParams::default();
+    let mut s = crate::kernels::Strands::from_polylines(&scene.points, scene.verts_per_strand)
+        .expect("grown hair is valid");
+    for _ in 0..steps {
+        crate::kernels::step(&mut s, &params, &rig);
+    }
+    (s.positions(), scene.verts_per_strand)
+}
+
 /// Grows strands along the normals of a sphere: roots on a Fibonacci spiral
 /// over the cap above `lowest_root`, each strand leaving straight along its
 /// normal (with optional curl around it), so under gravity it falls and drapes.

@@ -1,7 +1,6 @@
 //! Opacity shadow maps against the exact reference on a draped head of hair.
 
-use coif::kernels::{self, SimParams, Strands};
-use coif::scene::{grow_on_sphere, GrowOptions};
+use coif::scene::draped_on_sphere;
 use coif::shading::shadow::quality::{
     error_of_map, reference_transmittance, shadow_error, Footprint, ShadowError,
 };
@@ -11,19 +10,7 @@ use std::sync::OnceLock;
 
 /// Hair grown on a sphere head and draped under gravity for `steps` steps.
 fn draped_head(strands: usize, verts: usize, steps: usize) -> (Vec<Vec3>, usize) {
-    let scene = grow_on_sphere(&GrowOptions {
-        strand_count: strands,
-        verts_per_strand: verts,
-        curl: 0.3,
-        ..Default::default()
-    });
-    let rig = [scene.head.clone()];
-    let params = SimParams::default();
-    let mut s = Strands::from_polylines(&scene.points, scene.verts_per_strand).unwrap();
-    for _ in 0..steps {
-        kernels::step(&mut s, &params, &rig);
-    }
-    (s.positions(), scene.verts_per_strand)
+    draped_on_sphere(strands, verts, steps)
 }
 
 /// The quality scene: 512 draped strands of 16 vertices, lit from the side

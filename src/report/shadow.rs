@@ -16,8 +16,7 @@
 
 use super::timing::time_batch;
 use super::{Options, Path, Row};
-use crate::kernels::{self, SimParams, Strands};
-use crate::scene::{grow_on_sphere, GrowOptions};
+use crate::scene::draped_on_sphere;
 use crate::shading::shadow::quality::{error_of_map, reference_transmittance, Footprint};
 use crate::shading::shadow::{OpacityShadowMap, ShadowMode, ShadowSettings};
 use glam::Vec3;
@@ -33,23 +32,7 @@ const DRAPE_STEPS: usize = 90;
 
 pub fn rows(options: Options) -> Vec<Row> {
     let (strand_count, verts) = if options.quick { (96, 12) } else { (512, 16) };
-    let g = grow_on_sphere(&GrowOptions {
-        strand_count,
-        verts_per_strand: verts,
-        curl: 0.3,
-        ..Default::default()
-    });
-    let mut strands = Strands::from_polylines(&g.points, verts).expect("grown hair is valid");
-    let roots: Vec<Vec3> = g.points.iter().step_by(verts).copied().collect();
-    for _ in 0..DRAPE_STEPS {
-        strands.set_roots(&roots).expect("finite roots");
-        kernels::step(
-            &mut strands,
-            &SimParams::default(),
-            std::slice::from_ref(&g.head),
-        );
-    }
-    let points = strands.positions();
+    let (points, _) = draped_on_sphere(strand_count, verts, DRAPE_STEPS);
     let light = Vec3::new(0.4, -1.0, 0.3).normalize();
     let base = ShadowSettings {
         resolution: RESOLUTION,
