@@ -3,17 +3,11 @@
 //! whipping (4 Hz on a 15 cm circle, ~4 m/s) and a teleporting (10 m every
 //! 30 steps) head.
 
+mod common;
+
 use coif::kernels::patch::{self, quality, ribbon_on_sphere};
 use coif::kernels::{SimParams, Sphere};
 use glam::Vec3;
-
-/// Head offset at `step`: circle of `radius` at `hz`, plus `jump` metres
-/// every other 30 steps.
-fn head_offset(step: usize, dt: f32, radius: f32, hz: f32, jump: f32) -> Vec3 {
-    let a = std::f32::consts::TAU * hz * step as f32 * dt;
-    let jumps = ((step / 30) % 2) as f32;
-    Vec3::new(radius * a.cos() + jump * jumps, radius * a.sin(), 0.0)
-}
 
 /// Largest stretch of the vertical (column) edges.
 fn column_stretch(p: &coif::kernels::Patch) -> f32 {
@@ -49,7 +43,7 @@ fn stability_matrix_stays_finite_outside_the_head_and_within_stretch() {
                     let (mut worst_pen, mut worst_stretch) = (f32::NEG_INFINITY, f32::NEG_INFINITY);
                     let mut worst_column = f32::NEG_INFINITY;
                     for s in 0..120 {
-                        let off = head_offset(s, dt, radius, hz, jump);
+                        let off = common::stress_offset(s, dt, radius, hz, jump);
                         for (k, q) in skin.iter_mut().enumerate() {
                             *q = ribbon.points[k] + off;
                         }
@@ -139,7 +133,7 @@ fn coincident_particles_stay_finite_in_both_paths() {
         };
         let mut skin = points.clone();
         for s in 0..120 {
-            let off = head_offset(s, params.dt, 0.15, 4.0, 0.0);
+            let off = common::stress_offset(s, params.dt, 0.15, 4.0, 0.0);
             for (q, p) in skin.iter_mut().zip(&points) {
                 *q = *p + off;
             }

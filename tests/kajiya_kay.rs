@@ -1,19 +1,14 @@
 //! Kajiya-Kay and Scheuermann's shifted highlights: the formulas at
 //! hand-checked configurations, SIMD = scalar, and robustness.
 
+mod common;
+
 use coif::kernels::rng::SplitMix64;
 use coif::shading::kajiya_kay::{Highlight, KajiyaKay};
 use coif::shading::{RgbBuffer, ShadingSamples};
 use glam::Vec3;
 
-fn dir(theta: f32, phi: f32) -> Vec3 {
-    // theta from the normal plane (sin theta = w . X), phi around X.
-    Vec3::new(
-        theta.sin(),
-        theta.cos() * phi.cos(),
-        theta.cos() * phi.sin(),
-    )
-}
+use common::fibre_direction as dir;
 
 #[test]
 fn diffuse_is_kd_times_sine_to_the_tangent() {

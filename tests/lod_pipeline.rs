@@ -3,40 +3,17 @@
 //! vertex write) allocates nothing, and its output matches the unculled,
 //! full-detail path on the hair it draws.
 
+mod common;
+
 use coif::kernels::Strands;
 use coif::lod::{
     self, level, HairWidth, Interpolation, RefinedGuides, RenderHairs, RenderVertex, Visibility,
 };
+use common::counting::allocations;
 use glam::{Mat4, Vec3, Vec4};
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-
-struct Counting;
-
-thread_local! {
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.with(|a| a.set(a.get() + 1));
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.with(|a| a.set(a.get() + 1));
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
 
 #[global_allocator]
-static GLOBAL: Counting = Counting;
-
-fn allocations() -> usize {
-    ALLOCATIONS.with(|a| a.get())
-}
+static GLOBAL: common::counting::Counting = common::counting::Counting;
 
 #[test]
 fn a_frame_allocates_nothing_and_draws_what_full_detail_draws() {

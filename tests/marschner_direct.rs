@@ -1,6 +1,8 @@
 //! Marschner 2003 evaluated directly: the paper's properties, the root
 //! solvers, and robustness over every pair of directions.
 
+mod common;
+
 use coif::kernels::rng::SplitMix64;
 use coif::shading::marschner::{
     accuracy, azimuthal, fresnel, lobes, longitudinal, scattering, scattering_batch, Params,
@@ -10,13 +12,7 @@ use coif::shading::{RgbBuffer, ShadingSamples};
 use glam::Vec3;
 use std::f32::consts::PI;
 
-fn dir(theta: f32, phi: f32) -> Vec3 {
-    Vec3::new(
-        theta.sin(),
-        theta.cos() * phi.cos(),
-        theta.cos() * phi.sin(),
-    )
-}
+use common::fibre_direction as dir;
 
 #[test]
 fn r_lobe_peaks_at_alpha_r_for_an_absorbing_fibre() {

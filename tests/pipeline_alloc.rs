@@ -3,37 +3,14 @@
 //! from the very first frame on, including the frame that sets the LOD level,
 //! with the ribbons on (cloth steps, blend, normals, shading, triangles).
 
+mod common;
+
 use coif::pipeline::{motion, FramePipeline, FrameSettings, HairScene, ShadingModel};
 use coif::scene::GrowOptions;
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-
-struct Counting;
-
-thread_local! {
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.with(|a| a.set(a.get() + 1));
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.with(|a| a.set(a.get() + 1));
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
+use common::counting::allocations;
 
 #[global_allocator]
-static GLOBAL: Counting = Counting;
-
-fn allocations() -> usize {
-    ALLOCATIONS.with(|a| a.get())
-}
+static GLOBAL: common::counting::Counting = common::counting::Counting;
 
 #[test]
 fn frames_allocate_nothing_for_every_shading_model() {

@@ -2,30 +2,15 @@
 //! rebuild is deterministic: the same hair gives the same map bit for bit,
 //! whatever was built before.
 
+mod common;
+
 use coif::kernels::rng::SplitMix64;
 use coif::shading::shadow::{OpacityShadowMap, ShadowMode, ShadowSettings};
+use common::counting::allocations;
 use glam::Vec3;
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
-
-struct Counting;
-
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        // SAFETY: forwards the caller's layout to the system allocator.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: `ptr` came from `alloc` above with this layout.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-}
 
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: common::counting::Counting = common::counting::Counting;
 
 fn curly_hair(strands: usize, verts: usize, seed: u64) -> Vec<Vec3> {
     let mut rng = SplitMix64::new(seed);
@@ -75,14 +60,14 @@ fn build_and_lookups_allocate_nothing_and_rebuilds_are_deterministic() {
         let first = snapshot(&map);
         assert!(first.iter().any(|b| f32::from_bits(*b) > 0.1));
 
-        let before = ALLOCATIONS.load(Ordering::Relaxed);
+        let before = allocations();
         map.build(light, &other, 16);
         map.build_scalar(light, &other, 16);
         map.build(light, &hair, 16);
         map.transmittance_batch(&queries, &mut out);
         map.transmittance_batch_scalar(&queries, &mut out);
         let t = map.transmittance(queries[7]);
-        let after = ALLOCATIONS.load(Ordering::Relaxed);
+        let after = allocations();
         assert_eq!(
             after - before,
             0,
@@ -92,13 +77,13 @@ fn build_and_lookups_allocate_nothing_and_rebuilds_are_deterministic() {
 
         // The counter does see allocations (the snapshot makes one).
         assert!(snapshot(&map) == first, "{mode:?}: rebuild differs");
-        assert!(ALLOCATIONS.load(Ordering::Relaxed) > after);
+        assert!(allocations() > after);
 
         // The scalar build allocates nothing either.
-        let before = ALLOCATIONS.load(Ordering::Relaxed);
+        let before = allocations();
         map.build_scalar(light, &hair, 16);
         assert_eq!(
-            ALLOCATIONS.load(Ordering::Relaxed) - before,
+            allocations() - before,
             0,
             "{mode:?}: allocations in build_scalar"
         );

@@ -11,19 +11,6 @@ fn all_finite(s: &Strands) -> bool {
     s.positions_local().iter().all(|p| p.is_finite())
 }
 
-/// Roots whipping on a circle of `radius` at `hz`, or jumping by `jump` metres
-/// every 30 steps.
-fn root_offset(step: usize, dt: f32, radius: f32, hz: f32, jump: f32) -> Vec3 {
-    let t = step as f32 * dt;
-    let a = std::f32::consts::TAU * hz * t;
-    let jumps = (step / 30) as f32;
-    Vec3::new(
-        radius * a.cos() + jump * (jumps % 2.0),
-        radius * a.sin(),
-        0.0,
-    )
-}
-
 #[test]
 fn stability_matrix_stays_finite_and_within_the_strain_limit() {
     let scene = grow_on_sphere(&GrowOptions {
@@ -50,7 +37,7 @@ fn stability_matrix_stays_finite_and_within_the_strain_limit() {
                     let (mut worst_strain, mut worst_stretch, mut worst_pen) =
                         (0.0f32, 0.0f32, 0.0f32);
                     for i in 0..120 {
-                        let off = root_offset(i, dt, radius, hz, jump);
+                        let off = common::stress_offset(i, dt, radius, hz, jump);
                         let rig = [Sphere {
                             center: scene.head.center + off,
                             radius: scene.head.radius,

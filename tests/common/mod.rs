@@ -1,6 +1,8 @@
 //! Scenes shared by the cross-crate tests.
 #![allow(dead_code)]
 
+pub mod counting;
+
 use coif::kernels::rng::SplitMix64;
 use coif::kernels::Sphere;
 use glam::Vec3;
@@ -84,4 +86,24 @@ pub fn small_hair_scene() -> coif::pipeline::HairScene {
         ..Default::default()
     })
     .expect("the small procedural scene is valid")
+}
+
+/// The stability matrices' rig motion at `step` (of `dt` seconds): a circle
+/// of `radius` metres at `hz` (a whipping head at about 4 m/s for 15 cm at
+/// 4 Hz), plus a jump of `jump` metres every other 30 steps (teleports).
+pub fn stress_offset(step: usize, dt: f32, radius: f32, hz: f32, jump: f32) -> Vec3 {
+    let t = step as f32 * dt;
+    let a = std::f32::consts::TAU * hz * t;
+    let jumps = ((step / 30) % 2) as f32;
+    Vec3::new(radius * a.cos() + jump * jumps, radius * a.sin(), 0.0)
+}
+
+/// A unit direction at longitudinal angle `theta` from the normal plane of
+/// the fibre axis `X` (`sin theta = w . X`) and azimuth `phi` around `X`.
+pub fn fibre_direction(theta: f32, phi: f32) -> Vec3 {
+    Vec3::new(
+        theta.sin(),
+        theta.cos() * phi.cos(),
+        theta.cos() * phi.sin(),
+    )
 }
