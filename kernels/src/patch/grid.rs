@@ -60,9 +60,6 @@ pub struct Patch {
     /// Vertical bending edge r -> r + 2.
     pub(crate) vbend_rest: Vec<f32x8>,
     pub(crate) vbend_share: Vec<[f32x8; 2]>,
-    /// Rest length of the horizontal edge `(r, c) -> (r, c + 1)`, row-major
-    /// (the row strain limit's; 0 in the last column).
-    pub(crate) row_rest: Vec<f32>,
     /// Per row, the column its strain limit starts from: the pinned particle
     /// nearest the middle column, or the middle column when the row has none.
     pub(crate) row_root: Vec<usize>,
@@ -168,15 +165,6 @@ impl Patch {
             anchor_skin: vec![Vec3x8::ZERO; slots],
             parent_up: vec![f32x8::ZERO; slots],
             weight: vec![1.0; n],
-            row_rest: (0..n)
-                .map(|k| {
-                    if k % cols + 1 < cols {
-                        grid[k].distance(grid[k + 1])
-                    } else {
-                        0.0
-                    }
-                })
-                .collect(),
             row_root: (0..rows)
                 .map(|r| {
                     let middle = cols / 2;

@@ -33,21 +33,23 @@ pub(crate) fn limit_row(p: &mut Patch, r: usize, factor: f32) {
     let (rows, cols) = (p.rows, p.cols);
     let root = p.row_root[r];
     let slot = |c: usize| ((c / LANES) * rows + r, c % LANES);
+    // Rest length of edge (c, c + 1): the colour-(c mod 2) pair data,
+    // stored in column c's slot.
+    let rest = |p: &Patch, c: usize| {
+        let (i, l) = slot(c);
+        p.horiz[c % 2].rest[i].as_array()[l]
+    };
     let (i, l) = slot(root);
     let start = p.pos[i].lane(l);
     let mut lead = start;
     for c in root + 1..cols {
-        lead = follow(
-            p,
-            slot(c),
-            lead,
-            p.row_rest[r * cols + c - 1] * factor,
-            factor,
-        );
+        let limit = rest(p, c - 1) * factor;
+        lead = follow(p, slot(c), lead, limit, factor);
     }
     lead = start;
     for c in (0..root).rev() {
-        lead = follow(p, slot(c), lead, p.row_rest[r * cols + c] * factor, factor);
+        let limit = rest(p, c) * factor;
+        lead = follow(p, slot(c), lead, limit, factor);
     }
 }
 
