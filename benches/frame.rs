@@ -17,14 +17,14 @@
 //! - `shade/{kajiya-kay,marschner,pbrt}`: per-vertex shading batch of 65,536
 //!   samples.
 
+use coif::frame::{motion, FramePipeline, FrameSettings, HairScene, Shader, ShadingModel};
+use coif::geometry::scene::GrowOptions;
 use coif::groom;
 use coif::kernels::rng::SplitMix64;
-use coif::pipeline::{motion, FramePipeline, FrameSettings, HairScene, Shader, ShadingModel};
 use coif::render::line::{draw_segment, ScreenVertex};
 use coif::render::sort::DepthOrder;
 use coif::render::triangle::{fill_triangle, TriangleVertex};
 use coif::render::Framebuffer;
-use coif::scene::GrowOptions;
 use coif::shading::{RgbBuffer, ShadingSamples};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::Vec3;

@@ -42,22 +42,24 @@ fn guides(count: usize, verts: usize, seed: u64) -> (Vec<Vec3>, Vec<Vec3>) {
 fn refine(c: &mut Criterion) {
     let (_, pts) = guides(512, 16, 1);
     let strands = Strands::from_polylines(&pts, 16).unwrap();
-    let mut out = RefinedGuides::new(&strands, 16).unwrap();
+    let mut out = RefinedGuides::new(strands.blocks(), 16).unwrap();
     out.set_segments_per_span(4);
     let verts = (strands.strand_count() * out.verts_per_strand()) as u64;
     let mut g = c.benchmark_group("refine");
     g.throughput(Throughput::Elements(verts));
     g.bench_function("simd", |b| {
-        b.iter(|| lod::refine_strands(black_box(&strands), None, &mut out))
+        b.iter(|| lod::refine_strands(black_box(strands.blocks()), None, &mut out))
     });
     g.bench_function("scalar", |b| {
-        b.iter(|| lod::scalar::refine_strands(black_box(&strands), None, &mut out))
+        b.iter(|| lod::scalar::refine_strands(black_box(strands.blocks()), None, &mut out))
     });
     g.bench_function("positions_simd", |b| {
-        b.iter(|| lod::refine_strands_positions(black_box(&strands), None, &mut out))
+        b.iter(|| lod::refine_strands_positions(black_box(strands.blocks()), None, &mut out))
     });
     g.bench_function("positions_scalar", |b| {
-        b.iter(|| lod::scalar::refine_strands_positions(black_box(&strands), None, &mut out))
+        b.iter(|| {
+            lod::scalar::refine_strands_positions(black_box(strands.blocks()), None, &mut out)
+        })
     });
     g.finish();
 
@@ -72,7 +74,7 @@ fn refine(c: &mut Criterion) {
         ));
         let id = BenchmarkId::new(format!("N={n}"), format!("err={err:.2e}_bound={bound:.2e}"));
         g.bench_function(id, |b| {
-            b.iter(|| lod::refine_strands(black_box(&strands), None, &mut out))
+            b.iter(|| lod::refine_strands(black_box(strands.blocks()), None, &mut out))
         });
     }
     g.finish();
@@ -99,9 +101,9 @@ fn head(whole_groups: bool) -> (Strands, Interpolation, RefinedGuides) {
     } else {
         Interpolation::new(&roots, &tris, density, 7).unwrap()
     };
-    let mut guides = RefinedGuides::new(&strands, 8).unwrap();
+    let mut guides = RefinedGuides::new(strands.blocks(), 8).unwrap();
     guides.set_segments_per_span(3);
-    lod::refine_strands(&strands, None, &mut guides);
+    lod::refine_strands(strands.blocks(), None, &mut guides);
     (strands, interp, guides)
 }
 
@@ -173,7 +175,7 @@ fn cull(c: &mut Criterion) {
     c.bench_function("cull/head", |b| {
         b.iter(|| {
             lod::cull(
-                black_box(&strands),
+                black_box(strands.blocks()),
                 Some(&interp),
                 interp.group_count(),
                 &frustum,

@@ -5,9 +5,11 @@
 //!
 //! `cargo bench --bench simulation` (add `-- --quick` for a fast pass).
 
+use coif::geometry::scene::{
+    body_rig, grow_on_sphere, rig_with_distractors, scalp_spheres, GrowOptions,
+};
 use coif::groom::tfx;
 use coif::kernels::{self, scalar, SimParams, Sphere, Strands};
-use coif::scene::{body_rig, grow_on_sphere, rig_with_distractors, scalp_spheres, GrowOptions};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use glam::Vec3;
 use std::hint::black_box;

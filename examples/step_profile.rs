@@ -6,9 +6,9 @@
 //! difference by 20 x 71,232 vertices. The rig is two 8 cm spheres tangent
 //! under the scalp (`scene::scalp_spheres`) plus distractors a body length away.
 
+use coif::geometry::scene::{rig_with_distractors, scalp_spheres};
 use coif::groom::tfx;
 use coif::kernels::{self, SimParams, Strands};
-use coif::scene::{rig_with_distractors, scalp_spheres};
 use std::time::Instant;
 fn main() {
     let args: Vec<String> = std::env::args().collect();

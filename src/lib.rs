@@ -1,18 +1,24 @@
 //! coif: structure-of-arrays SIMD kernels for real-time hair.
 //!
-//! The data flow of a frame: geometry ([`scene`], [`scalp`], [`groom`]) -> dynamics
-//! ([`kernels`]: Verlet, constraints, collisions) -> LOD ([`lod`]) ->
-//! shading ([`shading`]). [`pipeline`] runs a whole frame into buffers
-//! sized once, and [`render`] draws it in software for the demo.
+//! This crate is the facade: it re-exports the library crates under one
+//! name, in the order a frame's data flows through them.
+//!
+//! | module | crate | stage |
+//! |---|---|---|
+//! | [`base`] | `coif-base` | lane math, the strand-block view, the rig sphere, the RNG |
+//! | [`geometry`] (and [`groom`]) | `coif-geometry` | grooms, scalp meshes, built-in scenes |
+//! | [`kernels`] | `coif-kernels` | dynamics: strands and cloth patches |
+//! | [`lod`] | `coif-lod` | B-spline refinement, interpolation, fits, LOD and culling |
+//! | [`shading`] | `coif-shading` | Kajiya-Kay, Marschner, pbrt-v3, opacity shadow maps |
+//! | [`frame`] | `coif-frame` | the frame pipeline: simulation to pixels |
+//! | [`render`] | `coif-render` | the small software renderer the frame draws with |
+#![warn(missing_docs)]
 
+pub use coif_base as base;
+pub use coif_frame as frame;
+pub use coif_geometry as geometry;
+pub use coif_geometry::groom;
 pub use coif_kernels as kernels;
 pub use coif_lod as lod;
+pub use coif_render as render;
 pub use coif_shading as shading;
-
-pub mod groom;
-pub mod pipeline;
-pub mod quality;
-pub mod render;
-pub mod report;
-pub mod scalp;
-pub mod scene;

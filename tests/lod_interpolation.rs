@@ -53,7 +53,7 @@ fn scene(density: f32, segs: usize) -> Scene {
     let (roots, pts, tris) = scalp(21);
     let strands = Strands::from_polylines(&pts, VERTS).unwrap();
     let interp = Interpolation::new(&roots, &tris, density, 99).unwrap();
-    let mut guides = RefinedGuides::new(&strands, 8).unwrap();
+    let mut guides = RefinedGuides::new(strands.blocks(), 8).unwrap();
     guides.set_segments_per_span(segs);
     let hairs = RenderHairs::new(&interp, &guides);
     Scene {
@@ -92,7 +92,7 @@ fn weights_are_valid_barycentric_coordinates() {
 #[test]
 fn interpolated_hair_lies_inside_the_guides_hull_and_simd_equals_scalar() {
     let mut s = scene(150.0, 3);
-    lod::refine_strands(&s.strands, None, &mut s.guides);
+    lod::refine_strands(s.strands.blocks(), None, &mut s.guides);
     let groups = s.interp.group_count();
     assert_eq!(
         lod::interpolate(&s.interp, &s.guides, None, groups, &mut s.hairs),
@@ -146,7 +146,7 @@ fn barycentric_of(p: DVec3, t: [DVec3; 3]) -> [f64; 3] {
 fn density_matches_hairs_per_cm2() {
     for &density in &[120.0f32, 150.0, 200.0] {
         let mut s = scene(density, 1);
-        lod::refine_strands(&s.strands, None, &mut s.guides);
+        lod::refine_strands(s.strands.blocks(), None, &mut s.guides);
         let groups = s.interp.group_count();
         lod::interpolate(&s.interp, &s.guides, None, groups, &mut s.hairs);
         let area_cm2 = s.interp.scalp_area_m2() / 1e-4;
@@ -179,7 +179,7 @@ fn density_matches_hairs_per_cm2() {
 #[test]
 fn a_prefix_is_an_even_thinning_and_width_keeps_coverage() {
     let mut s = scene(150.0, 1);
-    lod::refine_strands(&s.strands, None, &mut s.guides);
+    lod::refine_strands(s.strands.blocks(), None, &mut s.guides);
     let lod_half = lod::distance_lod(&s.interp, 0.5, 0.1);
     let groups = s.interp.group_count();
     assert_eq!(lod_half.groups_drawn, groups.div_ceil(2));
@@ -229,7 +229,7 @@ fn frustum_culling_skips_work_but_never_visible_hair() {
     let mut s = scene(150.0, 2);
     let groups = s.interp.group_count();
     // Reference: everything refined and interpolated.
-    lod::refine_strands(&s.strands, None, &mut s.guides);
+    lod::refine_strands(s.strands.blocks(), None, &mut s.guides);
     lod::interpolate(&s.interp, &s.guides, None, groups, &mut s.hairs);
     let full = s.hairs.clone();
 
@@ -239,16 +239,23 @@ fn frustum_culling_skips_work_but_never_visible_hair() {
     let frustum =
         lod::Frustum::from_planes([Vec4::new(-1.0, 0.0, 0.0, 3.5 * CM), big, big, big, big, big]);
     let mut vis = Visibility::new(s.strands.strand_count(), groups);
-    lod::cull(&s.strands, Some(&s.interp), groups, &frustum, 0.0, &mut vis);
+    lod::cull(
+        s.strands.blocks(),
+        Some(&s.interp),
+        groups,
+        &frustum,
+        0.0,
+        &mut vis,
+    );
     assert!(
         vis.groups_visible() < groups / 2,
         "culling must drop hair out of view"
     );
     assert!(vis.guide_blocks_needed() < s.strands.block_count());
 
-    let mut guides = RefinedGuides::new(&s.strands, 8).unwrap();
+    let mut guides = RefinedGuides::new(s.strands.blocks(), 8).unwrap();
     guides.set_segments_per_span(2);
-    let refined = lod::refine_strands(&s.strands, Some(&vis), &mut guides);
+    let refined = lod::refine_strands(s.strands.blocks(), Some(&vis), &mut guides);
     assert_eq!(refined, vis.guide_blocks_needed());
     let mut hairs = RenderHairs::new(&s.interp, &guides);
     let written = lod::interpolate(&s.interp, &guides, Some(&vis), groups, &mut hairs);
@@ -293,7 +300,7 @@ fn frustum_culling_skips_work_but_never_visible_hair() {
 #[test]
 fn render_vertices_fill_an_engine_buffer() {
     let mut s = scene(120.0, 2);
-    lod::refine_strands(&s.strands, None, &mut s.guides);
+    lod::refine_strands(s.strands.blocks(), None, &mut s.guides);
     let d = lod::distance_lod(&s.interp, 0.4, 0.1);
     lod::interpolate(&s.interp, &s.guides, None, d.groups_drawn, &mut s.hairs);
     let len = lod::render_vertex_len(&s.interp, &s.hairs, d.groups_drawn);
@@ -363,8 +370,8 @@ fn placement_is_uniform_inside_a_triangle() {
     }
     let strands = Strands::from_polylines(&pts, 2).unwrap();
     let interp = Interpolation::new(&roots, &[[0, 1, 2]], 150.0, 3).unwrap();
-    let mut guides = RefinedGuides::new(&strands, 1).unwrap();
-    lod::refine_strands(&strands, None, &mut guides);
+    let mut guides = RefinedGuides::new(strands.blocks(), 1).unwrap();
+    lod::refine_strands(strands.blocks(), None, &mut guides);
     let mut hairs = RenderHairs::new(&interp, &guides);
     lod::interpolate(&interp, &guides, None, interp.group_count(), &mut hairs);
     let origin = strands.origin();
@@ -390,7 +397,7 @@ fn placement_is_uniform_inside_a_triangle() {
 #[test]
 fn positions_only_pass_matches_full_pass_and_scalar() {
     let mut s = scene(150.0, 2);
-    lod::refine_strands(&s.strands, None, &mut s.guides);
+    lod::refine_strands(s.strands.blocks(), None, &mut s.guides);
     let groups = s.interp.group_count();
     lod::interpolate(&s.interp, &s.guides, None, groups, &mut s.hairs);
     let full = s.hairs.clone();

@@ -43,7 +43,7 @@ fn a_frame_allocates_nothing_and_draws_what_full_detail_draws() {
 
     // Buffers, sized once.
     let mut vis = Visibility::new(strands.strand_count(), interp.group_count());
-    let mut guides = RefinedGuides::new(&strands, 16).unwrap();
+    let mut guides = RefinedGuides::new(strands.blocks(), 16).unwrap();
     let mut hairs = RenderHairs::new(&interp, &guides);
     let max_vertices = interp.hair_count() * lod::refined_len(10, 16);
     let mut vertices = vec![RenderVertex::default(); max_vertices];
@@ -65,11 +65,22 @@ fn a_frame_allocates_nothing_and_draws_what_full_detail_draws() {
                  out: &mut [RenderVertex]| {
         let ppm = level::pixels_per_metre(0.4, 0.6, 1080.0);
         let d = lod::distance_lod(&interp, 80e-6 * ppm, 0.1);
-        lod::cull(&strands, Some(&interp), d.groups_drawn, &frustum, 1e-3, vis);
-        let n =
-            level::segments_per_span(level::max_second_difference_strands(&strands), ppm, 0.5, 16);
+        lod::cull(
+            strands.blocks(),
+            Some(&interp),
+            d.groups_drawn,
+            &frustum,
+            1e-3,
+            vis,
+        );
+        let n = level::segments_per_span(
+            level::max_second_difference_strands(strands.blocks()),
+            ppm,
+            0.5,
+            16,
+        );
         guides.set_segments_per_span(n);
-        lod::refine_strands(&strands, Some(vis), guides);
+        lod::refine_strands(strands.blocks(), Some(vis), guides);
         lod::interpolate(&interp, guides, Some(vis), d.groups_drawn, hairs);
         let written = lod::write_render_vertices(
             &interp,
@@ -95,9 +106,9 @@ fn a_frame_allocates_nothing_and_draws_what_full_detail_draws() {
     );
 
     // Full detail, no culling: the drawn groups are identical.
-    let mut all_guides = RefinedGuides::new(&strands, 16).unwrap();
+    let mut all_guides = RefinedGuides::new(strands.blocks(), 16).unwrap();
     all_guides.set_segments_per_span(n);
-    lod::refine_strands(&strands, None, &mut all_guides);
+    lod::refine_strands(strands.blocks(), None, &mut all_guides);
     let mut all_hairs = RenderHairs::new(&interp, &all_guides);
     lod::interpolate(
         &interp,

@@ -123,14 +123,17 @@ fn simd_batch_matches_scalar_twin_and_single_strand_refine() {
     // 21 strands: three blocks, the last with five padding lanes.
     let (_, strands) = strand_set(3, 21, 9);
     let local = strands.positions_local();
-    let mut simd = RefinedGuides::new(&strands, 16).unwrap();
-    let mut scal = RefinedGuides::new(&strands, 16).unwrap();
+    let mut simd = RefinedGuides::new(strands.blocks(), 16).unwrap();
+    let mut scal = RefinedGuides::new(strands.blocks(), 16).unwrap();
     let (mut single, mut single_t) = (Vec::new(), Vec::new());
     for &segs in &[1usize, 3, 4, 7, 16] {
         assert_eq!(simd.set_segments_per_span(segs), segs);
         scal.set_segments_per_span(segs);
-        assert_eq!(lod::refine_strands(&strands, None, &mut simd), 3);
-        assert_eq!(lod::scalar::refine_strands(&strands, None, &mut scal), 3);
+        assert_eq!(lod::refine_strands(strands.blocks(), None, &mut simd), 3);
+        assert_eq!(
+            lod::scalar::refine_strands(strands.blocks(), None, &mut scal),
+            3
+        );
         let r = simd.verts_per_strand();
         assert_eq!(r, lod::refined_len(9, segs));
         for i in 0..21 {
@@ -161,9 +164,9 @@ fn culled_blocks_are_not_refined() {
         p.x += 10.0;
     }
     let strands = Strands::from_polylines(&pts, 6).unwrap();
-    let mut out = RefinedGuides::new(&strands, 8).unwrap();
+    let mut out = RefinedGuides::new(strands.blocks(), 8).unwrap();
     out.set_segments_per_span(4);
-    assert_eq!(lod::refine_strands(&strands, None, &mut out), 3);
+    assert_eq!(lod::refine_strands(strands.blocks(), None, &mut out), 3);
     let before: Vec<Vec3> = (0..out.verts_per_strand())
         .map(|v| out.position(9, v))
         .collect();
@@ -184,23 +187,26 @@ fn culled_blocks_are_not_refined() {
         big,
     ]);
     let mut vis = Visibility::new(24, 0);
-    lod::cull(&moved, None, 0, &slab, 0.0, &mut vis);
+    lod::cull(moved.blocks(), None, 0, &slab, 0.0, &mut vis);
     assert_eq!(vis.guide_blocks_needed(), 2);
     assert!(!vis.guide_block_needed(1));
-    assert_eq!(lod::refine_strands(&moved, Some(&vis), &mut out), 2);
+    assert_eq!(lod::refine_strands(moved.blocks(), Some(&vis), &mut out), 2);
     assert!(!out.is_block_refined(1) && out.is_block_refined(0) && out.is_block_refined(2));
     let after: Vec<Vec3> = (0..out.verts_per_strand())
         .map(|v| out.position(9, v))
         .collect();
     assert_eq!(before, after, "a culled block must not be written");
-    assert_eq!(lod::scalar::refine_strands(&moved, Some(&vis), &mut out), 2);
+    assert_eq!(
+        lod::scalar::refine_strands(moved.blocks(), Some(&vis), &mut out),
+        2
+    );
     let after: Vec<Vec3> = (0..out.verts_per_strand())
         .map(|v| out.position(9, v))
         .collect();
     assert_eq!(before, after, "the scalar twin must skip it too");
 
     // Everything visible: block 1 is refined with the new data.
-    assert_eq!(lod::refine_strands(&moved, None, &mut out), 3);
+    assert_eq!(lod::refine_strands(moved.blocks(), None, &mut out), 3);
     assert!(out.is_block_refined(1));
     assert_ne!(out.position(9, 1), before[1]);
 }
@@ -209,10 +215,10 @@ fn culled_blocks_are_not_refined() {
 fn mismatched_buffer_writes_nothing() {
     let (_, a) = strand_set(5, 8, 6);
     let (_, b) = strand_set(6, 8, 7);
-    let mut out = RefinedGuides::new(&a, 4).unwrap();
-    assert_eq!(lod::refine_strands(&b, None, &mut out), 0);
-    assert_eq!(lod::scalar::refine_strands(&b, None, &mut out), 0);
-    assert!(RefinedGuides::new(&a, 0).is_err());
+    let mut out = RefinedGuides::new(a.blocks(), 4).unwrap();
+    assert_eq!(lod::refine_strands(b.blocks(), None, &mut out), 0);
+    assert_eq!(lod::scalar::refine_strands(b.blocks(), None, &mut out), 0);
+    assert!(RefinedGuides::new(a.blocks(), 0).is_err());
 }
 
 #[test]
@@ -252,7 +258,7 @@ fn batch_second_difference_matches_per_strand() {
             level::max_second_difference(&local)
         })
         .fold(0.0, f32::max);
-    let got = level::max_second_difference_strands(&strands);
+    let got = level::max_second_difference_strands(strands.blocks());
     assert!(
         (got - expected).abs() <= 1e-5 * expected,
         "{got} vs {expected}"
@@ -262,17 +268,20 @@ fn batch_second_difference_matches_per_strand() {
 #[test]
 fn positions_only_refinement_matches_the_full_pass() {
     let (_, strands) = strand_set(9, 13, 7);
-    let mut full = RefinedGuides::new(&strands, 8).unwrap();
-    let mut simd = RefinedGuides::new(&strands, 8).unwrap();
-    let mut scal = RefinedGuides::new(&strands, 8).unwrap();
+    let mut full = RefinedGuides::new(strands.blocks(), 8).unwrap();
+    let mut simd = RefinedGuides::new(strands.blocks(), 8).unwrap();
+    let mut scal = RefinedGuides::new(strands.blocks(), 8).unwrap();
     for segs in [1, 4, 8] {
         for out in [&mut full, &mut simd, &mut scal] {
             out.set_segments_per_span(segs);
         }
-        lod::refine_strands(&strands, None, &mut full);
-        assert_eq!(lod::refine_strands_positions(&strands, None, &mut simd), 2);
+        lod::refine_strands(strands.blocks(), None, &mut full);
         assert_eq!(
-            lod::scalar::refine_strands_positions(&strands, None, &mut scal),
+            lod::refine_strands_positions(strands.blocks(), None, &mut simd),
+            2
+        );
+        assert_eq!(
+            lod::scalar::refine_strands_positions(strands.blocks(), None, &mut scal),
             2
         );
         for b in 0..2 {

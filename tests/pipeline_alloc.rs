@@ -5,8 +5,8 @@
 
 mod common;
 
-use coif::pipeline::{motion, FramePipeline, FrameSettings, HairScene, ShadingModel};
-use coif::scene::GrowOptions;
+use coif::frame::{motion, FramePipeline, FrameSettings, HairScene, ShadingModel};
+use coif::geometry::scene::GrowOptions;
 use common::counting::allocations;
 
 #[global_allocator]

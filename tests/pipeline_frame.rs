@@ -4,7 +4,7 @@
 
 mod common;
 
-use coif::pipeline::{
+use coif::frame::{
     motion, FramePipeline, FrameSettings, HairScene, ShadingModel, HAIR_AMBIENT_ALBEDO,
 };
 use coif::render::RgbImage;

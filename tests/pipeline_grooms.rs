@@ -5,8 +5,8 @@ mod common;
 
 use common::groom_path;
 
+use coif::frame::{FramePipeline, FrameSettings, HairScene};
 use coif::groom;
-use coif::pipeline::{FramePipeline, FrameSettings, HairScene};
 use glam::Affine3A;
 
 #[test]

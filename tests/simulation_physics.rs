@@ -2,8 +2,8 @@
 
 mod common;
 
+use coif::geometry::scene::{grow_on_sphere, horizontal_strand, GrowOptions};
 use coif::kernels::{self, measure, SimParams, Sphere, Strands};
-use coif::scene::{grow_on_sphere, horizontal_strand, GrowOptions};
 use glam::Vec3;
 
 #[test]

@@ -2,9 +2,9 @@
 
 mod common;
 
+use coif::geometry::scene::{grow_on_sphere, GrowOptions};
 use coif::kernels::rng::SplitMix64;
 use coif::kernels::{self, measure, SimParams, Sphere, Strands};
-use coif::scene::{grow_on_sphere, GrowOptions};
 use glam::{Affine3A, DVec3, Quat, Vec3};
 
 fn all_finite(s: &Strands) -> bool {

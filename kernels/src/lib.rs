@@ -9,20 +9,18 @@
 mod broad_phase;
 mod error;
 mod fixed_step;
-pub mod lanes;
 pub mod measure;
 mod params;
 pub mod patch;
-pub mod rng;
 pub mod scalar;
 mod step;
 mod strands;
 
+pub use coif_base::{lanes, rng, Sphere, StrandBlocks, Vec3x8, LANES};
 pub use error::Error;
 pub use fixed_step::FixedStep;
-pub use lanes::{Vec3x8, LANES};
 pub use measure::{measure, Measures};
-pub use params::{SimParams, Sphere, MAX_PEARLS_PER_SEGMENT};
+pub use params::{SimParams, MAX_PEARLS_PER_SEGMENT};
 pub use patch::{Patch, Ribbon};
 pub use step::step;
 pub use strands::Strands;

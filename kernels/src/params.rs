@@ -3,14 +3,6 @@
 use crate::Error;
 use glam::Vec3;
 
-/// A collision sphere of the engine's rig (head, neck, shoulders...), in world
-/// coordinates. Moved by the engine every frame; non-finite spheres are ignored.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Sphere {
-    pub center: Vec3,
-    pub radius: f32,
-}
-
 /// Parameters of one fixed simulation step ([`crate::step`]).
 ///
 /// All fields are public; build with `..Default::default()`. [`SimParams::validate`]

@@ -13,6 +13,7 @@
 
 use crate::lanes::{Vec3x8, LANES};
 use crate::Error;
+use coif_base::StrandBlocks;
 use glam::{Affine3A, DVec3, Mat3, Vec3};
 use wide::f32x8;
 
@@ -221,6 +222,12 @@ impl Strands {
     /// repeat the block's last real strand.
     pub fn block_positions_local(&self, b: usize) -> &[Vec3x8] {
         &self.pos[b * self.verts..(b + 1) * self.verts]
+    }
+
+    /// The positions as a read-only lane-layout view, what LOD reads.
+    pub fn blocks(&self) -> StrandBlocks<'_> {
+        StrandBlocks::new(&self.pos, self.strand_count, self.verts, self.origin)
+            .expect("Strands keeps blocks * verts positions")
     }
 
     /// Per block: all bits set in lanes holding a real strand (a `select` mask).

@@ -11,7 +11,7 @@
 //! interpolated (nor, downstream, shaded).
 
 use crate::interpolation::Interpolation;
-use coif_kernels::{Strands, Vec3x8, LANES};
+use coif_base::{StrandBlocks, Vec3x8, LANES};
 use glam::{DVec3, Mat4, Vec3, Vec4};
 
 /// A convex view volume: six planes `(n, d)` with the inside where
@@ -140,7 +140,7 @@ impl Visibility {
 /// of its strands. If `out` was sized for other counts, everything is marked
 /// visible (safe, just not culled). Allocates nothing.
 pub fn cull(
-    strands: &Strands,
+    strands: StrandBlocks<'_>,
     interpolation: Option<&Interpolation>,
     groups_drawn: usize,
     frustum: &Frustum,

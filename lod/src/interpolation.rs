@@ -25,8 +25,8 @@ use crate::culling::Visibility;
 use crate::refine_batch::unit_or_y_x8;
 use crate::refine_batch::RefinedGuides;
 use crate::Error;
-use coif_kernels::rng::SplitMix64;
-use coif_kernels::{Vec3x8, LANES};
+use coif_base::rng::SplitMix64;
+use coif_base::{Vec3x8, LANES};
 use glam::Vec3;
 use wide::f32x8;
 

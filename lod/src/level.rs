@@ -14,7 +14,7 @@
 //! keeps it under `eps_px` pixels. The phantom ends add no second difference
 //! (`P_{-1} - 2 P_0 + P_1 = 0`).
 
-use coif_kernels::Strands;
+use coif_base::StrandBlocks;
 use glam::Vec3;
 use wide::f32x8;
 
@@ -30,7 +30,7 @@ pub fn max_second_difference(control: &[Vec3]) -> f32 {
 /// The largest control-polygon second difference over every strand of a set
 /// (SIMD over the eight strands of a block; padding lanes repeat a real
 /// strand, so they change nothing). In metres. NaN lanes are ignored.
-pub fn max_second_difference_strands(strands: &Strands) -> f32 {
+pub fn max_second_difference_strands(strands: StrandBlocks<'_>) -> f32 {
     let mut m = f32x8::ZERO;
     for b in 0..strands.block_count() {
         let p = strands.block_positions_local(b);

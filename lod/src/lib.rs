@@ -31,7 +31,7 @@
 //! let interp = Interpolation::new(&roots, &[[0, 1, 2]], 150.0, 7)?;
 //!
 //! let mut vis = Visibility::new(strands.strand_count(), interp.group_count());
-//! let mut guides = RefinedGuides::new(&strands, 16)?;
+//! let mut guides = RefinedGuides::new(strands.blocks(), 16)?;
 //! let mut hairs = RenderHairs::new(&interp, &guides);
 //! let mut vertices = vec![RenderVertex::default(); interp.hair_count() * lod::refined_len(4, 16)];
 //!
@@ -39,10 +39,10 @@
 //! let frustum = lod::Frustum::from_view_projection(Mat4::IDENTITY); // your camera's view-projection
 //! let px_per_m = level::pixels_per_metre(0.5, 0.8, 1080.0);
 //! let d = lod::distance_lod(&interp, 80e-6 * px_per_m, 0.1);
-//! lod::cull(&strands, Some(&interp), d.groups_drawn, &frustum, 1e-3, &mut vis);
-//! let n = level::segments_per_span(level::max_second_difference_strands(&strands), px_per_m, 0.5, 16);
+//! lod::cull(strands.blocks(), Some(&interp), d.groups_drawn, &frustum, 1e-3, &mut vis);
+//! let n = level::segments_per_span(level::max_second_difference_strands(strands.blocks()), px_per_m, 0.5, 16);
 //! guides.set_segments_per_span(n);
-//! lod::refine_strands(&strands, Some(&vis), &mut guides);
+//! lod::refine_strands(strands.blocks(), Some(&vis), &mut guides);
 //! lod::interpolate(&interp, &guides, Some(&vis), d.groups_drawn, &mut hairs);
 //! let count = lod::write_render_vertices(&interp, &hairs, d.groups_drawn, HairWidth::default(), d.width_factor, &mut vertices);
 //! let upload: &[u8] = lod::vertex_bytes(&vertices[..count]); // positions relative to strands.origin()

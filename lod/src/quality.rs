@@ -10,8 +10,8 @@ use crate::fit::fit;
 use crate::interpolation::{Interpolation, RenderHairs};
 use crate::vertex::HairWidth;
 use crate::Error;
-use coif_kernels::rng::SplitMix64;
-use coif_kernels::LANES;
+use coif_base::rng::SplitMix64;
+use coif_base::LANES;
 use glam::Vec3;
 
 /// Sub-samples per refined segment when measuring chord error.
@@ -300,8 +300,8 @@ mod tests {
         }
         let strands = Strands::from_polylines(&points, 8).unwrap();
         let interp = Interpolation::new(&roots, &triangles, 150.0, 3).unwrap();
-        let mut guides = RefinedGuides::new(&strands, 2).unwrap();
-        refine_strands(&strands, None, &mut guides);
+        let mut guides = RefinedGuides::new(strands.blocks(), 2).unwrap();
+        refine_strands(strands.blocks(), None, &mut guides);
         let mut hairs = RenderHairs::new(&interp, &guides);
         let written = interpolate(&interp, &guides, None, interp.group_count(), &mut hairs);
         assert_eq!(written, interp.group_count());

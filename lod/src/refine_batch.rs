@@ -10,7 +10,7 @@
 use crate::bspline::{basis, basis_derivative, refined_len};
 use crate::culling::Visibility;
 use crate::Error;
-use coif_kernels::{Strands, Vec3x8, LANES};
+use coif_base::{StrandBlocks, Vec3x8, LANES};
 use glam::Vec3;
 use wide::f32x8;
 
@@ -38,7 +38,10 @@ impl RefinedGuides {
     /// A buffer for `strands`, able to hold any level up to
     /// `max_segments_per_span` (1..=256) without reallocating. Starts at
     /// `N = max_segments_per_span`.
-    pub fn new(strands: &Strands, max_segments_per_span: usize) -> Result<RefinedGuides, Error> {
+    pub fn new(
+        strands: StrandBlocks<'_>,
+        max_segments_per_span: usize,
+    ) -> Result<RefinedGuides, Error> {
         RefinedGuides::with_shape(
             strands.strand_count(),
             strands.verts_per_strand(),
@@ -175,7 +178,7 @@ impl RefinedGuides {
         out.extend((0..self.verts).map(|r| self.position(i, r)));
     }
 
-    fn fits(&self, strands: &Strands) -> bool {
+    fn fits(&self, strands: StrandBlocks<'_>) -> bool {
         strands.strand_count() == self.strand_count
             && strands.verts_per_strand() == self.control_verts
     }
@@ -196,7 +199,7 @@ fn block_needed(visibility: Option<&Visibility>, b: usize) -> bool {
 /// control points exactly; tangents whose derivative vanishes (or is not
 /// finite) are `Vec3::Y`. Allocates nothing.
 pub fn refine_strands(
-    strands: &Strands,
+    strands: StrandBlocks<'_>,
     visibility: Option<&Visibility>,
     out: &mut RefinedGuides,
 ) -> usize {
@@ -208,7 +211,7 @@ pub fn refine_strands(
 /// hair's positions, see [`crate::interpolate_positions`]). The tangent
 /// arrays of `out` are left as they were.
 pub fn refine_strands_positions(
-    strands: &Strands,
+    strands: StrandBlocks<'_>,
     visibility: Option<&Visibility>,
     out: &mut RefinedGuides,
 ) -> usize {
@@ -216,7 +219,7 @@ pub fn refine_strands_positions(
 }
 
 fn refine_x8<const TANGENTS: bool>(
-    strands: &Strands,
+    strands: StrandBlocks<'_>,
     visibility: Option<&Visibility>,
     out: &mut RefinedGuides,
 ) -> usize {
@@ -309,7 +312,7 @@ pub mod scalar {
 
     /// Scalar twin of [`super::refine_strands`].
     pub fn refine_strands(
-        strands: &Strands,
+        strands: StrandBlocks<'_>,
         visibility: Option<&Visibility>,
         out: &mut RefinedGuides,
     ) -> usize {
@@ -318,7 +321,7 @@ pub mod scalar {
 
     /// Scalar twin of [`super::refine_strands_positions`].
     pub fn refine_strands_positions(
-        strands: &Strands,
+        strands: StrandBlocks<'_>,
         visibility: Option<&Visibility>,
         out: &mut RefinedGuides,
     ) -> usize {
@@ -326,7 +329,7 @@ pub mod scalar {
     }
 
     fn refine_scalar<const TANGENTS: bool>(
-        strands: &Strands,
+        strands: StrandBlocks<'_>,
         visibility: Option<&Visibility>,
         out: &mut RefinedGuides,
     ) -> usize {

@@ -3,7 +3,7 @@
 
 use crate::interpolation::{Interpolation, RenderHairs};
 use bytemuck::{Pod, Zeroable};
-use coif_kernels::LANES;
+use coif_base::LANES;
 
 /// One hair vertex, 32 bytes, `#[repr(C)]`:
 /// `position` (metres, relative to the guides' `Strands::origin`), `width`

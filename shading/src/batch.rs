@@ -4,7 +4,7 @@
 //! [`ShadingSamples::load_block`]'s padding.
 
 use crate::{RgbBuffer, ShadingSamples};
-use coif_kernels::{Vec3x8, LANES};
+use coif_base::{Vec3x8, LANES};
 use wide::f32x8;
 
 #[inline(always)]

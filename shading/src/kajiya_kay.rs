@@ -28,7 +28,7 @@
 //! The result is diffuse + specular, without light colour or cosine factor.
 
 use crate::{RgbBuffer, ShadingSamples};
-use coif_kernels::Vec3x8;
+use coif_base::Vec3x8;
 use glam::Vec3;
 use wide::bytemuck::cast;
 use wide::{f32x8, i32x8};

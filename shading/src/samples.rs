@@ -5,7 +5,7 @@
 //! reuses frame after frame: `clear` + `push` (or direct writes to the public
 //! arrays) never reallocate once the capacity has been reached.
 
-use coif_kernels::{Vec3x8, LANES};
+use coif_base::{Vec3x8, LANES};
 use glam::Vec3;
 use wide::f32x8;
 
@@ -80,7 +80,7 @@ impl ShadingSamples {
                 if start + LANES <= n {
                     f32x8::new(c[start..start + LANES].try_into().expect("LANES values"))
                 } else {
-                    coif_kernels::lanes::load_padded(&c[start.min(n)..n], p)
+                    coif_base::lanes::load_padded(&c[start.min(n)..n], p)
                 }
             };
             Vec3x8::new(one(&a[0], pad.x), one(&a[1], pad.y), one(&a[2], pad.z))

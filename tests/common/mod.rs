@@ -78,8 +78,8 @@ pub fn shifted_roots(points: &[Vec3], verts: usize, offset: Vec3) -> Vec<Vec3> {
 
 /// The small procedural head of the pipeline tests: 384 guides of 16
 /// vertices, light curl.
-pub fn small_hair_scene() -> coif::pipeline::HairScene {
-    coif::pipeline::HairScene::procedural(&coif::scene::GrowOptions {
+pub fn small_hair_scene() -> coif::frame::HairScene {
+    coif::frame::HairScene::procedural(&coif::geometry::scene::GrowOptions {
         strand_count: 384,
         verts_per_strand: 16,
         curl: 0.15,

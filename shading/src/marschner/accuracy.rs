@@ -4,7 +4,7 @@
 
 use super::azimuthal::{roots_cubic, roots_exact};
 use super::{lobes_at, FibreAngles, Lut, LutLayout, Params, RootSolver};
-use coif_kernels::rng::SplitMix64;
+use coif_base::rng::SplitMix64;
 use glam::Vec3;
 
 /// Relative RMS error of `approx` against `reference` over `samples` random

@@ -21,7 +21,7 @@
 use super::params::Sanitised;
 use super::{longitudinal, n_terms, Params, MIN_COS_THETA_D};
 use crate::{RgbBuffer, ShadingSamples};
-use coif_kernels::{Vec3x8, LANES};
+use coif_base::{Vec3x8, LANES};
 use glam::{Vec3, Vec4};
 use std::f64::consts::PI;
 use wide::{f32x8, i32x8};

@@ -14,7 +14,7 @@
 use super::params::{Lobes, Params};
 use super::scattering_local_with;
 use crate::{RgbBuffer, ShadingSamples};
-use coif_kernels::rng::SplitMix64;
+use coif_base::rng::SplitMix64;
 use glam::Vec3;
 
 /// `(wo, wi)` in pbrt-v3's local frame for world directions: x = `t`, y =

@@ -12,7 +12,7 @@ use super::monte_carlo::scattering_monte_carlo;
 use super::params::{Lobes, Params};
 use super::table::{Parameterisation, Table};
 use crate::Error;
-use coif_kernels::rng::SplitMix64;
+use coif_base::rng::SplitMix64;
 use glam::Vec3;
 
 /// Quadrature order of the reference far field in this module: four

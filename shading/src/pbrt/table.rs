@@ -23,7 +23,7 @@ use super::far_field::{combine, recommended_order, world_angles, FarField};
 use super::fast_acos::{acos, acos_x8};
 use super::params::Params;
 use crate::{Error, RgbBuffer, ShadingSamples};
-use coif_kernels::{Vec3x8, LANES};
+use coif_base::{Vec3x8, LANES};
 use glam::Vec3;
 use std::f32::consts::PI;
 use wide::f32x8;

@@ -24,7 +24,7 @@
 //! / 0.063, over a quarter 0.082 / 0.074 / 0.073. Half is the best at the
 //! small layer counts deep maps are for.
 
-use coif_kernels::LANES;
+use coif_base::LANES;
 use wide::f32x8;
 
 /// The share of the hair's depth range that deep mode's layers span.

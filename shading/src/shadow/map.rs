@@ -7,7 +7,7 @@ use super::raster::for_each_sample;
 use super::raster_simd::for_each_sample_x8;
 use super::settings::{ShadowMode, ShadowSettings};
 use crate::Error;
-use coif_kernels::{Vec3x8, LANES};
+use coif_base::{Vec3x8, LANES};
 use glam::Vec3;
 use wide::f32x8;
 

@@ -8,7 +8,7 @@
 
 use super::light_frame::{LightFrame, MapPlacement};
 use super::raster::Segment;
-use coif_kernels::{Vec3x8, LANES};
+use coif_base::{Vec3x8, LANES};
 use glam::Vec3;
 use wide::{f32x8, i32x8};
 

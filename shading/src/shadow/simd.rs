@@ -5,7 +5,7 @@
 
 use super::map::OpacityShadowMap;
 use super::settings::ShadowMode;
-use coif_kernels::{Vec3x8, LANES};
+use coif_base::{Vec3x8, LANES};
 use glam::Vec3;
 use wide::f32x8;
 

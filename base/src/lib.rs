@@ -1,0 +1,20 @@
+//! coif-base: what every coif crate shares.
+//!
+//! - [`lanes`]: [`Vec3x8`], eight 3-vectors in three `wide::f32x8`
+//!   registers: strands (or shading samples) in SIMD lanes, [`LANES`] wide.
+//! - [`StrandBlocks`]: a read-only view of strands stored in lane blocks.
+//! - [`Sphere`]: the collision rig's primitive.
+//! - [`rng`]: [`SplitMix64`], the small deterministic generator behind every
+//!   random choice (scenes, sampling, tests), so the same seed gives the
+//!   same bytes on every machine.
+#![warn(missing_docs)]
+
+pub mod lanes;
+pub mod rng;
+mod sphere;
+mod strand_blocks;
+
+pub use lanes::{Vec3x8, LANES};
+pub use rng::SplitMix64;
+pub use sphere::Sphere;
+pub use strand_blocks::StrandBlocks;

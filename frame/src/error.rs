@@ -1,0 +1,61 @@
+//! Why a frame pipeline could not be built.
+
+use std::fmt;
+
+#[derive(Debug)]
+pub enum Error {
+    /// The simulation refused the guides or parameters.
+    Simulation(coif_kernels::Error),
+    /// LOD (interpolation, refinement) refused its input.
+    Lod(coif_lod::Error),
+    /// A shading table could not be built.
+    Shading(coif_shading::Error),
+    /// The scene cannot be drawn (no triangles, no head...).
+    Scene(&'static str),
+    /// A setting is out of range.
+    Setting {
+        name: &'static str,
+        expected: &'static str,
+    },
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::Simulation(e) => write!(f, "simulation: {e}"),
+            Error::Lod(e) => write!(f, "level of detail: {e}"),
+            Error::Shading(e) => write!(f, "shading: {e}"),
+            Error::Scene(why) => write!(f, "scene: {why}"),
+            Error::Setting { name, expected } => write!(f, "setting {name}: expected {expected}"),
+        }
+    }
+}
+
+impl std::error::Error for Error {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Error::Simulation(e) => Some(e),
+            Error::Lod(e) => Some(e),
+            Error::Shading(e) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+impl From<coif_kernels::Error> for Error {
+    fn from(e: coif_kernels::Error) -> Self {
+        Error::Simulation(e)
+    }
+}
+
+impl From<coif_lod::Error> for Error {
+    fn from(e: coif_lod::Error) -> Self {
+        Error::Lod(e)
+    }
+}
+
+impl From<coif_shading::Error> for Error {
+    fn from(e: coif_shading::Error) -> Self {
+        Error::Shading(e)
+    }
+}

@@ -1,0 +1,559 @@
+//! The frame pipeline: one struct owning every buffer, one call per frame.
+
+use super::motion::blend_poses;
+use super::ribbon::RibbonStage;
+use super::timings::{Stage, StageTimings};
+use super::{Error, FrameSettings, HairScene, Shader};
+use coif_kernels::{self as kernels, FixedStep, SimParams, Sphere, Strands};
+use coif_lod::{
+    self as lod, level, HairWidth, Interpolation, RefinedGuides, RenderHairs, RenderVertex,
+    Visibility,
+};
+use coif_render::head::{draw_spheres, occluded, HeadShading};
+use coif_render::sort::DepthOrder;
+use coif_render::{hair, Camera, Framebuffer, RgbImage};
+use coif_shading::{RgbBuffer, ShadingSamples};
+use glam::{Affine3A, Vec3};
+use std::time::Instant;
+
+/// Hair albedo lit by the ambient light (brown, Kajiya-Kay's default diffuse).
+pub const HAIR_AMBIENT_ALBEDO: Vec3 = Vec3::new(0.30, 0.18, 0.10);
+/// Skin albedo of the head.
+pub const SKIN_ALBEDO: Vec3 = Vec3::new(0.62, 0.42, 0.33);
+/// Background gradient, top and bottom (linear RGB).
+pub const BACKGROUND: (Vec3, Vec3) = (Vec3::new(0.16, 0.19, 0.24), Vec3::new(0.035, 0.04, 0.05));
+/// Culling margin (metres) around strand bounds.
+const CULL_MARGIN: f32 = 2e-3;
+/// Near and far planes of the culling frustum (metres).
+const NEAR_FAR: (f32, f32) = (0.01, 100.0);
+
+/// Brightness of render hair `hair` in `[0.75, 1.25]`, from a hash of its
+/// index (SplitMix64's finaliser): real hairs differ in pigment, and a
+/// little variation keeps neighbouring strands apart in the picture.
+#[inline]
+pub fn strand_tint(hair: usize) -> f32 {
+    let mut z = (hair as u64).wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    0.75 + 0.5 * ((z >> 40) as f32 / (1u64 << 24) as f32)
+}
+
+/// Fills `samples` with one sample per vertex: `t` = the vertex tangent,
+/// `wi` = `to_light`, `wo` = the unit vector toward `eye`. The nine arrays
+/// are written column by column (no allocation once they have the capacity).
+fn write_samples(
+    samples: &mut ShadingSamples,
+    vertices: &[RenderVertex],
+    to_light: Vec3,
+    eye: Vec3,
+) {
+    let n = vertices.len();
+    for (c, a) in samples.wi.iter_mut().enumerate() {
+        a.clear();
+        a.resize(n, to_light[c]);
+    }
+    for (c, a) in samples.t.iter_mut().enumerate() {
+        a.clear();
+        a.extend(vertices.iter().map(|v| v.tangent[c]));
+    }
+    let [wx, wy, wz] = &mut samples.wo;
+    for a in [&mut *wx, &mut *wy, &mut *wz] {
+        a.clear();
+        a.resize(n, 0.0);
+    }
+    for (((v, x), y), z) in vertices
+        .iter()
+        .zip(wx.iter_mut())
+        .zip(wy.iter_mut())
+        .zip(wz.iter_mut())
+    {
+        let wo = (eye - Vec3::from(v.position)).normalize_or(Vec3::Z);
+        (*x, *y, *z) = (wo.x, wo.y, wo.z);
+    }
+}
+
+/// What the last frame did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FrameStats {
+    /// Fixed simulation steps run.
+    pub substeps: u32,
+    /// Render hairs written and drawn.
+    pub hairs: usize,
+    /// Render vertices shaded.
+    pub vertices: usize,
+    /// B-spline segments per span chosen by the LOD level.
+    pub segments_per_span: usize,
+    /// Hair width multiplier from distance LOD.
+    pub width_factor: f32,
+    /// Hair segments rasterised.
+    pub segments: usize,
+    /// Pixels covered by the head.
+    pub head_pixels: usize,
+    /// Pixels written by the ribbons (opaque triangles).
+    pub ribbon_pixels: usize,
+}
+
+/// One hair frame, end to end, into buffers sized once at construction:
+/// move the head (rig and roots follow a rigid pose), step the simulation
+/// with a fixed-step accumulator, LOD (distance LOD, cull, level, refine,
+/// interpolate, render vertices), shadow map, per-vertex shading,
+/// rasterisation. [`FramePipeline::frame`] allocates nothing.
+pub struct FramePipeline {
+    settings: FrameSettings,
+    // Scene at rest (world space).
+    rest_roots: Vec<Vec3>,
+    rest_rig: Vec<Sphere>,
+    rest_head: Vec<Sphere>,
+    pivot: Vec3,
+    // Simulation.
+    strands: Strands,
+    params: SimParams,
+    fixed: FixedStep,
+    pose: Affine3A,
+    roots: Vec<Vec3>,
+    rig: Vec<Sphere>,
+    head_local: Vec<Sphere>,
+    ribbons: RibbonStage,
+    // LOD.
+    interpolation: Interpolation,
+    visibility: Visibility,
+    guides: RefinedGuides,
+    hairs: RenderHairs,
+    vertices: Vec<RenderVertex>,
+    vertex_count: usize,
+    render_width: HairWidth,
+    // Shading.
+    shader: Shader,
+    samples: ShadingSamples,
+    scattering: RgbBuffer,
+    colors: RgbBuffer,
+    transmittance: Vec<f32>,
+    shadow: super::shadow::ShadowStage,
+    // Rasterisation.
+    camera: Camera,
+    framebuffer: Framebuffer,
+    order: DepthOrder,
+    timings: StageTimings,
+    stats: FrameStats,
+}
+
+impl FramePipeline {
+    /// Builds the pipeline for `scene`: the simulation, interpolation,
+    /// shading tables and every per-frame buffer (sized for all render
+    /// hairs at the finest level). The hair is first settled for
+    /// `settle_seconds` at rest, and the camera framed on the settled hair.
+    pub fn new(
+        scene: &HairScene,
+        settings: FrameSettings,
+        settle_seconds: f32,
+    ) -> Result<FramePipeline, Error> {
+        let pixels = settings.width.saturating_mul(settings.height);
+        if settings.width == 0 || settings.height == 0 || pixels > 1 << 26 {
+            return Err(Error::Setting {
+                name: "width x height",
+                expected: "between 1 x 1 and 64 Mpixels",
+            });
+        }
+        if !(settings.render_hairs_per_cm2 > 0.0 && settings.real_hairs_per_cm2 > 0.0) {
+            return Err(Error::Setting {
+                name: "hairs_per_cm2",
+                expected: "> 0",
+            });
+        }
+        settings.simulation.validate()?;
+        let mut strands = Strands::from_polylines(&scene.guides, scene.verts_per_strand)?;
+        let params = settings.simulation.clone();
+        let fixed = FixedStep::new(params.dt, settings.max_substeps.max(1))?;
+        let rest_roots: Vec<Vec3> = scene.roots().collect();
+        let settle_steps = (settle_seconds.max(0.0) / params.dt).round() as usize;
+        for _ in 0..settle_steps {
+            kernels::step(&mut strands, &params, &scene.rig);
+        }
+        let ribbons = RibbonStage::new(scene, &params, settle_steps)?;
+
+        // Frame the settled hair and the head.
+        let settled = strands.positions();
+        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for p in settled.iter().chain(scene.head.iter().map(|s| &s.center)) {
+            lo = lo.min(*p);
+            hi = hi.max(*p);
+        }
+        let (focus, extent) = (0.5 * (lo + hi), 0.5 * (hi - lo).length());
+        let view = settings
+            .view_direction
+            .unwrap_or(scene.view_direction)
+            .try_normalize()
+            .unwrap_or(Vec3::Z);
+        let camera = Camera::look_at(
+            focus + view * (settings.view_distance * extent),
+            focus,
+            Vec3::Y,
+            settings.fov_y,
+            settings.width,
+            settings.height,
+        );
+
+        let interpolation = Interpolation::new(
+            &rest_roots,
+            &scene.triangles,
+            settings.render_hairs_per_cm2,
+            settings.seed,
+        )?;
+        let visibility = Visibility::new(strands.strand_count(), interpolation.group_count());
+        let guides = RefinedGuides::new(strands.blocks(), settings.max_segments_per_span.max(1))?;
+        let hairs = RenderHairs::new(&interpolation, &guides);
+        let capacity = interpolation.hair_count()
+            * lod::refined_len(
+                strands.verts_per_strand(),
+                settings.max_segments_per_span.max(1),
+            );
+        let ratio = settings.real_hairs_per_cm2 / settings.render_hairs_per_cm2;
+        let render_width = HairWidth {
+            root: settings.hair_width.root * ratio,
+            tip: settings.hair_width.tip * ratio,
+        };
+        let shader = Shader::new(settings.shading)?;
+        let shadow = super::shadow::ShadowStage::new(&settings, capacity)?;
+        Ok(FramePipeline {
+            rest_rig: scene.rig.clone(),
+            rest_head: scene.head.clone(),
+            head_local: scene.head.clone(),
+            ribbons,
+            rig: scene.rig.clone(),
+            roots: rest_roots.clone(),
+            rest_roots,
+            pivot: scene.pivot,
+            strands,
+            params,
+            fixed,
+            pose: Affine3A::IDENTITY,
+            order: DepthOrder::with_capacity(interpolation.hair_count()),
+            interpolation,
+            visibility,
+            guides,
+            hairs,
+            vertices: vec![RenderVertex::default(); capacity],
+            vertex_count: 0,
+            render_width,
+            shader,
+            samples: ShadingSamples::with_capacity(capacity),
+            scattering: RgbBuffer::zeros(capacity),
+            colors: RgbBuffer::zeros(capacity),
+            transmittance: vec![1.0; capacity],
+            shadow,
+            camera,
+            framebuffer: Framebuffer::new(settings.width, settings.height),
+            settings,
+            timings: StageTimings::default(),
+            stats: FrameStats::default(),
+        })
+    }
+
+    /// One frame: [`FramePipeline::simulate`], then [`FramePipeline::render`].
+    pub fn frame(&mut self, frame_time: f32, head_pose: Affine3A) -> FrameStats {
+        self.simulate(frame_time, head_pose);
+        self.render();
+        self.stats
+    }
+
+    /// The simulation part of a frame: `frame_time` seconds are added to
+    /// the fixed-step accumulator; each fixed step sees the head pose blended
+    /// from the last frame's to `head_pose` (rigid, world space, applied to
+    /// the scene at rest), with roots, rig and rest orientation following it.
+    pub fn simulate(&mut self, frame_time: f32, head_pose: Affine3A) {
+        let start = Instant::now();
+        let head_pose = if head_pose.is_finite() {
+            head_pose
+        } else {
+            self.pose
+        };
+        let steps = self.fixed.advance(frame_time);
+        let from = self.pose;
+        let mut ribbon_time = std::time::Duration::ZERO;
+        for k in 0..steps.max(1) {
+            let pose = if steps == 0 {
+                head_pose
+            } else {
+                blend_poses(&from, &head_pose, (k + 1) as f32 / steps as f32)
+            };
+            self.place_head(&pose);
+            if steps > 0 {
+                kernels::step(&mut self.strands, &self.params, &self.rig);
+            }
+            let ribbon_start = Instant::now();
+            self.ribbons.place(&pose);
+            if steps > 0 {
+                self.ribbons.step();
+            }
+            ribbon_time += ribbon_start.elapsed();
+        }
+        let ribbon_start = Instant::now();
+        self.ribbons.finish();
+        ribbon_time += ribbon_start.elapsed();
+        self.pose = head_pose;
+        self.stats.substeps = steps;
+        self.timings
+            .record(Stage::Simulate, start.elapsed().saturating_sub(ribbon_time));
+        if !self.ribbons.is_empty() {
+            self.timings.record(Stage::Ribbon, ribbon_time);
+        }
+    }
+
+    fn place_head(&mut self, pose: &Affine3A) {
+        for (dst, r) in self.roots.iter_mut().zip(&self.rest_roots) {
+            *dst = pose.transform_point3(*r);
+        }
+        for (dst, s) in self.rig.iter_mut().zip(&self.rest_rig) {
+            dst.center = pose.transform_point3(s.center);
+        }
+        // Roots are finite (checked at construction, pose checked above).
+        let _ = self.strands.set_roots(&self.roots);
+        let (_, rotation, _) = pose.to_scale_rotation_translation();
+        let _ = self.strands.set_rest_rotation(rotation);
+    }
+
+    /// LOD, shadow map, shading and rasterisation of the current hair.
+    pub fn render(&mut self) {
+        let origin = self.strands.origin().as_vec3();
+        let camera = self.camera.shifted(origin);
+        for (dst, s) in self.head_local.iter_mut().zip(&self.rest_head) {
+            dst.center = self.pose.transform_point3(s.center) - origin;
+        }
+
+        // LOD.
+        let start = Instant::now();
+        let distance = (self.camera.target() - self.camera.eye()).length();
+        let px_per_m =
+            level::pixels_per_metre(distance, self.camera.fov_y(), self.settings.height as f32);
+        let d = lod::distance_lod(
+            &self.interpolation,
+            self.render_width.root * px_per_m,
+            self.settings.min_lod_fraction,
+        );
+        let frustum =
+            lod::Frustum::from_view_projection(self.camera.view_projection(NEAR_FAR.0, NEAR_FAR.1));
+        lod::cull(
+            self.strands.blocks(),
+            Some(&self.interpolation),
+            d.groups_drawn,
+            &frustum,
+            CULL_MARGIN,
+            &mut self.visibility,
+        );
+        let n = level::segments_per_span(
+            level::max_second_difference_strands(self.strands.blocks()),
+            px_per_m,
+            self.settings.pixel_error,
+            self.settings.max_segments_per_span,
+        );
+        let n = self.guides.set_segments_per_span(n);
+        lod::refine_strands(
+            self.strands.blocks(),
+            Some(&self.visibility),
+            &mut self.guides,
+        );
+        lod::interpolate(
+            &self.interpolation,
+            &self.guides,
+            Some(&self.visibility),
+            d.groups_drawn,
+            &mut self.hairs,
+        );
+        self.vertex_count = lod::write_render_vertices(
+            &self.interpolation,
+            &self.hairs,
+            d.groups_drawn,
+            self.render_width,
+            d.width_factor,
+            &mut self.vertices,
+        );
+        let verts_per_hair = self.hairs.verts_per_hair().max(1);
+        self.timings.record(Stage::Lod, start.elapsed());
+        self.stats.segments_per_span = n;
+        self.stats.width_factor = d.width_factor;
+        self.stats.vertices = self.vertex_count;
+        self.stats.hairs = self.vertex_count / verts_per_hair;
+
+        // Shadow map.
+        let light = self.settings.light;
+        let vertices = &self.vertices[..self.vertex_count];
+        let transmittance = &mut self.transmittance[..self.vertex_count];
+        if self.shadow.enabled() {
+            let start = Instant::now();
+            self.shadow.build(light.to_light, vertices, verts_per_hair);
+            self.timings.record(Stage::Shadow, start.elapsed());
+        }
+
+        // Shading.
+        let start = Instant::now();
+        let eye = camera.eye();
+        write_samples(&mut self.samples, vertices, light.to_light, eye);
+        self.shader.shade_batch(&self.samples, &mut self.scattering);
+        let mut lookup_time = std::time::Duration::ZERO;
+        if self.shadow.enabled() {
+            let lookups = Instant::now();
+            self.shadow.transmittance(vertices, transmittance);
+            lookup_time = lookups.elapsed();
+            self.timings.record(Stage::ShadowLookup, lookup_time);
+        } else {
+            transmittance.fill(1.0);
+        }
+        self.colors.resize(self.vertex_count);
+        let cosine = self.shader.needs_cosine();
+        let irradiance = light.irradiance * self.shader.light_scale();
+        let ambient = HAIR_AMBIENT_ALBEDO * light.ambient;
+        for (h, hair) in vertices.chunks(verts_per_hair).enumerate() {
+            let tint = strand_tint(h);
+            for (j, v) in hair.iter().enumerate() {
+                let k = h * verts_per_hair + j;
+                let p = Vec3::from(v.position);
+                let mut visible = transmittance[k];
+                if occluded(p, light.to_light, &self.head_local, 1e-3) {
+                    visible = 0.0;
+                }
+                let mut direct = self.scattering.get(k) * irradiance * visible;
+                if cosine {
+                    let c = Vec3::from(v.tangent).dot(light.to_light);
+                    direct *= (1.0 - c * c).max(0.0).sqrt();
+                }
+                let c = (direct + ambient) * tint;
+                self.colors.set(k, if c.is_finite() { c } else { ambient });
+            }
+        }
+        self.timings
+            .record(Stage::Shade, start.elapsed().saturating_sub(lookup_time));
+
+        // Head and background.
+        let start = Instant::now();
+        self.framebuffer.clear_gradient(BACKGROUND.0, BACKGROUND.1);
+        let head_shading = HeadShading {
+            albedo: SKIN_ALBEDO,
+            to_light: light.to_light,
+            light: light.irradiance,
+            ambient: light.ambient,
+        };
+        let shadow = &self.shadow;
+        self.stats.head_pixels = draw_spheres(
+            &mut self.framebuffer,
+            &camera,
+            &self.head_local,
+            &head_shading,
+            |p| shadow.transmittance_at(p),
+        );
+        self.timings.record(Stage::Head, start.elapsed());
+
+        // Ribbons: opaque, depth-tested and depth-writing, so the hair
+        // drawn next is hidden behind them and blends over them in front.
+        if !self.ribbons.is_empty() {
+            let start = Instant::now();
+            self.ribbons
+                .shade(origin, eye, &light, &self.head_local, &self.shadow);
+            self.stats.ribbon_pixels = self.ribbons.draw(&mut self.framebuffer, &camera);
+            self.timings.record(Stage::RibbonDraw, start.elapsed());
+        }
+
+        // Sort and draw the hair, back to front.
+        let start = Instant::now();
+        self.order.sort(&camera, vertices, verts_per_hair);
+        self.timings.record(Stage::Sort, start.elapsed());
+        let start = Instant::now();
+        self.stats.segments = hair::draw_strands(
+            &mut self.framebuffer,
+            &camera,
+            vertices,
+            &self.colors,
+            verts_per_hair,
+            &self.order,
+            self.settings.hair_opacity,
+        );
+        self.timings.record(Stage::Hair, start.elapsed());
+    }
+
+    /// The linear-RGB frame of the last [`FramePipeline::render`].
+    pub fn framebuffer(&self) -> &Framebuffer {
+        &self.framebuffer
+    }
+
+    /// Tone-mapped sRGB image of the last frame.
+    pub fn image(&self) -> RgbImage {
+        RgbImage::from_frame(&self.framebuffer, self.settings.exposure)
+    }
+
+    /// Tone-maps the last frame into `out` (no allocation once sized).
+    pub fn encode_into(&self, out: &mut RgbImage) {
+        out.encode(&self.framebuffer, self.settings.exposure);
+    }
+
+    pub fn timings(&self) -> &StageTimings {
+        &self.timings
+    }
+
+    pub fn reset_timings(&mut self) {
+        self.timings.reset();
+    }
+
+    pub fn stats(&self) -> FrameStats {
+        self.stats
+    }
+
+    pub fn settings(&self) -> &FrameSettings {
+        &self.settings
+    }
+
+    /// The world-space camera (framed on the settled hair at rest).
+    pub fn camera(&self) -> &Camera {
+        &self.camera
+    }
+
+    /// The point the head turns about (for [`super::motion`]).
+    pub fn pivot(&self) -> Vec3 {
+        self.pivot
+    }
+
+    /// The ribbons: blended and skinned positions, colours of the last frame.
+    pub fn ribbons(&self) -> &RibbonStage {
+        &self.ribbons
+    }
+
+    /// The simulated guides.
+    pub fn strands(&self) -> &Strands {
+        &self.strands
+    }
+
+    /// Render vertices of the last frame (positions relative to
+    /// `strands().origin()`), and vertices per hair.
+    pub fn render_vertices(&self) -> (&[RenderVertex], usize) {
+        (
+            &self.vertices[..self.vertex_count],
+            self.hairs.verts_per_hair(),
+        )
+    }
+
+    /// Shadow-map transmittance toward the light of each render vertex of
+    /// the last frame (1 everywhere without a shadow map).
+    pub fn vertex_transmittance(&self) -> &[f32] {
+        &self.transmittance[..self.vertex_count]
+    }
+
+    /// Final linear-RGB colour of each render vertex of the last frame.
+    pub fn vertex_colors(&self) -> &RgbBuffer {
+        &self.colors
+    }
+
+    /// The head's spheres as drawn in the last frame (relative to
+    /// `strands().origin()`, like the render vertices).
+    pub fn head_spheres(&self) -> &[Sphere] {
+        &self.head_local
+    }
+
+    /// Number of render hairs the interpolation places.
+    pub fn render_hair_count(&self) -> usize {
+        self.interpolation.hair_count()
+    }
+
+    /// Whether hair self-shadowing (the deep opacity map) is on.
+    pub fn has_shadow_map(&self) -> bool {
+        self.shadow.enabled()
+    }
+}

@@ -1,0 +1,249 @@
+//! What a frame pipeline draws: guide strands at rest, their scalp
+//! triangles, the collision rig, the head drawn under the hair and the
+//! ribbons tied to it.
+
+use super::ribbon::bow_tails;
+use super::triangulate::{median_edge, triangulate_roots};
+use super::Error;
+use coif_geometry::groom::Groom;
+use coif_geometry::scene::{self, GrowOptions};
+use coif_kernels::patch::Ribbon;
+use coif_kernels::Sphere;
+use coif_lod::arc_length_samples;
+use glam::Vec3;
+
+/// Guides, triangles and rig of one groom, in metres, world space, at rest
+/// (head pose = identity).
+#[derive(Clone, Debug)]
+pub struct HairScene {
+    /// `guide_count * verts_per_strand` points, strand after strand, root first.
+    pub guides: Vec<Vec3>,
+    pub verts_per_strand: usize,
+    /// Scalp triangles (indices of guides) that render hairs are
+    /// interpolated over.
+    pub triangles: Vec<[u32; 3]>,
+    /// Collision spheres at rest; they follow the head.
+    pub rig: Vec<Sphere>,
+    /// The spheres drawn as the head (also shadow casters for the hair).
+    pub head: Vec<Sphere>,
+    /// The point the head turns about (the top of the neck).
+    pub pivot: Vec3,
+    /// Centre and radius of a sphere around the hair at rest, for framing.
+    pub focus: Vec3,
+    pub extent: f32,
+    /// Where a camera looks from (direction from the hair toward the eye).
+    pub view_direction: Vec3,
+    /// Ribbons tied to the head (rest grids, world space at rest, row 0
+    /// attached), simulated as cloth patches rigidly skinned to the head;
+    /// empty for none ([`HairScene::without_ribbons`]).
+    pub ribbons: Vec<Ribbon>,
+}
+
+/// Where the built-in head's ribbons are tied (direction from its centre):
+/// the upper left of the back, seen by the default camera.
+pub const PROCEDURAL_RIBBON_ATTACH: Vec3 = Vec3::new(-0.85, 0.4, 0.1);
+/// Where a loaded groom's ribbons are tied: the back of the head (grooms
+/// face +z), toward the side camera.
+pub const GROOM_RIBBON_ATTACH: Vec3 = Vec3::new(-0.6, 0.5, -0.6);
+
+/// Edges longer than this many median edges are gaps between hair patches.
+const MAX_EDGE_IN_MEDIANS: f32 = 3.0;
+
+impl HairScene {
+    /// The built-in head: `options` grows guides on a sphere
+    /// ([`scene::grow_on_sphere`]); the rig is the head and a neck
+    /// ([`scene::body_rig`]); triangles come from the roots' directions.
+    /// Strands rooted on the face (the front of the sphere below a
+    /// hairline, facing +z) are left out, so the head shows a face, and
+    /// every strand is combed back (`comb_back`: turned about its root toward the back of the head) before the simulation
+    /// drapes it. A bow's two silk tails ([`bow_tails`]) hang from the
+    /// upper left of the back of the head, the side the default camera sees.
+    pub fn procedural(options: &GrowOptions) -> Result<HairScene, Error> {
+        let grown = scene::grow_on_sphere(options);
+        let rig = scene::body_rig(&grown.head, 2);
+        let head = grown.head.clone();
+        let verts = grown.verts_per_strand;
+        let points: Vec<Vec3> = grown
+            .points
+            .chunks_exact(verts)
+            .filter(|s| !on_face((s[0] - head.center) / head.radius))
+            .flat_map(|s| comb_back(s, head.center))
+            .collect();
+        let mut scene = HairScene::assemble(
+            points,
+            verts,
+            rig.clone(),
+            rig,
+            head.center - Vec3::Y * (1.1 * head.radius),
+            head.center,
+        )?;
+        scene.ribbons = bow_tails(&head, PROCEDURAL_RIBBON_ATTACH);
+        Ok(scene)
+    }
+
+    /// The same scene without ribbons (`--no-ribbon`).
+    pub fn without_ribbons(mut self) -> HairScene {
+        self.ribbons.clear();
+        self
+    }
+
+    /// A loaded groom in centimetres (TressFX's and cyHair's usual unit):
+    /// scaled by 0.01 to metres; at most `max_guides` strands are kept as
+    /// guides (every k-th strand); each is resampled to `verts_per_strand`
+    /// points evenly spaced in arc length (authored strands may differ in
+    /// vertex count). The rig is [`scene::scalp_spheres`] under the roots;
+    /// the drawn head is the sphere fitted to the roots
+    /// ([`scene::fit_sphere`]), shrunk so no root is inside it; triangles
+    /// are the root directions from its centre, without long edges. A bow's
+    /// two tails hang from the back of the drawn head (or of the sphere
+    /// around the scalp spheres), on the side the camera sees.
+    pub fn from_groom(
+        groom: &Groom,
+        max_guides: usize,
+        verts_per_strand: usize,
+    ) -> Result<HairScene, Error> {
+        let strands = groom.strand_count();
+        let verts = verts_per_strand.max(2);
+        let stride = strands.div_ceil(max_guides.max(1)).max(1);
+        let mut guides = Vec::with_capacity(strands.div_ceil(stride) * verts);
+        let mut buf = vec![Vec3::ZERO; verts];
+        for s in (0..strands).step_by(stride) {
+            let strand = groom.strand(s);
+            if strand.len() < 2 {
+                continue;
+            }
+            let scaled: Vec<Vec3> = strand.iter().map(|p| *p * 0.01).collect();
+            arc_length_samples(&scaled, &mut buf);
+            guides.extend_from_slice(&buf);
+        }
+        if guides.is_empty() {
+            return Err(Error::Scene(
+                "the groom has no strand with two or more points",
+            ));
+        }
+        let roots: Vec<Vec3> = guides.iter().step_by(verts).copied().collect();
+        let fitted =
+            scene::fit_sphere(&roots).ok_or(Error::Scene("cannot fit a sphere to the roots"))?;
+        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for r in &roots {
+            lo = lo.min(*r);
+            hi = hi.max(*r);
+        }
+        let diagonal = (hi - lo).length();
+        // RMS distance of the roots from the fitted sphere's surface.
+        let residual = (roots
+            .iter()
+            .map(|r| (r.distance(fitted.center) - fitted.radius).powi(2))
+            .sum::<f32>()
+            / roots.len() as f32)
+            .sqrt();
+        let scalp_radius = 0.15 * diagonal;
+        let scalp = scene::scalp_spheres(&guides, verts, 12, scalp_radius);
+        let head = if residual < 0.1 * fitted.radius && fitted.radius < 0.75 * diagonal {
+            // A scalp: the fitted sphere, shrunk so that no root is inside it.
+            let nearest = roots
+                .iter()
+                .map(|r| r.distance(fitted.center))
+                .fold(f32::INFINITY, f32::min);
+            vec![Sphere {
+                center: fitted.center,
+                radius: (0.97 * nearest).min(fitted.radius),
+            }]
+        } else {
+            // Not a sphere (a mohawk's strip of roots): the scalp spheres.
+            scalp.clone()
+        };
+        let mut rig = head.clone();
+        if head.len() == 1 {
+            rig.extend(scalp);
+        }
+        let centre = head[0].center;
+        let (pivot_from, drop) = if head.len() == 1 {
+            (centre, head[0].radius)
+        } else {
+            (
+                head.iter().map(|s| s.center).sum::<Vec3>() / head.len() as f32,
+                scalp_radius,
+            )
+        };
+        let mut scene = HairScene::assemble(
+            guides,
+            verts,
+            rig,
+            head,
+            pivot_from - Vec3::Y * (1.1 * drop),
+            fitted.center,
+        )?;
+        // From the side, a little above and behind: authored grooms face +z
+        // and their hair falls back and down, behind the head from the front.
+        scene.view_direction = Vec3::new(-1.0, 0.3, -0.35).normalize();
+        let anchor = Sphere {
+            center: pivot_from,
+            radius: drop,
+        };
+        scene.ribbons = bow_tails(&anchor, GROOM_RIBBON_ATTACH);
+        Ok(scene)
+    }
+
+    fn assemble(
+        guides: Vec<Vec3>,
+        verts: usize,
+        rig: Vec<Sphere>,
+        head: Vec<Sphere>,
+        pivot: Vec3,
+        center: Vec3,
+    ) -> Result<HairScene, Error> {
+        let roots: Vec<Vec3> = guides.iter().step_by(verts).copied().collect();
+        let all = triangulate_roots(&roots, center, f32::INFINITY);
+        let max_edge = MAX_EDGE_IN_MEDIANS * median_edge(&roots, &all);
+        let triangles = triangulate_roots(&roots, center, max_edge);
+        if triangles.is_empty() {
+            return Err(Error::Scene("the guide roots make no scalp triangle"));
+        }
+        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for p in guides.iter().chain(head.iter().map(|s| &s.center)) {
+            lo = lo.min(*p);
+            hi = hi.max(*p);
+        }
+        let focus = 0.5 * (lo + hi);
+        let extent = 0.5 * (hi - lo).length();
+        Ok(HairScene {
+            guides,
+            verts_per_strand: verts,
+            triangles,
+            rig,
+            head,
+            pivot,
+            focus,
+            extent,
+            view_direction: Vec3::new(-0.45, 0.15, 1.0).normalize(),
+            ribbons: Vec::new(),
+        })
+    }
+
+    pub fn guide_count(&self) -> usize {
+        self.guides.len() / self.verts_per_strand
+    }
+
+    /// The guides' roots.
+    pub fn roots(&self) -> impl Iterator<Item = Vec3> + '_ {
+        self.guides.iter().step_by(self.verts_per_strand).copied()
+    }
+}
+
+/// Whether unit direction `n` from the head's centre is on the face: in
+/// front (+z) and below a hairline that rises toward the temples.
+pub fn on_face(n: Vec3) -> bool {
+    n.z > 0.25 && n.y < 0.3 - 0.3 * n.x.abs()
+}
+
+/// Turns a strand rigidly about its root so that it leaves the scalp
+/// toward the back of the head, `normalize(n + (0, -0.3, -1.2))` for root
+/// normal `n` instead of along `n`: hair combed back off the face.
+pub fn comb_back(strand: &[Vec3], center: Vec3) -> impl Iterator<Item = Vec3> + '_ {
+    let root = strand[0];
+    let n = (root - center).normalize_or(Vec3::Y);
+    let d = (n + Vec3::new(0.0, -0.3, -1.2)).normalize_or(n);
+    let turn = glam::Quat::from_rotation_arc(n, d);
+    strand.iter().map(move |p| root + turn * (*p - root))
+}

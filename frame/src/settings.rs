@@ -1,0 +1,111 @@
+//! Settings of a frame pipeline.
+
+use super::ShadingModel;
+use coif_kernels::SimParams;
+use coif_lod::HairWidth;
+use glam::Vec3;
+
+/// A directional light plus ambient light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Light {
+    /// Unit direction toward the light.
+    pub to_light: Vec3,
+    /// Irradiance (linear RGB).
+    pub irradiance: Vec3,
+    /// Ambient irradiance (linear RGB), lighting hair albedo and skin alike.
+    pub ambient: Vec3,
+}
+
+impl Default for Light {
+    /// A warm key light from the upper left front.
+    fn default() -> Self {
+        Light {
+            to_light: Vec3::new(-0.55, 0.65, 0.52).normalize(),
+            irradiance: Vec3::new(1.15, 1.1, 1.0),
+            ambient: Vec3::new(0.10, 0.11, 0.13),
+        }
+    }
+}
+
+/// Everything a [`super::FramePipeline`] is built with.
+#[derive(Clone, Debug)]
+pub struct FrameSettings {
+    pub width: usize,
+    pub height: usize,
+    pub shading: ShadingModel,
+    /// Hair density of a real scalp (hairs per cm^2).
+    pub real_hairs_per_cm2: f32,
+    /// Render hairs interpolated per cm^2 (fewer than real: each render
+    /// hair is widened by `real / render` so the coverage is kept).
+    pub render_hairs_per_cm2: f32,
+    /// Width of one real hair, root to tip (metres).
+    pub hair_width: HairWidth,
+    /// Distance LOD never draws fewer than this fraction of the render hairs.
+    pub min_lod_fraction: f32,
+    /// Chord error budget of the refinement (pixels).
+    pub pixel_error: f32,
+    /// Most B-spline segments per span (sizes the buffers).
+    pub max_segments_per_span: usize,
+    pub simulation: SimParams,
+    /// Most fixed simulation steps per frame.
+    pub max_substeps: u32,
+    pub light: Light,
+    /// Direction from the hair's centre toward the camera at rest; `None`:
+    /// the scene's [`super::HairScene::view_direction`].
+    pub view_direction: Option<Vec3>,
+    /// Camera distance in multiples of the hair's bounding radius.
+    pub view_distance: f32,
+    /// Vertical field of view (radians).
+    pub fov_y: f32,
+    /// Opacity of one hair strand where it covers a whole pixel.
+    pub hair_opacity: f32,
+    /// Exposure of the tone map.
+    pub exposure: f32,
+    /// Seed of the hair placement.
+    pub seed: u64,
+    /// Hair self-shadowing with a deep opacity map (see `shadow.rs`).
+    pub shadows: bool,
+}
+
+impl Default for FrameSettings {
+    fn default() -> Self {
+        FrameSettings {
+            width: 512,
+            height: 512,
+            shading: ShadingModel::KajiyaKay,
+            real_hairs_per_cm2: 150.0,
+            render_hairs_per_cm2: 40.0,
+            hair_width: HairWidth::default(),
+            min_lod_fraction: 0.5,
+            pixel_error: 0.5,
+            max_segments_per_span: 3,
+            simulation: SimParams {
+                bend_stiffness: 0.3,
+                shape_stiffness: 0.05,
+                ..SimParams::default()
+            },
+            max_substeps: 4,
+            light: Light::default(),
+            view_direction: None,
+            view_distance: 2.6,
+            fov_y: 0.7,
+            hair_opacity: 0.9,
+            exposure: 1.0,
+            seed: 7,
+            shadows: true,
+        }
+    }
+}
+
+impl FrameSettings {
+    /// Small, fast settings for tests: `size x size` pixels, few hairs.
+    pub fn small(size: usize) -> FrameSettings {
+        FrameSettings {
+            width: size,
+            height: size,
+            render_hairs_per_cm2: 12.0,
+            max_segments_per_span: 2,
+            ..FrameSettings::default()
+        }
+    }
+}

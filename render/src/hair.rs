@@ -1,0 +1,65 @@
+//! Drawing hair strands as blended anti-aliased polylines.
+
+use super::line::{draw_segment, ScreenVertex};
+use super::sort::DepthOrder;
+use super::{Camera, Framebuffer};
+use coif_lod::RenderVertex;
+use coif_shading::RgbBuffer;
+use glam::Vec3;
+
+/// Nearest view depth drawn (metres).
+pub const NEAR: f32 = 1e-3;
+
+/// Draws the strands of `vertices` (`verts_per_strand` each, strand after
+/// strand, positions in the camera's space) in `order` (farthest first),
+/// each vertex with the colour `colors[k]` (linear RGB) and its width
+/// projected to pixels; every segment is blended with
+/// [`draw_segment`] at `opacity`. A segment with an end behind the camera
+/// or a non-finite vertex is skipped. Returns the number of segments drawn.
+pub fn draw_strands(
+    frame: &mut Framebuffer,
+    camera: &Camera,
+    vertices: &[RenderVertex],
+    colors: &RgbBuffer,
+    verts_per_strand: usize,
+    order: &DepthOrder,
+    opacity: f32,
+) -> usize {
+    if verts_per_strand < 2 {
+        return 0;
+    }
+    let mut drawn = 0;
+    let ppm_at_unit_depth = camera.pixels_per_metre(1.0);
+    let project = |k: usize| -> Option<ScreenVertex> {
+        let v = vertices.get(k)?;
+        let p = camera.project(Vec3::from(v.position), NEAR)?;
+        let color = if k < colors.len() {
+            colors.get(k)
+        } else {
+            Vec3::ZERO
+        };
+        color.is_finite().then_some(ScreenVertex {
+            x: p.x,
+            y: p.y,
+            depth: p.z,
+            width_px: v.width * ppm_at_unit_depth / p.z,
+            color,
+        })
+    };
+    for s in order.strands() {
+        let base = s * verts_per_strand;
+        if base + verts_per_strand > vertices.len() {
+            continue;
+        }
+        let mut prev = project(base);
+        for k in base + 1..base + verts_per_strand {
+            let next = project(k);
+            if let (Some(a), Some(b)) = (&prev, &next) {
+                draw_segment(frame, a, b, opacity, |_, _| {});
+                drawn += 1;
+            }
+            prev = next;
+        }
+    }
+    drawn
+}

@@ -1,0 +1,135 @@
+//! The head: spheres ray-cast per pixel, Lambert plus ambient.
+//!
+//! For pixel centre ray `o + s d` and sphere `(c, r)`: with `m = o - c`,
+//! `s = -m.d - sqrt((m.d)^2 - (|m|^2 - r^2))` (nearest hit, `|d| = 1`).
+//! Shading: `L = albedo (ambient + E max(n . wi, 0) T)` with `T` the
+//! light's transmittance at the hit point (hair shadow; 1 without shadows).
+
+use super::{Camera, Framebuffer, Pixel};
+use coif_base::Sphere;
+use glam::Vec3;
+
+/// How the head is lit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HeadShading {
+    /// Diffuse albedo (linear RGB).
+    pub albedo: Vec3,
+    /// Unit direction toward the light.
+    pub to_light: Vec3,
+    /// Irradiance of the light (linear RGB).
+    pub light: Vec3,
+    /// Ambient irradiance (linear RGB).
+    pub ambient: Vec3,
+}
+
+/// Nearest positive ray parameter at which the unit ray `origin + s dir`
+/// enters `sphere`, if it does.
+#[inline]
+pub fn ray_sphere(origin: Vec3, dir: Vec3, sphere: &Sphere) -> Option<f32> {
+    let m = origin - sphere.center;
+    let b = m.dot(dir);
+    let c = m.length_squared() - sphere.radius * sphere.radius;
+    let disc = b * b - c;
+    if disc.is_nan() || disc < 0.0 {
+        return None;
+    }
+    let s = -b - disc.sqrt();
+    if s > 0.0 {
+        Some(s)
+    } else {
+        let s2 = -b + disc.sqrt();
+        (s2 > 0.0).then_some(s2)
+    }
+}
+
+/// Whether the ray from `p` toward the light (`to_light`, unit) is blocked
+/// by any of `spheres` (p itself outside them, or on a surface: hits closer
+/// than `epsilon` are ignored).
+#[inline]
+pub fn occluded(p: Vec3, to_light: Vec3, spheres: &[Sphere], epsilon: f32) -> bool {
+    spheres.iter().any(|s| {
+        let m = p - s.center;
+        let b = m.dot(to_light);
+        let c = m.length_squared() - s.radius * s.radius;
+        // Ahead of p (b < 0) and the line meets the sphere; p outside (c > 0).
+        let disc = b * b - c;
+        c > epsilon * s.radius && b < 0.0 && disc > 0.0
+    })
+}
+
+/// Ray-casts `spheres` (the head rig near the hair, in the camera's space)
+/// over the whole frame: where a ray hits, writes the Lambert-lit colour and
+/// the hit's view depth; `transmittance(p)` gives the light's visibility at
+/// hit point `p` (hair shadow), and other spheres' shadows are added by
+/// [`occluded`]. Returns the number of pixels covered.
+pub fn draw_spheres(
+    frame: &mut Framebuffer,
+    camera: &Camera,
+    spheres: &[Sphere],
+    shading: &HeadShading,
+    mut transmittance: impl FnMut(Vec3) -> f32,
+) -> usize {
+    let eye = camera.eye();
+    let forward = camera.forward();
+    let mut covered = 0;
+    for y in 0..frame.height() {
+        for x in 0..frame.width() {
+            let dir = camera.ray_direction(x as f32 + 0.5, y as f32 + 0.5);
+            let mut best: Option<(f32, usize)> = None;
+            for (k, s) in spheres.iter().enumerate() {
+                if let Some(t) = ray_sphere(eye, dir, s) {
+                    if best.is_none_or(|(bt, _)| t < bt) {
+                        best = Some((t, k));
+                    }
+                }
+            }
+            let Some((t, k)) = best else { continue };
+            let p = eye + dir * t;
+            let n = (p - spheres[k].center) / spheres[k].radius;
+            let lambert = n.dot(shading.to_light).max(0.0);
+            let lit = if lambert > 0.0 && !occluded(p + n * 1e-4, shading.to_light, spheres, 1e-3) {
+                lambert * transmittance(p).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let i = frame.index(x, y);
+            frame.pixels[i] = Pixel {
+                color: shading.albedo * (shading.ambient + shading.light * lit),
+                depth: t * dir.dot(forward),
+            };
+            covered += 1;
+        }
+    }
+    covered
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rays_hit_the_sphere_at_the_right_distance_and_shadows_fall_behind_it() {
+        let s = Sphere {
+            center: Vec3::new(0.0, 0.0, -2.0),
+            radius: 0.5,
+        };
+        assert!((ray_sphere(Vec3::ZERO, Vec3::NEG_Z, &s).unwrap() - 1.5).abs() < 1e-6);
+        assert!(ray_sphere(Vec3::ZERO, Vec3::X, &s).is_none());
+        // From inside, the exit point.
+        assert!((ray_sphere(s.center, Vec3::X, &s).unwrap() - 0.5).abs() < 1e-6);
+        // A point behind the sphere, seen from a light in front of it, is shadowed.
+        assert!(occluded(
+            Vec3::new(0.0, 0.0, -3.0),
+            Vec3::Z,
+            std::slice::from_ref(&s),
+            1e-3
+        ));
+        assert!(!occluded(
+            Vec3::new(0.0, 0.0, -1.0),
+            Vec3::Z,
+            std::slice::from_ref(&s),
+            1e-3
+        ));
+        assert!(!occluded(Vec3::new(2.0, 0.0, -3.0), Vec3::Z, &[s], 1e-3));
+    }
+}

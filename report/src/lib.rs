@@ -1,0 +1,147 @@
+//! coif-report: one report of run time against error for every kernel,
+//! and the quality studies behind it ([`quality`]).
+//!
+//! [`run`] measures each kernel at several settings of its quality knob,
+//! SIMD and scalar side by side where both exist, and returns one [`Row`]
+//! per kernel x setting x path. [`csv::to_csv`] writes them as
+//! `results.csv`, [`summary::to_markdown`] as a Markdown summary (tables,
+//! SIMD speed-ups, defaults off the Pareto front), [`plot::svg`] as one
+//! time-against-error plot per kernel.
+//!
+//! Time is the median over repeated runs of the whole batch, divided by
+//! the number of elements (vertex-steps, output vertices, samples, ...);
+//! the spread is the smallest and largest of those runs. Errors come from
+//! each crate's public quality functions (see each family's module).
+
+pub mod csv;
+pub mod fins;
+pub mod fits;
+pub mod interpolation;
+pub mod plot;
+pub mod quality;
+pub mod refinement;
+pub mod shading;
+pub mod shadow;
+pub mod simulation;
+pub mod summary;
+pub mod timing;
+
+pub use timing::Timing;
+
+/// How much work a run does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Options {
+    /// Few repetitions and small sizes (tests, smoke runs).
+    pub quick: bool,
+}
+
+impl Options {
+    /// Repetitions of each timed batch.
+    pub fn reps(&self) -> usize {
+        if self.quick {
+            3
+        } else {
+            15
+        }
+    }
+}
+
+/// Which implementation a row times.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Path {
+    Simd,
+    Scalar,
+}
+
+impl Path {
+    pub fn name(self) -> &'static str {
+        match self {
+            Path::Simd => "simd",
+            Path::Scalar => "scalar",
+        }
+    }
+}
+
+/// One kernel at one setting on one path.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Row {
+    /// Kernel name, e.g. `"refinement"`.
+    pub kernel: String,
+    /// The quality setting, e.g. `"segments=4"`.
+    pub setting: String,
+    pub path: Path,
+    /// What one element is (`"vertex-step"`, `"output vertex"`, `"sample"`, ...).
+    pub element: &'static str,
+    pub time: Timing,
+    /// What the error measures and against what.
+    pub error_metric: &'static str,
+    pub error: f64,
+    /// The setting the library or pipeline uses by default.
+    pub is_default: bool,
+}
+
+impl Row {
+    /// Time and error both finite, time positive, error non-negative.
+    pub fn is_finite(&self) -> bool {
+        self.time.median.is_finite()
+            && self.time.min.is_finite()
+            && self.time.max.is_finite()
+            && self.time.median > 0.0
+            && self.error.is_finite()
+            && self.error >= 0.0
+    }
+}
+
+/// A kernel family's measurement.
+type Family = fn(Options) -> Vec<Row>;
+
+/// Measures every kernel family, in order: simulation, refinement, fits,
+/// interpolation, shading, shadow maps, fins.
+pub fn run(options: Options) -> Vec<Row> {
+    let mut rows = Vec::new();
+    let families: [(&str, Family); 7] = [
+        ("simulation", simulation::rows),
+        ("refinement", refinement::rows),
+        ("fits", fits::rows),
+        ("interpolation", interpolation::rows),
+        ("shading", shading::rows),
+        ("shadow maps", shadow::rows),
+        ("fins", fins::rows),
+    ];
+    for (name, family) in families {
+        let t0 = std::time::Instant::now();
+        rows.extend(family(options));
+        eprintln!(
+            "report: {name} measured in {:.1} s",
+            t0.elapsed().as_secs_f64()
+        );
+    }
+    rows
+}
+
+/// Writes `results.csv`, `summary.md` and one SVG plot per kernel into `dir`
+/// (created if missing). Returns the paths written.
+pub fn write(
+    rows: &[Row],
+    dir: &std::path::Path,
+    machine: &str,
+) -> std::io::Result<Vec<std::path::PathBuf>> {
+    std::fs::create_dir_all(dir)?;
+    let mut written = Vec::new();
+    let csv_path = dir.join("results.csv");
+    std::fs::write(&csv_path, csv::to_csv(rows))?;
+    written.push(csv_path);
+    let mut plots = Vec::new();
+    for kernel in summary::kernels(rows) {
+        let file = format!("{}.svg", plot::file_stem(&kernel));
+        let of_kernel: Vec<&Row> = rows.iter().filter(|r| r.kernel == kernel).collect();
+        let path = dir.join(&file);
+        std::fs::write(&path, plot::svg(&kernel, &of_kernel))?;
+        written.push(path);
+        plots.push((kernel, file));
+    }
+    let md_path = dir.join("summary.md");
+    std::fs::write(&md_path, summary::to_markdown(rows, &plots, machine))?;
+    written.push(md_path);
+    Ok(written)
+}

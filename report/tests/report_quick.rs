@@ -1,0 +1,152 @@
+//! The report in quick mode: every kernel family measured, every row
+//! finite, the files written; and the Pareto rule on hand-made rows.
+
+use coif_report::{self as report, summary, Options, Path, Row, Timing};
+
+fn row(kernel: &str, setting: &str, path: Path, ns: f64, error: f64) -> Row {
+    Row {
+        kernel: kernel.into(),
+        setting: setting.into(),
+        path,
+        element: "sample",
+        time: Timing {
+            median: ns,
+            min: ns,
+            max: ns,
+        },
+        error_metric: "test",
+        error,
+        is_default: false,
+    }
+}
+
+#[test]
+fn pareto_front_is_per_kernel_and_path() {
+    let rows = vec![
+        row("k", "fast coarse", Path::Simd, 1.0, 0.1),
+        row("k", "slow fine", Path::Simd, 3.0, 0.001),
+        row("k", "dominated", Path::Simd, 2.0, 0.2),
+        // Faster and finer than everything, but another path / kernel.
+        row("k", "other path", Path::Scalar, 0.5, 0.0001),
+        row("j", "other kernel", Path::Simd, 0.5, 0.0001),
+    ];
+    let front: Vec<bool> = rows
+        .iter()
+        .map(|r| summary::on_pareto_front(&rows, r))
+        .collect();
+    assert_eq!(front, [true, true, false, true, true]);
+}
+
+#[test]
+fn quick_report_rows_are_finite_and_files_are_written() {
+    let rows = report::run(Options { quick: true });
+    for family in [
+        "simulation settling",
+        "simulation whipping penetration",
+        "simulation settling substeps",
+        "simulation whipping substeps",
+        "simulation whipping substeps stretch",
+        "simulation settling substeps penetration",
+        "refinement",
+        "fits",
+        "interpolation",
+        "kajiya-kay",
+        "marschner",
+        "pbrt",
+        "pbrt exact",
+        "models vs pbrt",
+        "shadow build",
+        "shadow lookup",
+        "fins",
+        "fins stretch",
+    ] {
+        assert!(
+            rows.iter().any(|r| r.kernel == family),
+            "no rows for {family}"
+        );
+    }
+    for r in &rows {
+        assert!(r.is_finite(), "row not finite: {r:?}");
+        assert!(
+            r.time.min <= r.time.median && r.time.median <= r.time.max,
+            "{r:?}"
+        );
+    }
+    // Time is per vertex-frame: 4 substeps of a frame take longer than 1.
+    for scene in ["settling", "whipping"] {
+        let kernel = format!("simulation {scene} substeps");
+        for path in [Path::Simd, Path::Scalar] {
+            let ns = |setting: &str| {
+                rows.iter()
+                    .find(|r| r.kernel == kernel && r.setting == setting && r.path == path)
+                    .map(|r| r.time.median)
+                    .expect("substeps row")
+            };
+            assert!(
+                ns("substeps=4") > 1.5 * ns("substeps=1"),
+                "{kernel} {path:?}: {} vs {}",
+                ns("substeps=4"),
+                ns("substeps=1")
+            );
+        }
+    }
+    // Drawing every render hair is the reference of the thinning error.
+    let interpolation: Vec<&Row> = rows
+        .iter()
+        .filter(|r| r.kernel == "interpolation")
+        .collect();
+    assert!(interpolation
+        .iter()
+        .any(|r| r.setting == "100.0 % of hairs" && r.error == 0.0));
+    let thinned_error = |setting: &str| {
+        interpolation
+            .iter()
+            .find(|r| r.setting == setting)
+            .map(|r| r.error)
+            .expect("interpolation row")
+    };
+    assert!(thinned_error("12.5 % of hairs") > thinned_error("50.0 % of hairs"));
+    assert!(thinned_error("50.0 % of hairs") > 0.0);
+    // Time is per vertex of the full density: drawing an eighth is faster.
+    for path in [Path::Simd, Path::Scalar] {
+        let ns = |setting: &str| {
+            interpolation
+                .iter()
+                .find(|r| r.setting == setting && r.path == path)
+                .map(|r| r.time.median)
+                .expect("interpolation row")
+        };
+        assert!(
+            ns("12.5 % of hairs") < 0.5 * ns("100.0 % of hairs"),
+            "{path:?}"
+        );
+    }
+    // Every kernel that has a SIMD path has its scalar twin at the same setting.
+    for r in rows.iter().filter(|r| r.path == Path::Simd) {
+        assert!(
+            rows.iter()
+                .any(|s| s.kernel == r.kernel && s.setting == r.setting && s.path == Path::Scalar),
+            "no scalar twin for {r:?}"
+        );
+    }
+
+    let dir = std::env::temp_dir().join(format!("coif-report-quick-{}", std::process::id()));
+    let written = report::write(&rows, &dir, "test machine").expect("report written");
+    let csv = std::fs::read_to_string(dir.join("results.csv")).expect("results.csv");
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(lines[0], report::csv::HEADER);
+    assert_eq!(lines.len(), rows.len() + 1);
+    let columns = lines[0].split(',').count();
+    for l in &lines[1..] {
+        assert_eq!(l.split(',').count(), columns, "{l}");
+    }
+    let md = std::fs::read_to_string(dir.join("summary.md")).expect("summary.md");
+    for k in summary::kernels(&rows) {
+        assert!(md.contains(&format!("## {k}")), "summary lacks {k}");
+        let svg = dir.join(format!("{}.svg", report::plot::file_stem(&k)));
+        let text = std::fs::read_to_string(&svg).expect("plot written");
+        assert!(text.starts_with("<svg") && text.trim_end().ends_with("</svg>"));
+        assert!(written.contains(&svg));
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
