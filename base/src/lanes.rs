@@ -156,18 +156,18 @@ impl std::ops::Neg for Vec3x8 {
 
 /// `1 / sqrt(x)` to about 2^-22 relative error without the divider: the
 /// hardware estimate (`vrsqrtps`, 12 bits) and one Newton-Raphson step,
-/// `y' = y (1.5 - 0.5 x y^2)`. [`inv_sqrt_scalar`] computes the same value,
+/// `y' = y (1.5 - 0.5 x y^2)`. [`inv_sqrt`] computes the same value,
 /// bit for bit, one lane at a time. `x` must be positive and finite.
 #[inline(always)]
-pub fn inv_sqrt(x: f32x8) -> f32x8 {
+pub fn inv_sqrt_x8(x: f32x8) -> f32x8 {
     let y = x.recip_sqrt();
     y * (f32x8::splat(1.5) - f32x8::splat(0.5) * x * (y * y))
 }
 
-/// The scalar twin of [`inv_sqrt`]: the same estimate (`rsqrtss` reads the
+/// The scalar twin of [`inv_sqrt_x8`]: the same estimate (`rsqrtss` reads the
 /// same table as `vrsqrtps`) and the same Newton step in the same order.
 #[inline(always)]
-pub fn inv_sqrt_scalar(x: f32) -> f32 {
+pub fn inv_sqrt(x: f32) -> f32 {
     let y = rsqrt_estimate(x);
     y * (1.5 - 0.5 * x * (y * y))
 }

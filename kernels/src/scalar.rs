@@ -5,7 +5,7 @@
 //! broad phase sees the same boxes and picks the same spheres.
 
 use crate::broad_phase::{block_aabb_scalar, select_candidates, spheres_to_local, Aabb, Candidate};
-use crate::lanes::inv_sqrt_scalar;
+use crate::lanes::inv_sqrt;
 use crate::step::{restore_lanes, StepSetup, BLOWN_UP, GROUP, MIN_LENGTH, STRAIN_COLLIDE_ROUNDS};
 use crate::{SimParams, Sphere, Strands};
 use glam::{Mat3, Vec3};
@@ -83,7 +83,7 @@ impl Lane<'_> {
 
 /// `1 / max(|delta|, MIN_LENGTH)`, the twin of `step::inv_len`.
 pub(crate) fn inv_len(delta: Vec3) -> f32 {
-    inv_sqrt_scalar(dot(delta, delta).max(MIN_LENGTH * MIN_LENGTH))
+    inv_sqrt(dot(delta, delta).max(MIN_LENGTH * MIN_LENGTH))
 }
 
 /// `a.b` summed x, y, z in that order (the SIMD paths' order).
@@ -186,7 +186,7 @@ fn strain_limit_and_collide(lane: &mut Lane, k: &StepSetup, g: usize, candidates
             let d = x - parent;
             let d2 = dot(d, d);
             if d2 > limit * limit && lane.w(v) > 0.0 {
-                lane.set_x(v, parent + d * (limit * inv_sqrt_scalar(d2)));
+                lane.set_x(v, parent + d * (limit * inv_sqrt(d2)));
             }
             for c in candidates.iter().filter(|c| c.touches(g)) {
                 if let Some(normal) = collide_vertex(lane, v, c.sphere, k.pearl_radius) {
@@ -204,7 +204,7 @@ fn strain_limit_and_collide(lane: &mut Lane, k: &StepSetup, g: usize, candidates
 
 /// Outward unit normal and distance; +y and 0 where the point sits on the centre.
 pub(crate) fn outward(d: Vec3, d2: f32) -> (Vec3, f32) {
-    let inv = inv_sqrt_scalar(d2.max(1e-30));
+    let inv = inv_sqrt(d2.max(1e-30));
     if d2 > 1e-30 {
         (d * inv, d2 * inv)
     } else {

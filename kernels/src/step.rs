@@ -11,7 +11,7 @@
 //! 4. `iterations` Gauss-Seidel sweeps, root to tip, of the mass-weighted
 //!    length constraint (Jakobsen 2001): `delta = x2 - x1`,
 //!    `k = (|delta| - l) / |delta|`, `x1 += w1/(w1+w2) k delta`,
-//!    `x2 -= w2/(w1+w2) k delta` (`1/|delta|` by [`inv_sqrt`] of
+//!    `x2 -= w2/(w1+w2) k delta` (`1/|delta|` by [`inv_sqrt_x8`] of
 //!    `max(|delta|^2, 1e-14)`, so zero-length segments stay finite); with
 //!    bending on, the same rule between v and v + 2 scaled by `bend_stiffness`
 //!    right after segment v. Before the last sweep, one collision pass
@@ -55,7 +55,7 @@
 //! x86-64 with AVX.
 
 use crate::broad_phase::{block_aabb, select_candidates, spheres_to_local, Aabb, Candidate};
-use crate::lanes::{inv_sqrt, Vec3x8, LANES};
+use crate::lanes::{inv_sqrt_x8, Vec3x8, LANES};
 use crate::{SimParams, Sphere, Strands};
 use glam::{Mat3, Vec3};
 use wide::f32x8;
@@ -248,10 +248,10 @@ pub(crate) fn restore_lanes(s: &mut Strands, first: usize, bad: &[u32; GROUP]) {
     }
 }
 
-/// `1 / max(|delta|, MIN_LENGTH)` by [`inv_sqrt`] (shared with patches).
+/// `1 / max(|delta|, MIN_LENGTH)` by [`inv_sqrt_x8`] (shared with patches).
 #[inline(always)]
 pub(crate) fn inv_len(delta: Vec3x8) -> f32x8 {
-    inv_sqrt(
+    inv_sqrt_x8(
         delta
             .length_squared()
             .fast_max(f32x8::splat(MIN_LENGTH * MIN_LENGTH)),
@@ -315,7 +315,7 @@ fn strain_limit_and_collide(
                 let d2 = d.length_squared();
                 let over = d2.simd_gt(limit * limit) & w[i].simd_gt(f32x8::ZERO);
                 if over.any() {
-                    let pulled = pos[i - 1] + d * (limit * inv_sqrt(d2));
+                    let pulled = pos[i - 1] + d * (limit * inv_sqrt_x8(d2));
                     pos[i] = Vec3x8::select(over, pulled, pos[i]);
                 }
                 for c in candidates.iter().filter(|c| c.touches(b)) {
@@ -367,7 +367,7 @@ fn collide_group(
 #[inline(always)]
 pub(crate) fn outward(d: Vec3x8, d2: f32x8) -> (Vec3x8, f32x8) {
     let tiny = f32x8::splat(1e-30);
-    let inv = inv_sqrt(d2.max(tiny));
+    let inv = inv_sqrt_x8(d2.max(tiny));
     let on_centre = d2.simd_gt(tiny);
     (
         Vec3x8::select(on_centre, d * inv, Vec3x8::splat(Vec3::Y)),

@@ -24,7 +24,7 @@
 //! instructions per step.)
 
 use super::grid::Patch;
-use crate::lanes::{inv_sqrt_scalar, LANES};
+use crate::lanes::{inv_sqrt, LANES};
 use glam::Vec3;
 
 /// Limits the horizontal edges of row `r` to `factor` times their rest
@@ -71,7 +71,7 @@ fn follow(p: &mut Patch, (i, l): (usize, usize), lead: Vec3, limit: f32, factor:
     if d2 <= limit * limit {
         return x;
     }
-    let on_row_ball = lead + d * (limit * inv_sqrt_scalar(d2));
+    let on_row_ball = lead + d * (limit * inv_sqrt(d2));
     let moved = if p.parent_up[i].as_array()[l].to_bits() == 0 {
         on_row_ball
     } else {
@@ -99,7 +99,7 @@ fn follow(p: &mut Patch, (i, l): (usize, usize), lead: Vec3, limit: f32, factor:
 fn nearest_on_lens(x: Vec3, c1: Vec3, r1: f32, c2: Vec3, r2: f32) -> Vec3 {
     let between = c2 - c1;
     let d2 = dot(between, between).max(1e-14);
-    let inv_d = inv_sqrt_scalar(d2);
+    let inv_d = inv_sqrt(d2);
     let d = d2 * inv_d;
     let n = between * inv_d;
     if d >= r1 + r2 {
@@ -110,7 +110,7 @@ fn nearest_on_lens(x: Vec3, c1: Vec3, r1: f32, c2: Vec3, r2: f32) -> Vec3 {
     let from1 = x - c1;
     let e2 = dot(from1, from1);
     if e2 > r1 * r1 {
-        let on1 = c1 + from1 * (r1 * inv_sqrt_scalar(e2));
+        let on1 = c1 + from1 * (r1 * inv_sqrt(e2));
         let f = on1 - c2;
         if dot(f, f) <= r2 * r2 {
             return on1;
@@ -125,7 +125,7 @@ fn nearest_on_lens(x: Vec3, c1: Vec3, r1: f32, c2: Vec3, r2: f32) -> Vec3 {
     if t2 < 1e-20 {
         return centre;
     }
-    centre + t * (h * inv_sqrt_scalar(t2))
+    centre + t * (h * inv_sqrt(t2))
 }
 
 #[inline]

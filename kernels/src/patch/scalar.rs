@@ -9,7 +9,7 @@ use super::pairs::{partner, PairSet};
 use super::row_limit::limit_row;
 use super::step::{padded_lanes, setup};
 use crate::broad_phase::{block_aabb_scalar, select_candidates, spheres_to_local, Candidate};
-use crate::lanes::{inv_sqrt_scalar, LANES};
+use crate::lanes::{inv_sqrt, LANES};
 use crate::scalar::{dot, inv_len, outward, push_out};
 use crate::step::{StepSetup, BLOWN_UP, STRAIN_COLLIDE_ROUNDS};
 use crate::{SimParams, Sphere};
@@ -215,7 +215,7 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, candidates: &[Candidate]) {
             let d = p.get(q) - anchor;
             let d2 = dot(d, d);
             if d2 > limit * limit && p.w(q) > 0.0 {
-                p.put(q, anchor + d * (limit * inv_sqrt_scalar(d2)));
+                p.put(q, anchor + d * (limit * inv_sqrt(d2)));
             }
         }
         for round in 0..STRAIN_COLLIDE_ROUNDS {
@@ -227,7 +227,7 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, candidates: &[Candidate]) {
                 let d = x - parent;
                 let d2 = dot(d, d);
                 if d2 > limit * limit && up {
-                    p.put(q, parent + d * (limit * inv_sqrt_scalar(d2)));
+                    p.put(q, parent + d * (limit * inv_sqrt(d2)));
                 }
             }
             if round + 1 == STRAIN_COLLIDE_ROUNDS {
@@ -240,7 +240,7 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, candidates: &[Candidate]) {
                 let d = p.get(q) - s;
                 let d2 = dot(d, d);
                 if d2 > m * m && p.w(q) > 0.0 {
-                    p.put(q, s + d * (m * inv_sqrt_scalar(d2)));
+                    p.put(q, s + d * (m * inv_sqrt(d2)));
                 }
                 let block = (q % cols) / LANES;
                 for c in candidates.iter().filter(|c| c.touches(block)) {

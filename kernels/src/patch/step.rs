@@ -10,7 +10,7 @@
 //!    (`broad_phase.rs`).
 //! 3. `iterations` sweeps of mass-weighted distance constraints (Jakobsen
 //!    2001), `k = s (1 - l / |delta|)`, `x_i += w_i/(w_i+w_j) k delta`,
-//!    `x_j -= w_j/(w_i+w_j) k delta`, with `1/|delta|` from [`inv_sqrt`] of
+//!    `x_j -= w_j/(w_i+w_j) k delta`, with `1/|delta|` from [`inv_sqrt_x8`] of
 //!    `max(|delta|^2, 1e-14)`: (a) vertical edges `(r, r+1)` top to bottom,
 //!    lane-parallel, each followed by the vertical bending edge `(r, r+2)`
 //!    when `bend_stiffness > 0`; (b) per row, horizontal edges `(c, c+1)` in
@@ -53,7 +53,7 @@ use super::grid::{Patch, PatchScratch};
 use super::pairs::gather_row;
 use super::row_limit::limit_row;
 use crate::broad_phase::{block_aabb, select_candidates, spheres_to_local, Candidate};
-use crate::lanes::{inv_sqrt, Vec3x8, LANES};
+use crate::lanes::{inv_sqrt_x8, Vec3x8, LANES};
 use crate::step::{
     collide_pearls, collide_vertex, distance_constraint, inv_len, outward, Reach, StepSetup,
     BLOWN_UP, STRAIN_COLLIDE_ROUNDS,
@@ -232,7 +232,7 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
             let d2 = d.length_squared();
             let over = d2.simd_gt(limit * limit) & free;
             if over.any() {
-                let pulled = p.anchor_skin[i] + d * (limit * inv_sqrt(d2));
+                let pulled = p.anchor_skin[i] + d * (limit * inv_sqrt_x8(d2));
                 p.pos[i] = Vec3x8::select(over, pulled, p.pos[i]);
             }
         }
@@ -245,7 +245,7 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
                     let d2 = d.length_squared();
                     let over = d2.simd_gt(limit * limit) & p.parent_up[i];
                     if over.any() {
-                        let pulled = p.pos[i - 1] + d * (limit * inv_sqrt(d2));
+                        let pulled = p.pos[i - 1] + d * (limit * inv_sqrt_x8(d2));
                         p.pos[i] = Vec3x8::select(over, pulled, p.pos[i]);
                     }
                 }
@@ -261,7 +261,7 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
                 let d2 = d.length_squared();
                 let over = d2.simd_gt(m * m) & free;
                 if over.any() {
-                    let clamped = p.skin[i] + d * (m * inv_sqrt(d2));
+                    let clamped = p.skin[i] + d * (m * inv_sqrt_x8(d2));
                     p.pos[i] = Vec3x8::select(over, clamped, p.pos[i]);
                 }
                 for c in candidates.iter().filter(|c| c.touches(b)) {
