@@ -154,6 +154,45 @@ impl std::ops::Neg for Vec3x8 {
     }
 }
 
+/// One lane (`f32`) or eight (`f32x8`): the arithmetic a kernel's scalar and
+/// SIMD twins share, so that one generic body serves both and both round
+/// the same way (`mul_add` is fused in both when the target has FMA, as
+/// coif's build sets it).
+pub trait Lane:
+    Copy
+    + std::ops::Add<Output = Self>
+    + std::ops::Sub<Output = Self>
+    + std::ops::Mul<Output = Self>
+    + std::ops::Div<Output = Self>
+{
+    /// The same value in every lane.
+    fn splat(v: f32) -> Self;
+    /// `self * a + b`, fused.
+    fn mul_add(self, a: Self, b: Self) -> Self;
+}
+
+impl Lane for f32 {
+    #[inline(always)]
+    fn splat(v: f32) -> f32 {
+        v
+    }
+    #[inline(always)]
+    fn mul_add(self, a: f32, b: f32) -> f32 {
+        f32::mul_add(self, a, b)
+    }
+}
+
+impl Lane for f32x8 {
+    #[inline(always)]
+    fn splat(v: f32) -> f32x8 {
+        f32x8::splat(v)
+    }
+    #[inline(always)]
+    fn mul_add(self, a: f32x8, b: f32x8) -> f32x8 {
+        f32x8::mul_add(self, a, b)
+    }
+}
+
 /// `1 / sqrt(x)` to about 2^-22 relative error without the divider: the
 /// hardware estimate (`vrsqrtps`, 12 bits) and one Newton-Raphson step,
 /// `y' = y (1.5 - 0.5 x y^2)`. [`inv_sqrt`] computes the same value,
@@ -224,5 +263,27 @@ mod tests {
             load_padded(&[1.0, 2.0], 9.0).to_array(),
             [1.0, 2.0, 9.0, 9.0, 9.0, 9.0, 9.0, 9.0]
         );
+    }
+
+    #[test]
+    fn inv_sqrt_twins_agree_and_are_accurate() {
+        let mut x = 1e-6f32;
+        while x < 1e6 {
+            let one = inv_sqrt(x);
+            let eight = inv_sqrt_x8(f32x8::splat(x)).to_array();
+            assert!(eight.iter().all(|e| (e - one).abs() <= 1e-6 * one), "{x}");
+            assert!((one * x.sqrt() - 1.0).abs() < 1e-6, "{x}");
+            x *= 1.7;
+        }
+    }
+
+    #[test]
+    fn lane_trait_is_the_same_arithmetic_in_both_widths() {
+        fn poly<L: Lane>(x: L) -> L {
+            L::splat(0.5).mul_add(x, L::splat(2.0)) * x - x / L::splat(4.0)
+        }
+        for x in [-3.0f32, -0.25, 0.0, 1.5, 7.0] {
+            assert_eq!(poly(x), poly(f32x8::splat(x)).to_array()[2]);
+        }
     }
 }

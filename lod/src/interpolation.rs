@@ -1,5 +1,5 @@
-//! Dense render hair interpolated from guide strands (DESIGN.md section 5;
-//! Nalu, GPU Gems 2 ch. 23; HairWorks).
+//! Dense render hair interpolated from guide strands (Nalu, Nguyen & Donnelly
+//! 2005, GPU Gems 2 ch. 23; NVIDIA HairWorks).
 //!
 //! Render hair `k` lies in a scalp triangle whose corners are the roots of
 //! guides `(A, B, C)`, with barycentric weights `b >= 0`, `sum b = 1`, drawn
@@ -20,11 +20,21 @@
 //! shuffled order: drawing a prefix of groups is an even random thinning of
 //! the whole scalp (see [`crate::distance_lod`]). Padding lanes repeat the
 //! group's last real hair.
+//!
+//! Steps, in both twins ([`interpolate`] here, eight hairs of a group per
+//! instruction, and [`crate::scalar::interpolate`], one hair at a time):
+//!
+//! 1. Skip the groups past the distance-LOD prefix, culled, or whose guide
+//!    blocks were not refined.
+//! 2. Per refined vertex: `P = b_A A + b_B B + b_C C` (with [`blend`]).
+//! 3. With tangents: the same blend of the guides' unit tangents,
+//!    normalised (or `+Y`).
 
 use crate::culling::Visibility;
 use crate::refine_batch::unit_or_y_x8;
 use crate::refine_batch::RefinedGuides;
 use crate::Error;
+use coif_base::lanes::Lane;
 use coif_base::rng::SplitMix64;
 use coif_base::{Vec3x8, LANES};
 use glam::Vec3;
@@ -54,9 +64,9 @@ pub struct Interpolation {
     guide_count: usize,
     hair_count: usize,
     scalp_area_m2: f64,
-    groups: Vec<HairGroup>,
+    pub(crate) groups: Vec<HairGroup>,
     /// Per group: (b_A, b_B, b_C) lanes.
-    weights: Vec<[f32x8; 3]>,
+    pub(crate) weights: Vec<[f32x8; 3]>,
 }
 
 impl Interpolation {
@@ -242,11 +252,11 @@ pub fn barycentric(u: f32, v: f32) -> [f32; 3] {
 #[derive(Clone, Debug)]
 pub struct RenderHairs {
     groups: usize,
-    verts: usize,
+    pub(crate) verts: usize,
     capacity: usize,
-    positions: Vec<Vec3x8>,
-    tangents: Vec<Vec3x8>,
-    written: Vec<bool>,
+    pub(crate) positions: Vec<Vec3x8>,
+    pub(crate) tangents: Vec<Vec3x8>,
+    pub(crate) written: Vec<bool>,
     has_tangents: bool,
 }
 
@@ -322,7 +332,7 @@ impl RenderHairs {
     }
 
     /// Prepares for a pass; false if the buffer cannot take it.
-    fn begin(
+    pub(crate) fn begin(
         &mut self,
         interpolation: &Interpolation,
         guides: &RefinedGuides,
@@ -342,7 +352,7 @@ impl RenderHairs {
 }
 
 /// Whether group `g` is drawn this frame and its guides hold fresh data.
-fn group_drawn(
+pub(crate) fn group_drawn(
     g: usize,
     group: &HairGroup,
     groups_drawn: usize,
@@ -373,7 +383,7 @@ pub fn interpolate(
     groups_drawn: usize,
     out: &mut RenderHairs,
 ) -> usize {
-    interpolate_x8(interpolation, guides, visibility, groups_drawn, out, true)
+    interpolate_groups(interpolation, guides, visibility, groups_drawn, out, true)
 }
 
 /// [`interpolate`] without tangents: positions only, half the memory
@@ -387,10 +397,10 @@ pub fn interpolate_positions(
     groups_drawn: usize,
     out: &mut RenderHairs,
 ) -> usize {
-    interpolate_x8(interpolation, guides, visibility, groups_drawn, out, false)
+    interpolate_groups(interpolation, guides, visibility, groups_drawn, out, false)
 }
 
-fn interpolate_x8(
+fn interpolate_groups(
     interpolation: &Interpolation,
     guides: &RefinedGuides,
     visibility: Option<&Visibility>,
@@ -404,6 +414,7 @@ fn interpolate_x8(
     let r_len = out.verts;
     let mut count = 0;
     for (g, group) in interpolation.groups.iter().enumerate() {
+        // 1. Skip the groups not drawn.
         if !group_drawn(g, group, groups_drawn, visibility, guides) {
             continue;
         }
@@ -413,6 +424,7 @@ fn interpolate_x8(
         let [(ba, la), (bb, lb), (bc, lc)] = group
             .guides
             .map(|s| (s as usize / LANES, s as usize % LANES));
+        // 2. Positions.
         let rows = g * r_len..(g + 1) * r_len;
         let (pa, pb, pc) = (
             guides.block_positions(ba),
@@ -427,6 +439,7 @@ fn interpolate_x8(
         {
             *p = blend_x8(wa, wb, wc, a, la, b, lb, c, lc);
         }
+        // 3. Tangents.
         if with_tangents {
             let (ta, tb, tc) = (
                 guides.block_tangents(ba),
@@ -441,8 +454,8 @@ fn interpolate_x8(
     count
 }
 
-/// `wa A + wb B + wc C` with A, B, C broadcast from one lane each, fused
-/// multiply-adds left to right.
+/// `wa A + wb B + wc C` with A, B, C broadcast from one lane each:
+/// [`blend`] on each coordinate.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn blend_x8(
@@ -457,97 +470,18 @@ fn blend_x8(
     lc: usize,
 ) -> Vec3x8 {
     let s = |v: &f32x8, l: usize| f32x8::splat(v.as_array()[l]);
-    let ch = |ax: &f32x8, bx: &f32x8, cx: &f32x8| {
-        wc.mul_add(s(cx, lc), wb.mul_add(s(bx, lb), wa * s(ax, la)))
-    };
+    let w = [wa, wb, wc];
     Vec3x8 {
-        x: ch(&a.x, &b.x, &c.x),
-        y: ch(&a.y, &b.y, &c.y),
-        z: ch(&a.z, &b.z, &c.z),
+        x: blend(w, s(&a.x, la), s(&b.x, lb), s(&c.x, lc)),
+        y: blend(w, s(&a.y, la), s(&b.y, lb), s(&c.y, lc)),
+        z: blend(w, s(&a.z, la), s(&b.z, lb), s(&c.z, lc)),
     }
 }
 
-/// The scalar twin of the interpolation batch.
-pub mod scalar {
-    use super::*;
-    use crate::refine_batch::scalar::unit_or_y;
-
-    /// Scalar twin of [`super::interpolate`]: same algorithm, same order,
-    /// one hair at a time.
-    pub fn interpolate(
-        interpolation: &Interpolation,
-        guides: &RefinedGuides,
-        visibility: Option<&Visibility>,
-        groups_drawn: usize,
-        out: &mut RenderHairs,
-    ) -> usize {
-        interpolate_scalar(interpolation, guides, visibility, groups_drawn, out, true)
-    }
-
-    /// Scalar twin of [`super::interpolate_positions`].
-    pub fn interpolate_positions(
-        interpolation: &Interpolation,
-        guides: &RefinedGuides,
-        visibility: Option<&Visibility>,
-        groups_drawn: usize,
-        out: &mut RenderHairs,
-    ) -> usize {
-        interpolate_scalar(interpolation, guides, visibility, groups_drawn, out, false)
-    }
-
-    fn interpolate_scalar(
-        interpolation: &Interpolation,
-        guides: &RefinedGuides,
-        visibility: Option<&Visibility>,
-        groups_drawn: usize,
-        out: &mut RenderHairs,
-        with_tangents: bool,
-    ) -> usize {
-        if !out.begin(interpolation, guides, with_tangents) {
-            return 0;
-        }
-        let r_len = out.verts;
-        let mut count = 0;
-        for (g, group) in interpolation.groups.iter().enumerate() {
-            if !group_drawn(g, group, groups_drawn, visibility, guides) {
-                continue;
-            }
-            out.written[g] = true;
-            count += 1;
-            let [a, b, c] = group.guides.map(|s| s as usize);
-            for l in 0..LANES {
-                let [wa, wb, wc] = interpolation.weights(g, l);
-                for r in 0..r_len {
-                    let i = g * r_len + r;
-                    let p = blend(
-                        wa,
-                        wb,
-                        wc,
-                        guides.position(a, r),
-                        guides.position(b, r),
-                        guides.position(c, r),
-                    );
-                    out.positions[i].set_lane(l, p);
-                    if with_tangents {
-                        let t = blend(
-                            wa,
-                            wb,
-                            wc,
-                            guides.tangent(a, r),
-                            guides.tangent(b, r),
-                            guides.tangent(c, r),
-                        );
-                        out.tangents[i].set_lane(l, unit_or_y(t));
-                    }
-                }
-            }
-        }
-        count
-    }
-
-    #[inline]
-    fn blend(wa: f32, wb: f32, wc: f32, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
-        let f = |x: f32, y: f32, z: f32| wc.mul_add(z, wb.mul_add(y, wa * x));
-        Vec3::new(f(a.x, b.x, c.x), f(a.y, b.y, c.y), f(a.z, b.z, c.z))
-    }
+/// `wa a + wb b + wc c`, fused multiply-adds left to right: one body for a
+/// coordinate of one hair (`f32`, the scalar twin) and of eight (`f32x8`).
+#[inline(always)]
+pub(crate) fn blend<L: Lane>(w: [L; 3], a: L, b: L, c: L) -> L {
+    let [wa, wb, wc] = w;
+    wc.mul_add(c, wb.mul_add(b, wa * a))
 }

@@ -1,4 +1,4 @@
-//! coif-lod: the level-of-detail stage of a hair frame (DESIGN.md section 5).
+//! coif-lod: the level-of-detail stage of a hair frame.
 //!
 //! - [`refine`] (one strand) and [`refine_strands`] (a whole [`Strands`] set,
 //!   SIMD, into a caller-owned [`RefinedGuides`]): uniform cubic B-splines
@@ -12,7 +12,9 @@
 //! - [`fit`], [`Fitter`], [`Resampler`]: P-spline fits with faer.
 //! - [`quality`]: error measurements for time-against-error reports.
 //!
-//! Every batch path has a scalar twin in [`scalar`].
+//! Every SIMD batch path has a scalar twin of the same name in [`scalar`]
+//! (`refine_strands` / `scalar::refine_strands`, `interpolate` /
+//! `scalar::interpolate`), with the same numbered steps.
 //!
 //! A frame, with every buffer sized once up front:
 //!
@@ -51,6 +53,7 @@
 //! ```
 //!
 //! [`Strands`]: coif_kernels::Strands
+#![warn(missing_docs)]
 
 pub mod bspline;
 mod culling;
@@ -75,9 +78,4 @@ pub use refine_batch::{
 };
 pub use vertex::{render_vertex_len, vertex_bytes, write_render_vertices, HairWidth, RenderVertex};
 
-/// Scalar twins of the SIMD batch paths: the same algorithms, in the same
-/// order, one strand (or hair) at a time.
-pub mod scalar {
-    pub use crate::interpolation::scalar::{interpolate, interpolate_positions};
-    pub use crate::refine_batch::scalar::{refine_strands, refine_strands_positions};
-}
+pub mod scalar;

@@ -6,10 +6,21 @@
 //! `b` is `positions[b * R + r]`, lane `l` = strand `b * LANES + l`, with
 //! `R = (V - 1) N + 1`. Positions are relative to [`Strands::origin`].
 //! Weights for the current `N` are precomputed; nothing allocates per frame.
+//!
+//! Steps, in both twins ([`refine_strands`] here, eight strands per
+//! instruction, and [`crate::scalar::refine_strands`], one lane at a time):
+//!
+//! 1. Skip the blocks `visibility` marks as not needed.
+//! 2. Per span `j`: the four control points `P_{j-1} .. P_{j+2}`, with the
+//!    phantom ends `2 P_0 - P_1` and `2 P_{n-1} - P_{n-2}`.
+//! 3. Per refined vertex of the span: position `sum_i w_i(t) P_i` and
+//!    tangent `unit(sum_i w_i'(t) P_i)` (or `+Y`), with [`combine`].
+//! 4. Pin the end points to the first and last control points.
 
 use crate::bspline::{basis, basis_derivative, refined_len};
 use crate::culling::Visibility;
 use crate::Error;
+use coif_base::lanes::Lane;
 use coif_base::{StrandBlocks, Vec3x8, LANES};
 use glam::Vec3;
 use wide::f32x8;
@@ -21,17 +32,17 @@ pub const DEFAULT_MAX_SEGMENTS_PER_SPAN: usize = 16;
 /// tangents of every guide strand, sized once for the largest level.
 #[derive(Clone, Debug)]
 pub struct RefinedGuides {
-    strand_count: usize,
-    blocks: usize,
-    control_verts: usize,
-    max_segments: usize,
-    segments: usize,
-    verts: usize,
+    pub(crate) strand_count: usize,
+    pub(crate) blocks: usize,
+    pub(crate) control_verts: usize,
+    pub(crate) max_segments: usize,
+    pub(crate) segments: usize,
+    pub(crate) verts: usize,
     /// Per k = 0..=N: position weights then derivative weights at t = k / N.
-    weights: Vec<[f32; 8]>,
-    positions: Vec<Vec3x8>,
-    tangents: Vec<Vec3x8>,
-    refined: Vec<bool>,
+    pub(crate) weights: Vec<[f32; 8]>,
+    pub(crate) positions: Vec<Vec3x8>,
+    pub(crate) tangents: Vec<Vec3x8>,
+    pub(crate) refined: Vec<bool>,
 }
 
 impl RefinedGuides {
@@ -178,14 +189,14 @@ impl RefinedGuides {
         out.extend((0..self.verts).map(|r| self.position(i, r)));
     }
 
-    fn fits(&self, strands: StrandBlocks<'_>) -> bool {
+    pub(crate) fn fits(&self, strands: StrandBlocks<'_>) -> bool {
         strands.strand_count() == self.strand_count
             && strands.verts_per_strand() == self.control_verts
     }
 }
 
 /// Whether block `b` must be refined this frame.
-fn block_needed(visibility: Option<&Visibility>, b: usize) -> bool {
+pub(crate) fn block_needed(visibility: Option<&Visibility>, b: usize) -> bool {
     visibility.is_none_or(|v| v.guide_block_needed(b))
 }
 
@@ -203,7 +214,7 @@ pub fn refine_strands(
     visibility: Option<&Visibility>,
     out: &mut RefinedGuides,
 ) -> usize {
-    refine_x8::<true>(strands, visibility, out)
+    refine_blocks::<true>(strands, visibility, out)
 }
 
 /// [`refine_strands`] without tangents: positions only, half the
@@ -215,10 +226,10 @@ pub fn refine_strands_positions(
     visibility: Option<&Visibility>,
     out: &mut RefinedGuides,
 ) -> usize {
-    refine_x8::<false>(strands, visibility, out)
+    refine_blocks::<false>(strands, visibility, out)
 }
 
-fn refine_x8<const TANGENTS: bool>(
+fn refine_blocks<const TANGENTS: bool>(
     strands: StrandBlocks<'_>,
     visibility: Option<&Visibility>,
     out: &mut RefinedGuides,
@@ -229,6 +240,7 @@ fn refine_x8<const TANGENTS: bool>(
     let (v, r, n) = (out.control_verts, out.verts, out.segments);
     let mut count = 0;
     for b in 0..out.blocks {
+        // 1. Skip the blocks not needed.
         let needed = block_needed(visibility, b);
         out.refined[b] = needed;
         if !needed {
@@ -239,6 +251,7 @@ fn refine_x8<const TANGENTS: bool>(
         let pos = &mut out.positions[b * r..(b + 1) * r];
         let tan = &mut out.tangents[b * r..(b + 1) * r];
         for j in 0..v - 1 {
+            // 2. The span's four control points, phantom ends at the ends.
             let p0 = if j == 0 {
                 ctrl[0] + ctrl[0] - ctrl[1]
             } else {
@@ -252,6 +265,7 @@ fn refine_x8<const TANGENTS: bool>(
                 ctrl[v - 1] + ctrl[v - 1] - ctrl[v - 2]
             };
             let ks = if j == v - 2 { n + 1 } else { n };
+            // 3. Positions and tangents of the span's refined vertices.
             let span = j * n..j * n + ks;
             for ((p, t), w) in pos[span.clone()]
                 .iter_mut()
@@ -265,28 +279,30 @@ fn refine_x8<const TANGENTS: bool>(
                 }
             }
         }
+        // 4. Pin the end points.
         pos[0] = ctrl[0];
         pos[r - 1] = ctrl[v - 1];
     }
     count
 }
 
-/// `p0 w0 + p1 w1 + p2 w2 + p3 w3`, accumulated left to right with fused
-/// multiply-adds (the scalar twin fuses identically).
+/// `p0 w0 + p1 w1 + p2 w2 + p3 w3` per lane: [`combine`] on each coordinate.
 #[inline(always)]
 fn combine_x8(p0: Vec3x8, p1: Vec3x8, p2: Vec3x8, p3: Vec3x8, w: [f32; 4]) -> Vec3x8 {
-    let [w0, w1, w2, w3] = w.map(f32x8::splat);
     Vec3x8 {
-        x: p3
-            .x
-            .mul_add(w3, p2.x.mul_add(w2, p1.x.mul_add(w1, p0.x * w0))),
-        y: p3
-            .y
-            .mul_add(w3, p2.y.mul_add(w2, p1.y.mul_add(w1, p0.y * w0))),
-        z: p3
-            .z
-            .mul_add(w3, p2.z.mul_add(w2, p1.z.mul_add(w1, p0.z * w0))),
+        x: combine(p0.x, p1.x, p2.x, p3.x, w),
+        y: combine(p0.y, p1.y, p2.y, p3.y, w),
+        z: combine(p0.z, p1.z, p2.z, p3.z, w),
     }
+}
+
+/// `p0 w0 + p1 w1 + p2 w2 + p3 w3`, accumulated left to right with fused
+/// multiply-adds: one body for one coordinate (`f32`, the scalar twin) and
+/// eight lanes (`f32x8`), so both round identically.
+#[inline(always)]
+pub(crate) fn combine<L: Lane>(p0: L, p1: L, p2: L, p3: L, w: [f32; 4]) -> L {
+    let [w0, w1, w2, w3] = w.map(L::splat);
+    p3.mul_add(w3, p2.mul_add(w2, p1.mul_add(w1, p0 * w0)))
 }
 
 /// `d / |d|`, or `+Y` where `|d|^2 <= 1e-30` or not finite.
@@ -304,99 +320,3 @@ pub(crate) fn unit_or_y_x8(d: Vec3x8) -> Vec3x8 {
 
 /// Tangents with `|d|^2` at or below this fall back to `+Y`.
 pub(crate) const MIN_LENGTH_SQUARED: f32 = 1e-30;
-
-/// The scalar twins of the batch paths: the same algorithm, in the same
-/// order, one lane at a time, no SIMD.
-pub mod scalar {
-    use super::*;
-
-    /// Scalar twin of [`super::refine_strands`].
-    pub fn refine_strands(
-        strands: StrandBlocks<'_>,
-        visibility: Option<&Visibility>,
-        out: &mut RefinedGuides,
-    ) -> usize {
-        refine_scalar::<true>(strands, visibility, out)
-    }
-
-    /// Scalar twin of [`super::refine_strands_positions`].
-    pub fn refine_strands_positions(
-        strands: StrandBlocks<'_>,
-        visibility: Option<&Visibility>,
-        out: &mut RefinedGuides,
-    ) -> usize {
-        refine_scalar::<false>(strands, visibility, out)
-    }
-
-    fn refine_scalar<const TANGENTS: bool>(
-        strands: StrandBlocks<'_>,
-        visibility: Option<&Visibility>,
-        out: &mut RefinedGuides,
-    ) -> usize {
-        if !out.fits(strands) {
-            return 0;
-        }
-        let (v, r, n) = (out.control_verts, out.verts, out.segments);
-        let mut count = 0;
-        for b in 0..out.blocks {
-            let needed = block_needed(visibility, b);
-            out.refined[b] = needed;
-            if !needed {
-                continue;
-            }
-            count += 1;
-            let ctrl = strands.block_positions_local(b);
-            for l in 0..LANES {
-                let c = |i: usize| ctrl[i].lane(l);
-                for j in 0..v - 1 {
-                    let p0 = if j == 0 { c(0) + c(0) - c(1) } else { c(j - 1) };
-                    let p1 = c(j);
-                    let p2 = c(j + 1);
-                    let p3 = if j + 2 < v {
-                        c(j + 2)
-                    } else {
-                        c(v - 1) + c(v - 1) - c(v - 2)
-                    };
-                    let ks = if j == v - 2 { n + 1 } else { n };
-                    for k in 0..ks {
-                        let w = out.weights[k];
-                        let i = b * r + j * n + k;
-                        let p = combine(p0, p1, p2, p3, [w[0], w[1], w[2], w[3]]);
-                        out.positions[i].set_lane(l, p);
-                        if TANGENTS {
-                            let d = combine(p0, p1, p2, p3, [w[4], w[5], w[6], w[7]]);
-                            out.tangents[i].set_lane(l, unit_or_y(d));
-                        }
-                    }
-                }
-                out.positions[b * r].set_lane(l, c(0));
-                out.positions[b * r + r - 1].set_lane(l, c(v - 1));
-            }
-        }
-        count
-    }
-
-    #[inline]
-    fn combine(p0: Vec3, p1: Vec3, p2: Vec3, p3: Vec3, w: [f32; 4]) -> Vec3 {
-        let f = |a: f32, b: f32, c: f32, d: f32| {
-            d.mul_add(w[3], c.mul_add(w[2], b.mul_add(w[1], a * w[0])))
-        };
-        Vec3::new(
-            f(p0.x, p1.x, p2.x, p3.x),
-            f(p0.y, p1.y, p2.y, p3.y),
-            f(p0.z, p1.z, p2.z, p3.z),
-        )
-    }
-
-    #[inline]
-    pub(crate) fn unit_or_y(d: Vec3) -> Vec3 {
-        let len2 = d.x * d.x + d.y * d.y + d.z * d.z;
-        if len2 > MIN_LENGTH_SQUARED && len2 < f32::INFINITY {
-            // Exact 1 / sqrt; the SIMD path's rsqrt + Newton step agrees
-            // to a few ulp.
-            d * (1.0 / len2.sqrt())
-        } else {
-            Vec3::Y
-        }
-    }
-}

@@ -8,7 +8,7 @@ use coif_base::{Vec3x8, LANES};
 use wide::f32x8;
 
 #[inline(always)]
-fn load8(a: &[f32], start: usize) -> f32x8 {
+fn load_x8(a: &[f32], start: usize) -> f32x8 {
     let chunk: &[f32; LANES] = a[start..start + LANES]
         .try_into()
         .expect("slice of LANES values");
@@ -16,44 +16,44 @@ fn load8(a: &[f32], start: usize) -> f32x8 {
 }
 
 #[inline(always)]
-fn load3(a: &[Vec<f32>; 3], start: usize) -> Vec3x8 {
+fn load_vec3_x8(a: &[Vec<f32>; 3], start: usize) -> Vec3x8 {
     Vec3x8::new(
-        load8(&a[0], start),
-        load8(&a[1], start),
-        load8(&a[2], start),
+        load_x8(&a[0], start),
+        load_x8(&a[1], start),
+        load_x8(&a[2], start),
     )
 }
 
 #[inline(always)]
-fn store8(dst: &mut [f32], start: usize, v: f32x8) {
+fn store_x8(dst: &mut [f32], start: usize, v: f32x8) {
     dst[start..start + LANES].copy_from_slice(v.as_array());
 }
 
-/// Resizes `out` to `samples.len()` and writes `shade8(t, wi, wo)` for every
+/// Resizes `out` to `samples.len()` and writes `shade_x8(t, wi, wo)` for every
 /// block of eight samples.
 #[inline(always)]
 pub(crate) fn shade_blocks(
     samples: &ShadingSamples,
     out: &mut RgbBuffer,
-    shade8: impl Fn(Vec3x8, Vec3x8, Vec3x8) -> Vec3x8,
+    shade_x8: impl Fn(Vec3x8, Vec3x8, Vec3x8) -> Vec3x8,
 ) {
     let n = samples.len();
     out.resize(n);
     let full = n - n % LANES;
     let mut start = 0;
     while start < full {
-        let v = shade8(
-            load3(&samples.t, start),
-            load3(&samples.wi, start),
-            load3(&samples.wo, start),
+        let v = shade_x8(
+            load_vec3_x8(&samples.t, start),
+            load_vec3_x8(&samples.wi, start),
+            load_vec3_x8(&samples.wo, start),
         );
-        store8(&mut out.r, start, v.x);
-        store8(&mut out.g, start, v.y);
-        store8(&mut out.b, start, v.z);
+        store_x8(&mut out.r, start, v.x);
+        store_x8(&mut out.g, start, v.y);
+        store_x8(&mut out.b, start, v.z);
         start += LANES;
     }
     if start < n {
         let (t, wi, wo) = samples.load_block(start);
-        out.store_block(start, shade8(t, wi, wo));
+        out.store_block(start, shade_x8(t, wi, wo));
     }
 }

@@ -26,6 +26,16 @@
 //! zero-length vector gives zero for that sample; a non-finite component (or
 //! a squared length overflowing f32) gives NaN for that sample.
 //! The result is diffuse + specular, without light colour or cosine factor.
+//!
+//! [`KajiyaKay::shade`] (one sample) and [`KajiyaKay::shade_x8`] (eight
+//! lanes) run the same steps in the same order; [`KajiyaKay::shade_batch`]
+//! (SIMD) and [`scalar::shade_batch`] shade a whole [`ShadingSamples`].
+//! Steps: 1. degenerate inputs (zero length, non-finite); 2. the cosines and
+//! sines c_i, c_o, s_i, s_o and wi . n; 3. per highlight, the tilted cone
+//! term `x^p = 2^(p log2 x)` (short series below); 4. diffuse plus both
+//! highlights.
+
+pub mod scalar;
 
 use crate::{RgbBuffer, ShadingSamples};
 use coif_base::Vec3x8;
@@ -153,7 +163,7 @@ impl KajiyaKay {
 
     /// Eight samples; the same steps as [`KajiyaKay::shade`].
     #[inline(always)]
-    pub fn shade8(&self, t: Vec3x8, wi: Vec3x8, wo: Vec3x8) -> Vec3x8 {
+    pub fn shade_x8(&self, t: Vec3x8, wi: Vec3x8, wo: Vec3x8) -> Vec3x8 {
         let one = f32x8::ONE;
         let zero = f32x8::ZERO;
         let (lt2, li2, lo2) = (t.dot(t), wi.dot(wi), wo.dot(wo));
@@ -177,9 +187,9 @@ impl KajiyaKay {
             let ci = clamp1(c_i * ct + wi_n * st);
             let si = (one - ci * ci).max(zero).sqrt();
             let base = (si * so - ci * co).max(f32x8::splat(MIN_BASE));
-            let x = f32x8::splat(h.exponent.max(0.0)) * log2_8(base);
+            let x = f32x8::splat(h.exponent.max(0.0)) * log2_x8(base);
             let tiny = x.simd_lt(f32x8::splat(MIN_LOG2_LOBE));
-            tiny.select(zero, exp2_8(x.max(f32x8::splat(MIN_LOG2_LOBE))))
+            tiny.select(zero, exp2_x8(x.max(f32x8::splat(MIN_LOG2_LOBE))))
         };
         let (l1, l2) = (lobe(&self.primary), lobe(&self.secondary));
         let (d, a, b) = (self.diffuse, self.primary.color, self.secondary.color);
@@ -198,16 +208,7 @@ impl KajiyaKay {
     /// SIMD batch: every sample of `samples` into `out` (resized to
     /// `samples.len()`; no allocation once it has the capacity).
     pub fn shade_batch(&self, samples: &ShadingSamples, out: &mut RgbBuffer) {
-        crate::batch::shade_blocks(samples, out, |t, wi, wo| self.shade8(t, wi, wo));
-    }
-
-    /// Scalar batch: [`KajiyaKay::shade`] per sample (the SIMD path's reference).
-    pub fn shade_batch_scalar(&self, samples: &ShadingSamples, out: &mut RgbBuffer) {
-        out.resize(samples.len());
-        for i in 0..samples.len() {
-            let (t, wi, wo) = samples.get(i);
-            out.set(i, self.shade(t, wi, wo));
-        }
+        crate::batch::shade_blocks(samples, out, |t, wi, wo| self.shade_x8(t, wi, wo));
     }
 }
 
@@ -235,7 +236,7 @@ const EXP: [f32; 6] = [
     1.0 / 720.0,
 ];
 
-/// log2 of a positive normal float (scalar twin of `log2_8`).
+/// log2 of a positive normal float (scalar twin of `log2_x8`).
 #[inline(always)]
 fn log2(x: f32) -> f32 {
     let bits = x.to_bits() as i32;
@@ -251,7 +252,7 @@ fn log2(x: f32) -> f32 {
     e as f32 + TWO_OVER_LN2 * atanh
 }
 
-/// 2^y for y in [-126, 0] (scalar twin of `exp2_8`).
+/// 2^y for y in [-126, 0] (scalar twin of `exp2_x8`).
 #[inline(always)]
 fn exp2(y: f32) -> f32 {
     let n = y.round();
@@ -262,7 +263,7 @@ fn exp2(y: f32) -> f32 {
 }
 
 #[inline(always)]
-fn log2_8(x: f32x8) -> f32x8 {
+fn log2_x8(x: f32x8) -> f32x8 {
     let bits: i32x8 = cast(x);
     let offset = bits - i32x8::splat(0x3f35_04f3);
     let e: i32x8 = offset >> 23;
@@ -277,7 +278,7 @@ fn log2_8(x: f32x8) -> f32x8 {
 }
 
 #[inline(always)]
-fn exp2_8(y: f32x8) -> f32x8 {
+fn exp2_x8(y: f32x8) -> f32x8 {
     let n = y.round();
     let f = (y - n) * f32x8::splat(LN2);
     let c = |k: usize| f32x8::splat(EXP[k]);
@@ -297,7 +298,7 @@ mod tests {
         while x <= 1.0 {
             let l = log2(x);
             assert!((l - x.log2()).abs() < 2e-6 * x.log2().abs().max(1.0), "{x}");
-            let l8 = log2_8(f32x8::splat(x)).to_array()[3];
+            let l8 = log2_x8(f32x8::splat(x)).to_array()[3];
             assert_eq!(l, l8, "{x}");
             x *= 1.37;
         }
@@ -305,7 +306,7 @@ mod tests {
         while y <= 0.0 {
             let e = exp2(y);
             assert!((e / y.exp2() - 1.0).abs() < 1e-6, "{y}");
-            assert_eq!(e, exp2_8(f32x8::splat(y)).to_array()[5], "{y}");
+            assert_eq!(e, exp2_x8(f32x8::splat(y)).to_array()[5], "{y}");
             y += 0.173;
         }
     }

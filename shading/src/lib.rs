@@ -1,6 +1,15 @@
 //! coif-shading: hair shading models (Kajiya-Kay, Marschner 2003 and its
 //! factored lookup tables, pbrt-v3's hair BSDF as the accuracy yardstick),
-//! evaluated per sample (scalar) and in SIMD batches over [`ShadingSamples`].
+//! evaluated per sample (scalar) and in SIMD batches over [`ShadingSamples`],
+//! and opacity shadow maps ([`shadow`]).
+//!
+//! One convention for the twins: a per-sample function `name` (one `Vec3`)
+//! has an eight-lane twin `name_x8` (`Vec3x8`), e.g.
+//! [`kajiya_kay::KajiyaKay::shade`] / [`kajiya_kay::KajiyaKay::shade_x8`]; a
+//! SIMD batch method `Type::name` has its scalar reference `scalar::name`
+//! (a free function taking `&Type`) in the `scalar` submodule of its module,
+//! e.g. [`shadow::OpacityShadowMap::build`] / [`shadow::scalar::build`].
+#![warn(missing_docs)]
 
 mod batch;
 mod error;

@@ -17,6 +17,12 @@
 //! puts theta_h at the M peaks and 1 / cos^2 theta_d makes S largest. That
 //! grazing region dominates Nalu's error; the default [`LutLayout::Angular`]
 //! indexes both axes linearly in angle and computes cos theta_d exactly.
+//!
+//! [`Lut::scattering`] (one sample) and [`Lut::scattering_x8`] (eight lanes)
+//! run the same steps; [`Lut::scattering_batch`] (SIMD) and
+//! [`scalar::scattering_batch`] look up a whole batch.
+
+pub mod scalar;
 
 use super::params::Sanitised;
 use super::{longitudinal, n_terms, Params, MIN_COS_THETA_D};
@@ -259,34 +265,24 @@ impl Lut {
         })
     }
 
-    /// Scalar batch: [`Lut::scattering`] for every sample (the reference for
-    /// the SIMD path). `out` is resized to `samples.len()`.
-    pub fn scattering_batch_scalar(&self, samples: &ShadingSamples, out: &mut RgbBuffer) {
-        out.resize(samples.len());
-        for i in 0..samples.len() {
-            let (t, wi, wo) = samples.get(i);
-            out.set(i, self.scattering(t, wi, wo));
-        }
-    }
-
     /// SIMD batch lookup: eight samples at a time, the angle and index
     /// arithmetic in `f32x8`, texel fetches per lane (manual gathers) with the
     /// same bilinear arithmetic as the scalar path. `out` is resized to
     /// `samples.len()` (allocation-free once it has the capacity). Matches
-    /// [`Lut::scattering_batch_scalar`] to float rounding (the `acos` of the
+    /// [`scalar::scattering_batch`] to float rounding (the `acos` of the
     /// LinearPhi layout is wide's polynomial in SIMD, libm's in scalar).
     pub fn scattering_batch(&self, samples: &ShadingSamples, out: &mut RgbBuffer) {
-        crate::batch::shade_blocks(samples, out, |t, wi, wo| self.lookup8(t, wi, wo));
+        crate::batch::shade_blocks(samples, out, |t, wi, wo| self.lookup_x8(t, wi, wo));
     }
 
     /// Eight lookups; the same steps as [`Lut::scattering`].
     #[inline(always)]
-    pub fn scattering8(&self, t: Vec3x8, wi: Vec3x8, wo: Vec3x8) -> Vec3x8 {
-        self.lookup8(t, wi, wo)
+    pub fn scattering_x8(&self, t: Vec3x8, wi: Vec3x8, wo: Vec3x8) -> Vec3x8 {
+        self.lookup_x8(t, wi, wo)
     }
 
     #[inline(always)]
-    fn lookup8(&self, t: Vec3x8, wi: Vec3x8, wo: Vec3x8) -> Vec3x8 {
+    fn lookup_x8(&self, t: Vec3x8, wi: Vec3x8, wo: Vec3x8) -> Vec3x8 {
         let one = f32x8::ONE;
         let zero = f32x8::ZERO;
         let half = f32x8::splat(0.5);
@@ -311,7 +307,7 @@ impl Lut {
         } else {
             (half + half * sin_i, half + half * sin_o)
         };
-        let (mi, fx, fy) = self.coords8(ui, uo);
+        let (mi, fx, fy) = self.coords_x8(ui, uo);
         let (mi, fx, fy) = (mi.to_array(), fx.to_array(), fy.to_array());
         let mut ms = [Vec4::ZERO; LANES];
         let mut table_cos_d = [0.0f32; LANES];
@@ -329,7 +325,7 @@ impl Lut {
         } else {
             half + half * cos_phi
         };
-        let (ni, gx, gy) = self.coords8(cos_d, v);
+        let (ni, gx, gy) = self.coords_x8(cos_d, v);
         let (ni, gx, gy) = (ni.to_array(), gx.to_array(), gy.to_array());
         let mut rgb = [[0.0f32; LANES]; 3];
         for l in 0..LANES {
@@ -345,7 +341,7 @@ impl Lut {
 
     /// SIMD twin of `coords`; the integer clamp keeps NaN lanes in bounds.
     #[inline(always)]
-    fn coords8(&self, u: f32x8, v: f32x8) -> (i32x8, f32x8, f32x8) {
+    fn coords_x8(&self, u: f32x8, v: f32x8) -> (i32x8, f32x8, f32x8) {
         let scale = f32x8::splat((self.resolution - 1) as f32);
         let last = f32x8::splat((self.resolution - 2) as f32);
         let zero = f32x8::ZERO;

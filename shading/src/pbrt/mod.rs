@@ -26,7 +26,7 @@ pub mod melanin;
 mod monte_carlo;
 mod params;
 pub mod quality;
-mod table;
+pub mod table;
 
 pub use far_field::{
     gauss_legendre, recommended_order, scattering, world_angles, FarField,

@@ -18,6 +18,12 @@
 //! and cos phi uniformly as NVIDIA's Nalu demo did, which is coarse where
 //! the lobes are narrow, near phi = 0 and pi and at grazing theta. PBRT.md
 //! compares both.
+//!
+//! [`Table::scattering`] (one sample) and [`Table::scattering_x8`] (eight
+//! lanes) run the same steps; [`Table::scattering_batch`] (SIMD) and
+//! [`scalar::scattering_batch`] look up a whole batch.
+
+pub mod scalar;
 
 use super::far_field::{combine, recommended_order, world_angles, FarField};
 use super::fast_acos::{acos, acos_x8};
@@ -183,16 +189,6 @@ impl Table {
         let m = bilerp::<1, M_CH>(&self.m, ci * res + co, res, fi, fo);
         let n = bilerp::<2, N_CH>(&self.n, cp * res + co, res, fp, fo);
         combine_cells(&m, &n)
-    }
-
-    /// Scalar batch: `out[k] = scattering(samples[k])`; `out` is resized to
-    /// the batch (no allocation once it has the capacity).
-    pub fn scattering_batch_scalar(&self, samples: &ShadingSamples, out: &mut RgbBuffer) {
-        out.resize(samples.len());
-        for k in 0..samples.len() {
-            let (t, wi, wo) = samples.get(k);
-            out.set(k, self.scattering(t, wi, wo));
-        }
     }
 
     /// SIMD batch (`wide::f32x8`, eight samples per step): the same

@@ -11,8 +11,12 @@
 //!   layers start at a depth map of the first hair per texel, which removes
 //!   OSM's layering artefacts with few (3) layers.
 //! * Builds: [`OpacityShadowMap::build`] (SIMD, eight samples per `f32x8`,
-//!   deposits in the scalar order) and [`OpacityShadowMap::build_scalar`]
-//!   (the reference) make the same map bit for bit.
+//!   deposits in the scalar order) and [`scalar::build`] (the reference)
+//!   make the same map bit for bit; likewise the batch lookups
+//!   [`OpacityShadowMap::transmittance_batch`] and
+//!   [`scalar::transmittance_batch`] agree to float rounding. Files mirror:
+//!   `build.rs`, `raster.rs`, `lookup.rs` (SIMD) and `scalar/build.rs`,
+//!   `scalar/raster.rs`, `scalar/lookup.rs`.
 //! * [`exact_transmittance`]: the reference, `exp(-k n)` with `n` the number
 //!   of hair segments (capsules) the ray toward the light passes through.
 //! * [`quality`]: error of a setting against the reference.
@@ -20,15 +24,16 @@
 //! See `shading/SHADOWS.md` for formulas, storage layout and measured
 //! figures.
 
+mod build;
 mod exact;
 pub mod layers;
 pub mod light_frame;
+mod lookup;
 mod map;
 pub mod quality;
 mod raster;
-mod raster_simd;
+pub mod scalar;
 mod settings;
-mod simd;
 
 pub use exact::exact_transmittance;
 pub use light_frame::{LightFrame, MapPlacement};

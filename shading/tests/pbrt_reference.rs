@@ -16,8 +16,8 @@
 // pbrt-v3 writes ln 2 as 0.6931; the reference keeps its constant.
 #![allow(clippy::approx_constant)]
 
-use coif::kernels::rng::SplitMix64;
-use coif::shading::pbrt::{self, Params};
+use coif_base::SplitMix64;
+use coif_shading::pbrt::{self, Params};
 use glam::Vec3;
 
 struct Case {

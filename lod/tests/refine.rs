@@ -1,11 +1,11 @@
-//! Refinement: `coif::lod::refine` against an independent closed-form
+//! Refinement: `coif_lod::refine` against an independent closed-form
 //! B-spline evaluation, exact end points, tangents against finite
 //! differences, the SIMD batch against its scalar twin and against `refine`,
 //! culled blocks skipped, and the chosen level's measured error in budget.
 
-use coif::kernels::rng::SplitMix64;
-use coif::kernels::Strands;
-use coif::lod::{self, level, quality, RefinedGuides, Visibility};
+use coif_base::SplitMix64;
+use coif_kernels::Strands;
+use coif_lod::{self as lod, level, quality, RefinedGuides, Visibility};
 use glam::{DVec3, Vec3};
 
 /// Uniform cubic B-spline in matrix form, in f64 (written independently of

@@ -5,8 +5,8 @@
 //! directions, NaN vertices, a partial trailing strand, hair far from the
 //! origin and resolutions whose texel count is not a multiple of 16.
 
-use coif::kernels::rng::SplitMix64;
-use coif::shading::shadow::{OpacityShadowMap, ShadowMode, ShadowSettings};
+use coif_base::SplitMix64;
+use coif_shading::shadow::{OpacityShadowMap, ShadowMode, ShadowSettings};
 use glam::Vec3;
 
 /// Random wavy strands around `centre`: `strands` strands of `verts`

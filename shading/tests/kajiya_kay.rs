@@ -3,9 +3,9 @@
 
 mod common;
 
-use coif::kernels::rng::SplitMix64;
-use coif::shading::kajiya_kay::{Highlight, KajiyaKay};
-use coif::shading::{RgbBuffer, ShadingSamples};
+use coif_base::SplitMix64;
+use coif_shading::kajiya_kay::{Highlight, KajiyaKay};
+use coif_shading::{RgbBuffer, ShadingSamples};
 use glam::Vec3;
 
 use common::fibre_direction as dir;

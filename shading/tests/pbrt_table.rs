@@ -2,9 +2,9 @@
 //! field at resolutions 32 to 256, the parameterisation against Nalu's,
 //! SIMD batch against scalar lookups, and constructor validation.
 
-use coif::kernels::rng::SplitMix64;
-use coif::shading::pbrt::{quality, FarField, Parameterisation, Params, Table};
-use coif::shading::{Error, RgbBuffer, ShadingSamples};
+use coif_base::SplitMix64;
+use coif_shading::pbrt::{quality, FarField, Parameterisation, Params, Table};
+use coif_shading::{Error, RgbBuffer, ShadingSamples};
 use glam::Vec3;
 
 /// Relative RMS error over random directions, default material (pbrt-v3's
@@ -45,7 +45,7 @@ fn table_reproduces_the_far_field_at_grid_nodes() {
     let p = Params::default();
     let res = 33;
     let table = Table::new(&p, res).unwrap();
-    let ff = FarField::new(&p, coif::shading::pbrt::recommended_order(&p)).unwrap();
+    let ff = FarField::new(&p, coif_shading::pbrt::recommended_order(&p)).unwrap();
     let node = |k: usize| {
         -std::f32::consts::FRAC_PI_2 + std::f32::consts::PI * k as f32 / (res - 1) as f32
     };
@@ -163,7 +163,7 @@ fn table_integrates_like_the_far_field() {
     };
     for p in [white, Params::default()] {
         let table = Table::new(&p, 128).unwrap();
-        let ff = FarField::new(&p, coif::shading::pbrt::recommended_order(&p)).unwrap();
+        let ff = FarField::new(&p, coif_shading::pbrt::recommended_order(&p)).unwrap();
         for theta_o in [-0.8f32, 0.1, 1.0] {
             let wo = Vec3::new(theta_o.sin(), theta_o.cos(), 0.0);
             let (n_t, n_p) = (160, 90);

@@ -2,8 +2,8 @@
 //! finiteness and non-negativity everywhere, the symmetries of the model,
 //! and the far-field form as the quadrature of the exact one.
 
-use coif::kernels::rng::SplitMix64;
-use coif::shading::pbrt::{self, longitudinal::mp, FarField, Params};
+use coif_base::SplitMix64;
+use coif_shading::pbrt::{self, longitudinal::mp, FarField, Params};
 use glam::{Quat, Vec3};
 
 fn materials() -> Vec<Params> {
@@ -199,11 +199,11 @@ fn far_field_batch_matches_single_evaluations() {
     let mut rng = SplitMix64::new(16);
     let p = Params::default();
     let ff = FarField::new(&p, 32).unwrap();
-    let mut samples = coif::shading::ShadingSamples::default();
+    let mut samples = coif_shading::ShadingSamples::default();
     for _ in 0..37 {
         samples.push(rng.unit_vector(), rng.unit_vector(), rng.unit_vector());
     }
-    let mut out = coif::shading::RgbBuffer::default();
+    let mut out = coif_shading::RgbBuffer::default();
     ff.scattering_batch(&samples, &mut out);
     assert_eq!(out.len(), 37);
     for k in 0..37 {

@@ -7,8 +7,8 @@
 //! over phi and each `M_p` to 1 against `cos theta_i d theta_i`, so the
 //! integral is 1 up to pbrt's truncated-series Bessel approximation.
 
-use coif::kernels::rng::SplitMix64;
-use coif::shading::pbrt::{self, FarField, Params};
+use coif_base::SplitMix64;
+use coif_shading::pbrt::{self, FarField, Params};
 use glam::Vec3;
 use std::f32::consts::PI;
 

@@ -1,7 +1,7 @@
 //! Every model against pbrt-v3's far field, the yardstick.
 
-use coif::shading::pbrt;
-use coif::shading::yardstick::{marschner_matching, versus_pbrt};
+use coif_shading::pbrt;
+use coif_shading::yardstick::{marschner_matching, versus_pbrt};
 
 #[test]
 fn models_are_measured_against_the_pbrt_far_field() {

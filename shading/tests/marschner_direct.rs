@@ -3,12 +3,12 @@
 
 mod common;
 
-use coif::kernels::rng::SplitMix64;
-use coif::shading::marschner::{
+use coif_base::SplitMix64;
+use coif_shading::marschner::{
     accuracy, azimuthal, fresnel, lobes, longitudinal, scattering, scattering_batch, Params,
     RootSolver,
 };
-use coif::shading::{RgbBuffer, ShadingSamples};
+use coif_shading::{RgbBuffer, ShadingSamples};
 use glam::Vec3;
 use std::f32::consts::PI;
 

@@ -1,9 +1,9 @@
 //! Opacity shadow maps: settings, the analytic slab, the exact reference,
 //! SIMD against scalar, bad input.
 
-use coif::kernels::rng::SplitMix64;
-use coif::shading::shadow::{exact_transmittance, OpacityShadowMap, ShadowMode, ShadowSettings};
-use coif::shading::Error;
+use coif_base::SplitMix64;
+use coif_shading::shadow::{exact_transmittance, OpacityShadowMap, ShadowMode, ShadowSettings};
+use coif_shading::Error;
 use glam::Vec3;
 
 const RADIUS: f32 = 0.0004;

@@ -5,9 +5,9 @@
 
 mod common;
 
-use coif::kernels::Strands;
-use coif::lod::{
-    self, level, HairWidth, Interpolation, RefinedGuides, RenderHairs, RenderVertex, Visibility,
+use coif_kernels::Strands;
+use coif_lod::{
+    self as lod, level, HairWidth, Interpolation, RefinedGuides, RenderHairs, RenderVertex, Visibility,
 };
 use common::counting::allocations;
 use glam::{Mat4, Vec3, Vec4};

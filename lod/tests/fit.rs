@@ -2,8 +2,8 @@
 //! helix, the batch `Fitter` against per-strand `fit`, bad inputs, and
 //! resampling authored strands of any vertex count.
 
-use coif::kernels::rng::SplitMix64;
-use coif::lod::{self, quality, Error, Fitter, Resampler};
+use coif_base::SplitMix64;
+use coif_lod::{self as lod, quality, Error, Fitter, Resampler};
 use glam::Vec3;
 
 fn random_controls(rng: &mut SplitMix64, n: usize) -> Vec<Vec3> {

@@ -4,8 +4,8 @@
 
 mod common;
 
-use coif::kernels::rng::SplitMix64;
-use coif::shading::shadow::{OpacityShadowMap, ShadowMode, ShadowSettings};
+use coif_base::SplitMix64;
+use coif_shading::shadow::{OpacityShadowMap, ShadowMode, ShadowSettings};
 use common::counting::allocations;
 use glam::Vec3;
 

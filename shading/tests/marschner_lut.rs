@@ -2,10 +2,10 @@
 //! resolutions 32..256 for Nalu's layout and coif's, SIMD = scalar, and
 //! robustness.
 
-use coif::kernels::rng::SplitMix64;
-use coif::shading::marschner::lut::{MAX_RESOLUTION, MIN_RESOLUTION};
-use coif::shading::marschner::{accuracy, scattering, Lut, LutLayout, Params};
-use coif::shading::{RgbBuffer, ShadingSamples};
+use coif_base::SplitMix64;
+use coif_shading::marschner::lut::{MAX_RESOLUTION, MIN_RESOLUTION};
+use coif_shading::marschner::{accuracy, scattering, Lut, LutLayout, Params};
+use coif_shading::{RgbBuffer, ShadingSamples};
 use glam::Vec3;
 
 const SAMPLES: usize = 20_000;

@@ -3,10 +3,10 @@
 //! coverage-keeping width, frustum culling that never drops visible hair,
 //! and the engine vertex buffer.
 
-use coif::kernels::rng::SplitMix64;
-use coif::kernels::Strands;
-use coif::lod::{
-    self, HairWidth, Interpolation, RefinedGuides, RenderHairs, RenderVertex, Visibility,
+use coif_base::SplitMix64;
+use coif_kernels::Strands;
+use coif_lod::{
+    self as lod, HairWidth, Interpolation, RefinedGuides, RenderHairs, RenderVertex, Visibility,
 };
 use glam::{DVec3, Vec3, Vec4};
 

@@ -1,7 +1,14 @@
-//! The SIMD lookup: eight points per step in `f32x8` lanes, the same
-//! arithmetic in the same order as the scalar
-//! [`OpacityShadowMap::transmittance`], with the texel reads done lane by
-//! lane (manual gathers).
+//! The SIMD batch lookup: eight points per step in `f32x8` lanes, the same
+//! arithmetic in the same order as the one-point
+//! [`OpacityShadowMap::transmittance`] (which `shadow/scalar/lookup.rs`
+//! runs per point), with the texel reads done lane by lane (manual
+//! gathers). Steps, in both:
+//!
+//! 1. Light-space coordinates, texel coordinates, the four corner texels
+//!    and the bilinear fractions.
+//! 2. Per corner: the opacity in front of the point's depth, linear between
+//!    the texel's planes (0 outside the map).
+//! 3. Bilinear blend of the four, `T = exp(-alpha sigma)`.
 
 use super::map::OpacityShadowMap;
 use super::settings::ShadowMode;
@@ -12,7 +19,7 @@ use wide::f32x8;
 impl OpacityShadowMap {
     /// SIMD batch: transmittance of every point of `points` into `out`
     /// (same length; extra entries of either are ignored). Agrees with
-    /// [`OpacityShadowMap::transmittance_batch_scalar`] to float rounding of
+    /// [`super::scalar::transmittance_batch`] to float rounding of
     /// the exponential (measured in the tests: below 1e-6).
     pub fn transmittance_batch(&self, points: &[Vec3], out: &mut [f32]) {
         let len = points.len().min(out.len());
@@ -41,6 +48,7 @@ impl OpacityShadowMap {
                 finite[l] = 1.0;
             }
         }
+        // 1. Light space, texel coordinates, corners and fractions.
         let f = &self.frame;
         let lx = p.dot(Vec3x8::splat(f.x_axis));
         let ly = p.dot(Vec3x8::splat(f.y_axis));
@@ -75,6 +83,7 @@ impl OpacityShadowMap {
             corner[3][l] = j1 + i1;
         }
 
+        // 2. Opacity in front of the depth in each corner.
         let mut sigma = [f32x8::ZERO; 4];
         match self.settings.mode {
             ShadowMode::Slices => {
@@ -94,6 +103,7 @@ impl OpacityShadowMap {
                 }
             }
         }
+        // 3. Bilinear blend and exponential.
         let s = (sigma[0] * (one - fx) + sigma[1] * fx) * (one - fy)
             + (sigma[2] * (one - fx) + sigma[3] * fx) * fy;
         let t = (f32x8::splat(-self.hair_opacity) * s).exp();

@@ -1,0 +1,194 @@
+//! The SIMD build of an [`OpacityShadowMap`]: bounds, sample positions,
+//! bilinear weights, depths and plane intervals eight at a time in `f32x8`
+//! lanes, deposits in lane order with scalar adds (the scalar sample
+//! order), the prefix sum sixteen texels at a time. Scalar twin:
+//! `shadow/scalar/build.rs`, bit for bit the same map.
+
+use super::light_frame::LightFrame;
+use super::map::OpacityShadowMap;
+use super::raster::for_each_sample;
+use super::settings::ShadowMode;
+use coif_base::{Vec3x8, LANES};
+use glam::Vec3;
+use wide::f32x8;
+
+impl OpacityShadowMap {
+    /// Rebuilds the map for a directional light shining along `light_dir`
+    /// (from the light toward the scene; normalised here) from hair
+    /// polylines: `points` holds `verts_per_strand` points per strand,
+    /// strand after strand (a trailing partial strand is ignored).
+    /// Segments with a non-finite end are skipped. No allocation.
+    ///
+    /// Steps (numbered alike in the scalar twin): 1. light frame; light-space bounds of the finite points (the
+    /// footprint in x, y padded by the hair radius and a texel, and
+    /// `[near, far]` in z); 2. deep mode only, the depth map `z0` (the nearest
+    /// sample splatted into each texel); 3. every segment's samples deposit
+    /// their coverage into the interval of planes they lie in; 4. a prefix
+    /// sum along depth per texel makes the opacity cumulative.
+    ///
+    /// The SIMD path: bounds, sample positions, bilinear weights, depths and
+    /// plane intervals eight at a time in `f32x8` lanes, deposits in lane
+    /// order with scalar adds (the scalar sample order), and the prefix sum
+    /// sixteen texels at a time. The map is bit for bit the one
+    /// [`super::scalar::build`] makes (tested).
+    pub fn build(&mut self, light_dir: Vec3, points: &[Vec3], verts_per_strand: usize) {
+        let Some(points) = self.prepare(light_dir, points, verts_per_strand, light_bounds)
+        else {
+            return;
+        };
+        let (frame, placement, layering) = (self.frame, self.placement, self.layering);
+        let (n, r) = (self.settings.resolution, self.settings.hair_radius);
+        let nn = n * n;
+        let offsets = [0, 1, n, n + 1];
+        match self.settings.mode {
+            ShadowMode::Slices => {
+                // 3. Deposit every sample into its plane interval.
+                let texels = &mut self.texels;
+                let near = f32x8::splat(placement.near);
+                for_each_sample(&frame, &placement, n, r, points, verts_per_strand, |sp| {
+                    let slices = layering.interval_x8(sp.z - near);
+                    let w = sp.weights.map(|w| w.to_array());
+                    for l in 0..sp.count {
+                        let slice = slices[l];
+                        let start = (slice / 4) * nn + sp.t0[l];
+                        // One bounds check for the four texels.
+                        let quad = &mut texels[start..start + n + 2];
+                        for (c, o) in offsets.iter().enumerate() {
+                            quad[*o][slice % 4] += w[c][l];
+                        }
+                    }
+                });
+            }
+            ShadowMode::Deep => {
+                // 2. The depth map z0: the nearest sample per texel.
+                let z0 = &mut self.first_depth;
+                z0.fill(f32::INFINITY);
+                for_each_sample(&frame, &placement, n, r, points, verts_per_strand, |sp| {
+                    let z = sp.z.to_array();
+                    for l in 0..sp.count {
+                        let quad = &mut z0[sp.t0[l]..sp.t0[l] + n + 2];
+                        for o in offsets {
+                            quad[o] = quad[o].min(z[l]);
+                        }
+                    }
+                });
+                for z in z0.iter_mut().filter(|z| **z == f32::INFINITY) {
+                    *z = placement.near;
+                }
+                // 3. Deposit every sample into its plane interval from z0.
+                let z0 = &self.first_depth;
+                let texels = &mut self.texels;
+                for_each_sample(&frame, &placement, n, r, points, verts_per_strand, |sp| {
+                    // Each corner's plane interval, relative to its own z0,
+                    // gathered lane by lane (every lane's `t0` is clamped
+                    // into the map, also past `count`).
+                    let mut base = [[0.0f32; LANES]; 4];
+                    for l in 0..LANES {
+                        let quad = &z0[sp.t0[l]..sp.t0[l] + n + 2];
+                        for (c, o) in offsets.iter().enumerate() {
+                            base[c][l] = quad[*o];
+                        }
+                    }
+                    let slices = base.map(|b| layering.interval_x8(sp.z - f32x8::new(b)));
+                    let w = sp.weights.map(|w| w.to_array());
+                    for l in 0..sp.count {
+                        for (c, o) in offsets.iter().enumerate() {
+                            let slice = slices[c][l];
+                            texels[(slice / 4) * nn + sp.t0[l] + o][slice % 4] += w[c][l];
+                        }
+                    }
+                });
+            }
+        }
+        // 4. Prefix sum along depth.
+        prefix_sum(&mut self.texels, nn, self.settings.layers);
+        self.ready = true;
+    }
+}
+
+/// Light-space bounding box `(min, max)` of the finite points (SIMD twin
+/// of the scalar build's `light_bounds`): eight points per step, the same dot
+/// products (`p.x a.x + p.y a.y + p.z a.z`, unfused), lane-wise minimum and
+/// maximum over the finite points, reduced over the lanes at the end (min
+/// and max of non-NaN numbers do not depend on the order).
+fn light_bounds(frame: &LightFrame, points: &[Vec3]) -> Option<(Vec3, Vec3)> {
+    let axes = [frame.x_axis, frame.y_axis, frame.z_axis].map(Vec3x8::splat);
+    let (inf, neg_inf) = (f32x8::splat(f32::INFINITY), f32x8::splat(f32::NEG_INFINITY));
+    let mut min = [inf; 3];
+    let mut max = [neg_inf; 3];
+    let mut overflow = f32x8::ZERO;
+    for chunk in points.chunks(LANES) {
+        let mut p = Vec3x8::ZERO;
+        let mut finite = [0.0f32; LANES];
+        for (l, q) in chunk.iter().enumerate() {
+            if q.is_finite() {
+                p.set_lane(l, *q);
+                finite[l] = 1.0;
+            }
+        }
+        let finite = f32x8::new(finite).simd_gt(f32x8::ZERO);
+        for k in 0..3 {
+            let c = p.dot(axes[k]);
+            overflow |= finite & !c.is_finite();
+            min[k] = min[k].min(finite.select(c, inf));
+            max[k] = max[k].max(finite.select(c, neg_inf));
+        }
+    }
+    if overflow.any() {
+        return None;
+    }
+    let reduce = |v: [f32x8; 3], f: fn(f32, f32) -> f32| {
+        let [x, y, z] = v.map(|c| c.to_array().into_iter().reduce(f).unwrap_or(0.0));
+        Vec3::new(x, y, z)
+    };
+    let (min, max) = (reduce(min, f32::min), reduce(max, f32::max));
+    (min.x <= max.x).then_some((min, max))
+}
+
+/// SIMD twin of the scalar build's prefix sum along depth
+/// (`S[s] = S[s - 1] + deposit[s]` per texel, `S[-1] = 0`, in plane order):
+/// sixteen texels at a time, whose four-plane groups (two texels per
+/// `f32x8`) are transposed into one vector per plane of the even and one
+/// per plane of the odd texels, summed plane after plane (the same adds in
+/// the same order as the scalar, so the same bits), and transposed back.
+/// Texels past the last multiple of sixteen take the scalar loop. Planes
+/// past `layers` in the last group stay untouched, as in the scalar.
+fn prefix_sum(texels: &mut [[f32; 4]], nn: usize, layers: usize) {
+    const BLOCK: usize = 16;
+    let groups = layers.div_ceil(4);
+    let blocks = nn / BLOCK;
+    let flat = texels.as_flattened_mut();
+    for b in 0..blocks {
+        let mut carry = [f32x8::ZERO; 2];
+        for g in 0..groups {
+            let start = (g * nn + b * BLOCK) * 4;
+            let chunk = &mut flat[start..start + 4 * BLOCK];
+            let rows: [f32x8; 8] = std::array::from_fn(|r| {
+                let lanes: [f32; LANES] = chunk[r * LANES..(r + 1) * LANES].try_into().unwrap();
+                f32x8::new(lanes)
+            });
+            // planes[k] = plane 4g + k of the even texels, planes[4 + k] of the odd.
+            let mut planes = f32x8::transpose(rows);
+            let valid = (layers - 4 * g).min(4);
+            for half in 0..2 {
+                let p = &mut planes[4 * half..4 * half + 4];
+                p[0] = carry[half] + p[0];
+                for k in 1..valid {
+                    p[k] = p[k - 1] + p[k];
+                }
+                carry[half] = p[3];
+            }
+            for (r, row) in f32x8::transpose(planes).iter().enumerate() {
+                chunk[r * LANES..(r + 1) * LANES].copy_from_slice(row.as_array());
+            }
+        }
+    }
+    for t in blocks * BLOCK..nn {
+        let mut sum = 0.0;
+        for s in 0..layers {
+            let texel = &mut texels[(s / 4) * nn + t][s % 4];
+            sum += *texel;
+            *texel = sum;
+        }
+    }
+}
