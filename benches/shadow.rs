@@ -6,7 +6,7 @@
 //! element):
 //! - `shadow_build/<mode>_L<layers>/{simd,scalar}`: rebuild a 256^2 map of
 //!   a draped head (2048 strands x 32 vertices, 63,488 segments), per
-//!   segment, with `build` (SIMD) and `build_scalar`.
+//!   segment, with `build` (SIMD) and `shadow::scalar::build`.
 //! - `shadow_lookup/<mode>_L<layers>/{simd,scalar}`: transmittance at all
 //!   65,536 vertices of the head, per sample.
 //! - `shadow_time_vs_error/<mode>/L<layers>_err<mean |error|>`: build time
@@ -61,7 +61,7 @@ fn build_and_lookup(c: &mut Criterion) {
             b.iter(|| map.build(black_box(light()), black_box(&pts), verts))
         });
         g.bench_function(BenchmarkId::new(name(&s), "scalar"), |b| {
-            b.iter(|| map.build_scalar(black_box(light()), black_box(&pts), verts))
+            b.iter(|| coif::shading::shadow::scalar::build(&mut map, black_box(light()), black_box(&pts), verts))
         });
     }
     g.finish();
@@ -76,7 +76,7 @@ fn build_and_lookup(c: &mut Criterion) {
             b.iter(|| map.transmittance_batch(black_box(&pts), &mut out))
         });
         g.bench_function(BenchmarkId::new(name(&s), "scalar"), |b| {
-            b.iter(|| map.transmittance_batch_scalar(black_box(&pts), &mut out))
+            b.iter(|| coif::shading::shadow::scalar::transmittance_batch(&map, black_box(&pts), &mut out))
         });
     }
     g.finish();

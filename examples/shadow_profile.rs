@@ -36,7 +36,7 @@ fn main() {
     let t = Instant::now();
     for _ in 0..builds {
         if scalar {
-            map.build_scalar(light, &pts, verts)
+            coif::shading::shadow::scalar::build(&mut map, light, &pts, verts)
         } else {
             map.build(light, &pts, verts)
         }

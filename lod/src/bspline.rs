@@ -169,6 +169,7 @@ impl SpanWeights {
         }
     }
 
+    /// Segments per span `N` the weights were made for.
     pub fn segments_per_span(&self) -> usize {
         self.segments_per_span
     }

@@ -53,6 +53,7 @@ impl Frustum {
         ])
     }
 
+    /// The six planes `(n, d)`, `n . p + d >= 0` inside (Gribb & Hartmann 2001).
     pub fn planes(&self) -> &[Vec4; 6] {
         &self.planes
     }
@@ -115,10 +116,12 @@ impl Visibility {
         self.groups.get(g).copied().unwrap_or(true)
     }
 
+    /// Guide blocks that the last [`crate::cull`] marked as needed.
     pub fn guide_blocks_needed(&self) -> usize {
         self.guide_blocks.iter().filter(|&&b| b).count()
     }
 
+    /// Hair groups that the last [`crate::cull`] marked as visible.
     pub fn groups_visible(&self) -> usize {
         self.groups.iter().filter(|&&g| g).count()
     }

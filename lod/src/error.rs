@@ -10,24 +10,51 @@ use std::fmt;
 #[derive(Clone, Debug, PartialEq)]
 pub enum Error {
     /// A fit needs at least two control points.
-    TooFewControlPoints { n_control: usize },
+    TooFewControlPoints {
+        /// The control points asked for.
+        n_control: usize,
+    },
     /// A fit cannot have more control points than samples.
-    MoreControlsThanPoints { n_control: usize, points: usize },
+    MoreControlsThanPoints {
+        /// The control points asked for.
+        n_control: usize,
+        /// The samples given.
+        points: usize,
+    },
     /// A coordinate is NaN or infinite; `index` is the offending point.
-    NonFinite { index: usize },
+    NonFinite {
+        /// Index of the first non-finite point.
+        index: usize,
+    },
     /// A parameter is out of its documented range.
     InvalidParameter {
+        /// The parameter's name.
         name: &'static str,
+        /// The value given.
         value: f64,
+        /// The documented range.
         expected: &'static str,
     },
     /// A slice has the wrong length.
-    CountMismatch { expected: usize, got: usize },
+    CountMismatch {
+        /// The length expected.
+        expected: usize,
+        /// The length given.
+        got: usize,
+    },
     /// A scalp triangle names a guide strand that does not exist.
-    GuideOutOfRange { triangle: usize, guide: u32 },
+    GuideOutOfRange {
+        /// Index of the triangle.
+        triangle: usize,
+        /// The guide it names.
+        guide: u32,
+    },
     /// The fit's normal matrix `B^T B + lambda D2^T D2` is not positive
     /// definite (faer's Cholesky met a non-positive pivot).
-    SingularFit { pivot: usize },
+    SingularFit {
+        /// The pivot where the factorisation failed.
+        pivot: usize,
+    },
 }
 
 impl fmt::Display for Error {

@@ -121,14 +121,17 @@ impl Fitter {
         })
     }
 
+    /// Samples per strand the fitter was built for.
     pub fn n_points(&self) -> usize {
         self.n_points
     }
 
+    /// Control points per fitted strand.
     pub fn n_control(&self) -> usize {
         self.n_control
     }
 
+    /// The second-difference penalty `lambda` (0 = plain least squares).
     pub fn smoothing(&self) -> f32 {
         self.smoothing
     }
@@ -260,6 +263,7 @@ impl Resampler {
         })
     }
 
+    /// Vertices per resampled strand.
     pub fn n_vertices(&self) -> usize {
         self.fitter.n_control()
     }

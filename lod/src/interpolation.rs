@@ -290,6 +290,7 @@ impl RenderHairs {
         groups * verts_per_hair
     }
 
+    /// Number of hair groups (up to eight hairs of one triangle each).
     pub fn group_count(&self) -> usize {
         self.groups
     }

@@ -45,7 +45,9 @@ pub fn chord_error(control: &[Vec3], segments_per_span: usize) -> f32 {
 /// points it is compared with.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FitError {
+    /// Root-mean-square distance, metres.
     pub rms: f32,
+    /// Largest distance, metres.
     pub max: f32,
 }
 

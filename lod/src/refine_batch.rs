@@ -132,10 +132,12 @@ impl RefinedGuides {
         n
     }
 
+    /// The level in use, `N` segments per span.
     pub fn segments_per_span(&self) -> usize {
         self.segments
     }
 
+    /// The largest level the buffer holds without reallocating.
     pub fn max_segments_per_span(&self) -> usize {
         self.max_segments
     }
@@ -145,10 +147,12 @@ impl RefinedGuides {
         self.verts
     }
 
+    /// Number of guide strands.
     pub fn strand_count(&self) -> usize {
         self.strand_count
     }
 
+    /// Number of SIMD blocks, `ceil(strands / 8)`.
     pub fn block_count(&self) -> usize {
         self.blocks
     }

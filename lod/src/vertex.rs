@@ -13,16 +13,22 @@ use coif_base::LANES;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct RenderVertex {
+    /// Position relative to the strands' origin, metres.
     pub position: [f32; 3],
+    /// Hair width at this vertex, metres.
     pub width: f32,
+    /// Unit tangent, root to tip.
     pub tangent: [f32; 3],
+    /// Parameter along the strand, 0 at the root, 1 at the tip.
     pub strand_parameter: f32,
 }
 
 /// Hair width along the strand: `lerp(root, tip, s)` metres.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HairWidth {
+    /// Width at the root, metres.
     pub root: f32,
+    /// Width at the tip, metres.
     pub tip: f32,
 }
 

@@ -117,7 +117,7 @@ pub fn rows(options: Options) -> Vec<Row> {
     // Kajiya-Kay: one setting, error against pbrt's far field.
     let kk = KajiyaKay::default();
     let kk_simd = bench.time(|s, o| kk.shade_batch(s, o));
-    let kk_scalar = bench.time(|s, o| kk.shade_batch_scalar(s, o));
+    let kk_scalar = bench.time(|s, o| coif::shading::kajiya_kay::scalar::shade_batch(&kk, s, o));
     let kk_error = model_error(0, "kajiya-kay");
     for (path, time) in [(Path::Simd, kk_simd), (Path::Scalar, kk_scalar)] {
         rows.push(row(
@@ -157,7 +157,7 @@ pub fn rows(options: Options) -> Vec<Row> {
         let lut = Lut::new(&m, res);
         let error = lut_relative_rms_error(&m, res, LutLayout::default(), marschner_samples, seed);
         let simd = bench.time(|s, o| lut.scattering_batch(s, o));
-        let scalar = bench.time(|s, o| lut.scattering_batch_scalar(s, o));
+        let scalar = bench.time(|s, o| coif::shading::marschner::lut::scalar::scattering_batch(&lut, s, o));
         for (path, time) in [(Path::Simd, simd), (Path::Scalar, scalar)] {
             let setting = format!("table {res}");
             let default = res == MARSCHNER_RESOLUTION;
@@ -225,11 +225,11 @@ pub fn rows(options: Options) -> Vec<Row> {
         let error = quality::table_error(&pbrt_params, res, error_samples, seed)
             .expect("valid resolution") as f64;
         let simd = bench.time(|s, o| table.scattering_batch(s, o));
-        let scalar = bench.time(|s, o| table.scattering_batch_scalar(s, o));
+        let scalar = bench.time(|s, o| coif::shading::pbrt::table::scalar::scattering_batch(&table, s, o));
         let default = res == PBRT_RESOLUTION;
         let lut = Lut::new(&matched, res);
         let lut_simd = bench.time(|s, o| lut.scattering_batch(s, o));
-        let lut_scalar = bench.time(|s, o| lut.scattering_batch_scalar(s, o));
+        let lut_scalar = bench.time(|s, o| coif::shading::marschner::lut::scalar::scattering_batch(&lut, s, o));
         for (path, time, lut_time) in [
             (Path::Simd, simd, lut_simd),
             (Path::Scalar, scalar, lut_scalar),

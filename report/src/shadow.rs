@@ -10,9 +10,9 @@
 //! over a 2 mm disk), computed once for all settings.
 //!
 //! Two timed kernels per setting: `shadow build` (per hair segment: SIMD
-//! `build` and scalar `build_scalar`, which make the same map bit for bit)
+//! `build` and scalar `shadow::scalar::build`, which make the same map bit for bit)
 //! and `shadow lookup` (per sample: SIMD `transmittance_batch` and scalar
-//! `transmittance_batch_scalar` at every vertex).
+//! `shadow::scalar::transmittance_batch` at every vertex).
 
 use super::timing::time_batch;
 use super::{Options, Path, Row};
@@ -76,7 +76,7 @@ pub fn rows(options: Options) -> Vec<Row> {
     for (name, s, is_default) in settings {
         let mut map = OpacityShadowMap::new(s).expect("valid shadow settings");
         let build_scalar = time_batch(options.reps(), segments, || {
-            map.build_scalar(light, &points, verts)
+            coif::shading::shadow::scalar::build(&mut map, light, &points, verts)
         });
         let build = time_batch(options.reps(), segments, || {
             map.build(light, &points, verts)
@@ -87,7 +87,7 @@ pub fn rows(options: Options) -> Vec<Row> {
             std::hint::black_box(&out);
         });
         let scalar = time_batch(options.reps(), points.len(), || {
-            map.transmittance_batch_scalar(&points, &mut out);
+            coif::shading::shadow::scalar::transmittance_batch(&map, &points, &mut out);
             std::hint::black_box(&out);
         });
         for (kernel, element, path, time) in [

@@ -6,15 +6,23 @@ use std::fmt;
 #[derive(Clone, Debug, PartialEq)]
 pub enum Error {
     /// A material parameter is outside its valid range (name and value).
-    InvalidParameter { name: &'static str, value: f32 },
+    InvalidParameter {
+        /// The parameter's name.
+        name: &'static str,
+        /// The value given.
+        value: f32,
+    },
     /// A lookup-table resolution below the minimum (2).
     InvalidResolution(usize),
     /// A quadrature order of zero.
     InvalidQuadratureOrder(usize),
     /// A shadow-map setting outside its range (name, value, what is expected).
     InvalidShadowSetting {
+        /// The setting's name.
         name: &'static str,
+        /// The value given.
         value: f32,
+        /// The accepted range.
         expected: &'static str,
     },
 }

@@ -46,6 +46,7 @@ use wide::{f32x8, i32x8};
 /// One specular highlight: colour K_s, exponent p and tangent shift.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Highlight {
+    /// Specular colour `K_s` of the highlight.
     pub color: Vec3,
     /// Phong-like exponent p (clamped to >= 0 when used).
     pub exponent: f32,
@@ -59,7 +60,9 @@ pub struct Highlight {
 pub struct KajiyaKay {
     /// K_d per RGB channel.
     pub diffuse: Vec3,
+    /// The primary (white, R-like) highlight, shifted toward the tip.
     pub primary: Highlight,
+    /// The secondary (coloured, TRT-like) highlight, shifted toward the root.
     pub secondary: Highlight,
 }
 

@@ -14,12 +14,16 @@ use wide::f32x8;
 /// component so that eight samples load as three `f32x8` registers.
 #[derive(Clone, Debug, Default)]
 pub struct ShadingSamples {
+    /// Tangents, one array per coordinate.
     pub t: [Vec<f32>; 3],
+    /// Directions toward the light, one array per coordinate.
     pub wi: [Vec<f32>; 3],
+    /// Directions toward the viewer, one array per coordinate.
     pub wo: [Vec<f32>; 3],
 }
 
 impl ShadingSamples {
+    /// Empty, with room for `n` samples.
     pub fn with_capacity(n: usize) -> Self {
         let v = || {
             [
@@ -35,10 +39,12 @@ impl ShadingSamples {
         }
     }
 
+    /// Number of samples.
     pub fn len(&self) -> usize {
         self.t[0].len()
     }
 
+    /// Whether there are no samples.
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
@@ -55,6 +61,7 @@ impl ShadingSamples {
         }
     }
 
+    /// Appends one sample.
     pub fn push(&mut self, t: Vec3, wi: Vec3, wo: Vec3) {
         for (dst, v) in [(&mut self.t, t), (&mut self.wi, wi), (&mut self.wo, wo)] {
             dst[0].push(v.x);
@@ -96,8 +103,11 @@ impl ShadingSamples {
 /// Caller-owned RGB output, one array per channel.
 #[derive(Clone, Debug, Default)]
 pub struct RgbBuffer {
+    /// Red channel, one value per sample.
     pub r: Vec<f32>,
+    /// Green channel, one value per sample.
     pub g: Vec<f32>,
+    /// Blue channel, one value per sample.
     pub b: Vec<f32>,
 }
 
@@ -111,10 +121,12 @@ impl RgbBuffer {
         }
     }
 
+    /// Number of values.
     pub fn len(&self) -> usize {
         self.r.len()
     }
 
+    /// Whether the buffer is empty.
     pub fn is_empty(&self) -> bool {
         self.r.is_empty()
     }
@@ -126,10 +138,12 @@ impl RgbBuffer {
         self.b.resize(n, 0.0);
     }
 
+    /// Value `i` as RGB.
     pub fn get(&self, i: usize) -> Vec3 {
         Vec3::new(self.r[i], self.g[i], self.b[i])
     }
 
+    /// Sets value `i`.
     pub fn set(&mut self, i: usize, v: Vec3) {
         self.r[i] = v.x;
         self.g[i] = v.y;

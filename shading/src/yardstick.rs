@@ -19,6 +19,7 @@ use glam::Vec3;
 /// One model's distance from pbrt's far field.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ModelError {
+    /// The model's name.
     pub model: String,
     /// `sqrt(sum |a - r|^2 / sum |r|^2)` over RGB and samples.
     pub relative_rms: f64,

@@ -114,7 +114,7 @@ fn simd_batch_matches_scalar() {
     let samples = random_samples(4003, 11);
     let (mut a, mut b) = (RgbBuffer::default(), RgbBuffer::default());
     kk.shade_batch(&samples, &mut a);
-    kk.shade_batch_scalar(&samples, &mut b);
+    coif_shading::kajiya_kay::scalar::shade_batch(&kk, &samples, &mut b);
     assert_eq!(a.len(), samples.len());
     // Same algorithm and order; wide's ln/exp polynomials vs libm: 2e-5 relative.
     for i in 0..samples.len() {

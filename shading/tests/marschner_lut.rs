@@ -111,7 +111,7 @@ fn simd_batch_matches_scalar_for_every_layout() {
         let lut = Lut::with_layout(&p, 64, layout);
         let (mut a, mut b) = (RgbBuffer::default(), RgbBuffer::default());
         lut.scattering_batch(&s, &mut a);
-        lut.scattering_batch_scalar(&s, &mut b);
+        coif_shading::marschner::lut::scalar::scattering_batch(&lut, &s, &mut b);
         let mut worst = 0.0f32;
         for i in 0..s.len() {
             let (x, y) = (a.get(i), b.get(i));

@@ -93,7 +93,7 @@ fn simd_batch_equals_scalar_lookups() {
         let samples = batch(1003, 21);
         let (mut simd, mut scalar) = (RgbBuffer::default(), RgbBuffer::default());
         table.scattering_batch(&samples, &mut simd);
-        table.scattering_batch_scalar(&samples, &mut scalar);
+        coif_shading::pbrt::table::scalar::scattering_batch(&table, &samples, &mut scalar);
         assert_eq!(simd.len(), 1003);
         for k in 0..samples.len() {
             let (a, b) = (simd.get(k), scalar.get(k));

@@ -62,10 +62,10 @@ fn build_and_lookups_allocate_nothing_and_rebuilds_are_deterministic() {
 
         let before = allocations();
         map.build(light, &other, 16);
-        map.build_scalar(light, &other, 16);
+        coif_shading::shadow::scalar::build(&mut map, light, &other, 16);
         map.build(light, &hair, 16);
         map.transmittance_batch(&queries, &mut out);
-        map.transmittance_batch_scalar(&queries, &mut out);
+        coif_shading::shadow::scalar::transmittance_batch(&map, &queries, &mut out);
         let t = map.transmittance(queries[7]);
         let after = allocations();
         assert_eq!(
@@ -81,7 +81,7 @@ fn build_and_lookups_allocate_nothing_and_rebuilds_are_deterministic() {
 
         // The scalar build allocates nothing either.
         let before = allocations();
-        map.build_scalar(light, &hair, 16);
+        coif_shading::shadow::scalar::build(&mut map, light, &hair, 16);
         assert_eq!(
             allocations() - before,
             0,

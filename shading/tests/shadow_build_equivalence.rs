@@ -51,7 +51,7 @@ fn assert_same(s: &ShadowSettings, light: Vec3, pts: &[Vec3], verts: usize, what
     let mut simd = OpacityShadowMap::new(s.clone()).unwrap();
     let mut scalar = OpacityShadowMap::new(s.clone()).unwrap();
     simd.build(light, pts, verts);
-    scalar.build_scalar(light, pts, verts);
+    coif_shading::shadow::scalar::build(&mut scalar, light, pts, verts);
     assert_eq!(simd.is_ready(), scalar.is_ready(), "{what}: readiness");
     assert_eq!(simd.placement(), scalar.placement(), "{what}: placement");
     let n = s.resolution;

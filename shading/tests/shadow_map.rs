@@ -239,7 +239,7 @@ fn simd_batch_equals_scalar() {
         let mut simd = vec![0.0; queries.len()];
         let mut scalar = vec![0.0; queries.len()];
         map.transmittance_batch(&queries, &mut simd);
-        map.transmittance_batch_scalar(&queries, &mut scalar);
+        coif_shading::shadow::scalar::transmittance_batch(&map, &queries, &mut scalar);
         let mut shadowed = 0;
         for (i, (a, b)) in simd.iter().zip(&scalar).enumerate() {
             assert!(

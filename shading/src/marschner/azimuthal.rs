@@ -45,6 +45,7 @@ pub struct Roots {
 }
 
 impl Roots {
+    /// The roots found, as a slice.
     pub fn as_slice(&self) -> &[f64] {
         &self.h[..self.len]
     }

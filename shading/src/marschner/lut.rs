@@ -175,6 +175,7 @@ impl Lut {
         self.resolution
     }
 
+    /// The table layout (coordinates of both tables).
     pub fn layout(&self) -> LutLayout {
         self.layout
     }

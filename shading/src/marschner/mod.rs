@@ -50,12 +50,16 @@ pub const MIN_COS_THETA_D: f32 = 0.1;
 /// The three lobes of [`scattering`], each M_p N_p / cos^2 theta_d, per RGB.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Lobes {
+    /// The R lobe (surface reflection).
     pub r: Vec3,
+    /// The TT lobe (transmission through the fibre).
     pub tt: Vec3,
+    /// The TRT lobe (one internal reflection).
     pub trt: Vec3,
 }
 
 impl Lobes {
+    /// `R + TT + TRT`.
     pub fn sum(&self) -> Vec3 {
         self.r + self.tt + self.trt
     }
@@ -66,6 +70,7 @@ impl Lobes {
 pub struct FibreAngles {
     /// theta_i, theta_o in [-pi/2, pi/2].
     pub theta_i: f64,
+    /// theta_o in [-pi/2, pi/2].
     pub theta_o: f64,
     /// phi = phi_o - phi_i in (-pi, pi]; 0 when either direction is along t.
     pub phi: f64,

@@ -133,10 +133,12 @@ impl FarField {
         })
     }
 
+    /// The material parameters.
     pub fn params(&self) -> &Params {
         &self.params
     }
 
+    /// Quadrature points over the offset `h`.
     pub fn order(&self) -> usize {
         self.nodes.len()
     }

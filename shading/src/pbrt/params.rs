@@ -98,6 +98,7 @@ pub struct Lobes {
 }
 
 impl Lobes {
+    /// The per-lobe terms precomputed from `params`.
     pub fn new(params: &Params) -> Lobes {
         let bm = params.beta_m;
         let v0 = {

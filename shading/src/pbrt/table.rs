@@ -138,10 +138,12 @@ impl Table {
         Ok(Table { res, axes, m, n })
     }
 
+    /// Texels per table side.
     pub fn resolution(&self) -> usize {
         self.res
     }
 
+    /// How the table axes are parameterised.
     pub fn parameterisation(&self) -> Parameterisation {
         self.axes
     }

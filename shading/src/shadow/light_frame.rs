@@ -9,8 +9,11 @@ use glam::Vec3;
 /// runs along `-z`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LightFrame {
+    /// Light-space x axis (world coordinates).
     pub x_axis: Vec3,
+    /// Light-space y axis (world coordinates).
     pub y_axis: Vec3,
+    /// Light-space z axis: the light direction, away from the light.
     pub z_axis: Vec3,
 }
 
@@ -40,12 +43,17 @@ impl LightFrame {
 /// y0 + (j + 0.5) h)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MapPlacement {
+    /// Light-space x of the map's lower-left corner.
     pub x0: f32,
+    /// Light-space y of the map's lower-left corner.
     pub y0: f32,
     /// Texel side `h` and its inverse.
     pub texel: f32,
+    /// `1 / h`.
     pub inv_texel: f32,
+    /// Light-space depth of the nearest hair.
     pub near: f32,
+    /// Light-space depth of the farthest hair.
     pub far: f32,
 }
 

@@ -41,7 +41,9 @@ pub struct ShadowError {
 /// `radius` metres across the light. `rays = 1` is the point reference.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Footprint {
+    /// Rays averaged per point.
     pub rays: usize,
+    /// Radius of the disc the rays start on, metres.
     pub radius: f32,
 }
 
