@@ -79,7 +79,13 @@ fn table(c: &mut Criterion) {
             let t = Table::with_axes(&p, res, axes).unwrap();
             let name = format!("{axes:?}/{res}");
             g.bench_function(BenchmarkId::new("scalar", &name), |b| {
-                b.iter(|| coif::shading::pbrt::table::scalar::scattering_batch(&t, black_box(&s), &mut out))
+                b.iter(|| {
+                    coif::shading::pbrt::table::scalar::scattering_batch(
+                        &t,
+                        black_box(&s),
+                        &mut out,
+                    )
+                })
             });
             g.bench_function(BenchmarkId::new("simd", &name), |b| {
                 b.iter(|| t.scattering_batch(black_box(&s), &mut out))

@@ -60,7 +60,9 @@ fn kajiya_kay(c: &mut Criterion) {
         b.iter(|| kk.shade_batch(black_box(&samples), &mut out))
     });
     g.bench_function("scalar", |b| {
-        b.iter(|| coif::shading::kajiya_kay::scalar::shade_batch(&kk, black_box(&samples), &mut out))
+        b.iter(|| {
+            coif::shading::kajiya_kay::scalar::shade_batch(&kk, black_box(&samples), &mut out)
+        })
     });
     g.finish();
 }
@@ -79,7 +81,13 @@ fn marschner_direct_and_lut(c: &mut Criterion) {
         b.iter(|| lut.scattering_batch(black_box(&samples), &mut out))
     });
     g.bench_function("lut128_scalar", |b| {
-        b.iter(|| coif::shading::marschner::lut::scalar::scattering_batch(&lut, black_box(&samples), &mut out))
+        b.iter(|| {
+            coif::shading::marschner::lut::scalar::scattering_batch(
+                &lut,
+                black_box(&samples),
+                &mut out,
+            )
+        })
     });
     g.finish();
 }

@@ -61,7 +61,14 @@ fn build_and_lookup(c: &mut Criterion) {
             b.iter(|| map.build(black_box(light()), black_box(&pts), verts))
         });
         g.bench_function(BenchmarkId::new(name(&s), "scalar"), |b| {
-            b.iter(|| coif::shading::shadow::scalar::build(&mut map, black_box(light()), black_box(&pts), verts))
+            b.iter(|| {
+                coif::shading::shadow::scalar::build(
+                    &mut map,
+                    black_box(light()),
+                    black_box(&pts),
+                    verts,
+                )
+            })
         });
     }
     g.finish();
@@ -76,7 +83,9 @@ fn build_and_lookup(c: &mut Criterion) {
             b.iter(|| map.transmittance_batch(black_box(&pts), &mut out))
         });
         g.bench_function(BenchmarkId::new(name(&s), "scalar"), |b| {
-            b.iter(|| coif::shading::shadow::scalar::transmittance_batch(&map, black_box(&pts), &mut out))
+            b.iter(|| {
+                coif::shading::shadow::scalar::transmittance_batch(&map, black_box(&pts), &mut out)
+            })
         });
     }
     g.finish();

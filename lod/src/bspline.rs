@@ -1,4 +1,4 @@
-//! Uniform cubic B-splines with phantom end points (DESIGN.md section 5;
+//! Uniform cubic B-splines with phantom end points (as in
 //! Alice: Madness Returns; any text on B-splines, e.g. Farin, "Curves and
 //! Surfaces for CAGD", ch. 7).
 //!
@@ -149,7 +149,7 @@ pub fn refine_with_tangents(
 }
 
 /// Position and derivative weights at `t = k / N`, `k = 0 ..= N`, computed
-/// once per segments-per-span `N` (DESIGN.md: "precompute the weights once").
+/// once per segments-per-span `N` (precompute the weights once, not per vertex).
 #[derive(Clone, Debug, PartialEq)]
 pub struct SpanWeights {
     segments_per_span: usize,

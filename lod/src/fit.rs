@@ -1,6 +1,6 @@
 //! Penalised least-squares B-spline fits (P-splines, Eilers & Marx 1996,
 //! "Flexible smoothing with B-splines and penalties"), solved with
-//! faer's Cholesky factorisation (DESIGN.md section 5).
+//! faer's Cholesky factorisation.
 //!
 //! For `p` points `y_i` taken as samples at uniform parameter
 //! `u_i = i (n - 1) / (p - 1)` of the curve of [`crate::refine`] with `n`

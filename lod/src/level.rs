@@ -1,4 +1,4 @@
-//! Choosing the refinement level from screen size (DESIGN.md section 5).
+//! Choosing the refinement level from screen size .
 //!
 //! On span `j` the curve's second derivative is the linear blend
 //! `C''(t) = (1 - t) d2P_j + t d2P_{j+1}` of the control polygon's second

@@ -7,7 +7,8 @@ mod common;
 
 use coif_kernels::Strands;
 use coif_lod::{
-    self as lod, level, HairWidth, Interpolation, RefinedGuides, RenderHairs, RenderVertex, Visibility,
+    self as lod, level, HairWidth, Interpolation, RefinedGuides, RenderHairs, RenderVertex,
+    Visibility,
 };
 use common::counting::allocations;
 use glam::{Mat4, Vec3, Vec4};

@@ -157,7 +157,8 @@ pub fn rows(options: Options) -> Vec<Row> {
         let lut = Lut::new(&m, res);
         let error = lut_relative_rms_error(&m, res, LutLayout::default(), marschner_samples, seed);
         let simd = bench.time(|s, o| lut.scattering_batch(s, o));
-        let scalar = bench.time(|s, o| coif::shading::marschner::lut::scalar::scattering_batch(&lut, s, o));
+        let scalar =
+            bench.time(|s, o| coif::shading::marschner::lut::scalar::scattering_batch(&lut, s, o));
         for (path, time) in [(Path::Simd, simd), (Path::Scalar, scalar)] {
             let setting = format!("table {res}");
             let default = res == MARSCHNER_RESOLUTION;
@@ -225,11 +226,13 @@ pub fn rows(options: Options) -> Vec<Row> {
         let error = quality::table_error(&pbrt_params, res, error_samples, seed)
             .expect("valid resolution") as f64;
         let simd = bench.time(|s, o| table.scattering_batch(s, o));
-        let scalar = bench.time(|s, o| coif::shading::pbrt::table::scalar::scattering_batch(&table, s, o));
+        let scalar =
+            bench.time(|s, o| coif::shading::pbrt::table::scalar::scattering_batch(&table, s, o));
         let default = res == PBRT_RESOLUTION;
         let lut = Lut::new(&matched, res);
         let lut_simd = bench.time(|s, o| lut.scattering_batch(s, o));
-        let lut_scalar = bench.time(|s, o| coif::shading::marschner::lut::scalar::scattering_batch(&lut, s, o));
+        let lut_scalar =
+            bench.time(|s, o| coif::shading::marschner::lut::scalar::scattering_batch(&lut, s, o));
         for (path, time, lut_time) in [
             (Path::Simd, simd, lut_simd),
             (Path::Scalar, scalar, lut_scalar),

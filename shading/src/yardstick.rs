@@ -1,11 +1,11 @@
 //! Every shading model measured against the yardstick, pbrt-v3's far field
-//! (DESIGN.md section 6): relative RMS error over random directions, raw and
+//! (Pharr, Jakob & Humphreys 2016; Chiang et al. 2016): relative RMS error over random directions, raw and
 //! after the best single gain (the error of the *shape* of the lobes, for
 //! models like Kajiya-Kay that are not energy-normalised).
 //!
 //! Conventions differ between the models, so the comparison maps pbrt's
 //! material onto each: pbrt's `scattering` includes the `cos theta_i` of the
-//! rendering equation and Marschner's does not (API.md), so Marschner is
+//! rendering equation and Marschner's does not (see [`crate::marschner::scattering`]), so Marschner is
 //! multiplied by `cos theta_i = sqrt(1 - (t.wi)^2)`; Marschner's R shift is
 //! pbrt's cuticle tilt, `alpha_R = -2 alpha`; its R width is pbrt's
 //! longitudinal standard deviation `beta_R = sqrt(v0)`; absorption per unit

@@ -196,7 +196,7 @@ fn defaults_are_pbrt_v3_defaults() {
     assert_eq!(p.eta, 1.55);
     assert_eq!((p.beta_m, p.beta_n), (0.3, 0.3));
     assert!((p.alpha - 2.0 * std::f32::consts::PI / 180.0).abs() < 1e-8);
-    // 1.3 * (0.419, 0.697, 1.37), DESIGN.md section 6.
+    // pbrt-v3's default sigma_a: 1.3 eumelanin, 1.3 * (0.419, 0.697, 1.37).
     let want = Vec3::new(0.5447, 0.9061, 1.781);
     assert!(
         (p.sigma_a - want).abs().max_element() < 1e-6,

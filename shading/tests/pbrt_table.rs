@@ -9,7 +9,7 @@ use glam::Vec3;
 
 /// Relative RMS error over random directions, default material (pbrt-v3's
 /// defaults): bilinear interpolation error falls about fourfold per
-/// doubling, and the target of 1% is met from 128 on.
+/// doubling, and the target of 1% is met from 128 on.
 #[test]
 fn table_error_falls_with_resolution_and_meets_one_percent() {
     let p = Params::default();

@@ -4,7 +4,7 @@
 //!
 //! S(wi, wo) = sum over p in {R, TT, TRT} of M_p(theta_h) N_p(theta_d, phi) / cos^2 theta_d
 //!
-//! Conventions (DESIGN.md section 6): `t` is the tangent root to tip, `wi`
+//! Conventions (shared by every model in this crate): `t` is the tangent root to tip, `wi`
 //! points toward the light, `wo` toward the viewer; sin theta = w . t;
 //! phi = phi_o - phi_i is the azimuth difference in the normal plane;
 //! theta_h = (theta_i + theta_o) / 2, theta_d = (theta_o - theta_i) / 2.

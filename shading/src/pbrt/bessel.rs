@@ -2,7 +2,7 @@
 //! kind, order zero (pbrt-v3 `src/materials/hair.cpp`, `I0` and `LogI0`).
 //!
 //! These are approximations whose error matters at the 1e-2 level for some
-//! configurations (DESIGN.md section 6), so they are reproduced exactly,
+//! configurations, so they are reproduced exactly,
 //! operation by operation, in `f32` as pbrt's `Float` build computes them.
 
 /// I0(x) by the first ten terms of its series,

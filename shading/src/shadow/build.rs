@@ -32,8 +32,7 @@ impl OpacityShadowMap {
     /// sixteen texels at a time. The map is bit for bit the one
     /// [`super::scalar::build`] makes (tested).
     pub fn build(&mut self, light_dir: Vec3, points: &[Vec3], verts_per_strand: usize) {
-        let Some(points) = self.prepare(light_dir, points, verts_per_strand, light_bounds)
-        else {
+        let Some(points) = self.prepare(light_dir, points, verts_per_strand, light_bounds) else {
             return;
         };
         let (frame, placement, layering) = (self.frame, self.placement, self.layering);

@@ -10,7 +10,12 @@ use glam::Vec3;
 /// The scalar reference of [`OpacityShadowMap::build`]: the same steps,
 /// one sample at a time, one texel at a time in the prefix sum. Makes the
 /// same map bit for bit.
-pub fn build(map: &mut OpacityShadowMap, light_dir: Vec3, points: &[Vec3], verts_per_strand: usize) {
+pub fn build(
+    map: &mut OpacityShadowMap,
+    light_dir: Vec3,
+    points: &[Vec3],
+    verts_per_strand: usize,
+) {
     let Some(points) = map.prepare(light_dir, points, verts_per_strand, light_bounds) else {
         return;
     };
@@ -103,7 +108,6 @@ fn light_bounds(frame: &LightFrame, points: &[Vec3]) -> Option<(Vec3, Vec3)> {
     // Stays inverted (min > max) when no point is finite.
     (min.x <= max.x).then_some((min, max))
 }
-
 
 /// The prefix sum along depth, `S[s] = S[s - 1] + deposit[s]` per texel
 /// (`S[-1] = 0`), in plane order.
