@@ -113,7 +113,7 @@ impl OpacityShadowMap {
         light_dir: Vec3,
         points: &'p [Vec3],
         verts_per_strand: usize,
-        bounds: fn(&LightFrame, &[Vec3]) -> Option<(Vec3, Vec3)>,
+        bounds: LightBounds,
     ) -> Option<&'p [Vec3]> {
         // 1. Clear, light frame, bounds, placement and layering.
         self.ready = false;
@@ -216,3 +216,8 @@ impl OpacityShadowMap {
         prev + f * (next - prev)
     }
 }
+
+/// A light-space bounds pass (the SIMD build's or the scalar one's):
+/// `(min, max)` of the finite points in light space, or `None` when there is
+/// no usable map.
+pub(super) type LightBounds = fn(&LightFrame, &[Vec3]) -> Option<(Vec3, Vec3)>;
