@@ -1,7 +1,7 @@
 //! Broad phase: which rig spheres can touch a block of eight strands.
 //!
-//! Users of TressFX and Unity's hair ask for rigs of hundreds of spheres
-//! (DESIGN.md section 4). Each block's bounding box, grown by the pearl
+//! Users of TressFX and Unity's hair ask for rigs of hundreds of spheres.
+//! Each block's bounding box, grown by the pearl
 //! radius plus a slack of one rest segment (how far a constraint sweep can
 //! reasonably carry a vertex after the box was taken), is tested against
 //! every sphere once per step; only the spheres that can touch it enter the

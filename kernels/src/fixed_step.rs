@@ -39,6 +39,7 @@ impl FixedStep {
         })
     }
 
+    /// The fixed step in seconds.
     pub fn dt(&self) -> f32 {
         self.dt
     }

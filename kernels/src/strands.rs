@@ -1,6 +1,6 @@
 //! `Strands`: a set of equal-length hair strands stored in SIMD lanes.
 //!
-//! Layout (DESIGN.md section 3): strands are grouped in blocks of [`LANES`];
+//! Layout: strands are grouped in blocks of [`LANES`];
 //! vertex `v` of block `b` lives at index `b * V + v` of every per-vertex array,
 //! and its lane `l` is strand `b * LANES + l`. A constraint on segment `v`
 //! therefore processes eight strands with straight-line SIMD code.

@@ -8,8 +8,7 @@ use glam::{Affine3A, DVec3, Vec3};
 fn line(n_strands: usize, verts: usize, offset: Vec3) -> Vec<Vec3> {
     (0..n_strands)
         .flat_map(|s| {
-            (0..verts)
-                .map(move |v| offset + Vec3::new(s as f32 * 0.01, -(v as f32) * 0.02, 0.0))
+            (0..verts).map(move |v| offset + Vec3::new(s as f32 * 0.01, -(v as f32) * 0.02, 0.0))
         })
         .collect()
 }

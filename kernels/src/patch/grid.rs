@@ -338,7 +338,8 @@ impl Patch {
     /// Sets the stiffness in [0, 1] of the shear (diagonal) edges; 0 (the
     /// default) turns them off. Shear edges make the grid rigid in its own
     /// plane; under strong in-plane loads (a 10 g whip) Gauss-Seidel then
-    /// converges slowly and rows stretch (FINS.md), so they are opt-in. Bending edges (skip-one, both directions) use
+    /// converges slowly and rows stretch (measured in `PATCH.md`), so they
+    /// are opt-in. Bending edges (skip-one, both directions) use
     /// [`crate::SimParams::bend_stiffness`] as for strands.
     pub fn set_shear_stiffness(&mut self, stiffness: f32) -> Result<(), Error> {
         if !(0.0..=1.0).contains(&stiffness) {

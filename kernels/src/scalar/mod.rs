@@ -6,5 +6,5 @@
 pub(crate) mod broad_phase;
 mod step;
 
-pub(crate) use step::{dot, inv_len, outward, push_out};
 pub use step::step;
+pub(crate) use step::{dot, inv_len, outward, push_out};

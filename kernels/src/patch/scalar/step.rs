@@ -10,12 +10,12 @@
 //! row), 6 pearls, 7 guard.
 
 use crate::broad_phase::{select_candidates, spheres_to_local, Candidate};
+use crate::lanes::{inv_sqrt, LANES};
 use crate::patch::grid::Patch;
 use crate::patch::pairs::{partner, PairSet};
 use crate::patch::row_limit::limit_row;
 use crate::patch::step::{padded_lanes, setup};
 use crate::scalar::broad_phase::block_aabb;
-use crate::lanes::{inv_sqrt, LANES};
 use crate::scalar::{dot, inv_len, outward, push_out};
 use crate::step::{StepSetup, BLOWN_UP, STRAIN_COLLIDE_ROUNDS};
 use crate::{SimParams, Sphere};
