@@ -1,4 +1,4 @@
-//! Instruction counts of the patch step (the FINS.md figures): a settled
+//! Instruction counts of the patch step (the figures of kernels/PATCH.md): a settled
 //! 32 x 32 ribbon on a 10 cm head, stepped a fixed number of times, SIMD or
 //! scalar. Run under callgrind and divide by steps x particles:
 //!

@@ -1,7 +1,7 @@
 //! A harness for profiling one simulation setting on the TressFX mohawk:
 //! `cargo run --release --example step_profile -- ITERATIONS PEARLS SPHERES STEPS`
 //! (defaults 4 1 16 50) prints the time per step and vertex-step. The
-//! instruction counts per vertex-step quoted in the README come from running
+//! instruction counts per vertex-step quoted in kernels/README.md come from running
 //! it under `valgrind --tool=callgrind` with 10 and 30 steps and dividing the
 //! difference by 20 x 71,232 vertices. The rig is two 8 cm spheres tangent
 //! under the scalp (`scene::scalp_spheres`) plus distractors a body length away.

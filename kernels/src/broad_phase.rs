@@ -1,13 +1,13 @@
 //! Broad phase: which rig spheres can touch a block of eight strands.
 //!
-//! Users of TressFX and Unity's hair ask for rigs of hundreds of spheres
-//! (DESIGN.md section 4). Each block's bounding box, grown by the pearl
+//! Users of TressFX and Unity's hair ask for rigs of hundreds of spheres.
+//! Each block's bounding box, grown by the pearl
 //! radius plus a slack of one rest segment (how far a constraint sweep can
 //! reasonably carry a vertex after the box was taken), is tested against
 //! every sphere once per step; only the spheres that can touch it enter the
 //! block's narrow phase. A non-finite sphere never passes the test.
 
-use crate::lanes::{Vec3x8, LANES};
+use crate::lanes::Vec3x8;
 use crate::Sphere;
 use glam::{DVec3, Vec3};
 use wide::f32x8;
@@ -74,22 +74,6 @@ pub(crate) fn block_aabb(pos: &[Vec3x8], active: f32x8) -> Aabb {
     }
 }
 
-/// The same box, one lane and one vertex at a time (the scalar twin).
-pub(crate) fn block_aabb_scalar(pos: &[Vec3x8], lanes: usize) -> Aabb {
-    let mut b = Aabb {
-        min: Vec3::INFINITY,
-        max: Vec3::NEG_INFINITY,
-    };
-    for l in 0..lanes.min(LANES) {
-        for p in pos {
-            let q = p.lane(l);
-            b.min = Vec3::new(b.min.x.min(q.x), b.min.y.min(q.y), b.min.z.min(q.z));
-            b.max = Vec3::new(b.max.x.max(q.x), b.max.y.max(q.y), b.max.z.max(q.z));
-        }
-    }
-    b
-}
-
 /// A rig sphere (local centre, radius) that may touch a group of blocks,
 /// with bit `b` set in `blocks` for each block `b` of the group it may touch.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -144,6 +128,7 @@ pub(crate) fn select_candidates(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::lanes::LANES;
 
     #[test]
     fn candidates_are_the_spheres_near_the_box() {
@@ -193,12 +178,12 @@ mod tests {
             }
         }));
         let a = block_aabb(&pos, active);
-        assert_eq!(a, block_aabb_scalar(&pos, 5));
+        assert_eq!(a, crate::scalar::broad_phase::block_aabb(&pos, 5));
         // A NaN in one lane does not poison the box of the others.
         let mut poisoned = pos.clone();
         poisoned[1].set_lane(2, Vec3::NAN);
         let b = block_aabb(&poisoned, active);
-        assert_eq!(b, block_aabb_scalar(&poisoned, 5));
+        assert_eq!(b, crate::scalar::broad_phase::block_aabb(&poisoned, 5));
         assert!(b.min.is_finite() && b.max.is_finite());
         assert_eq!(a.min, Vec3::new(0.0, -2.0, 0.0));
         assert_eq!(a.max, Vec3::new(4.0, 0.0, 2.0));

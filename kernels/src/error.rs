@@ -10,22 +10,38 @@ use std::fmt;
 #[derive(Clone, Debug, PartialEq)]
 pub enum Error {
     /// A strand needs at least two vertices (one segment).
-    TooFewVertices { verts_per_strand: usize },
+    TooFewVertices {
+        /// The vertex count given (for a patch: the smaller of rows and columns).
+        verts_per_strand: usize,
+    },
     /// The point count is not a whole number of strands.
     NotWholeStrands {
+        /// Points given.
         points: usize,
+        /// Vertices per strand given.
         verts_per_strand: usize,
     },
     /// There are no strands at all.
     NoStrands,
     /// A coordinate is NaN or infinite; `index` is the offending point.
-    NonFinite { index: usize },
+    NonFinite {
+        /// Index of the first offending point (or value).
+        index: usize,
+    },
     /// A per-strand slice has the wrong length.
-    CountMismatch { expected: usize, got: usize },
+    CountMismatch {
+        /// The length needed.
+        expected: usize,
+        /// The length given.
+        got: usize,
+    },
     /// A simulation parameter is out of its documented range.
     InvalidParameter {
+        /// The parameter's name.
         name: &'static str,
+        /// The value given.
         value: f32,
+        /// The accepted range, in words.
         expected: &'static str,
     },
 }

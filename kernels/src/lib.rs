@@ -1,10 +1,21 @@
-//! coif-kernels: structure-of-arrays strand containers, lane math, and the
-//! hair simulation kernels (DESIGN.md sections 3 and 4).
+//! coif-kernels: the hair simulation. [`Strands`] holds equal-length strands
+//! in SIMD lanes (vertex `v` of block `b` at index `b * V + v`, lane `l` =
+//! strand `b * 8 + l`); [`step`] advances them by one fixed step and
+//! [`scalar::step`] is its scalar twin. [`patch`] simulates small cloth grids
+//! (fins, ribbons) with the same code, columns in lanes.
 //!
-//! Data flow of one simulation step ([`step`], SIMD; [`scalar::step`], its
-//! scalar twin): Verlet integration -> shape keeping -> broad phase against
-//! the sphere rig -> `iterations` sweeps of (length and bending constraints,
-//! strain limit, sphere and pearl collisions) -> non-finite strands restored.
+//! One strand step ([`step`]; `README.md` beside this crate gives every
+//! formula and its source): 1 Verlet with damping (Yip 2011) -> 2 shape
+//! keeping -> 3 broad phase against the sphere rig -> 4 `iterations` sweeps of
+//! length and bending constraints (Jakobsen 2001) -> 5 strain limit
+//! (Provot 1995, Follow-The-Leader order, Muller et al. 2012) alternated with
+//! the sphere collisions -> 6 pearls (Nalu's point-on-segment rule) -> 7 a
+//! guard that restores a lane gone non-finite.
+//!
+//! The lane math (`Vec3x8`, `LANES`, `inv_sqrt_x8`), the RNG, [`Sphere`] and
+//! [`StrandBlocks`] come from `coif-base` and are re-exported here.
+
+#![warn(missing_docs)]
 
 mod broad_phase;
 mod error;

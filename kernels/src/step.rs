@@ -1,6 +1,7 @@
 //! One fixed simulation step, SIMD path: eight strands per instruction stream.
 //!
-//! Per block of [`LANES`] strands, in this order (DESIGN.md section 4):
+//! Per block of [`LANES`] strands, in this order (the numbers are the step
+//! comments of [`step`]'s body and of its scalar twin [`crate::scalar::step`]):
 //!
 //! 1. **Verlet** with damping (Yip 2011):
 //!    `x' = x + d (x - x_prev) + g dt^2`; pinned vertices (inverse mass 0) stay.
@@ -29,7 +30,9 @@
 //!    jumps stretched segments by 50 %; with the limit last, hair was pulled
 //!    9 cm into the head.
 //! 6. **Pearls**: `k` points `p = (1-t) x_i + t x_{i+1}`, `t = j/(k+1)`, per
-//!    segment, pushed out by the point-on-segment rule (Nalu; DESIGN.md):
+//!    segment, pushed out by the point-on-segment rule of the Nalu demo
+//!    (Nguyen and Donnelly 2005, "Hair animation and rendering in the Nalu
+//!    demo", GPU Gems 2):
 //!    `C = |p - c| - (R + r)`, `s = -C / (w_i (1-t)^2 + w_{i+1} t^2)`,
 //!    `x_i += w_i (1-t) s n`, `x_{i+1} += w_{i+1} t s n`. Segments with a
 //!    pinned end carry no pearls: the root sits on the scalp, inside the
@@ -41,7 +44,7 @@
 //!    lanes never exchange data, so no other strand is touched.
 //!
 //! Collision passes cost most of a step, so there are two per step (before
-//! the last sweep, and 5-6), not one per sweep: the same outcomes in every
+//! the last sweep in 4, and 5-6), not one per sweep: the same outcomes in every
 //! test at 104 instead of 167 instructions per vertex-step on the mohawk.
 //! With only the final pass (83 instructions) hair draped on a head flapped
 //! at 3-5 m/s at rest.
@@ -196,7 +199,8 @@ fn step_group(
     }
     select_candidates(&boxes[..n], k.margin, spheres, candidates);
 
-    // 4. Constraint sweeps, the blocks interleaved segment by segment.
+    // 4. Constraint sweeps (length, then bending), the blocks interleaved
+    // segment by segment; one collision pass before the last sweep.
     let rest_len = &s.rest_len[range.clone()];
     let bend_len = &s.bend_len[range.clone()];
     let share = &s.share[range.clone()];
@@ -216,10 +220,20 @@ fn step_group(
             }
         }
     }
+    // 5. Strain limit alternated with the vertex collisions, root to tip.
     let factor = f32x8::splat(k.stretch_factor);
     strain_limit_and_collide(pos, prev, w, rest_len, verts, n, factor, candidates, k);
 
-    // 5. Guard.
+    // 6. Pearls.
+    for c in candidates.iter() {
+        let sphere = Reach::new(c.sphere, k.pearl_radius);
+        for b in (0..n).filter(|&b| c.touches(b)) {
+            let r = b * verts..(b + 1) * verts;
+            collide_pearls(&mut pos[r.clone()], &w[r], &sphere, k);
+        }
+    }
+
+    // 7. Guard: restore the lanes that went non-finite or blew up.
     let big = f32x8::splat(BLOWN_UP);
     let mut bad = [0u32; GROUP];
     for (b, bits) in bad.iter_mut().enumerate().take(n) {
@@ -282,7 +296,7 @@ pub(crate) fn distance_constraint(
     pos[j] = pos[j] - delta * (k * share[1]);
 }
 
-/// Strain limit, root to tip, combined with the vertex collisions: every free
+/// Step 5. Strain limit, root to tip, combined with the vertex collisions: every free
 /// vertex is pulled toward its parent until `|x_v - x_{v-1}| <= factor l_{v-1}`
 /// (Provot 1995's deformation limit, in Follow-The-Leader order, Muller et
 /// al. 2012), then pushed out of the rig, twice. The parent is final and
@@ -328,17 +342,10 @@ fn strain_limit_and_collide(
             }
         }
     }
-    for c in candidates {
-        let sphere = Reach::new(c.sphere, k.pearl_radius);
-        for b in (0..n).filter(|&b| c.touches(b)) {
-            let r = b * verts..(b + 1) * verts;
-            collide_pearls(&mut pos[r.clone()], &w[r], &sphere, k);
-        }
-    }
 }
 
-/// Every block of the group against every candidate sphere near it:
-/// vertices, then pearls. Run once before the last sweep, so that the sweep
+/// Step 4's collision pass: every block of the group against every
+/// candidate sphere near it, vertices, then pearls. Run once before the last sweep, so that the sweep
 /// smooths what the push-out did (without it, hair draped on a head flapped
 /// at 3-5 m/s at rest).
 #[inline(always)]

@@ -1,6 +1,6 @@
 //! `Strands`: a set of equal-length hair strands stored in SIMD lanes.
 //!
-//! Layout (DESIGN.md section 3): strands are grouped in blocks of [`LANES`];
+//! Layout: strands are grouped in blocks of [`LANES`];
 //! vertex `v` of block `b` lives at index `b * V + v` of every per-vertex array,
 //! and its lane `l` is strand `b * LANES + l`. A constraint on segment `v`
 //! therefore processes eight strands with straight-line SIMD code.
@@ -77,34 +77,30 @@ impl Strands {
     /// Builds a set from `verts_per_strand` points per strand, strand after
     /// strand, root first, in world coordinates. Rest lengths come from these
     /// points; vertex 0 of every strand is pinned.
+    ///
+    /// Errors (never panics) on `verts_per_strand < 2`, a point count that is
+    /// not a whole number of strands, no points, or a non-finite coordinate.
     pub fn from_polylines(points: &[Vec3], verts_per_strand: usize) -> Result<Strands, Error> {
-        if verts_per_strand < 2 {
-            return Err(Error::TooFewVertices { verts_per_strand });
-        }
-        if !points.len().is_multiple_of(verts_per_strand) {
-            return Err(Error::NotWholeStrands {
-                points: points.len(),
-                verts_per_strand,
-            });
-        }
-        if points.is_empty() {
-            return Err(Error::NoStrands);
-        }
-        if let Some(index) = points.iter().position(|p| !p.is_finite()) {
-            return Err(Error::NonFinite { index });
-        }
+        validate_polylines(points, verts_per_strand)?;
         let verts = verts_per_strand;
         let strand_count = points.len() / verts;
-        let blocks = strand_count.div_ceil(LANES);
-        let origin = points
-            .iter()
-            .step_by(verts)
-            .map(|p| p.as_dvec3())
-            .sum::<DVec3>()
-            / strand_count as f64;
+        let mut s = Strands::zeroed(strand_count, verts, mean_root(points, verts));
+        for b in 0..s.blocks {
+            s.active.push(active_mask(s.lanes_in_block(b)));
+            for l in 0..LANES {
+                s.fill_lane(points, b, l);
+            }
+        }
+        s.fill_mass_shares();
+        Ok(s)
+    }
 
+    /// A set of `strand_count` strands of `verts` vertices with every
+    /// per-vertex array sized and zero (no active mask yet).
+    fn zeroed(strand_count: usize, verts: usize, origin: DVec3) -> Strands {
+        let blocks = strand_count.div_ceil(LANES);
         let n = blocks * verts;
-        let mut s = Strands {
+        Strands {
             strand_count,
             verts,
             blocks,
@@ -125,79 +121,78 @@ impl Strands {
             rest_rotation: Mat3::IDENTITY,
             restored: 0,
             scratch: Scratch::default(),
-        };
-        let local = |p: Vec3| (p.as_dvec3() - origin).as_vec3();
-        for b in 0..blocks {
-            let lanes = (strand_count - b * LANES).min(LANES);
-            let lane_index = f32x8::new(std::array::from_fn(|l| l as f32));
-            s.active
-                .push(lane_index.simd_lt(f32x8::splat(lanes as f32)));
-            for l in 0..LANES {
-                // Padding lanes copy the block's last strand and are fully
-                // pinned: inert, and inside the block's bounding box.
-                let strand = b * LANES + l.min(lanes - 1);
-                let pts = &points[strand * verts..(strand + 1) * verts];
-                let mut arc = 0.0f32;
-                let total: f32 = pts.windows(2).map(|w| (w[1] - w[0]).length()).sum();
-                for v in 0..verts {
-                    let i = b * verts + v;
-                    let p = local(pts[v]);
-                    s.pos[i].set_lane(l, p);
-                    s.prev[i].set_lane(l, p);
-                    if v == 0 {
-                        s.roots[b].set_lane(l, p);
-                    }
-                    s.rest_offset[i].set_lane(l, pts[v] - pts[0]);
-                    let free = v > 0 && l < lanes;
-                    s.inv_mass[i].as_mut_array()[l] = if free { 1.0 } else { 0.0 };
-                    let seg = if v + 1 < verts {
-                        (pts[v + 1] - pts[v]).length()
-                    } else {
-                        0.0
-                    };
-                    s.rest_len[i].as_mut_array()[l] = seg;
-                    s.max_rest_segment = s.max_rest_segment.max(seg);
-                    s.bend_len[i].as_mut_array()[l] = if v + 2 < verts {
-                        (pts[v + 2] - pts[v]).length()
-                    } else {
-                        0.0
-                    };
-                    s.rest_arc[i].as_mut_array()[l] = arc;
-                    s.shape_weight[i].as_mut_array()[l] = if total > 0.0 {
-                        (1.0 - arc / total).max(0.0)
-                    } else {
-                        0.0
-                    };
-                    arc += seg;
-                }
-            }
         }
-        for b in 0..blocks {
-            for v in 0..verts {
-                let i = b * verts + v;
-                let shares = |j: usize| -> [f32x8; 2] {
-                    let (wi, wj) = (s.inv_mass[i].to_array(), s.inv_mass[j].to_array());
-                    let part = |a: f32, c: f32| if a + c > 0.0 { a / (a + c) } else { 0.0 };
-                    [
-                        f32x8::new(std::array::from_fn(|l| part(wi[l], wj[l]))),
-                        f32x8::new(std::array::from_fn(|l| part(wj[l], wi[l]))),
-                    ]
-                };
-                if v + 1 < verts {
-                    s.share[i] = shares(i + 1);
-                }
-                if v + 2 < verts {
-                    s.bend_share[i] = shares(i + 2);
-                }
-            }
-        }
-        Ok(s)
     }
 
+    /// Writes lane `l` of block `b`: positions (local), root, rest offsets,
+    /// inverse masses, rest lengths (segment and bending), rest arc length
+    /// and shape weight. Padding lanes copy the block's last strand and are
+    /// fully pinned: inert, and inside the block's bounding box.
+    fn fill_lane(&mut self, points: &[Vec3], b: usize, l: usize) {
+        let verts = self.verts;
+        let lanes = self.lanes_in_block(b);
+        let strand = b * LANES + l.min(lanes - 1);
+        let pts = &points[strand * verts..(strand + 1) * verts];
+        let origin = self.origin;
+        let local = |p: Vec3| (p.as_dvec3() - origin).as_vec3();
+        let mut arc = 0.0f32;
+        let total: f32 = pts.windows(2).map(|w| (w[1] - w[0]).length()).sum();
+        for v in 0..verts {
+            let i = b * verts + v;
+            let p = local(pts[v]);
+            self.pos[i].set_lane(l, p);
+            self.prev[i].set_lane(l, p);
+            if v == 0 {
+                self.roots[b].set_lane(l, p);
+            }
+            self.rest_offset[i].set_lane(l, pts[v] - pts[0]);
+            let free = v > 0 && l < lanes;
+            self.inv_mass[i].as_mut_array()[l] = if free { 1.0 } else { 0.0 };
+            let seg = if v + 1 < verts {
+                (pts[v + 1] - pts[v]).length()
+            } else {
+                0.0
+            };
+            self.rest_len[i].as_mut_array()[l] = seg;
+            self.max_rest_segment = self.max_rest_segment.max(seg);
+            self.bend_len[i].as_mut_array()[l] = if v + 2 < verts {
+                (pts[v + 2] - pts[v]).length()
+            } else {
+                0.0
+            };
+            self.rest_arc[i].as_mut_array()[l] = arc;
+            self.shape_weight[i].as_mut_array()[l] = if total > 0.0 {
+                (1.0 - arc / total).max(0.0)
+            } else {
+                0.0
+            };
+            arc += seg;
+        }
+    }
+
+    /// The mass shares `w_i / (w_i + w_j)` of every length (v, v + 1) and
+    /// bending (v, v + 2) constraint, from the inverse masses.
+    fn fill_mass_shares(&mut self) {
+        let verts = self.verts;
+        for b in 0..self.blocks {
+            for v in 0..verts {
+                let i = b * verts + v;
+                if v + 1 < verts {
+                    self.share[i] = mass_shares(self.inv_mass[i], self.inv_mass[i + 1]);
+                }
+                if v + 2 < verts {
+                    self.bend_share[i] = mass_shares(self.inv_mass[i], self.inv_mass[i + 2]);
+                }
+            }
+        }
+    }
+
+    /// Number of strands in the set.
     pub fn strand_count(&self) -> usize {
         self.strand_count
     }
 
+    /// Vertices per strand (the same for every strand), root included.
     pub fn verts_per_strand(&self) -> usize {
         self.verts
     }
@@ -443,127 +438,50 @@ impl Strands {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn line(n_strands: usize, verts: usize, offset: Vec3) -> Vec<Vec3> {
-        (0..n_strands)
-            .flat_map(|s| {
-                (0..verts)
-                    .map(move |v| offset + Vec3::new(s as f32 * 0.01, -(v as f32) * 0.02, 0.0))
-            })
-            .collect()
+/// The input checks of [`Strands::from_polylines`].
+fn validate_polylines(points: &[Vec3], verts_per_strand: usize) -> Result<(), Error> {
+    if verts_per_strand < 2 {
+        return Err(Error::TooFewVertices { verts_per_strand });
     }
-
-    #[test]
-    fn round_trips_positions_in_input_order() {
-        for n in [1, 7, 8, 9, 17] {
-            let pts = line(n, 5, Vec3::new(1.0, 2.0, 3.0));
-            let s = Strands::from_polylines(&pts, 5).unwrap();
-            assert_eq!(s.strand_count(), n);
-            assert_eq!(s.verts_per_strand(), 5);
-            assert_eq!(s.block_count(), n.div_ceil(8));
-            let back = s.positions();
-            for (a, b) in pts.iter().zip(&back) {
-                assert!((*a - *b).length() < 1e-6, "{a} vs {b}");
-            }
-            assert!((s.rest_length(0, 0).unwrap() - 0.02).abs() < 1e-6);
-            assert!((s.rest_strand_length(n - 1).unwrap() - 0.08).abs() < 1e-6);
-        }
+    if !points.len().is_multiple_of(verts_per_strand) {
+        return Err(Error::NotWholeStrands {
+            points: points.len(),
+            verts_per_strand,
+        });
     }
-
-    #[test]
-    fn rejects_bad_input() {
-        let pts = line(2, 4, Vec3::ZERO);
-        assert_eq!(
-            Strands::from_polylines(&pts, 1).unwrap_err(),
-            Error::TooFewVertices {
-                verts_per_strand: 1
-            }
-        );
-        assert!(matches!(
-            Strands::from_polylines(&pts, 3),
-            Err(Error::NotWholeStrands { .. })
-        ));
-        assert_eq!(
-            Strands::from_polylines(&[], 4).unwrap_err(),
-            Error::NoStrands
-        );
-        let mut nan = pts.clone();
-        nan[5].y = f32::NAN;
-        assert_eq!(
-            Strands::from_polylines(&nan, 4).unwrap_err(),
-            Error::NonFinite { index: 5 }
-        );
-        let mut s = Strands::from_polylines(&pts, 4).unwrap();
-        assert!(matches!(
-            s.set_roots(&[Vec3::ZERO]),
-            Err(Error::CountMismatch {
-                expected: 2,
-                got: 1
-            })
-        ));
-        assert!(matches!(
-            s.set_roots(&[Vec3::ZERO, Vec3::NAN]),
-            Err(Error::NonFinite { index: 1 })
-        ));
-        assert!(s
-            .teleport(Affine3A::from_translation(Vec3::new(
-                f32::INFINITY,
-                0.0,
-                0.0
-            )))
-            .is_err());
+    if points.is_empty() {
+        return Err(Error::NoStrands);
     }
-
-    #[test]
-    fn far_origin_keeps_precision() {
-        let far = Vec3::new(10_000.0, 0.0, -10_000.0);
-        let s = Strands::from_polylines(&line(3, 4, far), 4).unwrap();
-        let local = s.positions_local();
-        // Local coordinates are small, so millimetre detail survives.
-        assert!(local.iter().all(|p| p.length() < 1.0));
-        assert!((s.origin().x - 10_000.0).abs() < 1.0);
+    if let Some(index) = points.iter().position(|p| !p.is_finite()) {
+        return Err(Error::NonFinite { index });
     }
+    Ok(())
+}
 
-    #[test]
-    fn teleport_moves_rigidly_and_keeps_velocity_zero() {
-        let pts = line(9, 4, Vec3::ZERO);
-        let mut s = Strands::from_polylines(&pts, 4).unwrap();
-        let xf = Affine3A::from_rotation_translation(
-            glam::Quat::from_rotation_y(0.7),
-            Vec3::new(10.0, 0.0, 0.0),
-        );
-        s.teleport(xf).unwrap();
-        for (a, b) in pts.iter().zip(s.positions()) {
-            assert!((xf.transform_point3(*a) - b).length() < 1e-4);
-        }
-        assert!(s.pos.iter().zip(&s.prev).all(|(p, q)| p == q));
-        // Resetting after the teleport keeps the rotated rest shape.
-        s.reset_to_rest();
-        for (a, b) in pts.iter().zip(s.positions()) {
-            assert!((xf.transform_point3(*a) - b).length() < 1e-4);
-        }
-    }
+/// The mean of the roots, in f64: the local origin of a new set.
+fn mean_root(points: &[Vec3], verts: usize) -> DVec3 {
+    let strand_count = points.len() / verts;
+    points
+        .iter()
+        .step_by(verts)
+        .map(|p| p.as_dvec3())
+        .sum::<DVec3>()
+        / strand_count as f64
+}
 
-    #[test]
-    fn rebase_is_invisible_in_world_space() {
-        let mut s = Strands::from_polylines(&line(3, 4, Vec3::ZERO), 4).unwrap();
-        let before = s.positions();
-        s.rebase(DVec3::new(100.0, -3.0, 0.5));
-        for (a, b) in before.iter().zip(s.positions()) {
-            assert!((*a - b).length() < 1e-5);
-        }
-        let roots: Vec<Vec3> = (0..3)
-            .map(|i| Vec3::new(500.0 + i as f32, 0.0, 0.0))
-            .collect();
-        s.set_roots(&roots).unwrap();
-        assert!(
-            (s.origin().x - 501.0).abs() < 2.0,
-            "rebased near the roots: {}",
-            s.origin()
-        );
-        assert!((s.vertex(2, 0).unwrap() - roots[2]).length() < 1e-4);
-    }
+/// All bits set in the first `lanes` lanes (those holding a real strand).
+fn active_mask(lanes: usize) -> f32x8 {
+    let lane_index = f32x8::new(std::array::from_fn(|l| l as f32));
+    lane_index.simd_lt(f32x8::splat(lanes as f32))
+}
+
+/// Mass shares of a constraint between inverse masses `wi` and `wj`, per
+/// lane: `[wi / (wi + wj), wj / (wi + wj)]`, 0 where both are pinned.
+fn mass_shares(wi: f32x8, wj: f32x8) -> [f32x8; 2] {
+    let (wi, wj) = (wi.to_array(), wj.to_array());
+    let part = |a: f32, c: f32| if a + c > 0.0 { a / (a + c) } else { 0.0 };
+    [
+        f32x8::new(std::array::from_fn(|l| part(wi[l], wj[l]))),
+        f32x8::new(std::array::from_fn(|l| part(wj[l], wi[l]))),
+    ]
 }

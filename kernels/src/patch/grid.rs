@@ -105,55 +105,40 @@ impl Patch {
     /// skin starts at `grid`, blend weights at 1, max distances at infinity,
     /// shear stiffness at 0 (off; see [`Patch::set_shear_stiffness`]).
     pub fn new(grid: &[Vec3], rows: usize, cols: usize, pinned: &[bool]) -> Result<Patch, Error> {
-        if rows < 2 || cols < 2 {
-            return Err(Error::TooFewVertices {
-                verts_per_strand: rows.min(cols),
-            });
-        }
-        if cols > MAX_PATCH_COLUMNS {
-            return Err(Error::InvalidParameter {
-                name: "cols",
-                value: cols as f32,
-                expected: "at most 256 columns",
-            });
-        }
-        let n = rows * cols;
-        if grid.len() != n {
-            return Err(Error::CountMismatch {
-                expected: n,
-                got: grid.len(),
-            });
-        }
-        if pinned.len() != n {
-            return Err(Error::CountMismatch {
-                expected: n,
-                got: pinned.len(),
-            });
-        }
-        if let Some(index) = grid.iter().position(|p| !p.is_finite()) {
-            return Err(Error::NonFinite { index });
-        }
-        let blocks = cols.div_ceil(LANES);
-        let lanes = blocks * LANES;
-        let slots = blocks * rows;
-        let origin = grid.iter().map(|p| p.as_dvec3()).sum::<DVec3>() / n as f64;
-        let local = |p: Vec3| (p.as_dvec3() - origin).as_vec3();
-        // Padded column -> real column it copies.
-        let real = |c: usize| c.min(cols - 1);
-        let at = |r: usize, c: usize| grid[r * cols + real(c)];
-        let w_of = |r: usize, c: usize| {
-            if c < cols && !pinned[r * cols + c] {
-                1.0
-            } else {
-                0.0
-            }
+        validate_grid(grid, rows, cols, pinned)?;
+        let rest = RestGrid {
+            grid,
+            rows,
+            cols,
+            pinned,
         };
+        let mut p = Patch::zeroed(&rest);
+        for c in 0..p.blocks * LANES {
+            for r in 0..rows {
+                p.fill_particle(&rest, r, c);
+                p.fill_vertical_edges(&rest, r, c);
+                p.fill_pair_edges(&rest, r, c);
+            }
+        }
+        p.fill_tethers(&rest);
+        p.update_anchor_skin();
+        Ok(p)
+    }
 
-        let mut p = Patch {
+    /// A patch for `rest` with every per-particle array sized and at its
+    /// neutral value (zero; INFINITY for max distances and tethers; weight 1),
+    /// the local origin at the grid's mean, the rows' root columns, the
+    /// column blocks' active masks and the scratch buffers.
+    fn zeroed(rest: &RestGrid) -> Patch {
+        let (rows, cols, grid) = (rest.rows, rest.cols, rest.grid);
+        let n = rows * cols;
+        let blocks = cols.div_ceil(LANES);
+        let slots = blocks * rows;
+        Patch {
             rows,
             cols,
             blocks,
-            origin,
+            origin: grid.iter().map(|p| p.as_dvec3()).sum::<DVec3>() / n as f64,
             pos: vec![Vec3x8::ZERO; slots],
             prev: vec![Vec3x8::ZERO; slots],
             skin: vec![Vec3x8::ZERO; slots],
@@ -165,15 +150,7 @@ impl Patch {
             anchor_skin: vec![Vec3x8::ZERO; slots],
             parent_up: vec![f32x8::ZERO; slots],
             weight: vec![1.0; n],
-            row_root: (0..rows)
-                .map(|r| {
-                    let middle = cols / 2;
-                    (0..cols)
-                        .filter(|&c| pinned[r * cols + c])
-                        .min_by_key(|&c| c.abs_diff(middle))
-                        .unwrap_or(middle)
-                })
-                .collect(),
+            row_root: (0..rows).map(|r| rest.row_root(r)).collect(),
             vert_rest: vec![f32x8::ZERO; slots],
             vert_share: vec![[f32x8::ZERO; 2]; slots],
             vbend_rest: vec![f32x8::ZERO; slots],
@@ -182,7 +159,12 @@ impl Patch {
             hbend: [PairSet::zeros(slots), PairSet::zeros(slots)],
             shear_down: [PairSet::zeros(slots), PairSet::zeros(slots)],
             shear_up: [PairSet::zeros(slots), PairSet::zeros(slots)],
-            active: Vec::with_capacity(blocks),
+            active: (0..blocks)
+                .map(|b| {
+                    let lane_index = f32x8::new(std::array::from_fn(|l| (b * LANES + l) as f32));
+                    lane_index.simd_lt(f32x8::splat(cols as f32))
+                })
+                .collect(),
             max_rest_edge: 0.0,
             shear_stiffness: 0.0,
             restored: 0,
@@ -193,80 +175,103 @@ impl Patch {
                 boxes: Vec::with_capacity(blocks),
                 ..Default::default()
             },
-        };
-        for b in 0..blocks {
-            let lane_index = f32x8::new(std::array::from_fn(|l| (b * LANES + l) as f32));
-            p.active.push(lane_index.simd_lt(f32x8::splat(cols as f32)));
         }
-        let mut max_edge = 0.0f32;
-        for c in 0..lanes {
-            let (b, l) = (c / LANES, c % LANES);
-            let is_real = c < cols;
-            for r in 0..rows {
-                let i = b * rows + r;
-                let x = local(at(r, c));
-                p.pos[i].set_lane(l, x);
-                p.prev[i].set_lane(l, x);
-                p.skin[i].set_lane(l, x);
-                let w = w_of(r, c);
-                set(&mut p.inv_mass[i], l, w);
-                // Vertical edges (lane-parallel).
-                for (step, rest, share) in [
-                    (1, &mut p.vert_rest, &mut p.vert_share),
-                    (2, &mut p.vbend_rest, &mut p.vbend_share),
-                ] {
-                    if is_real && r + step < rows {
-                        let d = (at(r + step, c) - at(r, c)).length();
-                        set(&mut rest[i], l, d);
-                        let wj = w_of(r + step, c);
-                        set(&mut share[i][0], l, mass_share(w, wj));
-                        set(&mut share[i][1], l, mass_share(wj, w));
-                        if step == 1 {
-                            max_edge = max_edge.max(d);
-                        }
-                    }
-                }
-                // Lane-pair edges: (set, stride, row offset).
-                for colour in 0..2 {
-                    let kinds: [(&mut PairSet, usize, isize); 4] = [
-                        (&mut p.horiz[colour], 1, 0),
-                        (&mut p.hbend[colour], 2, 0),
-                        (&mut p.shear_down[colour], 1, 1),
-                        (&mut p.shear_up[colour], 1, -1),
-                    ];
-                    for (set_, stride, dr) in kinds {
-                        let rr = r as isize + dr;
-                        let Some(pc) = partner(c, stride, colour, lanes) else {
-                            continue;
-                        };
-                        if !is_real || pc >= cols || rr < 0 || rr >= rows as isize {
-                            continue;
-                        }
-                        let rr = rr as usize;
-                        let d = (at(rr, pc) - at(r, c)).length();
-                        let wj = w_of(rr, pc);
-                        set(&mut set_.rest[i], l, d);
-                        set(&mut set_.share[i], l, mass_share(w, wj));
-                        set(&mut set_.partner_w[i], l, wj);
-                        if stride == 1 {
-                            max_edge = max_edge.max(d);
-                        }
-                    }
+    }
+
+    /// Padded particle `(r, c)`: position, previous position and skin (its
+    /// rest point, local), and inverse mass.
+    fn fill_particle(&mut self, rest: &RestGrid, r: usize, c: usize) {
+        let (i, l) = ((c / LANES) * self.rows + r, c % LANES);
+        let x = (rest.at(r, c).as_dvec3() - self.origin).as_vec3();
+        self.pos[i].set_lane(l, x);
+        self.prev[i].set_lane(l, x);
+        self.skin[i].set_lane(l, x);
+        set(&mut self.inv_mass[i], l, rest.w(r, c));
+    }
+
+    /// The lane-parallel edges below padded particle `(r, c)`: the vertical
+    /// edge to `r + 1` and the vertical bending edge to `r + 2` (rest length
+    /// and both mass shares).
+    fn fill_vertical_edges(&mut self, rest: &RestGrid, r: usize, c: usize) {
+        let (i, l) = ((c / LANES) * self.rows + r, c % LANES);
+        if c >= rest.cols {
+            return;
+        }
+        let w = rest.w(r, c);
+        for (step, lengths, shares) in [
+            (1, &mut self.vert_rest, &mut self.vert_share),
+            (2, &mut self.vbend_rest, &mut self.vbend_share),
+        ] {
+            if r + step < rest.rows {
+                let d = (rest.at(r + step, c) - rest.at(r, c)).length();
+                set(&mut lengths[i], l, d);
+                let wj = rest.w(r + step, c);
+                set(&mut shares[i][0], l, mass_share(w, wj));
+                set(&mut shares[i][1], l, mass_share(wj, w));
+                if step == 1 {
+                    self.max_rest_edge = self.max_rest_edge.max(d);
                 }
             }
         }
-        p.max_rest_edge = max_edge;
-        let mut up = vec![false; n];
-        let lengths = tether_lengths(grid, rows, cols, pinned, &mut p.anchor, &mut up);
+    }
+
+    /// The lane-pair edges of padded particle `(r, c)` in both colours:
+    /// horizontal (stride 1), horizontal bending (stride 2) and the two shear
+    /// directions (partner in row `r + 1`, and in row `r - 1`); rest length,
+    /// this particle's mass share and the partner's inverse mass.
+    fn fill_pair_edges(&mut self, rest: &RestGrid, r: usize, c: usize) {
+        let (i, l) = ((c / LANES) * self.rows + r, c % LANES);
+        let lanes = self.blocks * LANES;
+        let (rows, cols) = (rest.rows, rest.cols);
+        let w = rest.w(r, c);
+        for colour in 0..2 {
+            // (set, stride, row offset).
+            let kinds: [(&mut PairSet, usize, isize); 4] = [
+                (&mut self.horiz[colour], 1, 0),
+                (&mut self.hbend[colour], 2, 0),
+                (&mut self.shear_down[colour], 1, 1),
+                (&mut self.shear_up[colour], 1, -1),
+            ];
+            for (pairs, stride, dr) in kinds {
+                let rr = r as isize + dr;
+                let Some(pc) = partner(c, stride, colour, lanes) else {
+                    continue;
+                };
+                if c >= cols || pc >= cols || rr < 0 || rr >= rows as isize {
+                    continue;
+                }
+                let rr = rr as usize;
+                let d = (rest.at(rr, pc) - rest.at(r, c)).length();
+                let wj = rest.w(rr, pc);
+                set(&mut pairs.rest[i], l, d);
+                set(&mut pairs.share[i], l, mass_share(w, wj));
+                set(&mut pairs.partner_w[i], l, wj);
+                if stride == 1 {
+                    self.max_rest_edge = self.max_rest_edge.max(d);
+                }
+            }
+        }
+    }
+
+    /// Long range attachments: each particle's anchor, tether length and
+    /// whether its path to the pins leaves through the particle above.
+    fn fill_tethers(&mut self, rest: &RestGrid) {
+        let mut up = vec![false; rest.rows * rest.cols];
+        let lengths = tether_lengths(
+            rest.grid,
+            rest.rows,
+            rest.cols,
+            rest.pinned,
+            &mut self.anchor,
+            &mut up,
+        );
         for (k, len) in lengths.into_iter().enumerate() {
-            let (i, l) = p.slot(k);
-            set(&mut p.tether_len[i], l, len);
+            let (i, l) = self.slot(k);
+            set(&mut self.tether_len[i], l, len);
             if up[k] {
-                set(&mut p.parent_up[i], l, f32::from_bits(!0));
+                set(&mut self.parent_up[i], l, f32::from_bits(!0));
             }
         }
-        p.update_anchor_skin();
-        Ok(p)
     }
 
     /// Rows of the grid.
@@ -333,7 +338,8 @@ impl Patch {
     /// Sets the stiffness in [0, 1] of the shear (diagonal) edges; 0 (the
     /// default) turns them off. Shear edges make the grid rigid in its own
     /// plane; under strong in-plane loads (a 10 g whip) Gauss-Seidel then
-    /// converges slowly and rows stretch (FINS.md), so they are opt-in. Bending edges (skip-one, both directions) use
+    /// converges slowly and rows stretch (measured in `PATCH.md`), so they
+    /// are opt-in. Bending edges (skip-one, both directions) use
     /// [`crate::SimParams::bend_stiffness`] as for strands.
     pub fn set_shear_stiffness(&mut self, stiffness: f32) -> Result<(), Error> {
         if !(0.0..=1.0).contains(&stiffness) {
@@ -461,6 +467,70 @@ impl Patch {
                 got,
             })
         }
+    }
+}
+
+/// The input checks of [`Patch::new`].
+fn validate_grid(grid: &[Vec3], rows: usize, cols: usize, pinned: &[bool]) -> Result<(), Error> {
+    if rows < 2 || cols < 2 {
+        return Err(Error::TooFewVertices {
+            verts_per_strand: rows.min(cols),
+        });
+    }
+    if cols > MAX_PATCH_COLUMNS {
+        return Err(Error::InvalidParameter {
+            name: "cols",
+            value: cols as f32,
+            expected: "at most 256 columns",
+        });
+    }
+    let n = rows * cols;
+    for len in [grid.len(), pinned.len()] {
+        if len != n {
+            return Err(Error::CountMismatch {
+                expected: n,
+                got: len,
+            });
+        }
+    }
+    if let Some(index) = grid.iter().position(|p| !p.is_finite()) {
+        return Err(Error::NonFinite { index });
+    }
+    Ok(())
+}
+
+/// A validated rest grid (row-major) with its pins, read by padded column:
+/// a padding column `c >= cols` copies the last real column and is pinned.
+struct RestGrid<'a> {
+    grid: &'a [Vec3],
+    rows: usize,
+    cols: usize,
+    pinned: &'a [bool],
+}
+
+impl RestGrid<'_> {
+    /// Rest point of padded particle `(r, c)`.
+    fn at(&self, r: usize, c: usize) -> Vec3 {
+        self.grid[r * self.cols + c.min(self.cols - 1)]
+    }
+
+    /// Inverse mass of padded particle `(r, c)`: 1 if real and free, else 0.
+    fn w(&self, r: usize, c: usize) -> f32 {
+        if c < self.cols && !self.pinned[r * self.cols + c] {
+            1.0
+        } else {
+            0.0
+        }
+    }
+
+    /// The column row `r`'s strain limit starts from: the pinned particle
+    /// nearest the middle column, or the middle column when the row has none.
+    fn row_root(&self, r: usize) -> usize {
+        let middle = self.cols / 2;
+        (0..self.cols)
+            .filter(|&c| self.pinned[r * self.cols + c])
+            .min_by_key(|&c| c.abs_diff(middle))
+            .unwrap_or(middle)
     }
 }
 

@@ -4,7 +4,7 @@
 //! The Nalu demo made its fins from the hair code turned into a cloth
 //! simulation and blended the result with the skinned fin by a weight map;
 //! Alice: Madness Returns used the same mass-spring code for the skirt and
-//! bows (DESIGN.md; GDC 2011, "Hair and Cloth in Alice"). A [`Patch`] is one
+//! bows (GDC 2011, "Hair and Cloth in Alice"). A [`Patch`] is one
 //! grid of `rows x cols` particles:
 //!
 //! - **Layout** (`grid.rs`): columns in SIMD lanes. Column block `b` holds
@@ -14,7 +14,7 @@
 //!   neighbours of a row. Vertical constraints are lane-parallel (the strand
 //!   code); horizontal, shear and horizontal bending ones pair neighbouring
 //!   lanes and run as two colour passes with a lane permutation
-//!   (`pairs.rs`). FINS.md gives the measurements behind this choice.
+//!   (`pairs.rs`). `PATCH.md` beside this crate gives the measurements behind this choice.
 //! - **Step** ([`step`], SIMD; [`scalar::step`], its scalar twin): Verlet
 //!   with damping, pinned particles placed on their skinned positions,
 //!   `iterations` sweeps of distance constraints, long range attachments,

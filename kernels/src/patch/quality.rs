@@ -17,6 +17,7 @@ pub const REFERENCE_ITERATIONS: u32 = 256;
 /// Error of one setting, over the measured steps.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PatchQuality {
+    /// Constraint sweeps per step of the measured setting.
     pub iterations: u32,
     /// RMS over particles and steps of the distance (m) between one step
     /// with `iterations` sweeps and one with 256 from the same state.

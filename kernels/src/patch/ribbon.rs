@@ -9,7 +9,9 @@ use glam::Vec3;
 pub struct Ribbon {
     /// Rest positions in world space, row-major (`rows * cols`).
     pub points: Vec<Vec3>,
+    /// Rows of particles (row 0 attached to the head).
     pub rows: usize,
+    /// Columns of particles (across the ribbon).
     pub cols: usize,
     /// Row 0 is pinned (attached to the head).
     pub pinned: Vec<bool>,

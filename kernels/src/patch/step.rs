@@ -1,6 +1,7 @@
 //! One fixed step of a patch, SIMD path: eight columns per register.
 //!
-//! In this order (the strand step's structure, DESIGN.md section 4):
+//! In this order (the strand step's structure; the numbers are the step
+//! comments of [`step`]'s body and of its scalar twin [`super::scalar::step`]):
 //!
 //! 1. **Verlet** with damping (Yip 2011): `x' = x + d (x - x_prev) + g dt^2`
 //!    for free particles; pinned ones (inverse mass 0) move to their skinned
@@ -19,11 +20,15 @@
 //!    quad) in two colour passes, scaled by the shear stiffness, each solved
 //!    once as `x_i += share_i (k delta)`, `x_j -= share_j (k delta)`; (d) every
 //!    free particle pushed out of the nearby spheres to `R + r`.
+//!
+//! Steps 4 and 5 run row by row, top to bottom: row `r` gets its long range
+//! attachments (4), then its two rounds of 5, before row `r + 1` starts.
+//!
 //! 4. **Long range attachments** (Kim, Chentanez and Muller 2012): a free
 //!    particle farther than `(1 + max_stretch) L` from its anchor, the
 //!    pinned particle nearest along the grid (`L` = the shortest rest path
 //!    over structural and diagonal edges), is pulled back onto that sphere.
-//! 5. Row by row, top to bottom, twice (the strands' alternation of strain
+//! 5. Twice per row (the strands' alternation of strain
 //!    limit and collisions): the **column strain limit** (Provot 1995, in
 //!    Follow-The-Leader order, Muller et al. 2012) pulls a particle whose
 //!    shortest path to the pins goes through the particle above toward it
@@ -36,7 +41,7 @@
 //!    constraint of PhysX and Unity); then the particle is pushed out of
 //!    every nearby sphere to `R + r`.
 //! 6. **Pearls** along columns and rows, pushed out by the point-on-segment
-//!    rule (Nalu; DESIGN.md): `p = (1-t) x_i + t x_j`,
+//!    rule of the Nalu demo (Nguyen and Donnelly 2005): `p = (1-t) x_i + t x_j`,
 //!    `s = -C / (w_i (1-t)^2 + w_j t^2)`, `x_i += w_i (1-t) s n`,
 //!    `x_j += w_j t s n`. Collisions run last so nothing is left inside a
 //!    sphere.
@@ -91,7 +96,9 @@ pub fn step(patch: &mut Patch, params: &SimParams, spheres: &[Sphere]) {
     let k = setup(patch, params);
     let mut scratch = std::mem::take(&mut patch.scratch);
     spheres_to_local(spheres, patch.origin, &mut scratch.spheres_local);
+    // 1. Verlet; pinned particles onto the skin.
     integrate(patch, &k);
+    // 2. Broad phase.
     let rows = patch.rows;
     scratch.boxes.clear();
     for b in 0..patch.blocks {
@@ -104,11 +111,15 @@ pub fn step(patch: &mut Patch, params: &SimParams, spheres: &[Sphere]) {
         &scratch.spheres_local,
         &mut scratch.candidates,
     );
+    // 3. Constraint sweeps (a-c), each followed by the vertex push-out (d).
     for _ in 0..k.iterations {
         sweep(patch, &k, &mut scratch);
         push_out_vertices(patch, &k, &scratch.candidates);
     }
+    // 4. Long range attachments, 5. strain limits, max distance and
+    // collisions, row by row; 6. pearls.
     clamp_and_collide(patch, &k, &mut scratch);
+    // 7. Guard.
     if blown_up(patch) {
         patch.reset_to_skin();
         patch.restored += 1;
@@ -140,7 +151,7 @@ fn sweep(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
     let (rows, blocks) = (p.rows, p.blocks);
     let one = f32x8::ONE;
     let bend = f32x8::splat(k.bend);
-    // a. Columns.
+    // 3a. Columns.
     for r in 0..rows - 1 {
         for b in 0..blocks {
             let i = b * rows + r;
@@ -157,7 +168,7 @@ fn sweep(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
             }
         }
     }
-    // b. Rows.
+    // 3b. Rows.
     let pa = &mut scratch.partner_a;
     for r in 0..rows {
         for colour in 0..2 {
@@ -179,7 +190,7 @@ fn sweep(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
             }
         }
     }
-    // c. Shear: each diagonal is solved once, in the upper row's lane, and
+    // 3c. Shear: each diagonal is solved once, in the upper row's lane, and
     // its correction `k delta` is permuted over to the lower row's lane.
     if p.shear_stiffness > 0.0 {
         let shear = f32x8::splat(p.shear_stiffness);
@@ -205,7 +216,7 @@ fn sweep(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
     }
 }
 
-/// Every free particle pushed out of the nearby spheres to `R + r`.
+/// Step 3d: every free particle pushed out of the nearby spheres to `R + r`.
 fn push_out_vertices(p: &mut Patch, k: &StepSetup, candidates: &[Candidate]) {
     let rows = p.rows;
     for c in candidates {
@@ -218,12 +229,15 @@ fn push_out_vertices(p: &mut Patch, k: &StepSetup, candidates: &[Candidate]) {
     }
 }
 
+/// Steps 4 to 6: per row, long range attachments then two rounds of strain
+/// limits, max distance and push-out; then the pearls.
 fn clamp_and_collide(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
     let rows = p.rows;
     let zero = f32x8::ZERO;
     let candidates: &[Candidate] = &scratch.candidates;
     let factor = f32x8::splat(k.stretch_factor);
     for r in 0..rows {
+        // 4. Long range attachments of row r.
         for b in 0..p.blocks {
             let i = b * rows + r;
             let free = p.inv_mass[i].simd_gt(zero);
@@ -236,6 +250,7 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
                 p.pos[i] = Vec3x8::select(over, pulled, p.pos[i]);
             }
         }
+        // 5. Column limit, row limit (last round), max distance, push-out.
         for round in 0..STRAIN_COLLIDE_ROUNDS {
             if r > 0 {
                 for b in 0..p.blocks {
@@ -271,6 +286,7 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
             }
         }
     }
+    // 6. Pearls, along columns (lane-parallel), then along rows.
     if k.pearls == 0 {
         return;
     }
@@ -325,7 +341,7 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
     }
 }
 
-/// True if a real particle is non-finite or beyond [`BLOWN_UP`].
+/// Step 7's test: true if a real particle is non-finite or beyond [`BLOWN_UP`].
 fn blown_up(p: &Patch) -> bool {
     let big = f32x8::splat(BLOWN_UP);
     let rows = p.rows;

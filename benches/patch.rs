@@ -5,7 +5,7 @@
 //! error over iterations (the error table is printed first, from
 //! `coif::kernels::patch::quality::convergence`).
 //!
-//! `cargo bench --bench fins -- --warm-up-time 0.5 --measurement-time 2`
+//! `cargo bench --bench patch -- --warm-up-time 0.5 --measurement-time 2`
 
 use coif::kernels::patch::{self, quality, ribbon_on_sphere};
 use coif::kernels::{Patch, SimParams, Sphere};
@@ -48,7 +48,7 @@ fn configure(group: &mut criterion::BenchmarkGroup<criterion::measurement::WallT
 }
 
 fn step_sizes(c: &mut Criterion) {
-    let mut group = c.benchmark_group("fins/step");
+    let mut group = c.benchmark_group("patch/step");
     configure(&mut group);
     for (rows, cols) in [(16usize, 8usize), (16, 16), (32, 32)] {
         group.throughput(Throughput::Elements((rows * cols) as u64));
@@ -75,7 +75,7 @@ fn step_sizes(c: &mut Criterion) {
 
 /// 32 x 32, 4 iterations: rows and columns only, + shear, + bending, + pearls.
 fn constraint_kinds(c: &mut Criterion) {
-    let mut group = c.benchmark_group("fins/constraints");
+    let mut group = c.benchmark_group("patch/constraints");
     configure(&mut group);
     group.throughput(Throughput::Elements(32 * 32));
     let rig = [head()];
@@ -104,7 +104,7 @@ fn constraint_kinds(c: &mut Criterion) {
 /// particles, and the strand layout (patches in lanes), which gives a lone
 /// patch one lane of each block, would pay 8 times per particle.
 fn layout(c: &mut Criterion) {
-    let mut group = c.benchmark_group("fins/layout");
+    let mut group = c.benchmark_group("patch/layout");
     configure(&mut group);
     let params = SimParams::default();
     let rig = [head()];
@@ -135,7 +135,7 @@ fn iterations(c: &mut Criterion) {
             q.max_stretch
         );
     }
-    let mut group = c.benchmark_group("fins/iterations");
+    let mut group = c.benchmark_group("patch/iterations");
     configure(&mut group);
     group.throughput(Throughput::Elements(16 * 16));
     let (points, pinned) = quality::flag_scene(16, 16);

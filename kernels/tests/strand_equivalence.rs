@@ -8,7 +8,7 @@
 
 mod common;
 
-use coif::kernels::{self, measure::max_distance, scalar, SimParams, Strands};
+use coif_kernels::{self as kernels, measure::max_distance, scalar, SimParams, Strands};
 use glam::Vec3;
 
 fn run_both(

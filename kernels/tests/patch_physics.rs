@@ -1,10 +1,10 @@
-//! Issue 7: what a patch must do physically — a pinned flag hangs under
+//! What a patch must do physically — a pinned flag hangs under
 //! gravity without stretching, the weight map blends skin and simulation
 //! exactly at its ends, max distances and spheres are respected, normals are
 //! unit and consistent, and a blown-up patch disturbs no other patch.
 
-use coif::kernels::patch::{self, grid_normals, quality, ribbon_on_sphere};
-use coif::kernels::{Error, Patch, SimParams, Sphere};
+use coif_kernels::patch::{self, grid_normals, quality, ribbon_on_sphere};
+use coif_kernels::{Error, Patch, SimParams, Sphere};
 use glam::Vec3;
 
 /// A vertical flag in the x-y plane: columns along +x, rows down -y,

@@ -1,10 +1,14 @@
-//! Stress: the failure modes DESIGN.md section 4 lists, run deliberately.
+//! Stress: the failure modes of an explicit strand simulation, run
+//! deliberately: large and small time steps, few and many iterations,
+//! strong gravity, a whipping and a teleporting head, an hour of random
+//! motion, zero-length segments and coincident points, a groom 10 km from
+//! the origin, teleports and resets, and bad parameters.
 
 mod common;
 
-use coif::geometry::scene::{grow_on_sphere, GrowOptions};
-use coif::kernels::rng::SplitMix64;
-use coif::kernels::{self, measure, SimParams, Sphere, Strands};
+use coif_kernels::rng::SplitMix64;
+use coif_kernels::{self as kernels, measure, SimParams, Sphere, Strands};
+use common::scene::{grow_on_sphere, GrowOptions};
 use glam::{Affine3A, DVec3, Quat, Vec3};
 
 fn all_finite(s: &Strands) -> bool {

@@ -1,16 +1,16 @@
-//! Issue 7 stress: the strands' stability matrix run on a patch — time steps
+//! Stress: the strands' stability matrix run on a patch — time steps
 //! 1/240 .. 1/15 s, 1 .. 32 iterations, gravity x1 and x100, a still, a
 //! whipping (4 Hz on a 15 cm circle, ~4 m/s) and a teleporting (10 m every
 //! 30 steps) head.
 
 mod common;
 
-use coif::kernels::patch::{self, quality, ribbon_on_sphere};
-use coif::kernels::{SimParams, Sphere};
+use coif_kernels::patch::{self, quality, ribbon_on_sphere};
+use coif_kernels::{SimParams, Sphere};
 use glam::Vec3;
 
 /// Largest stretch of the vertical (column) edges.
-fn column_stretch(p: &coif::kernels::Patch) -> f32 {
+fn column_stretch(p: &coif_kernels::Patch) -> f32 {
     let x = p.positions_local();
     let cols = p.cols();
     (0..x.len() - cols)
@@ -124,7 +124,7 @@ fn coincident_particles_stay_finite_in_both_paths() {
         ("one point", all_at_one_point),
         ("zero-width rows", collapsed_rows),
     ] {
-        let mut simd = coif::kernels::Patch::new(&points, rows, cols, &ribbon.pinned).unwrap();
+        let mut simd = coif_kernels::Patch::new(&points, rows, cols, &ribbon.pinned).unwrap();
         let mut scalar = simd.clone();
         let params = SimParams {
             dt: 1.0 / 60.0,

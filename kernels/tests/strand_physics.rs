@@ -2,8 +2,8 @@
 
 mod common;
 
-use coif::geometry::scene::{grow_on_sphere, horizontal_strand, GrowOptions};
-use coif::kernels::{self, measure, SimParams, Sphere, Strands};
+use coif_kernels::{self as kernels, measure, SimParams, Sphere, Strands};
+use common::scene::{grow_on_sphere, horizontal_strand, GrowOptions};
 use glam::Vec3;
 
 #[test]
@@ -232,7 +232,8 @@ fn speeds_at_rest(params: &SimParams) -> (f32, f32) {
 
 #[test]
 fn draped_hair_comes_to_rest_without_jitter() {
-    // TressFX issue 19: hair jittering at rest. With the defaults (4
+    // Hair jittering at rest, a common complaint about TressFX-style
+    // simulations. With the defaults (4
     // iterations, friction 0.3) the fastest vertex of 8,192 measured 0.05 m/s
     // and the 99th percentile 4 mm/s; with one iteration 0.43 and 0.033 m/s.
     let (fastest, p99) = speeds_at_rest(&SimParams::default());

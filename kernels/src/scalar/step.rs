@@ -3,8 +3,21 @@
 //! plain `f32` arithmetic and no SIMD. Tests compare the two; benchmarks run
 //! them side by side. Blocks are grouped as in the SIMD path only so that the
 //! broad phase sees the same boxes and picks the same spheres.
+//!
+//! The numbered steps are those of `step.rs`'s header:
+//!
+//! 1. Verlet with damping (Yip 2011), per lane.
+//! 2. Shape keeping toward the groomed pose (optional).
+//! 3. Broad phase: the group's block boxes against the rig.
+//! 4. `iterations` sweeps of length (and bending) constraints (Jakobsen
+//!    2001), one collision pass before the last sweep.
+//! 5. Strain limit (Provot 1995, Follow-The-Leader order) alternated with the
+//!    vertex collisions and contact friction, root to tip.
+//! 6. Pearls, by the point-on-segment rule.
+//! 7. Guard: a lane that went non-finite or beyond 10^6 m is restored.
 
-use crate::broad_phase::{block_aabb_scalar, select_candidates, spheres_to_local, Aabb, Candidate};
+use super::broad_phase::block_aabb;
+use crate::broad_phase::{select_candidates, spheres_to_local, Aabb, Candidate};
 use crate::lanes::inv_sqrt;
 use crate::step::{restore_lanes, StepSetup, BLOWN_UP, GROUP, MIN_LENGTH, STRAIN_COLLIDE_ROUNDS};
 use crate::{SimParams, Sphere, Strands};
@@ -19,18 +32,20 @@ pub fn step(strands: &mut Strands, params: &SimParams, spheres: &[Sphere]) {
     let mut first = 0;
     while first < strands.blocks {
         let n = GROUP.min(strands.blocks - first);
+        // 1. Verlet and 2. shape keeping.
         for b in first..first + n {
             for l in 0..strands.lanes_in_block(b) {
                 integrate_lane(strands, &setup, b, l);
             }
         }
+        // 3. Broad phase.
         let mut boxes = [Aabb {
             min: Vec3::ZERO,
             max: Vec3::ZERO,
         }; GROUP];
         for (g, bx) in boxes.iter_mut().enumerate().take(n) {
             let b = first + g;
-            *bx = block_aabb_scalar(
+            *bx = block_aabb(
                 &strands.pos[b * verts..(b + 1) * verts],
                 strands.lanes_in_block(b),
             );
@@ -41,6 +56,7 @@ pub fn step(strands: &mut Strands, params: &SimParams, spheres: &[Sphere]) {
             &scratch.spheres_local,
             &mut scratch.candidates,
         );
+        // 4.-6. per lane; 7. the lanes that blew up are restored.
         let mut bad = [0u32; GROUP];
         for (g, bits) in bad.iter_mut().enumerate().take(n) {
             for l in 0..strands.lanes_in_block(first + g) {
@@ -100,6 +116,7 @@ fn integrate_lane(s: &mut Strands, k: &StepSetup, b: usize, l: usize) {
     let base = b * s.verts;
     let n = s.verts;
     let mut lane = Lane { s, base, l };
+    // 1. Verlet.
     for v in 0..n {
         let x = lane.x(v);
         let p = lane.s.prev[base + v].lane(l);
@@ -108,6 +125,7 @@ fn integrate_lane(s: &mut Strands, k: &StepSetup, b: usize, l: usize) {
         }
         lane.s.prev[base + v].set_lane(l, x);
     }
+    // 2. Shape keeping.
     if k.shape > 0.0 {
         let root = lane.x(0);
         for v in 1..n {
@@ -121,7 +139,8 @@ fn integrate_lane(s: &mut Strands, k: &StepSetup, b: usize, l: usize) {
     }
 }
 
-/// Constraint sweeps, strain limit and collisions of one lane; false if the
+/// Steps 4 to 7 of one lane: constraint sweeps, strain limit and
+/// collisions, pearls, and the guard's test; false if the
 /// lane blew up (non-finite or beyond [`BLOWN_UP`]). `g` is the block's place
 /// in its group (its bit in [`Candidate::blocks`]).
 fn solve_lane(
@@ -135,6 +154,7 @@ fn solve_lane(
     let base = b * s.verts;
     let n = s.verts;
     let mut lane = Lane { s, base, l };
+    // 4. Constraint sweeps; one collision pass before the last.
     for it in 0..k.iterations {
         if it + 1 == k.iterations {
             for c in candidates.iter().filter(|c| c.touches(g)) {
@@ -156,7 +176,13 @@ fn solve_lane(
             }
         }
     }
+    // 5. Strain limit alternated with the vertex collisions.
     strain_limit_and_collide(&mut lane, k, g, candidates);
+    // 6. Pearls.
+    for c in candidates.iter().filter(|c| c.touches(g)) {
+        collide_pearls(&mut lane, c.sphere, k);
+    }
+    // 7. Guard: finite and within BLOWN_UP.
     (0..n).all(|v| {
         let p = lane.x(v);
         p.x.abs() < BLOWN_UP && p.y.abs() < BLOWN_UP && p.z.abs() < BLOWN_UP
@@ -178,6 +204,7 @@ fn distance_constraint(
     lane.set_x(j, xj - delta * (k * share[1]));
 }
 
+/// Step 5 for one lane (the twin of `step::strain_limit_and_collide`).
 fn strain_limit_and_collide(lane: &mut Lane, k: &StepSetup, g: usize, candidates: &[Candidate]) {
     for v in 1..lane.s.verts {
         let limit = lane.get(&lane.s.rest_len, v - 1) * k.stretch_factor;
@@ -196,9 +223,6 @@ fn strain_limit_and_collide(lane: &mut Lane, k: &StepSetup, g: usize, candidates
                 }
             }
         }
-    }
-    for c in candidates.iter().filter(|c| c.touches(g)) {
-        collide_pearls(lane, c.sphere, k);
     }
 }
 

@@ -1,15 +1,21 @@
 //! The scalar reference of the patch step: the same algorithm as
-//! [`super::step`], in the same order, one particle (lane) at a time, with
+//! [`crate::patch::step`], in the same order, one particle (lane) at a time, with
 //! plain `f32` arithmetic. A horizontal, bending or shear edge is visited
 //! once and moves both ends, where the SIMD path lets each lane apply its own
 //! half; the two halves use `delta` and `-delta` and so give the same bits.
+//!
+//! The numbered steps are those of `patch/step.rs`'s header: 1 Verlet,
+//! 2 broad phase, 3 sweeps (a columns, b rows, c shear, d push-out), 4 long
+//! range attachments and 5 strain limits, max distance and push-out (row by
+//! row), 6 pearls, 7 guard.
 
-use super::grid::Patch;
-use super::pairs::{partner, PairSet};
-use super::row_limit::limit_row;
-use super::step::{padded_lanes, setup};
-use crate::broad_phase::{block_aabb_scalar, select_candidates, spheres_to_local, Candidate};
+use crate::broad_phase::{select_candidates, spheres_to_local, Candidate};
 use crate::lanes::{inv_sqrt, LANES};
+use crate::patch::grid::Patch;
+use crate::patch::pairs::{partner, PairSet};
+use crate::patch::row_limit::limit_row;
+use crate::patch::step::{padded_lanes, setup};
+use crate::scalar::broad_phase::block_aabb;
 use crate::scalar::{dot, inv_len, outward, push_out};
 use crate::step::{StepSetup, BLOWN_UP, STRAIN_COLLIDE_ROUNDS};
 use crate::{SimParams, Sphere};
@@ -20,13 +26,15 @@ pub fn step(patch: &mut Patch, params: &SimParams, spheres: &[Sphere]) {
     let k = setup(patch, params);
     let mut scratch = std::mem::take(&mut patch.scratch);
     spheres_to_local(spheres, patch.origin, &mut scratch.spheres_local);
+    // 1. Verlet; pinned particles onto the skin.
     integrate(patch, &k);
+    // 2. Broad phase.
     let rows = patch.rows;
     scratch.boxes.clear();
     for b in 0..patch.blocks {
         let lanes = (patch.cols - b * LANES).min(LANES);
         let column = &patch.pos[b * rows..(b + 1) * rows];
-        scratch.boxes.push(block_aabb_scalar(column, lanes));
+        scratch.boxes.push(block_aabb(column, lanes));
     }
     select_candidates(
         &scratch.boxes,
@@ -34,11 +42,15 @@ pub fn step(patch: &mut Patch, params: &SimParams, spheres: &[Sphere]) {
         &scratch.spheres_local,
         &mut scratch.candidates,
     );
+    // 3. Constraint sweeps (a-c), each followed by the vertex push-out (d).
     for _ in 0..k.iterations {
         sweep(patch, &k);
         push_out_vertices(patch, &k, &scratch.candidates);
     }
+    // 4. Long range attachments, 5. strain limits, max distance and
+    // collisions, row by row; 6. pearls.
     clamp_and_collide(patch, &k, &scratch.candidates);
+    // 7. Guard.
     let bad = (0..patch.particle_count()).any(|q| {
         let x = patch.get(q);
         !(x.x.abs() < BLOWN_UP && x.y.abs() < BLOWN_UP && x.z.abs() < BLOWN_UP)
@@ -118,6 +130,7 @@ fn shear_edge(p: &mut Patch, a: usize, b: usize, down: &PairSet, up: &PairSet, s
 
 fn sweep(p: &mut Patch, k: &StepSetup) {
     let (rows, cols, lanes) = (p.rows, p.cols, padded_lanes(p));
+    // 3a. Columns.
     for c in 0..cols {
         for r in 0..rows - 1 {
             let a = r * cols + c;
@@ -132,6 +145,7 @@ fn sweep(p: &mut Patch, k: &StepSetup) {
             }
         }
     }
+    // 3b. Rows.
     let horiz = std::mem::take(&mut p.horiz);
     let hbend = std::mem::take(&mut p.hbend);
     for r in 0..rows {
@@ -155,6 +169,7 @@ fn sweep(p: &mut Patch, k: &StepSetup) {
     }
     p.horiz = horiz;
     p.hbend = hbend;
+    // 3c. Shear.
     if p.shear_stiffness > 0.0 {
         let down = std::mem::take(&mut p.shear_down);
         let up = std::mem::take(&mut p.shear_up);
@@ -195,7 +210,7 @@ fn collide_vertex(p: &mut Patch, q: usize, sphere: [f32; 4], pearl_radius: f32) 
     }
 }
 
-/// Every free particle pushed out of the nearby spheres to `R + r`.
+/// Step 3d: every free particle pushed out of the nearby spheres to `R + r`.
 fn push_out_vertices(p: &mut Patch, k: &StepSetup, candidates: &[Candidate]) {
     let cols = p.cols;
     for c in candidates {
@@ -205,9 +220,11 @@ fn push_out_vertices(p: &mut Patch, k: &StepSetup, candidates: &[Candidate]) {
     }
 }
 
+/// Steps 4 to 6 (the twin of `patch::step::clamp_and_collide`).
 fn clamp_and_collide(p: &mut Patch, k: &StepSetup, candidates: &[Candidate]) {
     let (rows, cols) = (p.rows, p.cols);
     for r in 0..rows {
+        // 4. Long range attachments of row r.
         for q in r * cols..(r + 1) * cols {
             let (i, l) = p.slot(q);
             let limit = p.tether_len[i].as_array()[l] * k.stretch_factor;
@@ -218,6 +235,7 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, candidates: &[Candidate]) {
                 p.put(q, anchor + d * (limit * inv_sqrt(d2)));
             }
         }
+        // 5. Column limit, row limit (last round), max distance, push-out.
         for round in 0..STRAIN_COLLIDE_ROUNDS {
             for q in (r * cols..(r + 1) * cols).filter(|&q| q >= cols) {
                 let (i, l) = p.slot(q);
@@ -249,6 +267,7 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, candidates: &[Candidate]) {
             }
         }
     }
+    // 6. Pearls, along columns, then along rows.
     if k.pearls == 0 {
         return;
     }

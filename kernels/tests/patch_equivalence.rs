@@ -1,9 +1,9 @@
-//! Issue 7: the SIMD patch step computes what its scalar twin computes, bit
+//! The SIMD patch step computes what its scalar twin computes, bit
 //! for bit (compared with `==`; see `patch/step.rs`), over many steps with
 //! every constraint kind, collisions, max distances and a moving skin.
 
-use coif::kernels::patch::{self, ribbon_on_sphere};
-use coif::kernels::{SimParams, Sphere};
+use coif_kernels::patch::{self, ribbon_on_sphere};
+use coif_kernels::{SimParams, Sphere};
 use glam::Vec3;
 
 struct Case {

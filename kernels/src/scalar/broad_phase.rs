@@ -1,0 +1,22 @@
+//! Scalar twin of the broad phase's block box (`crate::broad_phase`).
+
+use crate::broad_phase::Aabb;
+use crate::lanes::{Vec3x8, LANES};
+use glam::Vec3;
+
+/// The box of [`crate::broad_phase::block_aabb`], one lane and one vertex at
+/// a time: the lanes `0 .. lanes` are the active ones (the scalar twin).
+pub(crate) fn block_aabb(pos: &[Vec3x8], lanes: usize) -> Aabb {
+    let mut b = Aabb {
+        min: Vec3::INFINITY,
+        max: Vec3::NEG_INFINITY,
+    };
+    for l in 0..lanes.min(LANES) {
+        for p in pos {
+            let q = p.lane(l);
+            b.min = Vec3::new(b.min.x.min(q.x), b.min.y.min(q.y), b.min.z.min(q.z));
+            b.max = Vec3::new(b.max.x.max(q.x), b.max.y.max(q.y), b.max.z.max(q.z));
+        }
+    }
+    b
+}
