@@ -5,8 +5,8 @@
 
 mod common;
 
-use coif::frame::{motion, FramePipeline, FrameSettings, HairScene, ShadingModel};
-use coif::geometry::scene::GrowOptions;
+use coif_frame::{motion, FramePipeline, FrameSettings, HairScene, ShadingModel};
+use coif_geometry::scene::GrowOptions;
 use common::counting::allocations;
 
 #[global_allocator]
