@@ -15,7 +15,7 @@
 //!   reference (16 rays over 2 mm, every 8th strand's vertices) in the id;
 //!   the full error table (mean, RMS, max, bias) is printed first.
 
-use coif::geometry::scene::draped_on_sphere;
+use coif::frame::drape::draped_on_sphere;
 use coif::shading::shadow::quality::{error_of_map, reference_transmittance, Footprint};
 use coif::shading::shadow::{OpacityShadowMap, ShadowMode, ShadowSettings};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};

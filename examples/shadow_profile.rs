@@ -6,7 +6,7 @@
 //! cargo run --release --example shadow_profile -- MODE(slices|deep) LAYERS BUILDS RES STRANDS VERTS PATH(simd|scalar)
 //! valgrind --tool=callgrind target/release/examples/shadow_profile slices 16 10 256 2048 32 simd
 //! ```
-use coif::geometry::scene::draped_on_sphere;
+use coif::frame::drape::draped_on_sphere;
 use coif::shading::shadow::{OpacityShadowMap, ShadowMode, ShadowSettings};
 use glam::Vec3;
 use std::time::Instant;

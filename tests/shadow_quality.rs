@@ -1,6 +1,6 @@
 //! Opacity shadow maps against the exact reference on a draped head of hair.
 
-use coif::geometry::scene::draped_on_sphere;
+use coif::frame::drape::draped_on_sphere;
 use coif::shading::shadow::quality::{
     error_of_map, reference_transmittance, shadow_error, Footprint, ShadowError,
 };

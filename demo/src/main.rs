@@ -7,7 +7,7 @@
 //! `--help`.
 
 use clap::Parser;
-use coif::frame::{motion, FramePipeline, FrameSettings, HairScene, ShadingModel};
+use coif::frame::{motion, FramePipeline, FrameSettings, FrameStats, HairScene, ShadingModel};
 use coif::geometry::scene::GrowOptions;
 use coif::render::RgbImage;
 use std::path::PathBuf;
@@ -115,9 +115,9 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
-    let (width, height) = cli.size.unwrap_or((cli.width, cli.height));
-    let start = Instant::now();
+/// Loads the groom of `--groom` or grows the built-in head; returns the
+/// scene (without ribbons under `--no-ribbon`) and a line describing it.
+fn load_scene(cli: &Cli) -> Result<(HairScene, String), Box<dyn std::error::Error>> {
     let (scene, what) = match &cli.groom {
         Some(path) => {
             let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
@@ -150,6 +150,61 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     } else {
         scene
     };
+    Ok((scene, what))
+}
+
+/// What the motion loop produced.
+struct Motion {
+    /// Stats of the last rendered frame.
+    last: FrameStats,
+    /// The contact sheet's frames (with `--sheet`).
+    tiles: Vec<RgbImage>,
+    /// Indices of the sheet's frames.
+    sheet_frames: Vec<usize>,
+    /// Frames run and the seconds per frame.
+    frames: usize,
+    dt: f32,
+    /// Wall-clock time of the loop.
+    total: std::time::Duration,
+}
+
+/// Runs `--frames` frames of the built-in head motion: frames that are
+/// written (the last, the sheet's) or timed (every `--render-every`-th)
+/// render, the others only simulate.
+fn run_motion(cli: &Cli, pipeline: &mut FramePipeline) -> Motion {
+    let frames = cli.frames.max(1);
+    let dt = 1.0 / cli.fps.max(1.0);
+    let sheet_frames: Vec<usize> = (0..6).map(|k| (k * (frames - 1)) / 5).collect();
+    let mut tiles = Vec::new();
+    let pivot = pipeline.pivot();
+    let run_start = Instant::now();
+    let mut last = Default::default();
+    for f in 0..frames {
+        let pose = motion::turn_and_nod(f as f32 * dt, pivot);
+        let wanted = f + 1 == frames || (cli.sheet.is_some() && sheet_frames.contains(&f));
+        if wanted || (cli.render_every > 0 && f % cli.render_every == 0) {
+            last = pipeline.frame(dt, pose);
+            if cli.sheet.is_some() && sheet_frames.contains(&f) {
+                tiles.push(pipeline.image());
+            }
+        } else {
+            pipeline.simulate(dt, pose);
+        }
+    }
+    Motion {
+        last,
+        tiles,
+        sheet_frames,
+        frames,
+        dt,
+        total: run_start.elapsed(),
+    }
+}
+
+fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
+    let (width, height) = cli.size.unwrap_or((cli.width, cli.height));
+    let start = Instant::now();
+    let (scene, what) = load_scene(&cli)?;
     let settings = FrameSettings {
         width,
         height,
@@ -179,26 +234,14 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         start.elapsed().as_secs_f64() * 1e3
     );
 
-    let frames = cli.frames.max(1);
-    let dt = 1.0 / cli.fps.max(1.0);
-    let sheet_frames: Vec<usize> = (0..6).map(|k| (k * (frames - 1)) / 5).collect();
-    let mut tiles = Vec::new();
-    let pivot = pipeline.pivot();
-    let run_start = Instant::now();
-    let mut last = Default::default();
-    for f in 0..frames {
-        let pose = motion::turn_and_nod(f as f32 * dt, pivot);
-        let wanted = f + 1 == frames || (cli.sheet.is_some() && sheet_frames.contains(&f));
-        if wanted || (cli.render_every > 0 && f % cli.render_every == 0) {
-            last = pipeline.frame(dt, pose);
-            if cli.sheet.is_some() && sheet_frames.contains(&f) {
-                tiles.push(pipeline.image());
-            }
-        } else {
-            pipeline.simulate(dt, pose);
-        }
-    }
-    let total = run_start.elapsed();
+    let Motion {
+        last,
+        tiles,
+        sheet_frames,
+        frames,
+        dt,
+        total,
+    } = run_motion(&cli, &mut pipeline);
     pipeline
         .image()
         .save_png(&cli.output)

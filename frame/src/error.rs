@@ -2,8 +2,11 @@
 
 use std::fmt;
 
+/// Why a frame pipeline or a scene could not be built.
 #[derive(Debug)]
 pub enum Error {
+    /// Guides could not be grown (a growth option out of range).
+    Geometry(coif_geometry::scalp::ScalpError),
     /// The simulation refused the guides or parameters.
     Simulation(coif_kernels::Error),
     /// LOD (interpolation, refinement) refused its input.
@@ -14,7 +17,9 @@ pub enum Error {
     Scene(&'static str),
     /// A setting is out of range.
     Setting {
+        /// The setting's name.
         name: &'static str,
+        /// The range it must be in.
         expected: &'static str,
     },
 }
@@ -22,6 +27,7 @@ pub enum Error {
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
+            Error::Geometry(e) => write!(f, "geometry: {e}"),
             Error::Simulation(e) => write!(f, "simulation: {e}"),
             Error::Lod(e) => write!(f, "level of detail: {e}"),
             Error::Shading(e) => write!(f, "shading: {e}"),
@@ -34,11 +40,18 @@ impl fmt::Display for Error {
 impl std::error::Error for Error {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
+            Error::Geometry(e) => Some(e),
             Error::Simulation(e) => Some(e),
             Error::Lod(e) => Some(e),
             Error::Shading(e) => Some(e),
             _ => None,
         }
+    }
+}
+
+impl From<coif_geometry::scalp::ScalpError> for Error {
+    fn from(e: coif_geometry::scalp::ScalpError) -> Self {
+        Error::Geometry(e)
     }
 }
 

@@ -2,6 +2,7 @@
 
 use super::motion::blend_poses;
 use super::ribbon::RibbonStage;
+use super::shadow::ShadowStage;
 use super::timings::{Stage, StageTimings};
 use super::{Error, FrameSettings, HairScene, Shader};
 use coif_kernels::{self as kernels, FixedStep, SimParams, Sphere, Strands};
@@ -73,6 +74,62 @@ fn write_samples(
     }
 }
 
+/// Checks the settings the pipeline cannot work with: the frame size and
+/// the hair densities (the simulation parameters check themselves).
+fn validate(settings: &FrameSettings) -> Result<(), Error> {
+    let pixels = settings.width.saturating_mul(settings.height);
+    if settings.width == 0 || settings.height == 0 || pixels > 1 << 26 {
+        return Err(Error::Setting {
+            name: "width x height",
+            expected: "between 1 x 1 and 64 Mpixels",
+        });
+    }
+    if !(settings.render_hairs_per_cm2 > 0.0 && settings.real_hairs_per_cm2 > 0.0) {
+        return Err(Error::Setting {
+            name: "hairs_per_cm2",
+            expected: "> 0",
+        });
+    }
+    settings.simulation.validate()?;
+    Ok(())
+}
+
+/// A camera on the bounding box of the `settled` hair and the head: it
+/// looks at the box's centre from `view_distance` half-diagonals along the
+/// view direction (the settings', else the scene's).
+fn frame_camera(settled: &[Vec3], scene: &HairScene, settings: &FrameSettings) -> Camera {
+    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+    for p in settled.iter().chain(scene.head.iter().map(|s| &s.center)) {
+        lo = lo.min(*p);
+        hi = hi.max(*p);
+    }
+    let (focus, extent) = (0.5 * (lo + hi), 0.5 * (hi - lo).length());
+    let view = settings
+        .view_direction
+        .unwrap_or(scene.view_direction)
+        .try_normalize()
+        .unwrap_or(Vec3::Z);
+    Camera::look_at(
+        focus + view * (settings.view_distance * extent),
+        focus,
+        Vec3::Y,
+        settings.fov_y,
+        settings.width,
+        settings.height,
+    )
+}
+
+/// Render hairs stand for `real / render` real hairs each (densities per
+/// cm^2), so they are that much wider than a real hair: the same coverage
+/// with fewer hairs.
+fn render_width(settings: &FrameSettings) -> HairWidth {
+    let ratio = settings.real_hairs_per_cm2 / settings.render_hairs_per_cm2;
+    HairWidth {
+        root: settings.hair_width.root * ratio,
+        tip: settings.hair_width.tip * ratio,
+    }
+}
+
 /// What the last frame did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FrameStats {
@@ -129,7 +186,7 @@ pub struct FramePipeline {
     scattering: RgbBuffer,
     colors: RgbBuffer,
     transmittance: Vec<f32>,
-    shadow: super::shadow::ShadowStage,
+    shadow: ShadowStage,
     // Rasterisation.
     camera: Camera,
     framebuffer: Framebuffer,
@@ -148,20 +205,7 @@ impl FramePipeline {
         settings: FrameSettings,
         settle_seconds: f32,
     ) -> Result<FramePipeline, Error> {
-        let pixels = settings.width.saturating_mul(settings.height);
-        if settings.width == 0 || settings.height == 0 || pixels > 1 << 26 {
-            return Err(Error::Setting {
-                name: "width x height",
-                expected: "between 1 x 1 and 64 Mpixels",
-            });
-        }
-        if !(settings.render_hairs_per_cm2 > 0.0 && settings.real_hairs_per_cm2 > 0.0) {
-            return Err(Error::Setting {
-                name: "hairs_per_cm2",
-                expected: "> 0",
-            });
-        }
-        settings.simulation.validate()?;
+        validate(&settings)?;
         let mut strands = Strands::from_polylines(&scene.guides, scene.verts_per_strand)?;
         let params = settings.simulation.clone();
         let fixed = FixedStep::new(params.dt, settings.max_substeps.max(1))?;
@@ -171,29 +215,7 @@ impl FramePipeline {
             kernels::step(&mut strands, &params, &scene.rig);
         }
         let ribbons = RibbonStage::new(scene, &params, settle_steps)?;
-
-        // Frame the settled hair and the head.
-        let settled = strands.positions();
-        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-        for p in settled.iter().chain(scene.head.iter().map(|s| &s.center)) {
-            lo = lo.min(*p);
-            hi = hi.max(*p);
-        }
-        let (focus, extent) = (0.5 * (lo + hi), 0.5 * (hi - lo).length());
-        let view = settings
-            .view_direction
-            .unwrap_or(scene.view_direction)
-            .try_normalize()
-            .unwrap_or(Vec3::Z);
-        let camera = Camera::look_at(
-            focus + view * (settings.view_distance * extent),
-            focus,
-            Vec3::Y,
-            settings.fov_y,
-            settings.width,
-            settings.height,
-        );
-
+        let camera = frame_camera(&strands.positions(), scene, &settings);
         let interpolation = Interpolation::new(
             &rest_roots,
             &scene.triangles,
@@ -208,13 +230,9 @@ impl FramePipeline {
                 strands.verts_per_strand(),
                 settings.max_segments_per_span.max(1),
             );
-        let ratio = settings.real_hairs_per_cm2 / settings.render_hairs_per_cm2;
-        let render_width = HairWidth {
-            root: settings.hair_width.root * ratio,
-            tip: settings.hair_width.tip * ratio,
-        };
+        let render_width = render_width(&settings);
         let shader = Shader::new(settings.shading)?;
-        let shadow = super::shadow::ShadowStage::new(&settings, capacity)?;
+        let shadow = ShadowStage::new(&settings, capacity)?;
         Ok(FramePipeline {
             rest_rig: scene.rig.clone(),
             rest_head: scene.head.clone(),
@@ -313,16 +331,52 @@ impl FramePipeline {
         let _ = self.strands.set_rest_rotation(rotation);
     }
 
-    /// LOD, shadow map, shading and rasterisation of the current hair.
+    /// LOD, shadow map, shading and rasterisation of the current hair, each
+    /// stage timed ([`Stage`]). Everything is drawn in render space: world
+    /// space shifted by the simulation's origin (`Strands::origin`), so
+    /// that hair far from the world origin keeps its precision.
     pub fn render(&mut self) {
         let origin = self.strands.origin().as_vec3();
         let camera = self.camera.shifted(origin);
+        self.place_head_spheres(origin);
+        self.timed(Stage::Lod, |p| p.level_of_detail());
+        if self.shadow.enabled() {
+            self.timed(Stage::Shadow, |p| p.build_shadow_map());
+        }
+        self.shade(camera.eye());
+        self.timed(Stage::Head, |p| p.draw_head(&camera));
+        if !self.ribbons.is_empty() {
+            self.timed(Stage::RibbonDraw, |p| p.draw_ribbons(origin, &camera));
+        }
+        self.timed(Stage::Sort, |p| p.sort_hair(&camera));
+        self.timed(Stage::Hair, |p| p.draw_hair(&camera));
+    }
+
+    /// Runs `stage` and records its wall-clock time.
+    fn timed(&mut self, stage: Stage, run: impl FnOnce(&mut Self)) {
+        let start = Instant::now();
+        run(self);
+        self.timings.record(stage, start.elapsed());
+    }
+
+    /// The head's spheres at the current pose, in render space.
+    fn place_head_spheres(&mut self, origin: Vec3) {
         for (dst, s) in self.head_local.iter_mut().zip(&self.rest_head) {
             dst.center = self.pose.transform_point3(s.center) - origin;
         }
+    }
 
-        // LOD.
-        let start = Instant::now();
+    /// Vertices per render hair at the current LOD level (at least 1).
+    fn verts_per_hair(&self) -> usize {
+        self.hairs.verts_per_hair().max(1)
+    }
+
+    /// Stage [`Stage::Lod`]: distance LOD (fewer, wider hairs far away),
+    /// frustum culling of guides and interpolation groups, the level
+    /// (B-spline segments per span for `pixel_error`), refinement of the
+    /// visible guides, interpolation of the render hairs and their render
+    /// vertices (`coif_lod`).
+    fn level_of_detail(&mut self) {
         let distance = (self.camera.target() - self.camera.eye()).length();
         let px_per_m =
             level::pixels_per_metre(distance, self.camera.fov_y(), self.settings.height as f32);
@@ -368,37 +422,61 @@ impl FramePipeline {
             d.width_factor,
             &mut self.vertices,
         );
-        let verts_per_hair = self.hairs.verts_per_hair().max(1);
-        self.timings.record(Stage::Lod, start.elapsed());
         self.stats.segments_per_span = n;
         self.stats.width_factor = d.width_factor;
         self.stats.vertices = self.vertex_count;
-        self.stats.hairs = self.vertex_count / verts_per_hair;
+        self.stats.hairs = self.vertex_count / self.verts_per_hair();
+    }
 
-        // Shadow map.
-        let light = self.settings.light;
-        let vertices = &self.vertices[..self.vertex_count];
-        let transmittance = &mut self.transmittance[..self.vertex_count];
-        if self.shadow.enabled() {
-            let start = Instant::now();
-            self.shadow.build(light.to_light, vertices, verts_per_hair);
-            self.timings.record(Stage::Shadow, start.elapsed());
-        }
+    /// Stage [`Stage::Shadow`]: the opacity shadow map of the render hair
+    /// toward the light.
+    fn build_shadow_map(&mut self) {
+        let verts_per_hair = self.verts_per_hair();
+        self.shadow.build(
+            self.settings.light.to_light,
+            &self.vertices[..self.vertex_count],
+            verts_per_hair,
+        );
+    }
 
-        // Shading.
+    /// Stages [`Stage::Shade`] and, inside it but timed apart,
+    /// [`Stage::ShadowLookup`]: the shading model's scattering at every
+    /// render vertex, the shadow map's transmittance there, and the colours.
+    fn shade(&mut self, eye: Vec3) {
         let start = Instant::now();
-        let eye = camera.eye();
-        write_samples(&mut self.samples, vertices, light.to_light, eye);
+        write_samples(
+            &mut self.samples,
+            &self.vertices[..self.vertex_count],
+            self.settings.light.to_light,
+            eye,
+        );
         self.shader.shade_batch(&self.samples, &mut self.scattering);
         let mut lookup_time = std::time::Duration::ZERO;
         if self.shadow.enabled() {
             let lookups = Instant::now();
-            self.shadow.transmittance(vertices, transmittance);
+            self.shadow.transmittance(
+                &self.vertices[..self.vertex_count],
+                &mut self.transmittance[..self.vertex_count],
+            );
             lookup_time = lookups.elapsed();
             self.timings.record(Stage::ShadowLookup, lookup_time);
         } else {
-            transmittance.fill(1.0);
+            self.transmittance[..self.vertex_count].fill(1.0);
         }
+        self.write_colors();
+        self.timings
+            .record(Stage::Shade, start.elapsed().saturating_sub(lookup_time));
+    }
+
+    /// The colour of every render vertex: the direct light (scattering x
+    /// irradiance x shadow transmittance, zero where the head blocks the
+    /// light; times the sine of the tangent-light angle for models that
+    /// need the cosine factor), plus the ambient term, times the hair's tint.
+    fn write_colors(&mut self) {
+        let verts_per_hair = self.verts_per_hair();
+        let light = self.settings.light;
+        let vertices = &self.vertices[..self.vertex_count];
+        let transmittance = &self.transmittance[..self.vertex_count];
         self.colors.resize(self.vertex_count);
         let cosine = self.shader.needs_cosine();
         let irradiance = light.irradiance * self.shader.light_scale();
@@ -421,11 +499,12 @@ impl FramePipeline {
                 self.colors.set(k, if c.is_finite() { c } else { ambient });
             }
         }
-        self.timings
-            .record(Stage::Shade, start.elapsed().saturating_sub(lookup_time));
+    }
 
-        // Head and background.
-        let start = Instant::now();
+    /// Stage [`Stage::Head`]: the background gradient and the ray-cast head,
+    /// shadowed by the hair.
+    fn draw_head(&mut self, camera: &Camera) {
+        let light = self.settings.light;
         self.framebuffer.clear_gradient(BACKGROUND.0, BACKGROUND.1);
         let head_shading = HeadShading {
             albedo: SKIN_ALBEDO,
@@ -436,38 +515,43 @@ impl FramePipeline {
         let shadow = &self.shadow;
         self.stats.head_pixels = draw_spheres(
             &mut self.framebuffer,
-            &camera,
+            camera,
             &self.head_local,
             &head_shading,
             |p| shadow.transmittance_at(p),
         );
-        self.timings.record(Stage::Head, start.elapsed());
+    }
 
-        // Ribbons: opaque, depth-tested and depth-writing, so the hair
-        // drawn next is hidden behind them and blends over them in front.
-        if !self.ribbons.is_empty() {
-            let start = Instant::now();
-            self.ribbons
-                .shade(origin, eye, &light, &self.head_local, &self.shadow);
-            self.stats.ribbon_pixels = self.ribbons.draw(&mut self.framebuffer, &camera);
-            self.timings.record(Stage::RibbonDraw, start.elapsed());
-        }
+    /// Stage [`Stage::RibbonDraw`]: the ribbons, opaque, depth-tested and
+    /// depth-writing, so the hair drawn next is hidden behind them and
+    /// blends over them in front.
+    fn draw_ribbons(&mut self, origin: Vec3, camera: &Camera) {
+        let light = self.settings.light;
+        self.ribbons
+            .shade(origin, camera.eye(), &light, &self.head_local, &self.shadow);
+        self.stats.ribbon_pixels = self.ribbons.draw(&mut self.framebuffer, camera);
+    }
 
-        // Sort and draw the hair, back to front.
-        let start = Instant::now();
-        self.order.sort(&camera, vertices, verts_per_hair);
-        self.timings.record(Stage::Sort, start.elapsed());
-        let start = Instant::now();
+    /// Stage [`Stage::Sort`]: render hairs back to front.
+    fn sort_hair(&mut self, camera: &Camera) {
+        let verts_per_hair = self.verts_per_hair();
+        self.order
+            .sort(camera, &self.vertices[..self.vertex_count], verts_per_hair);
+    }
+
+    /// Stage [`Stage::Hair`]: the hair's anti-aliased segments, blended in
+    /// the sorted order.
+    fn draw_hair(&mut self, camera: &Camera) {
+        let verts_per_hair = self.verts_per_hair();
         self.stats.segments = hair::draw_strands(
             &mut self.framebuffer,
-            &camera,
-            vertices,
+            camera,
+            &self.vertices[..self.vertex_count],
             &self.colors,
             verts_per_hair,
             &self.order,
             self.settings.hair_opacity,
         );
-        self.timings.record(Stage::Hair, start.elapsed());
     }
 
     /// The linear-RGB frame of the last [`FramePipeline::render`].
@@ -485,18 +569,22 @@ impl FramePipeline {
         out.encode(&self.framebuffer, self.settings.exposure);
     }
 
+    /// Per-stage wall-clock times of the frames run so far.
     pub fn timings(&self) -> &StageTimings {
         &self.timings
     }
 
+    /// Forgets the timings (e.g. after warm-up frames).
     pub fn reset_timings(&mut self) {
         self.timings.reset();
     }
 
+    /// What the last frame did.
     pub fn stats(&self) -> FrameStats {
         self.stats
     }
 
+    /// The settings the pipeline was built with.
     pub fn settings(&self) -> &FrameSettings {
         &self.settings
     }

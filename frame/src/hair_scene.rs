@@ -18,6 +18,7 @@ use glam::Vec3;
 pub struct HairScene {
     /// `guide_count * verts_per_strand` points, strand after strand, root first.
     pub guides: Vec<Vec3>,
+    /// Points per guide.
     pub verts_per_strand: usize,
     /// Scalp triangles (indices of guides) that render hairs are
     /// interpolated over.
@@ -28,8 +29,9 @@ pub struct HairScene {
     pub head: Vec<Sphere>,
     /// The point the head turns about (the top of the neck).
     pub pivot: Vec3,
-    /// Centre and radius of a sphere around the hair at rest, for framing.
+    /// Centre of a sphere around the hair at rest, for framing.
     pub focus: Vec3,
+    /// Radius of that sphere.
     pub extent: f32,
     /// Where a camera looks from (direction from the hair toward the eye).
     pub view_direction: Vec3,
@@ -102,89 +104,28 @@ impl HairScene {
         max_guides: usize,
         verts_per_strand: usize,
     ) -> Result<HairScene, Error> {
-        let strands = groom.strand_count();
         let verts = verts_per_strand.max(2);
-        let stride = strands.div_ceil(max_guides.max(1)).max(1);
-        let mut guides = Vec::with_capacity(strands.div_ceil(stride) * verts);
-        let mut buf = vec![Vec3::ZERO; verts];
-        for s in (0..strands).step_by(stride) {
-            let strand = groom.strand(s);
-            if strand.len() < 2 {
-                continue;
-            }
-            let scaled: Vec<Vec3> = strand.iter().map(|p| *p * 0.01).collect();
-            arc_length_samples(&scaled, &mut buf);
-            guides.extend_from_slice(&buf);
-        }
-        if guides.is_empty() {
-            return Err(Error::Scene(
-                "the groom has no strand with two or more points",
-            ));
-        }
+        let guides = groom_guides(groom, max_guides, verts)?;
         let roots: Vec<Vec3> = guides.iter().step_by(verts).copied().collect();
-        let fitted =
-            scene::fit_sphere(&roots).ok_or(Error::Scene("cannot fit a sphere to the roots"))?;
-        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-        for r in &roots {
-            lo = lo.min(*r);
-            hi = hi.max(*r);
-        }
-        let diagonal = (hi - lo).length();
-        // RMS distance of the roots from the fitted sphere's surface.
-        let residual = (roots
-            .iter()
-            .map(|r| (r.distance(fitted.center) - fitted.radius).powi(2))
-            .sum::<f32>()
-            / roots.len() as f32)
-            .sqrt();
-        let scalp_radius = 0.15 * diagonal;
-        let scalp = scene::scalp_spheres(&guides, verts, 12, scalp_radius);
-        let head = if residual < 0.1 * fitted.radius && fitted.radius < 0.75 * diagonal {
-            // A scalp: the fitted sphere, shrunk so that no root is inside it.
-            let nearest = roots
-                .iter()
-                .map(|r| r.distance(fitted.center))
-                .fold(f32::INFINITY, f32::min);
-            vec![Sphere {
-                center: fitted.center,
-                radius: (0.97 * nearest).min(fitted.radius),
-            }]
-        } else {
-            // Not a sphere (a mohawk's strip of roots): the scalp spheres.
-            scalp.clone()
-        };
-        let mut rig = head.clone();
-        if head.len() == 1 {
-            rig.extend(scalp);
-        }
-        let centre = head[0].center;
-        let (pivot_from, drop) = if head.len() == 1 {
-            (centre, head[0].radius)
-        } else {
-            (
-                head.iter().map(|s| s.center).sum::<Vec3>() / head.len() as f32,
-                scalp_radius,
-            )
-        };
+        let rig = GroomRig::new(&guides, &roots, verts)?;
         let mut scene = HairScene::assemble(
             guides,
             verts,
-            rig,
-            head,
-            pivot_from - Vec3::Y * (1.1 * drop),
-            fitted.center,
+            rig.rig,
+            rig.head,
+            rig.anchor.center - Vec3::Y * (1.1 * rig.anchor.radius),
+            rig.fitted_center,
         )?;
         // From the side, a little above and behind: authored grooms face +z
         // and their hair falls back and down, behind the head from the front.
         scene.view_direction = Vec3::new(-1.0, 0.3, -0.35).normalize();
-        let anchor = Sphere {
-            center: pivot_from,
-            radius: drop,
-        };
-        scene.ribbons = bow_tails(&anchor, GROOM_RIBBON_ATTACH);
+        scene.ribbons = bow_tails(&rig.anchor, GROOM_RIBBON_ATTACH);
         Ok(scene)
     }
 
+    /// The scene of `guides` over `rig`, drawing `head`: scalp triangles
+    /// from the roots' directions seen from `center` (without edges longer
+    /// than [`MAX_EDGE_IN_MEDIANS`] median edges), framing from the bounds.
     fn assemble(
         guides: Vec<Vec3>,
         verts: usize,
@@ -221,6 +162,7 @@ impl HairScene {
         })
     }
 
+    /// Number of guide strands.
     pub fn guide_count(&self) -> usize {
         self.guides.len() / self.verts_per_strand
     }
@@ -246,4 +188,100 @@ pub fn comb_back(strand: &[Vec3], center: Vec3) -> impl Iterator<Item = Vec3> + 
     let d = (n + Vec3::new(0.0, -0.3, -1.2)).normalize_or(n);
     let turn = glam::Quat::from_rotation_arc(n, d);
     strand.iter().map(move |p| root + turn * (*p - root))
+}
+
+/// Every k-th strand of `groom` (at most `max_guides`), scaled from
+/// centimetres to metres and resampled to `verts` points evenly spaced in
+/// arc length; strands of fewer than two points are skipped.
+fn groom_guides(groom: &Groom, max_guides: usize, verts: usize) -> Result<Vec<Vec3>, Error> {
+    let strands = groom.strand_count();
+    let stride = strands.div_ceil(max_guides.max(1)).max(1);
+    let mut guides = Vec::with_capacity(strands.div_ceil(stride) * verts);
+    let mut buf = vec![Vec3::ZERO; verts];
+    for s in (0..strands).step_by(stride) {
+        let strand = groom.strand(s);
+        if strand.len() < 2 {
+            continue;
+        }
+        let scaled: Vec<Vec3> = strand.iter().map(|p| *p * 0.01).collect();
+        arc_length_samples(&scaled, &mut buf);
+        guides.extend_from_slice(&buf);
+    }
+    if guides.is_empty() {
+        return Err(Error::Scene(
+            "the groom has no strand with two or more points",
+        ));
+    }
+    Ok(guides)
+}
+
+/// The head and collision rig of a loaded groom, made from its roots.
+struct GroomRig {
+    /// The drawn head: one sphere for a scalp, the scalp spheres otherwise.
+    head: Vec<Sphere>,
+    /// Collision spheres: the head, plus the scalp spheres under a one-sphere head.
+    rig: Vec<Sphere>,
+    /// The sphere the pivot hangs below and the ribbons are tied to.
+    anchor: Sphere,
+    /// Centre of the sphere fitted to the roots (the triangulation's eye).
+    fitted_center: Vec3,
+}
+
+impl GroomRig {
+    /// The sphere fitted to the roots ([`scene::fit_sphere`]) is the head
+    /// when the roots lie on it (RMS distance under a tenth of its radius,
+    /// radius under 3/4 of the roots' bounding diagonal), shrunk so that no
+    /// root is inside it; otherwise (a mohawk's strip of roots) the twelve
+    /// [`scene::scalp_spheres`] under the roots are.
+    fn new(guides: &[Vec3], roots: &[Vec3], verts: usize) -> Result<GroomRig, Error> {
+        let fitted =
+            scene::fit_sphere(roots).ok_or(Error::Scene("cannot fit a sphere to the roots"))?;
+        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for r in roots {
+            lo = lo.min(*r);
+            hi = hi.max(*r);
+        }
+        let diagonal = (hi - lo).length();
+        // RMS distance of the roots from the fitted sphere's surface.
+        let residual = (roots
+            .iter()
+            .map(|r| (r.distance(fitted.center) - fitted.radius).powi(2))
+            .sum::<f32>()
+            / roots.len() as f32)
+            .sqrt();
+        let scalp_radius = 0.15 * diagonal;
+        let scalp = scene::scalp_spheres(guides, verts, 12, scalp_radius);
+        let head = if residual < 0.1 * fitted.radius && fitted.radius < 0.75 * diagonal {
+            // A scalp: the fitted sphere, shrunk so that no root is inside it.
+            let nearest = roots
+                .iter()
+                .map(|r| r.distance(fitted.center))
+                .fold(f32::INFINITY, f32::min);
+            vec![Sphere {
+                center: fitted.center,
+                radius: (0.97 * nearest).min(fitted.radius),
+            }]
+        } else {
+            // Not a sphere (a mohawk's strip of roots): the scalp spheres.
+            scalp.clone()
+        };
+        let mut rig = head.clone();
+        if head.len() == 1 {
+            rig.extend(scalp);
+        }
+        let anchor = if head.len() == 1 {
+            head[0].clone()
+        } else {
+            Sphere {
+                center: head.iter().map(|s| s.center).sum::<Vec3>() / head.len() as f32,
+                radius: scalp_radius,
+            }
+        };
+        Ok(GroomRig {
+            head,
+            rig,
+            anchor,
+            fitted_center: fitted.center,
+        })
+    }
 }

@@ -1,18 +1,31 @@
-//! The frame pipeline of the demo: a [`FramePipeline`] owns every buffer
-//! (sized once) and runs one frame per call:
+//! coif-frame: the frame pipeline, simulation to pixels. A
+//! [`FramePipeline`] owns every buffer (sized once, so a frame allocates
+//! nothing) and runs one frame per call, one method per [`Stage`]:
 //!
 //! ```text
-//! head pose -> roots + rig -> FixedStep substeps of kernels::step
-//!   -> lod: distance_lod, cull, level, refine_strands, interpolate, write_render_vertices
-//!   -> shadow map (opacity shadow map of the render hair)
-//!   -> shade per vertex (Kajiya-Kay | Marschner table | pbrt table) x shadow
-//!   -> rasterise: background, ray-cast head, strands sorted back to front, blended lines
+//! simulate: head pose -> roots + rig -> FixedStep substeps of coif_kernels::step
+//!           (+ the ribbons: skinned cloth patches, coif_kernels::patch::step)
+//! render:   lod          distance_lod, cull, level, refine_strands, interpolate,
+//!                        write_render_vertices (coif_lod)
+//!           shadow map   deep opacity map of the render hair (coif_shading::shadow;
+//!                        Yuksel and Keyser 2008)
+//!           shade        per vertex: Kajiya-Kay | Marschner table | pbrt table,
+//!                        x shadow transmittance, x head occlusion, + ambient
+//!           head         background gradient, ray-cast sphere head
+//!           ribbons      opaque depth-tested triangles
+//!           sort         render hairs back to front
+//!           hair         anti-aliased segments blended in that order (coif_render)
 //! ```
 //!
 //! [`HairScene`] builds what a frame draws: the built-in sphere head with
 //! grown guides, or a loaded groom (guides, scalp triangles from the roots'
-//! directions, rig). See `docs/PIPELINE.md`.
+//! directions, rig). [`drape`] settles grown hair under gravity (the
+//! built-in scenes that need the simulation). The data flow, buffers,
+//! picture, choices and measured times are described in `docs/PIPELINE.md`
+//! at the repository root.
+#![warn(missing_docs)]
 
+pub mod drape;
 mod error;
 mod frame;
 mod hair_scene;

@@ -176,6 +176,7 @@ impl RibbonStage {
         self.ribbons.len()
     }
 
+    /// Whether the scene has no ribbon.
     pub fn is_empty(&self) -> bool {
         self.ribbons.is_empty()
     }

@@ -30,8 +30,11 @@ impl Default for Light {
 /// Everything a [`super::FramePipeline`] is built with.
 #[derive(Clone, Debug)]
 pub struct FrameSettings {
+    /// Image width in pixels.
     pub width: usize,
+    /// Image height in pixels.
     pub height: usize,
+    /// The hair shading model.
     pub shading: ShadingModel,
     /// Hair density of a real scalp (hairs per cm^2).
     pub real_hairs_per_cm2: f32,
@@ -46,9 +49,11 @@ pub struct FrameSettings {
     pub pixel_error: f32,
     /// Most B-spline segments per span (sizes the buffers).
     pub max_segments_per_span: usize,
+    /// Simulation parameters of the guides (and of the ribbons).
     pub simulation: SimParams,
     /// Most fixed simulation steps per frame.
     pub max_substeps: u32,
+    /// The directional light and the ambient light.
     pub light: Light,
     /// Direction from the hair's centre toward the camera at rest; `None`:
     /// the scene's [`super::HairScene::view_direction`].

@@ -23,12 +23,14 @@ pub enum ShadingModel {
 }
 
 impl ShadingModel {
+    /// Every model, in the order of the CLI help.
     pub const ALL: [ShadingModel; 3] = [
         ShadingModel::KajiyaKay,
         ShadingModel::Marschner,
         ShadingModel::Pbrt,
     ];
 
+    /// The CLI name (`kajiya-kay`, `marschner`, `pbrt`).
     pub fn name(self) -> &'static str {
         match self {
             ShadingModel::KajiyaKay => "kajiya-kay",
@@ -77,12 +79,16 @@ pub const PBRT_RESOLUTION: usize = 64;
 
 /// A model ready to shade batches: the tables are built once.
 pub enum Shader {
+    /// Kajiya-Kay (Kajiya and Kay 1989) with two shifted highlights (Scheuermann 2004).
     KajiyaKay(KajiyaKay),
+    /// The factored Marschner et al. 2003 model in lookup tables.
     Marschner(Box<marschner::Lut>),
+    /// The pbrt-v3 hair BSDF (Chiang et al. 2016) far field in a lookup table.
     Pbrt(Box<pbrt::Table>),
 }
 
 impl Shader {
+    /// Builds the model's tables (Marschner: 128, pbrt: 64 per axis).
     pub fn new(model: ShadingModel) -> Result<Shader, Error> {
         Ok(match model {
             ShadingModel::KajiyaKay => Shader::KajiyaKay(KajiyaKay::default()),

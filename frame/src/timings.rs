@@ -29,6 +29,7 @@ pub enum Stage {
 }
 
 impl Stage {
+    /// Every stage, in frame order.
     pub const ALL: [Stage; 10] = [
         Stage::Simulate,
         Stage::Ribbon,
@@ -42,6 +43,7 @@ impl Stage {
         Stage::Hair,
     ];
 
+    /// The stage's name in the timing table.
     pub fn name(self) -> &'static str {
         match self {
             Stage::Simulate => "simulate",
@@ -67,6 +69,7 @@ pub struct StageTimings {
 }
 
 impl StageTimings {
+    /// Adds one run of `stage` that took `d`.
     pub fn record(&mut self, stage: Stage, d: Duration) {
         let i = stage as usize;
         self.last[i] = d;
@@ -85,10 +88,12 @@ impl StageTimings {
         self.total[i].checked_div(self.count[i]).unwrap_or_default()
     }
 
+    /// How many frames ran the stage.
     pub fn runs(&self, stage: Stage) -> u32 {
         self.count[stage as usize]
     }
 
+    /// Forgets every time.
     pub fn reset(&mut self) {
         *self = StageTimings::default();
     }

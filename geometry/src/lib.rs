@@ -2,11 +2,18 @@
 //!
 //! - [`groom`]: authored grooms, TressFX 4 `.tfx` and cyHair `.hair`, loaded
 //!   from bytes with every count and offset checked.
-//! - [`scalp`]: scalp triangle meshes with area-weighted vertex normals, and
-//!   guide strands grown from them along the normals.
+//! - [`grow`]: the one strand grower: strands from roots and normals, with
+//!   optional curl.
+//! - [`scalp`]: scalp triangle meshes with area-weighted vertex normals,
+//!   guides grown from their vertices.
 //! - [`scene`]: built-in scenes that need no files: hair grown on a sphere
 //!   head, collision rigs, a stand-in head for grooms that come without one.
+//!
+//! Everything here is geometry at rest: it depends on `coif-base` only.
+//! Draping hair under gravity is a simulation (`coif_frame::drape`).
+#![warn(missing_docs)]
 
 pub mod groom;
+pub mod grow;
 pub mod scalp;
 pub mod scene;

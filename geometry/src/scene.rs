@@ -1,8 +1,10 @@
-//! Built-in scenes: hair grown on a sphere "head", for the default run,
-//! tests and benchmarks, with no files needed.
+//! Built-in scenes that need no files: hair grown on a sphere "head" (for
+//! the default run, tests and benchmarks), single test strands, collision
+//! rigs, and a sphere fitted to an authored groom's roots (a stand-in head
+//! for grooms that come without one).
 
+use crate::grow::{grow, Growth};
 use coif_base::Sphere;
-use coif_base::SplitMix64;
 use glam::Vec3;
 
 /// A sphere head with guide strands grown along its normals.
@@ -12,25 +14,43 @@ pub struct SphereHead {
     pub head: Sphere,
     /// `strand_count * verts_per_strand` points, strand after strand, root first.
     pub points: Vec<Vec3>,
+    /// Points per strand.
     pub verts_per_strand: usize,
 }
 
-/// Options for [`grow_on_sphere`].
+/// Options for [`grow_on_sphere`]: where the roots are (the sphere cap)
+/// and how the strands grow from them ([`GrowOptions::growth`]).
 #[derive(Clone, Debug)]
 pub struct GrowOptions {
+    /// Number of strands (roots).
     pub strand_count: usize,
+    /// Points per strand, root first.
     pub verts_per_strand: usize,
     /// Strand length in metres.
     pub length: f32,
-    /// Head centre and radius in metres.
+    /// Head centre in metres.
     pub center: Vec3,
+    /// Head radius in metres.
     pub radius: f32,
     /// Roots cover the cap of the sphere above this height, as a fraction of
     /// the radius from the centre (-1 = whole sphere, 0 = upper half).
     pub lowest_root: f32,
     /// Curl amplitude as a fraction of the segment length (0 = straight).
     pub curl: f32,
+    /// Seed of the curl's random phases and turns.
     pub seed: u64,
+}
+
+impl GrowOptions {
+    /// The strand growth part of the options, for [`grow`].
+    pub fn growth(&self) -> Growth {
+        Growth {
+            length: self.length,
+            verts_per_strand: self.verts_per_strand,
+            curl: self.curl,
+            seed: self.seed,
+        }
+    }
 }
 
 impl Default for GrowOptions {
@@ -48,84 +68,48 @@ impl Default for GrowOptions {
     }
 }
 
-/// Hair grown on the default sphere head ([`grow_on_sphere`], curl 0.3) and
-/// draped under gravity for `steps` steps of the default simulation: the
-/// draped head the shadow-map tests, bench, report and profiling harness
-/// measure on. Returns the world positions and the vertices per strand.
-pub fn draped_on_sphere(strands: usize, verts: usize, steps: usize) -> (Vec<Vec3>, usize) {
-    let scene = grow_on_sphere(&GrowOptions {
-        strand_count: strands,
-        verts_per_strand: verts,
-        curl: 0.3,
-        ..Default::default()
-    });
-    let rig = [scene.head.clone()];
-    let params = coif_kernels::SimParams::default();
-    let mut s = coif_kernels::Strands::from_polylines(&scene.points, scene.verts_per_strand)
-        .expect("grown hair is valid");
-    for _ in 0..steps {
-        coif_kernels::step(&mut s, &params, &rig);
-    }
-    (s.positions(), scene.verts_per_strand)
-}
-
-/// Grows strands along the normals of a sphere: roots on a Fibonacci spiral
-/// over the cap above `lowest_root`, each strand leaving straight along its
-/// normal (with optional curl around it), so under gravity it falls and drapes.
+/// Grows strands on a sphere head: roots on a Fibonacci spiral over the cap
+/// above `lowest_root` ([`fibonacci_cap`]), each strand grown by [`grow`]
+/// straight out along its radial normal (with optional curl around it), so
+/// under gravity it falls and drapes.
 pub fn grow_on_sphere(o: &GrowOptions) -> SphereHead {
-    let mut rng = SplitMix64::new(o.seed);
-    let verts = o.verts_per_strand.max(2);
-    let seg = o.length / (verts - 1) as f32;
-    let golden = std::f32::consts::PI * (3.0 - 5f32.sqrt());
-    let mut points = Vec::with_capacity(o.strand_count * verts);
-    for i in 0..o.strand_count {
-        // Heights uniform in [lowest_root, 1] cover the cap with even area.
-        let y = 1.0 - (1.0 - o.lowest_root) * (i as f32 + 0.5) / o.strand_count as f32;
-        let r = (1.0 - y * y).max(0.0).sqrt();
-        let a = golden * i as f32;
-        let n = Vec3::new(r * a.cos(), y, r * a.sin()).normalize();
-        grow_strand(
-            o.center + n * o.radius,
-            n,
-            seg,
-            verts,
-            o.curl,
-            &mut rng,
-            &mut points,
-        );
-    }
+    let (roots, normals) = fibonacci_cap(o.center, o.radius, o.strand_count, o.lowest_root);
+    let growth = o.growth();
     SphereHead {
         head: Sphere {
             center: o.center,
             radius: o.radius,
         },
-        points,
-        verts_per_strand: verts,
+        points: grow(&roots, &normals, &growth),
+        verts_per_strand: growth.verts_per_strand.max(2),
     }
 }
 
-/// Appends one strand of `verts` points `seg` apart growing from `root`
-/// along the unit `normal`, curling around it: a helix of 2-4 random turns
-/// with a random phase, of radius `curl * seg`, growing in over the first
-/// fifth of the strand.
-pub fn grow_strand(
-    root: Vec3,
-    normal: Vec3,
-    seg: f32,
-    verts: usize,
-    curl: f32,
-    rng: &mut SplitMix64,
-    out: &mut Vec<Vec3>,
-) {
-    let (u, w) = normal.any_orthonormal_pair();
-    let phase = rng.range(0.0, std::f32::consts::TAU);
-    let turns = rng.range(2.0, 4.0);
-    for v in 0..verts {
-        let s = v as f32 / (verts.max(2) - 1) as f32;
-        let angle = phase + turns * std::f32::consts::TAU * s;
-        let around = (u * angle.cos() + w * angle.sin()) * (curl * seg * s.min(0.2) * 5.0);
-        out.push(root + normal * (seg * v as f32) + around);
-    }
+/// `count` roots and their unit radial normals on a Fibonacci (golden-angle)
+/// spiral over the cap of the sphere above height `lowest` (a fraction of
+/// the radius from the centre, -1 = whole sphere): root i at height
+/// `y_i = 1 - (1 - lowest) (i + 1/2) / count` and azimuth `i * pi (3 - sqrt 5)`.
+/// Heights uniform in `[lowest, 1]` cover the cap with even area
+/// (Archimedes' hat-box theorem), the golden angle spreads them around it
+/// (Vogel 1979; Gonzalez 2010, "Measurement of areas on a sphere using
+/// Fibonacci and latitude-longitude lattices").
+pub fn fibonacci_cap(
+    center: Vec3,
+    radius: f32,
+    count: usize,
+    lowest: f32,
+) -> (Vec<Vec3>, Vec<Vec3>) {
+    let golden = std::f32::consts::PI * (3.0 - 5f32.sqrt());
+    let normals: Vec<Vec3> = (0..count)
+        .map(|i| {
+            let y = 1.0 - (1.0 - lowest) * (i as f32 + 0.5) / count as f32;
+            let r = (1.0 - y * y).max(0.0).sqrt();
+            let a = golden * i as f32;
+            Vec3::new(r * a.cos(), y, r * a.sin()).normalize()
+        })
+        .collect();
+    let roots = normals.iter().map(|n| center + *n * radius).collect();
+    (roots, normals)
 }
 
 /// One strand sticking out horizontally (+x) from a pinned root at `root`.
@@ -233,51 +217,4 @@ pub fn fit_sphere(points: &[Vec3]) -> Option<Sphere> {
         center: (c + mean).as_vec3(),
         radius: r2.sqrt() as f32,
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn fits_a_sphere_to_points_on_a_cap() {
-        let h = grow_on_sphere(&GrowOptions {
-            center: Vec3::new(0.3, 1.6, -0.2),
-            radius: 0.09,
-            ..Default::default()
-        });
-        let roots: Vec<Vec3> = h.points.iter().step_by(32).copied().collect();
-        let s = fit_sphere(&roots).unwrap();
-        assert!(
-            (s.center - Vec3::new(0.3, 1.6, -0.2)).length() < 1e-4,
-            "{:?}",
-            s
-        );
-        assert!((s.radius - 0.09).abs() < 1e-4);
-        assert!(fit_sphere(&roots[..3]).is_none());
-        let flat: Vec<Vec3> = (0..20)
-            .map(|i| Vec3::new(i as f32, (i * i) as f32, 0.0))
-            .collect();
-        assert!(
-            fit_sphere(&flat).is_none(),
-            "coplanar points have no unique sphere"
-        );
-    }
-
-    #[test]
-    fn strands_start_on_the_sphere_and_have_the_asked_length() {
-        let o = GrowOptions {
-            strand_count: 100,
-            curl: 0.0,
-            ..Default::default()
-        };
-        let h = grow_on_sphere(&o);
-        assert_eq!(h.points.len(), 100 * 32);
-        for s in h.points.chunks(32) {
-            assert!(((s[0] - o.center).length() - o.radius).abs() < 1e-5);
-            let len: f32 = s.windows(2).map(|w| (w[1] - w[0]).length()).sum();
-            assert!((len - o.length).abs() < 1e-4, "{len}");
-            assert!(s[0].y >= o.lowest_root * o.radius - 1e-5);
-        }
-    }
 }

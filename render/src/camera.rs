@@ -74,26 +74,32 @@ impl Camera {
         )
     }
 
+    /// Eye position.
     pub fn eye(&self) -> Vec3 {
         self.eye
     }
 
+    /// The point looked at.
     pub fn target(&self) -> Vec3 {
         self.target
     }
 
+    /// Unit view direction, eye toward target.
     pub fn forward(&self) -> Vec3 {
         self.forward
     }
 
+    /// Vertical field of view in radians.
     pub fn fov_y(&self) -> f32 {
         self.fov_y
     }
 
+    /// Image width in pixels.
     pub fn width(&self) -> usize {
         self.width
     }
 
+    /// Image height in pixels.
     pub fn height(&self) -> usize {
         self.height
     }

@@ -19,6 +19,7 @@ pub struct Pixel {
 pub struct Framebuffer {
     width: usize,
     height: usize,
+    /// Pixels row after row, from the top.
     pub pixels: Vec<Pixel>,
 }
 
@@ -39,10 +40,12 @@ impl Framebuffer {
         }
     }
 
+    /// Width in pixels.
     pub fn width(&self) -> usize {
         self.width
     }
 
+    /// Height in pixels.
     pub fn height(&self) -> usize {
         self.height
     }
@@ -59,6 +62,7 @@ impl Framebuffer {
         }
     }
 
+    /// Index of pixel (x, y) in [`Framebuffer::pixels`].
     #[inline]
     pub fn index(&self, x: usize, y: usize) -> usize {
         y * self.width + x

@@ -7,8 +7,11 @@ use std::io::Write;
 /// An 8-bit sRGB image, RGB interleaved, rows from the top.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RgbImage {
+    /// Width in pixels.
     pub width: usize,
+    /// Height in pixels.
     pub height: usize,
+    /// `3 * width * height` bytes, R G B per pixel, row after row from the top.
     pub data: Vec<u8>,
 }
 
@@ -32,6 +35,7 @@ pub fn tone_map(c: Vec3, exposure: f32) -> Vec3 {
 }
 
 impl RgbImage {
+    /// A black image.
     pub fn new(width: usize, height: usize) -> RgbImage {
         RgbImage {
             width,
@@ -54,12 +58,14 @@ impl RgbImage {
         }
     }
 
+    /// The tone-mapped sRGB image of `frame` (see [`RgbImage::encode`]).
     pub fn from_frame(frame: &Framebuffer, exposure: f32) -> RgbImage {
         let mut img = RgbImage::new(frame.width(), frame.height());
         img.encode(frame, exposure);
         img
     }
 
+    /// The R, G, B bytes of pixel (x, y).
     pub fn pixel(&self, x: usize, y: usize) -> [u8; 3] {
         let i = 3 * (y * self.width + x);
         [self.data[i], self.data[i + 1], self.data[i + 2]]

@@ -17,6 +17,8 @@
 //!   test) and [`grid`]: a row-major grid mesh of them (the ribbon).
 //! - [`image`]: tone map and sRGB encode to 8-bit RGB, contact sheets, PNG.
 
+#![warn(missing_docs)]
+
 mod camera;
 mod framebuffer;
 pub mod grid;

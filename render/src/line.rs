@@ -28,10 +28,15 @@ use glam::Vec3;
 /// linear-RGB colour.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ScreenVertex {
+    /// Pixel column (x right).
     pub x: f32,
+    /// Pixel row (y down).
     pub y: f32,
+    /// View depth (> 0).
     pub depth: f32,
+    /// Line width in pixels.
     pub width_px: f32,
+    /// Linear-RGB colour.
     pub color: Vec3,
 }
 

@@ -22,6 +22,7 @@ pub struct DepthOrder {
 }
 
 impl DepthOrder {
+    /// An empty order with room for `strands` strands (sorting then allocates nothing).
     pub fn with_capacity(strands: usize) -> DepthOrder {
         DepthOrder {
             keys: Vec::with_capacity(strands),
@@ -33,10 +34,12 @@ impl DepthOrder {
         self.keys.iter().map(|&(_, s)| s as usize)
     }
 
+    /// Number of strands ordered.
     pub fn len(&self) -> usize {
         self.keys.len()
     }
 
+    /// Whether no strand is ordered.
     pub fn is_empty(&self) -> bool {
         self.keys.is_empty()
     }

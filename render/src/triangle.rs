@@ -23,7 +23,7 @@
 //! Pixel-centre sampling is a point sample of the coverage: the number of
 //! pixels drawn equals the triangle's area up to the pixels along its
 //! boundary, and averaged over sub-pixel offsets it equals the area exactly
-//! (`tests/render_triangles.rs` measures both).
+//! (`render/tests/triangles.rs` measures both).
 //!
 //! Inside, the barycentric weights `l_k = E_k / (E_ab + E_bc + E_ca)` give
 //! perspective-correct depth and colour: `1/z` is linear in screen space,
@@ -39,9 +39,13 @@ use glam::Vec3;
 /// colour.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct TriangleVertex {
+    /// Pixel column (x right).
     pub x: f32,
+    /// Pixel row (y down).
     pub y: f32,
+    /// View depth (> 0).
     pub depth: f32,
+    /// Linear-RGB colour.
     pub color: Vec3,
 }
 

@@ -16,7 +16,7 @@
 
 use super::timing::time_batch;
 use super::{Options, Path, Row};
-use coif::geometry::scene::draped_on_sphere;
+use coif::frame::drape::draped_on_sphere;
 use coif::shading::shadow::quality::{error_of_map, reference_transmittance, Footprint};
 use coif::shading::shadow::{OpacityShadowMap, ShadowMode, ShadowSettings};
 use glam::Vec3;

@@ -14,11 +14,17 @@
 use super::{Error, Groom};
 use glam::Vec3;
 
+/// Size of the cyHair header in bytes.
 pub const HEADER_BYTES: usize = 128;
+/// Header flag bit: the file has a segment count per strand.
 pub const SEGMENTS: u32 = 1;
+/// Header flag bit: the file has points.
 pub const POINTS: u32 = 2;
+/// Header flag bit: the file has a thickness per point.
 pub const THICKNESS: u32 = 4;
+/// Header flag bit: the file has a transparency per point.
 pub const TRANSPARENCY: u32 = 8;
+/// Header flag bit: the file has a colour per point.
 pub const COLORS: u32 = 16;
 
 fn u32_at(b: &[u8], at: usize) -> u32 {

@@ -18,7 +18,12 @@ use std::fmt;
 #[derive(Clone, Debug, PartialEq)]
 pub enum Error {
     /// The input ends before the data its header announces.
-    Truncated { needed: u64, available: u64 },
+    Truncated {
+        /// Bytes the header announces.
+        needed: u64,
+        /// Bytes the input has.
+        available: u64,
+    },
     /// A header field is impossible (zero strands, a count that overflows...).
     BadHeader(&'static str),
     /// Neither a TressFX 4 nor a cyHair file.
@@ -27,7 +32,10 @@ pub enum Error {
     /// for cyHair's 16-bit segment counts).
     Unwritable(&'static str),
     /// Point `index` has a non-finite coordinate.
-    NonFinite { index: usize },
+    NonFinite {
+        /// Index of the point.
+        index: usize,
+    },
 }
 
 impl fmt::Display for Error {
@@ -95,6 +103,7 @@ impl Groom {
         Ok(Groom { points, starts })
     }
 
+    /// Number of strands.
     pub fn strand_count(&self) -> usize {
         self.starts.len() - 1
     }

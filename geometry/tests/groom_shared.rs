@@ -4,8 +4,8 @@ mod common;
 
 use common::groom_path;
 
-use coif::groom::{self, cyhair, tfx};
-use coif::kernels::{self, SimParams, Strands};
+use coif_geometry::groom::{self, cyhair, tfx};
+use coif_kernels::{self as kernels, SimParams, Strands};
 
 #[test]
 fn both_shared_grooms_parse_with_their_documented_sizes() {
@@ -68,7 +68,7 @@ fn the_mohawk_simulates_in_metres() {
 
 #[test]
 fn seeded_mutations_of_real_files_never_panic_or_overallocate() {
-    use coif::kernels::rng::SplitMix64;
+    use coif_base::SplitMix64;
     let Some(path) = groom_path("sintel_lite.tfx") else {
         return;
     };

@@ -5,8 +5,8 @@ mod common;
 
 use common::groom_path;
 
-use coif::frame::{FramePipeline, FrameSettings, HairScene};
-use coif::groom;
+use coif_frame::{FramePipeline, FrameSettings, HairScene};
+use coif_geometry::groom;
 use glam::Affine3A;
 
 #[test]

@@ -3,7 +3,7 @@
 
 mod common;
 
-use coif::frame::{FramePipeline, FrameSettings, ShadingModel};
+use coif_frame::{FramePipeline, FrameSettings, ShadingModel};
 use glam::{Affine3A, Vec3};
 
 fn pipeline(settings: FrameSettings) -> FramePipeline {

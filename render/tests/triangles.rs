@@ -1,10 +1,10 @@
 //! The triangle rasteriser's coverage: pixel-centre counts against the
 //! analytic area, and meshes that share edges cover each pixel once.
 
-use coif::kernels::rng::SplitMix64;
-use coif::render::grid::draw_grid;
-use coif::render::triangle::{fill_triangle, TriangleVertex};
-use coif::render::{Camera, Framebuffer};
+use coif_base::SplitMix64;
+use coif_render::grid::draw_grid;
+use coif_render::triangle::{fill_triangle, TriangleVertex};
+use coif_render::{Camera, Framebuffer};
 use glam::{Vec2, Vec3};
 
 fn corner(p: Vec2) -> TriangleVertex {

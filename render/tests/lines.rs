@@ -1,10 +1,10 @@
 //! The software renderer's anti-aliased lines and back-to-front blending.
 
-use coif::lod::RenderVertex;
-use coif::render::line::{draw_segment, ScreenVertex};
-use coif::render::sort::DepthOrder;
-use coif::render::{hair, Camera, Framebuffer};
-use coif::shading::RgbBuffer;
+use coif_lod::RenderVertex;
+use coif_render::line::{draw_segment, ScreenVertex};
+use coif_render::sort::DepthOrder;
+use coif_render::{hair, Camera, Framebuffer};
+use coif_shading::RgbBuffer;
 use glam::Vec3;
 
 fn vertex(x: f32, y: f32, width_px: f32) -> ScreenVertex {

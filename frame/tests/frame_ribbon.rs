@@ -3,8 +3,8 @@
 
 mod common;
 
-use coif::frame::ribbon::RIBBON_CLEARANCE;
-use coif::frame::{motion, FramePipeline, FrameSettings, HairScene};
+use coif_frame::ribbon::RIBBON_CLEARANCE;
+use coif_frame::{motion, FramePipeline, FrameSettings, HairScene};
 
 fn scene() -> HairScene {
     common::small_hair_scene()

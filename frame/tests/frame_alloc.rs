@@ -1,12 +1,12 @@
 //! A frame of the pipeline allocates nothing: every buffer is sized once
-//! at construction (counting global allocator, as tests/lod_pipeline.rs),
+//! at construction (a counting global allocator, `common::counting`),
 //! from the very first frame on, including the frame that sets the LOD level,
 //! with the ribbons on (cloth steps, blend, normals, shading, triangles).
 
 mod common;
 
-use coif::frame::{motion, FramePipeline, FrameSettings, HairScene, ShadingModel};
-use coif::geometry::scene::GrowOptions;
+use coif_frame::{motion, FramePipeline, FrameSettings, HairScene, ShadingModel};
+use coif_geometry::scene::GrowOptions;
 use common::counting::allocations;
 
 #[global_allocator]

@@ -4,10 +4,10 @@
 
 mod common;
 
-use coif::frame::{
+use coif_frame::{
     motion, FramePipeline, FrameSettings, HairScene, ShadingModel, HAIR_AMBIENT_ALBEDO,
 };
-use coif::render::RgbImage;
+use coif_render::RgbImage;
 use glam::Vec3;
 
 fn scene() -> HairScene {
