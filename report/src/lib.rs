@@ -13,6 +13,8 @@
 //! the spread is the smallest and largest of those runs. Errors come from
 //! each crate's public quality functions (see each family's module).
 
+#![warn(missing_docs)]
+
 pub mod csv;
 pub mod fins;
 pub mod fits;
@@ -49,11 +51,14 @@ impl Options {
 /// Which implementation a row times.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Path {
+    /// The SIMD path (eight lanes at a time).
     Simd,
+    /// The scalar reference path (one element at a time).
     Scalar,
 }
 
 impl Path {
+    /// The path's name in the CSV, summary and plots: `simd` or `scalar`.
     pub fn name(self) -> &'static str {
         match self {
             Path::Simd => "simd",
@@ -69,12 +74,16 @@ pub struct Row {
     pub kernel: String,
     /// The quality setting, e.g. `"segments=4"`.
     pub setting: String,
+    /// Which implementation was timed.
     pub path: Path,
     /// What one element is (`"vertex-step"`, `"output vertex"`, `"sample"`, ...).
     pub element: &'static str,
+    /// Nanoseconds per element: median, fastest and slowest run.
     pub time: Timing,
     /// What the error measures and against what.
     pub error_metric: &'static str,
+    /// The error in the units of `error_metric` (0 for a reference
+    /// measured against itself).
     pub error: f64,
     /// The setting the library or pipeline uses by default.
     pub is_default: bool,
@@ -136,7 +145,7 @@ pub fn write(
         let file = format!("{}.svg", plot::file_stem(&kernel));
         let of_kernel: Vec<&Row> = rows.iter().filter(|r| r.kernel == kernel).collect();
         let path = dir.join(&file);
-        std::fs::write(&path, plot::svg(&kernel, &of_kernel))?;
+        std::fs::write(&path, plot::svg(&kernel, &of_kernel)?)?;
         written.push(path);
         plots.push((kernel, file));
     }
