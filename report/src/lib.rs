@@ -6,7 +6,9 @@
 //! per kernel x setting x path. [`csv::to_csv`] writes them as
 //! `results.csv`, [`summary::to_markdown`] as a Markdown summary (tables,
 //! SIMD speed-ups, defaults off the Pareto front), [`plot::svg`] as one
-//! time-against-error plot per kernel.
+//! time-against-error plot per kernel (drawn with `plotters`); [`write()`]
+//! writes all three. [`csv::from_csv`] reads a `results.csv` back, so
+//! [`write_figures`] can redraw the summary and plots without measuring.
 //!
 //! Time is the median over repeated runs of the whole batch, divided by
 //! the number of elements (vertex-steps, output vertices, samples, ...);
@@ -136,10 +138,23 @@ pub fn write(
     machine: &str,
 ) -> std::io::Result<Vec<std::path::PathBuf>> {
     std::fs::create_dir_all(dir)?;
-    let mut written = Vec::new();
     let csv_path = dir.join("results.csv");
     std::fs::write(&csv_path, csv::to_csv(rows))?;
-    written.push(csv_path);
+    let mut written = vec![csv_path];
+    written.extend(write_figures(rows, dir, machine)?);
+    Ok(written)
+}
+
+/// Writes one SVG plot per kernel and `summary.md` into `dir` (created if
+/// missing), but not `results.csv`: what redrawing from a CSV read back
+/// with [`csv::from_csv`] needs. Returns the paths written.
+pub fn write_figures(
+    rows: &[Row],
+    dir: &std::path::Path,
+    machine: &str,
+) -> std::io::Result<Vec<std::path::PathBuf>> {
+    std::fs::create_dir_all(dir)?;
+    let mut written = Vec::new();
     let mut plots = Vec::new();
     for kernel in summary::kernels(rows) {
         let file = format!("{}.svg", plot::file_stem(&kernel));

@@ -3,7 +3,7 @@
 //! `results.csv`, `summary.md` and one SVG plot per kernel into DIR
 //! (default `report/`). With `--from-csv`, nothing is measured: the rows
 //! are read from a `results.csv` written before and the summary and plots
-//! drawn again. See the `coif_report` crate documentation.
+//! drawn again into DIR (the CSV is not rewritten). See the `coif_report` crate documentation.
 
 use coif_report::{self as report, Options};
 use std::path::PathBuf;
@@ -45,20 +45,30 @@ fn main() {
         }
     }
     let t0 = std::time::Instant::now();
-    let rows = match from_csv {
-        Some(file) => match std::fs::read_to_string(&file)
-            .map_err(|e| e.to_string())
-            .and_then(|text| report::csv::from_csv(&text))
-        {
-            Ok(rows) => rows,
-            Err(e) => {
-                eprintln!("cannot read the rows from {}: {e}", file.display());
-                std::process::exit(1);
-            }
-        },
-        None => report::run(Options { quick }),
+    let (rows, written) = match from_csv {
+        Some(file) => {
+            let rows = match std::fs::read_to_string(&file)
+                .map_err(|e| e.to_string())
+                .and_then(|text| report::csv::from_csv(&text))
+            {
+                Ok(rows) => rows,
+                Err(e) => {
+                    eprintln!("cannot read the rows from {}: {e}", file.display());
+                    std::process::exit(1);
+                }
+            };
+            // The CSV stays as measured: its spread column is not
+            // recoverable to the last digit from the rounded min and max.
+            let written = report::write_figures(&rows, &out, MACHINE);
+            (rows, written)
+        }
+        None => {
+            let rows = report::run(Options { quick });
+            let written = report::write(&rows, &out, MACHINE);
+            (rows, written)
+        }
     };
-    match report::write(&rows, &out, MACHINE) {
+    match written {
         Ok(files) => {
             for f in files {
                 println!("wrote {}", f.display());
