@@ -1,5 +1,6 @@
-//! Fins (cloth patches): constraint sweeps against the per-step solver
-//! error, via [`coif::kernels::patch::quality::convergence`] (a 16 x 32
+//! Fins (cloth patches): constraint sweeps (position-based length
+//! constraints, Jakobsen 2001, with Provot 1995's strain limit) against the
+//! per-step solver error, via [`coif::kernels::patch::quality::convergence`] (a 16 x 32
 //! flag with its pinned row circling past a sphere; RMS distance, metres,
 //! of one step with few sweeps from one with 256 from the same state), and
 //! as its own kernel (`fins stretch`) the largest structural edge stretch
@@ -15,12 +16,14 @@ use coif::kernels::patch::{self, quality, Patch};
 use coif::kernels::{SimParams, Sphere};
 use glam::Vec3;
 
+/// Constraint sweeps per step measured.
 pub const ITERATIONS: [u32; 5] = [1, 2, 4, 8, 16];
 const ROWS: usize = 16;
 const COLS: usize = 32;
 /// Steps per timed batch.
 const STEPS: usize = 10;
 
+/// The `fins` and `fins stretch` rows: every sweep count, SIMD and scalar.
 pub fn rows(options: Options) -> Vec<Row> {
     let (iterations, error_steps): (&[u32], usize) = if options.quick {
         (&[1, 4], 5)

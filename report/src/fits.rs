@@ -1,4 +1,6 @@
 //! Fits: P-spline control count and smoothing (lambda) against fit error.
+//! A P-spline is a least-squares B-spline fit with a difference penalty
+//! of weight lambda on adjacent control points (Eilers and Marx 1996).
 //!
 //! 256 noisy curls (64 samples of a 1.5 cm radius, 2-turn, 25 cm helix
 //! with +-1 mm uniform noise per axis, as in lod/README.md). Times
@@ -13,13 +15,16 @@ use coif::lod::quality::{fit_error, helix, with_noise};
 use coif::lod::Fitter;
 use glam::Vec3;
 
+/// Control points per strand measured.
 pub const CONTROLS: [usize; 5] = [6, 8, 12, 16, 24];
+/// Smoothing weights (lambda of the difference penalty) measured.
 pub const LAMBDAS: [f32; 3] = [0.0, 0.1, 1.0];
 /// The setting of the lod benches and README: 12 controls, lambda 0.1.
 pub const DEFAULT: (usize, f32) = (12, 0.1);
 
 const SAMPLES: usize = 64;
 
+/// The `fits` rows: every controls x lambda setting, scalar only.
 pub fn rows(options: Options) -> Vec<Row> {
     let strands = if options.quick { 32 } else { 256 };
     let truth = helix(SAMPLES, 0.015, 0.25, 2.0);

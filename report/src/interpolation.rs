@@ -30,6 +30,7 @@ use coif::geometry::scene::GrowOptions;
 use coif::lod::{
     self, level, quality::thinning_error, HairWidth, Interpolation, RefinedGuides, RenderHairs,
 };
+use coif::render::Camera;
 use glam::Vec3;
 
 /// Fractions of the render hairs drawn.
@@ -47,88 +48,131 @@ pub fn default_fraction(distance: f32, fov_y: f32) -> f32 {
     (render_root * px_per_m).clamp(s.min_lod_fraction, 1.0)
 }
 
+/// The `interpolation` rows: every share of hairs drawn, SIMD and scalar.
 pub fn rows(options: Options) -> Vec<Row> {
-    let (strand_count, settle) = if options.quick {
-        (256, 0.0)
-    } else {
-        (2048, 1.5)
-    };
-    let scene = HairScene::procedural(&GrowOptions {
-        strand_count,
-        curl: 0.15,
-        ..GrowOptions::default()
-    })
-    .expect("built-in head");
-    let defaults = FrameSettings::default();
-    // The default camera's framing at a coarse grid: the camera depends on
-    // the field of view and the hair's extent, not on the image size.
-    let settings = FrameSettings {
-        width: GRID,
-        height: GRID,
-        shadows: false,
-        ..FrameSettings::default()
-    };
-    let pipeline = FramePipeline::new(&scene, settings, settle).expect("default pipeline");
-    let strands = pipeline.strands();
-    let camera = pipeline.camera().shifted(strands.origin().as_vec3());
-    let project = |p: Vec3| {
-        camera
-            .project(p, 1e-3)
-            .map(|s| [s.x, s.y, camera.pixels_per_metre(s.z)])
-    };
-    let distance = (camera.target() - camera.eye()).length();
-    let default = default_fraction(distance, camera.fov_y());
+    let scene = Scene::new(options);
+    fractions(scene.default)
+        .into_iter()
+        .flat_map(|fraction| scene.measure(fraction, options.reps()))
+        .collect()
+}
 
-    let roots: Vec<Vec3> = scene.roots().collect();
-    let interp = Interpolation::new(
-        &roots,
-        &scene.triangles,
-        defaults.render_hairs_per_cm2,
-        defaults.seed,
-    )
-    .expect("default interpolation");
-    let mut guides = RefinedGuides::new(strands.blocks(), defaults.max_segments_per_span)
-        .expect("refinable guides");
-    lod::refine_strands(strands.blocks(), None, &mut guides);
-    let mut hairs = RenderHairs::new(&interp, &guides);
-    let all = interp.group_count();
-    lod::interpolate(&interp, &guides, None, all, &mut hairs);
-    let ratio = defaults.real_hairs_per_cm2 / defaults.render_hairs_per_cm2;
-    let width = HairWidth {
-        root: defaults.hair_width.root * ratio,
-        tip: defaults.hair_width.tip * ratio,
-    };
-
+/// [`FRACTIONS`], and the pipeline's default fraction if it is not one of
+/// them.
+fn fractions(default: f32) -> Vec<f32> {
     let mut fractions = FRACTIONS.to_vec();
     if !fractions.iter().any(|f| (f - default).abs() < 1e-6) {
         fractions.push(default);
     }
-    let mut rows = Vec::new();
-    for &fraction in &fractions {
-        let error = thinning_error(&interp, &hairs, width, fraction, [GRID, GRID], project);
-        let drawn = lod::distance_lod(&interp, fraction, fraction);
-        let elements = interp.hair_count() * guides.verts_per_strand();
-        let mut out = RenderHairs::new(&interp, &guides);
-        let simd = time_batch(options.reps(), elements, || {
-            lod::interpolate(&interp, &guides, None, drawn.groups_drawn, &mut out);
-            std::hint::black_box(&out);
-        });
-        let scalar = time_batch(options.reps(), elements, || {
-            lod::scalar::interpolate(&interp, &guides, None, drawn.groups_drawn, &mut out);
-            std::hint::black_box(&out);
-        });
-        for (path, time) in [(Path::Simd, simd), (Path::Scalar, scalar)] {
-            rows.push(Row {
-                kernel: "interpolation".into(),
-                setting: format!("{:.1} % of hairs", 100.0 * fraction),
-                path,
-                element: "output vertex at full density",
-                time,
-                error_metric: "relative RMS of per-pixel optical depth vs all hairs",
-                error,
-                is_default: (fraction - default).abs() < 1e-6,
-            });
+    fractions
+}
+
+/// The built-in head, settled, refined and interpolated at full density,
+/// and the default camera that sees it.
+struct Scene {
+    interp: Interpolation,
+    guides: RefinedGuides,
+    /// Every render hair (the reference of the thinning error).
+    hairs: RenderHairs,
+    /// The render hairs' width at full density, widened by real over
+    /// render hairs per cm^2 so they cover what the real hairs do.
+    width: HairWidth,
+    camera: Camera,
+    /// The fraction the pipeline draws from this camera.
+    default: f32,
+}
+
+impl Scene {
+    fn new(options: Options) -> Scene {
+        let (strand_count, settle) = if options.quick {
+            (256, 0.0)
+        } else {
+            (2048, 1.5)
+        };
+        let scene = HairScene::procedural(&GrowOptions {
+            strand_count,
+            curl: 0.15,
+            ..GrowOptions::default()
+        })
+        .expect("built-in head");
+        let defaults = FrameSettings::default();
+        // The default camera's framing at a coarse grid: the camera depends on
+        // the field of view and the hair's extent, not on the image size.
+        let settings = FrameSettings {
+            width: GRID,
+            height: GRID,
+            shadows: false,
+            ..FrameSettings::default()
+        };
+        let pipeline = FramePipeline::new(&scene, settings, settle).expect("default pipeline");
+        let strands = pipeline.strands();
+        let camera = pipeline.camera().shifted(strands.origin().as_vec3());
+        let distance = (camera.target() - camera.eye()).length();
+        let default = default_fraction(distance, camera.fov_y());
+
+        let roots: Vec<Vec3> = scene.roots().collect();
+        let interp = Interpolation::new(
+            &roots,
+            &scene.triangles,
+            defaults.render_hairs_per_cm2,
+            defaults.seed,
+        )
+        .expect("default interpolation");
+        let mut guides = RefinedGuides::new(strands.blocks(), defaults.max_segments_per_span)
+            .expect("refinable guides");
+        lod::refine_strands(strands.blocks(), None, &mut guides);
+        let mut hairs = RenderHairs::new(&interp, &guides);
+        lod::interpolate(&interp, &guides, None, interp.group_count(), &mut hairs);
+        let ratio = defaults.real_hairs_per_cm2 / defaults.render_hairs_per_cm2;
+        let width = HairWidth {
+            root: defaults.hair_width.root * ratio,
+            tip: defaults.hair_width.tip * ratio,
+        };
+        Scene {
+            interp,
+            guides,
+            hairs,
+            width,
+            camera,
+            default,
         }
     }
-    rows
+
+    /// A point's pixel position and pixels per metre at its depth.
+    fn project(&self, p: Vec3) -> Option<[f32; 3]> {
+        self.camera
+            .project(p, 1e-3)
+            .map(|s| [s.x, s.y, self.camera.pixels_per_metre(s.z)])
+    }
+
+    /// The thinning error of `fraction` and the time to interpolate its
+    /// drawn prefix, SIMD and scalar.
+    fn measure(&self, fraction: f32, reps: usize) -> [Row; 2] {
+        let (interp, guides) = (&self.interp, &self.guides);
+        let grid = [GRID, GRID];
+        let error = thinning_error(interp, &self.hairs, self.width, fraction, grid, |p| {
+            self.project(p)
+        });
+        let drawn = lod::distance_lod(interp, fraction, fraction).groups_drawn;
+        let elements = interp.hair_count() * guides.verts_per_strand();
+        let mut out = RenderHairs::new(interp, guides);
+        let simd = time_batch(reps, elements, || {
+            lod::interpolate(interp, guides, None, drawn, &mut out);
+            std::hint::black_box(&out);
+        });
+        let scalar = time_batch(reps, elements, || {
+            lod::scalar::interpolate(interp, guides, None, drawn, &mut out);
+            std::hint::black_box(&out);
+        });
+        [(Path::Simd, simd), (Path::Scalar, scalar)].map(|(path, time)| Row {
+            kernel: "interpolation".into(),
+            setting: format!("{:.1} % of hairs", 100.0 * fraction),
+            path,
+            element: "output vertex at full density",
+            time,
+            error_metric: "relative RMS of per-pixel optical depth vs all hairs",
+            error,
+            is_default: (fraction - self.default).abs() < 1e-6,
+        })
+    }
 }

@@ -6,12 +6,16 @@
 //! per kernel x setting x path. [`csv::to_csv`] writes them as
 //! `results.csv`, [`summary::to_markdown`] as a Markdown summary (tables,
 //! SIMD speed-ups, defaults off the Pareto front), [`plot::svg`] as one
-//! time-against-error plot per kernel.
+//! time-against-error plot per kernel (drawn with `plotters`); [`write()`]
+//! writes all three. [`csv::from_csv`] reads a `results.csv` back, so
+//! [`write_figures`] can redraw the summary and plots without measuring.
 //!
 //! Time is the median over repeated runs of the whole batch, divided by
 //! the number of elements (vertex-steps, output vertices, samples, ...);
 //! the spread is the smallest and largest of those runs. Errors come from
 //! each crate's public quality functions (see each family's module).
+
+#![warn(missing_docs)]
 
 pub mod csv;
 pub mod fins;
@@ -49,11 +53,14 @@ impl Options {
 /// Which implementation a row times.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Path {
+    /// The SIMD path (eight lanes at a time).
     Simd,
+    /// The scalar reference path (one element at a time).
     Scalar,
 }
 
 impl Path {
+    /// The path's name in the CSV, summary and plots: `simd` or `scalar`.
     pub fn name(self) -> &'static str {
         match self {
             Path::Simd => "simd",
@@ -69,12 +76,16 @@ pub struct Row {
     pub kernel: String,
     /// The quality setting, e.g. `"segments=4"`.
     pub setting: String,
+    /// Which implementation was timed.
     pub path: Path,
     /// What one element is (`"vertex-step"`, `"output vertex"`, `"sample"`, ...).
     pub element: &'static str,
+    /// Nanoseconds per element: median, fastest and slowest run.
     pub time: Timing,
     /// What the error measures and against what.
     pub error_metric: &'static str,
+    /// The error in the units of `error_metric` (0 for a reference
+    /// measured against itself).
     pub error: f64,
     /// The setting the library or pipeline uses by default.
     pub is_default: bool,
@@ -127,16 +138,29 @@ pub fn write(
     machine: &str,
 ) -> std::io::Result<Vec<std::path::PathBuf>> {
     std::fs::create_dir_all(dir)?;
-    let mut written = Vec::new();
     let csv_path = dir.join("results.csv");
     std::fs::write(&csv_path, csv::to_csv(rows))?;
-    written.push(csv_path);
+    let mut written = vec![csv_path];
+    written.extend(write_figures(rows, dir, machine)?);
+    Ok(written)
+}
+
+/// Writes one SVG plot per kernel and `summary.md` into `dir` (created if
+/// missing), but not `results.csv`: what redrawing from a CSV read back
+/// with [`csv::from_csv`] needs. Returns the paths written.
+pub fn write_figures(
+    rows: &[Row],
+    dir: &std::path::Path,
+    machine: &str,
+) -> std::io::Result<Vec<std::path::PathBuf>> {
+    std::fs::create_dir_all(dir)?;
+    let mut written = Vec::new();
     let mut plots = Vec::new();
     for kernel in summary::kernels(rows) {
         let file = format!("{}.svg", plot::file_stem(&kernel));
         let of_kernel: Vec<&Row> = rows.iter().filter(|r| r.kernel == kernel).collect();
         let path = dir.join(&file);
-        std::fs::write(&path, plot::svg(&kernel, &of_kernel))?;
+        std::fs::write(&path, plot::svg(&kernel, &of_kernel)?)?;
         written.push(path);
         plots.push((kernel, file));
     }

@@ -22,6 +22,7 @@ pub const SEGMENTS: [usize; 7] = [1, 2, 3, 4, 6, 8, 16];
 /// The frame pipeline's `max_segments_per_span` default.
 pub const DEFAULT_SEGMENTS: usize = 3;
 
+/// The `refinement` rows: every segment count, SIMD and scalar.
 pub fn rows(options: Options) -> Vec<Row> {
     let (strand_count, verts) = if options.quick { (64, 16) } else { (1024, 16) };
     let g = grow_on_sphere(&GrowOptions {

@@ -1,5 +1,7 @@
-//! Shading: Kajiya-Kay, Marschner (direct and tables) and pbrt (far field
-//! at several quadrature orders and tables), per shaded sample.
+//! Shading: Kajiya-Kay (Kajiya and Kay 1989), Marschner (Marschner et al.
+//! 2003; direct and tables) and pbrt's hair model (Chiang et al. 2016, as
+//! implemented in pbrt-v3; far field at several quadrature orders and
+//! tables), per shaded sample.
 //!
 //! Samples are random (t, wi, wo), each uniform on the unit sphere. Errors
 //! are relative RMS over RGB (`sqrt(sum |a - r|^2 / sum |r|^2)`):
@@ -23,10 +25,10 @@
 use super::timing::time_batch;
 use super::{Options, Path, Row, Timing};
 use coif::base::SplitMix64;
-use coif::shading::kajiya_kay::KajiyaKay;
+use coif::shading::kajiya_kay::{self, KajiyaKay};
 use coif::shading::marschner::{self, accuracy::lut_relative_rms_error, Lut, LutLayout};
 use coif::shading::pbrt::{self, quality, FarField, Table, DEFAULT_QUADRATURE_ORDER};
-use coif::shading::yardstick::{marschner_matching, versus_pbrt};
+use coif::shading::yardstick::{self, marschner_matching, versus_pbrt};
 use coif::shading::{RgbBuffer, ShadingSamples};
 
 /// The frame pipeline's Marschner table resolution (`shading_model.rs`).
@@ -79,72 +81,121 @@ fn row(
     }
 }
 
-pub fn rows(options: Options) -> Vec<Row> {
-    let (n, error_samples) = if options.quick {
-        (512, 300)
-    } else {
-        (4096, 20_000)
-    };
-    // The Marschner tables' error is dominated by rare samples near the
-    // caustics, so it needs many samples to settle (the direct model is cheap).
-    let marschner_samples = if options.quick { 300 } else { 100_000 };
-    let mut rng = SplitMix64::new(17);
-    let mut samples = ShadingSamples::with_capacity(n);
-    for _ in 0..n {
-        samples.push(rng.unit_vector(), rng.unit_vector(), rng.unit_vector());
+/// Error metric of every model against pbrt's far field.
+const VS_PBRT: &str = "relative RMS vs pbrt far field after least-squares gain";
+/// Error metric of the Marschner tables.
+const VS_DIRECT: &str = "relative RMS vs Marschner direct";
+/// Error metric of pbrt's far field and tables.
+const VS_REF: &str = "relative RMS vs pbrt far field at 4x order";
+/// Kernel name of the models compared with pbrt.
+const MODELS: &str = "models vs pbrt";
+/// Seed of the error samples.
+const SEED: u64 = 5;
+
+/// What every shading step shares: the timed samples, the pbrt material,
+/// and each model's error against pbrt per table resolution.
+struct Study {
+    bench: Bench,
+    pbrt: pbrt::Params,
+    /// Samples of the far-field and table errors.
+    error_samples: usize,
+    /// Samples of the Marschner table error: dominated by rare samples
+    /// near the caustics, so it needs many to settle (the direct model is
+    /// cheap).
+    marschner_samples: usize,
+    /// [`versus_pbrt`] at each of [`RESOLUTIONS`].
+    vs_pbrt: Vec<Vec<yardstick::ModelError>>,
+}
+
+impl Study {
+    fn new(options: Options) -> Study {
+        let (n, error_samples) = if options.quick {
+            (512, 300)
+        } else {
+            (4096, 20_000)
+        };
+        let marschner_samples = if options.quick { 300 } else { 100_000 };
+        let mut rng = SplitMix64::new(17);
+        let mut samples = ShadingSamples::with_capacity(n);
+        for _ in 0..n {
+            samples.push(rng.unit_vector(), rng.unit_vector(), rng.unit_vector());
+        }
+        let pbrt = pbrt::Params::default();
+        let vs_pbrt = RESOLUTIONS
+            .iter()
+            .map(|&r| versus_pbrt(&pbrt, r, error_samples, SEED).expect("default material"))
+            .collect();
+        Study {
+            bench: Bench {
+                samples,
+                out: RgbBuffer::zeros(n),
+                reps: options.reps(),
+            },
+            pbrt,
+            error_samples,
+            marschner_samples,
+            vs_pbrt,
+        }
     }
-    let mut bench = Bench {
-        samples,
-        out: RgbBuffer::zeros(n),
-        reps: options.reps(),
-    };
-    let seed = 5;
-    let mut rows = Vec::new();
-    let pbrt_params = pbrt::Params::default();
-    let vs_pbrt: Vec<_> = RESOLUTIONS
-        .iter()
-        .map(|&r| versus_pbrt(&pbrt_params, r, error_samples, seed).expect("default material"))
-        .collect();
-    let model_error = |res_index: usize, model: &str| -> f64 {
-        vs_pbrt[res_index]
+
+    /// A model's error against pbrt, tables at `RESOLUTIONS[res_index]`.
+    fn model_error(&self, res_index: usize, model: &str) -> f64 {
+        self.vs_pbrt[res_index]
             .iter()
             .find(|m| m.model == model)
             .map_or(f64::NAN, |m| m.relative_rms_after_gain)
-    };
-    const VS_PBRT: &str = "relative RMS vs pbrt far field after least-squares gain";
-    const MODELS: &str = "models vs pbrt";
-
-    // Kajiya-Kay: one setting, error against pbrt's far field.
-    let kk = KajiyaKay::default();
-    let kk_simd = bench.time(|s, o| kk.shade_batch(s, o));
-    let kk_scalar = bench.time(|s, o| coif::shading::kajiya_kay::scalar::shade_batch(&kk, s, o));
-    let kk_error = model_error(0, "kajiya-kay");
-    for (path, time) in [(Path::Simd, kk_simd), (Path::Scalar, kk_scalar)] {
-        rows.push(row(
-            "kajiya-kay",
-            "default".into(),
-            path,
-            time,
-            VS_PBRT,
-            kk_error,
-            true,
-        ));
-        rows.push(row(
-            MODELS,
-            "kajiya-kay".into(),
-            path,
-            time,
-            VS_PBRT,
-            kk_error,
-            false,
-        ));
     }
+}
 
-    // Marschner: direct (scalar only) and tables, against the direct model.
+/// The shading rows: `kajiya-kay`, `marschner`, `pbrt`, `pbrt exact` and
+/// `models vs pbrt`.
+pub fn rows(options: Options) -> Vec<Row> {
+    let mut study = Study::new(options);
+    let mut rows = kajiya_kay(&mut study);
+    rows.extend(marschner(&mut study));
+    rows.extend(pbrt_far_field(&mut study));
+    rows.extend(pbrt_exact(&mut study));
+    rows.extend(tables(&mut study));
+    rows
+}
+
+/// Kajiya-Kay: one setting, error against pbrt's far field (also a
+/// `models vs pbrt` row).
+fn kajiya_kay(study: &mut Study) -> Vec<Row> {
+    let kk = KajiyaKay::default();
+    let simd = study.bench.time(|s, o| kk.shade_batch(s, o));
+    let scalar = study
+        .bench
+        .time(|s, o| kajiya_kay::scalar::shade_batch(&kk, s, o));
+    let error = study.model_error(0, "kajiya-kay");
+    let mut rows = Vec::new();
+    for (path, time) in [(Path::Simd, simd), (Path::Scalar, scalar)] {
+        let at = |kernel, setting: &str, is_default| {
+            row(
+                kernel,
+                setting.into(),
+                path,
+                time,
+                VS_PBRT,
+                error,
+                is_default,
+            )
+        };
+        rows.push(at("kajiya-kay", "default", true));
+        rows.push(at(MODELS, "kajiya-kay", false));
+    }
+    rows
+}
+
+/// Marschner: direct (scalar only, the reference) and tables against the
+/// direct model; then the direct model matched to the pbrt material,
+/// against pbrt (`models vs pbrt`).
+fn marschner(study: &mut Study) -> Vec<Row> {
     let m = marschner::Params::default();
-    const VS_DIRECT: &str = "relative RMS vs Marschner direct";
-    let direct = bench.time(|s, o| marschner::scattering_batch(&m, s, o));
-    rows.push(row(
+    let direct = study
+        .bench
+        .time(|s, o| marschner::scattering_batch(&m, s, o));
+    let mut rows = vec![row(
         "marschner",
         "direct".into(),
         Path::Scalar,
@@ -152,16 +203,18 @@ pub fn rows(options: Options) -> Vec<Row> {
         VS_DIRECT,
         0.0,
         false,
-    ));
+    )];
     for &res in &RESOLUTIONS {
         let lut = Lut::new(&m, res);
-        let error = lut_relative_rms_error(&m, res, LutLayout::default(), marschner_samples, seed);
-        let simd = bench.time(|s, o| lut.scattering_batch(s, o));
-        let scalar =
-            bench.time(|s, o| coif::shading::marschner::lut::scalar::scattering_batch(&lut, s, o));
+        let error =
+            lut_relative_rms_error(&m, res, LutLayout::default(), study.marschner_samples, SEED);
+        let simd = study.bench.time(|s, o| lut.scattering_batch(s, o));
+        let scalar = study
+            .bench
+            .time(|s, o| marschner::lut::scalar::scattering_batch(&lut, s, o));
         for (path, time) in [(Path::Simd, simd), (Path::Scalar, scalar)] {
-            let setting = format!("table {res}");
             let default = res == MARSCHNER_RESOLUTION;
+            let setting = format!("table {res}");
             rows.push(row(
                 "marschner",
                 setting,
@@ -173,32 +226,38 @@ pub fn rows(options: Options) -> Vec<Row> {
             ));
         }
     }
-    // Marschner matched to the pbrt material, against pbrt.
-    let matched = marschner_matching(&pbrt_params);
-    let matched_direct = bench.time(|s, o| marschner::scattering_batch(&matched, s, o));
-    let e = model_error(0, "marschner direct");
+    let matched = marschner_matching(&study.pbrt);
+    let time = study
+        .bench
+        .time(|s, o| marschner::scattering_batch(&matched, s, o));
+    let error = study.model_error(0, "marschner direct");
+    let setting = "marschner direct".into();
     rows.push(row(
         MODELS,
-        "marschner direct".into(),
+        setting,
         Path::Scalar,
-        matched_direct,
+        time,
         VS_PBRT,
-        e,
+        error,
         false,
     ));
+    rows
+}
 
-    // pbrt: far field at several orders (scalar: the reference path) and
-    // tables (SIMD and scalar), against the far field at 4x the order.
-    const VS_REF: &str = "relative RMS vs pbrt far field at 4x order";
+/// pbrt's far field at each of [`ORDERS`] (scalar: the reference path),
+/// against the far field at 4x the order.
+fn pbrt_far_field(study: &mut Study) -> Vec<Row> {
+    let mut rows = Vec::new();
     for &order in &ORDERS {
-        let far = FarField::new(&pbrt_params, order).expect("valid order");
-        let time = bench.time(|s, o| far.scattering_batch(s, o));
-        let error = quality::far_field_error(&pbrt_params, order, error_samples, seed)
+        let far = FarField::new(&study.pbrt, order).expect("valid order");
+        let time = study.bench.time(|s, o| far.scattering_batch(s, o));
+        let error = quality::far_field_error(&study.pbrt, order, study.error_samples, SEED)
             .expect("valid order") as f64;
         let default = order == DEFAULT_QUADRATURE_ORDER;
+        let setting = format!("far field {order}");
         rows.push(row(
             "pbrt",
-            format!("far field {order}"),
+            setting,
             Path::Scalar,
             time,
             VS_REF,
@@ -206,14 +265,24 @@ pub fn rows(options: Options) -> Vec<Row> {
             default,
         ));
     }
-    // pbrt exact: the per-h model averaged over stratified offsets.
+    rows
+}
+
+/// pbrt exact: the per-`h` model averaged over each of [`H_SAMPLES`]
+/// stratified offsets per shading point (scalar only).
+fn pbrt_exact(study: &mut Study) -> Vec<Row> {
+    let mut rows = Vec::new();
     for &n in &H_SAMPLES {
-        let time = bench.time(|s, o| pbrt::scattering_batch_monte_carlo(&pbrt_params, s, n, 3, o));
-        let error = quality::monte_carlo_error(&pbrt_params, n, error_samples, seed)
+        let params = &study.pbrt;
+        let time = study
+            .bench
+            .time(|s, o| pbrt::scattering_batch_monte_carlo(params, s, n, 3, o));
+        let error = quality::monte_carlo_error(params, n, study.error_samples, SEED)
             .expect("default material") as f64;
+        let setting = format!("{n} h per point");
         rows.push(row(
             "pbrt exact",
-            format!("{n} h per point"),
+            setting,
             Path::Scalar,
             time,
             VS_REF,
@@ -221,22 +290,35 @@ pub fn rows(options: Options) -> Vec<Row> {
             false,
         ));
     }
+    rows
+}
+
+/// Tables at each of [`RESOLUTIONS`], SIMD and scalar: pbrt's against its
+/// far field at 4x order, and pbrt's and the matched Marschner's against
+/// pbrt (`models vs pbrt`).
+fn tables(study: &mut Study) -> Vec<Row> {
+    let matched = marschner_matching(&study.pbrt);
+    let mut rows = Vec::new();
     for (i, &res) in RESOLUTIONS.iter().enumerate() {
-        let table = Table::new(&pbrt_params, res).expect("valid resolution");
-        let error = quality::table_error(&pbrt_params, res, error_samples, seed)
+        let table = Table::new(&study.pbrt, res).expect("valid resolution");
+        let error = quality::table_error(&study.pbrt, res, study.error_samples, SEED)
             .expect("valid resolution") as f64;
-        let simd = bench.time(|s, o| table.scattering_batch(s, o));
-        let scalar =
-            bench.time(|s, o| coif::shading::pbrt::table::scalar::scattering_batch(&table, s, o));
-        let default = res == PBRT_RESOLUTION;
+        let simd = study.bench.time(|s, o| table.scattering_batch(s, o));
+        let scalar = study
+            .bench
+            .time(|s, o| pbrt::table::scalar::scattering_batch(&table, s, o));
         let lut = Lut::new(&matched, res);
-        let lut_simd = bench.time(|s, o| lut.scattering_batch(s, o));
-        let lut_scalar =
-            bench.time(|s, o| coif::shading::marschner::lut::scalar::scattering_batch(&lut, s, o));
+        let lut_simd = study.bench.time(|s, o| lut.scattering_batch(s, o));
+        let lut_scalar = study
+            .bench
+            .time(|s, o| marschner::lut::scalar::scattering_batch(&lut, s, o));
+        let pbrt_vs = study.model_error(i, &format!("pbrt table {res}"));
+        let marschner_vs = study.model_error(i, &format!("marschner table {res}"));
         for (path, time, lut_time) in [
             (Path::Simd, simd, lut_simd),
             (Path::Scalar, scalar, lut_scalar),
         ] {
+            let default = res == PBRT_RESOLUTION;
             rows.push(row(
                 "pbrt",
                 format!("table {res}"),
@@ -246,24 +328,16 @@ pub fn rows(options: Options) -> Vec<Row> {
                 error,
                 default,
             ));
-            let e = model_error(i, &format!("pbrt table {res}"));
+            let setting = format!("pbrt table {res}");
+            rows.push(row(MODELS, setting, path, time, VS_PBRT, pbrt_vs, false));
+            let setting = format!("marschner table {res}");
             rows.push(row(
                 MODELS,
-                format!("pbrt table {res}"),
-                path,
-                time,
-                VS_PBRT,
-                e,
-                false,
-            ));
-            let e = model_error(i, &format!("marschner table {res}"));
-            rows.push(row(
-                MODELS,
-                format!("marschner table {res}"),
+                setting,
                 path,
                 lut_time,
                 VS_PBRT,
-                e,
+                marschner_vs,
                 false,
             ));
         }

@@ -1,4 +1,6 @@
-//! Simulation: iterations, pearls and substeps against error, via
+//! Simulation: iterations (Gauss-Seidel sweeps of the length constraints,
+//! Jakobsen 2001), pearls (extra collision points per segment, Nguyen and
+//! Donnelly 2005) and substeps against error, via
 //! [`crate::quality::simulation`]: 256 strands of 32 vertices on a sphere
 //! head, scenes `settling` (3 s) and `whipping` (head on a 10 cm circle at
 //! 3 Hz, 2 s).
@@ -30,6 +32,7 @@ use coif::kernels::SimParams;
 
 /// Iterations and pearls measured (full run).
 pub const ITERATIONS: [u32; 5] = [1, 2, 4, 8, 16];
+/// Pearls per segment measured (full run).
 pub const PEARLS: [u32; 3] = [0, 1, 2];
 
 /// The three errors reported per scene: (kernel suffix, metric, value).
@@ -94,6 +97,8 @@ fn push_rows(
     }
 }
 
+/// The `simulation <scene>` and `simulation <scene> substeps` rows, each
+/// with its ` stretch` and ` penetration` kernels, SIMD and scalar.
 pub fn rows(options: Options) -> Vec<Row> {
     let (iterations, pearls, reps): (&[u32], &[u32], usize) = if options.quick {
         (&[1, 4], &[1], 1)

@@ -16,8 +16,8 @@ pub fn kernels(rows: &[Row]) -> Vec<String> {
 
 /// Whether `row` is on the Pareto front of time against error: no other
 /// row of the same kernel and path is both faster and more accurate.
-pub fn on_pareto_front(rows: &[Row], row: &Row) -> bool {
-    !rows.iter().any(|o| {
+pub fn on_pareto_front<'a>(rows: impl IntoIterator<Item = &'a Row>, row: &Row) -> bool {
+    !rows.into_iter().any(|o| {
         o.kernel == row.kernel
             && o.path == row.path
             && o.time.median < row.time.median
@@ -103,42 +103,58 @@ is on the Pareto front if no other setting of the same kernel and path is both f
 more accurate. Defaults are the settings the library or the frame pipeline uses.\n\n"
     );
     md += MEASURED;
-    let names = kernels(rows);
+    md += &defaults_off_front(rows);
+    md += &speedup_table(rows);
+    for k in &kernels(rows) {
+        let plot = plots
+            .iter()
+            .find(|(name, _)| name == k)
+            .map(|(_, f)| f.as_str());
+        md += &kernel_section(rows, k, plot);
+    }
+    md
+}
 
-    md += "## Defaults not on the Pareto front\n\n";
+/// The defaults not on the Pareto front, each with the settings that beat it.
+fn defaults_off_front(rows: &[Row]) -> String {
+    let mut md = String::from("## Defaults not on the Pareto front\n\n");
     let off: Vec<&Row> = rows
         .iter()
         .filter(|r| r.is_default && !on_pareto_front(rows, r))
         .collect();
     if off.is_empty() {
-        md += "Every default is on the Pareto front of its kernel and path.\n\n";
-    } else {
-        for r in off {
-            let better: Vec<&str> = rows
-                .iter()
-                .filter(|o| {
-                    o.kernel == r.kernel
-                        && o.path == r.path
-                        && o.time.median < r.time.median
-                        && o.error < r.error
-                })
-                .map(|o| o.setting.as_str())
-                .collect();
-            md += &format!(
-                "- **{}**, {} ({}): {} ns, error {:.3e}; faster and more accurate: {}\n",
-                r.kernel,
-                r.setting,
-                r.path.name(),
-                fmt_ns(r.time.median),
-                r.error,
-                better.join(", ")
-            );
-        }
-        md += "\n";
+        return md + "Every default is on the Pareto front of its kernel and path.\n\n";
     }
+    for r in off {
+        let better: Vec<&str> = rows
+            .iter()
+            .filter(|o| {
+                o.kernel == r.kernel
+                    && o.path == r.path
+                    && o.time.median < r.time.median
+                    && o.error < r.error
+            })
+            .map(|o| o.setting.as_str())
+            .collect();
+        md += &format!(
+            "- **{}**, {} ({}): {} ns, error {:.3e}; faster and more accurate: {}\n",
+            r.kernel,
+            r.setting,
+            r.path.name(),
+            fmt_ns(r.time.median),
+            r.error,
+            better.join(", ")
+        );
+    }
+    md + "\n"
+}
 
-    md += "## SIMD speed-up (scalar median / SIMD median)\n\n| kernel | at the default | range over settings |\n|---|---|---|\n";
-    for k in &names {
+/// The SIMD speed-up of every kernel: at the default and over settings.
+fn speedup_table(rows: &[Row]) -> String {
+    let mut md = String::from(
+        "## SIMD speed-up (scalar median / SIMD median)\n\n| kernel | at the default | range over settings |\n|---|---|---|\n",
+    );
+    for k in &kernels(rows) {
         let s = speedups(rows, k);
         if s.is_empty() {
             md += &format!("| {k} | no SIMD path | |\n");
@@ -152,37 +168,38 @@ more accurate. Defaults are the settings the library or the frame pipeline uses.
         let hi = s.iter().map(|x| x.1).fold(0.0, f64::max);
         md += &format!("| {k} | {at_default} | {lo:.1}x - {hi:.1}x |\n");
     }
-    md += "\n";
+    md + "\n"
+}
 
-    for k in &names {
-        let of: Vec<&Row> = rows.iter().filter(|r| &r.kernel == k).collect();
-        let first = of[0];
-        md += &format!(
-            "## {k}\n\nTime in ns per {}; error: {}.\n\n",
-            first.element, first.error_metric
-        );
-        if let Some((_, file)) = plots.iter().find(|(name, _)| name == k) {
-            md += &format!("![{k}: time against error]({file})\n\n");
-        }
-        md += "| setting | path | ns median | ns min - max | error | default | Pareto |\n|---|---|---|---|---|---|---|\n";
-        for r in of {
-            md += &format!(
-                "| {} | {} | {} | {} - {} | {:.3e} | {} | {} |\n",
-                r.setting,
-                r.path.name(),
-                fmt_ns(r.time.median),
-                fmt_ns(r.time.min),
-                fmt_ns(r.time.max),
-                r.error,
-                if r.is_default { "**yes**" } else { "" },
-                if on_pareto_front(rows, r) {
-                    "front"
-                } else {
-                    ""
-                },
-            );
-        }
-        md += "\n";
+/// One kernel's section: its units, its plot (`plot`, a file name) and a
+/// table of every row.
+fn kernel_section(rows: &[Row], kernel: &str, plot: Option<&str>) -> String {
+    let of: Vec<&Row> = rows.iter().filter(|r| r.kernel == kernel).collect();
+    let first = of[0];
+    let mut md = format!(
+        "## {kernel}\n\nTime in ns per {}; error: {}.\n\n",
+        first.element, first.error_metric
+    );
+    if let Some(file) = plot {
+        md += &format!("![{kernel}: time against error]({file})\n\n");
     }
-    md
+    md += "| setting | path | ns median | ns min - max | error | default | Pareto |\n|---|---|---|---|---|---|---|\n";
+    for r in of {
+        md += &format!(
+            "| {} | {} | {} | {} - {} | {:.3e} | {} | {} |\n",
+            r.setting,
+            r.path.name(),
+            fmt_ns(r.time.median),
+            fmt_ns(r.time.min),
+            fmt_ns(r.time.max),
+            r.error,
+            if r.is_default { "**yes**" } else { "" },
+            if on_pareto_front(rows, r) {
+                "front"
+            } else {
+                ""
+            },
+        );
+    }
+    md + "\n"
 }

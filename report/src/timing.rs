@@ -5,6 +5,7 @@ use std::time::Instant;
 /// Nanoseconds per element over repeated runs of a batch.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Timing {
+    /// Median run.
     pub median: f64,
     /// Fastest run.
     pub min: f64,

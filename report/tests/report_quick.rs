@@ -141,12 +141,69 @@ fn quick_report_rows_are_finite_and_files_are_written() {
         assert_eq!(l.split(',').count(), columns, "{l}");
     }
     let md = std::fs::read_to_string(dir.join("summary.md")).expect("summary.md");
-    for k in summary::kernels(&rows) {
+    let kernels = summary::kernels(&rows);
+    for k in &kernels {
         assert!(md.contains(&format!("## {k}")), "summary lacks {k}");
-        let svg = dir.join(format!("{}.svg", report::plot::file_stem(&k)));
-        let text = std::fs::read_to_string(&svg).expect("plot written");
-        assert!(text.starts_with("<svg") && text.trim_end().ends_with("</svg>"));
+        let svg = dir.join(format!("{}.svg", report::plot::file_stem(k)));
         assert!(written.contains(&svg));
+        let text = std::fs::read_to_string(&svg).expect("plot written");
+        check_plot(k, &text, &rows);
     }
+    // One plot per kernel and no other.
+    let plots = std::fs::read_dir(&dir)
+        .expect("report directory")
+        .filter(|e| {
+            e.as_ref()
+                .is_ok_and(|e| e.path().extension().is_some_and(|x| x == "svg"))
+        })
+        .count();
+    assert_eq!(plots, kernels.len());
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Text as plotters writes it into SVG.
+fn escaped(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
+
+/// A kernel's plot is a whole SVG document with its title, both axis
+/// descriptions, decade ticks, a legend entry per path measured and every
+/// setting in the key.
+fn check_plot(kernel: &str, text: &str, rows: &[Row]) {
+    assert!(
+        text.starts_with("<svg") && text.trim_end().ends_with("</svg>"),
+        "{kernel}: not one SVG document"
+    );
+    let of: Vec<&Row> = rows.iter().filter(|r| r.kernel == kernel).collect();
+    let wanted = [
+        format!("{}: time against error", escaped(kernel)),
+        format!("{} (log scale)", escaped(of[0].error_metric)),
+        format!("ns per {} (median, log scale)", escaped(of[0].element)),
+        "Settings (point numbers)".to_string(),
+    ];
+    for w in wanted {
+        assert!(text.contains(&w), "{kernel}: plot lacks {w:?}");
+    }
+    assert!(
+        text.contains(">1e") || text.contains("\n1e"),
+        "{kernel}: no decade tick"
+    );
+    for path in [Path::Simd, Path::Scalar] {
+        let measured = of.iter().any(|r| r.path == path);
+        let entry = format!("{}: Pareto front", path.name());
+        assert_eq!(
+            text.contains(&entry),
+            measured,
+            "{kernel}: legend entry {entry:?}"
+        );
+    }
+    for r in &of {
+        let setting = escaped(&r.setting);
+        assert!(text.contains(&setting), "{kernel}: key lacks {setting:?}");
+    }
+    if of.iter().any(|r| r.error <= 0.0) {
+        assert!(text.contains("≤ 0"), "{kernel}: zero errors not marked");
+    }
 }

@@ -44,6 +44,7 @@ pub enum Scene {
 }
 
 impl Scene {
+    /// The scene's name in rows and CSV: `settling` or `whipping`.
     pub fn name(self) -> &'static str {
         match self {
             Scene::Settling => "settling",
@@ -74,8 +75,12 @@ impl Scene {
 /// One measured setting.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Row {
+    /// The scene run.
     pub scene: Scene,
+    /// Constraint iterations per step.
     pub iterations: u32,
+    /// Pearls per segment: collision points between a segment's end
+    /// vertices (Nguyen and Donnelly 2005, the Nalu demo).
     pub pearls: u32,
     /// Simulation steps per frame.
     pub substeps: u32,
@@ -143,8 +148,9 @@ pub fn per_second_equivalent(params: &SimParams, dt: f32) -> SimParams {
     }
 }
 
-/// Strand count and vertex count of the study's groom.
+/// Strands of the study's groom.
 pub const STUDY_STRANDS: usize = 256;
+/// Vertices per strand of the study's groom.
 pub const STUDY_VERTS: usize = 32;
 
 fn setup() -> (Vec<Vec3>, Sphere) {
@@ -163,7 +169,9 @@ type StepFn = fn(&mut Strands, &SimParams, &[Sphere]);
 /// the end of every frame, and the final state.
 #[derive(Clone, Debug)]
 pub struct Trajectory {
+    /// World positions of every vertex at the end of each frame.
     pub frames: Vec<Vec<Vec3>>,
+    /// The strands after the last frame.
     pub last: Strands,
 }
 
@@ -394,8 +402,9 @@ pub fn study(iterations: &[u32], pearls: &[u32]) -> Vec<Row> {
     rows
 }
 
-/// The study's default knob values.
+/// The study's iteration counts (with [`PEARLS`]).
 pub const ITERATIONS: [u32; 6] = [1, 2, 4, 8, 16, 32];
+/// The study's pearl counts (with [`ITERATIONS`]).
 pub const PEARLS: [u32; 4] = [0, 1, 2, 3];
 
 /// Rows as CSV with a header line.
