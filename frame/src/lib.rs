@@ -21,7 +21,7 @@
 //! grown guides, or a loaded groom (guides, scalp triangles from the roots'
 //! directions, rig). [`drape`] settles grown hair under gravity (the
 //! built-in scenes that need the simulation). The data flow, buffers,
-//! picture, choices and measured times are described in `docs/PIPELINE.md`
+//! picture, choices and measured times are described in `frame/README.md`
 //! at the repository root.
 #![warn(missing_docs)]
 
