@@ -18,9 +18,9 @@
 #![warn(missing_docs)]
 
 pub mod csv;
-pub mod fins;
 pub mod fits;
 pub mod interpolation;
+pub mod patch;
 pub mod plot;
 pub mod quality;
 pub mod refinement;
@@ -107,7 +107,7 @@ impl Row {
 type Family = fn(Options) -> Vec<Row>;
 
 /// Measures every kernel family, in order: simulation, refinement, fits,
-/// interpolation, shading, shadow maps, fins.
+/// interpolation, shading, shadow maps, cloth patches.
 pub fn run(options: Options) -> Vec<Row> {
     let mut rows = Vec::new();
     let families: [(&str, Family); 7] = [
@@ -117,7 +117,7 @@ pub fn run(options: Options) -> Vec<Row> {
         ("interpolation", interpolation::rows),
         ("shading", shading::rows),
         ("shadow maps", shadow::rows),
-        ("fins", fins::rows),
+        ("patch", patch::rows),
     ];
     for (name, family) in families {
         let t0 = std::time::Instant::now();

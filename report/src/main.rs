@@ -1,7 +1,7 @@
-//! `cargo run --release --bin report -- [--quick] [--out DIR] [--from-csv FILE]`:
+//! `cargo run --release -p coif-report -- [--quick] [--out DIR] [--from-csv FILE]`:
 //! measures every kernel's run time against its error and writes
 //! `results.csv`, `summary.md` and one SVG plot per kernel into DIR
-//! (default `report/`). With `--from-csv`, nothing is measured: the rows
+//! (default `target/report/`, beside the build; `--out docs/report` replaces the committed run). With `--from-csv`, nothing is measured: the rows
 //! are read from a `results.csv` written before and the summary and plots
 //! drawn again into DIR (the CSV is not rewritten). See the `coif_report` crate documentation.
 
@@ -15,7 +15,7 @@ const MACHINE: &str = "a 2-core Intel Xeon, build x86-64-v3 (AVX2 + FMA)";
 fn main() {
     let mut quick = false;
     let mut from_csv: Option<PathBuf> = None;
-    let mut out = PathBuf::from("report");
+    let mut out = PathBuf::from("target/report");
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         match a.as_str() {

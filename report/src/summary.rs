@@ -88,7 +88,7 @@ camera ray; ns per shading point (all its offsets); error against the same 4x-or
 field and direction samples as the pbrt rows. Scalar only: there is no SIMD path.
 - **shadow maps**: slices 4-64 and deep opacity 2-4 layers; build per segment, lookup per \
 sample; error against the exact footprint transmittance.
-- **fins**: constraint sweeps of a cloth patch (a 16 x 32 flag circling past a sphere); ns per particle-step; RMS per-step distance to a 256-sweep step, and as its own kernel (`fins stretch`) the largest structural edge stretch after a step.
+- **patch**: constraint sweeps of a cloth patch (a 16 x 32 flag circling past a sphere); ns per particle-step; RMS per-step distance to a 256-sweep step, and as its own kernel (`patch stretch`) the largest structural edge stretch after a step.
 
 ";
 
@@ -96,7 +96,7 @@ sample; error against the exact footprint transmittance.
 pub fn to_markdown(rows: &[Row], plots: &[(String, String)], machine: &str) -> String {
     let mut md = String::from("# Time against error, every kernel\n\n");
     md += &format!(
-        "Measured by `cargo run --release --bin report` on {machine}. Time is the median over \
+        "Measured by `cargo run --release -p coif-report` on {machine}. Time is the median over \
 repeated runs of a whole batch, per element, with the fastest and slowest run; the machine \
 was shared with other work, so absolute times are noisy (compare within a table). A setting \
 is on the Pareto front if no other setting of the same kernel and path is both faster and \

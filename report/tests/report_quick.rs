@@ -57,8 +57,8 @@ fn quick_report_rows_are_finite_and_files_are_written() {
         "models vs pbrt",
         "shadow build",
         "shadow lookup",
-        "fins",
-        "fins stretch",
+        "patch",
+        "patch stretch",
     ] {
         assert!(
             rows.iter().any(|r| r.kernel == family),

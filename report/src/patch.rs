@@ -1,9 +1,9 @@
-//! Fins (cloth patches): constraint sweeps (position-based length
+//! Cloth patches (fins, ribbons): constraint sweeps (position-based length
 //! constraints, Jakobsen 2001, with Provot 1995's strain limit) against the
 //! per-step solver error, via [`coif::kernels::patch::quality::convergence`] (a 16 x 32
 //! flag with its pinned row circling past a sphere; RMS distance, metres,
 //! of one step with few sweeps from one with 256 from the same state), and
-//! as its own kernel (`fins stretch`) the largest structural edge stretch
+//! as its own kernel (`patch stretch`) the largest structural edge stretch
 //! after those steps (the strain limits hold it near `max_stretch`).
 //!
 //! Times [`coif::kernels::patch::step`] (SIMD) and
@@ -23,7 +23,7 @@ const COLS: usize = 32;
 /// Steps per timed batch.
 const STEPS: usize = 10;
 
-/// The `fins` and `fins stretch` rows: every sweep count, SIMD and scalar.
+/// The `patch` and `patch stretch` rows: every sweep count, SIMD and scalar.
 pub fn rows(options: Options) -> Vec<Row> {
     let (iterations, error_steps): (&[u32], usize) = if options.quick {
         (&[1, 4], 5)
@@ -59,12 +59,12 @@ pub fn rows(options: Options) -> Vec<Row> {
         });
         let errors = [
             (
-                "fins",
+                "patch",
                 "RMS per-step distance to 256 sweeps (m)",
                 q.rms_distance,
             ),
             (
-                "fins stretch",
+                "patch stretch",
                 "largest structural edge stretch after a step",
                 q.max_stretch,
             ),
