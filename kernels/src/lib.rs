@@ -18,6 +18,7 @@
 #![warn(missing_docs)]
 
 mod broad_phase;
+mod constraints;
 mod error;
 mod fixed_step;
 pub mod measure;
@@ -31,7 +32,7 @@ pub use coif_base::{lanes, rng, Sphere, StrandBlocks, Vec3x8, LANES};
 pub use error::Error;
 pub use fixed_step::FixedStep;
 pub use measure::{measure, Measures};
-pub use params::{SimParams, MAX_PEARLS_PER_SEGMENT};
+pub use params::{SimParams, MAX_PEARLS_PER_SEGMENT, MAX_SUBSTEPS};
 pub use patch::{Patch, Ribbon};
 pub use step::step;
 pub use strands::Strands;
