@@ -304,7 +304,9 @@ impl Strands {
     }
 
     /// Moves the pinned roots (one per strand, world space): skinning or head
-    /// motion. Rebases the local origin if the roots have wandered far.
+    /// motion. The next step carries each root from where it was to here
+    /// over its substeps. Rebases the local origin if the roots have
+    /// wandered far.
     pub fn set_roots(&mut self, roots: &[Vec3]) -> Result<(), Error> {
         self.check_roots(roots)?;
         let o = self.origin;
@@ -412,7 +414,7 @@ impl Strands {
     }
 
     /// Orientation of the groom frame that the rest shape (used by
-    /// `shape_stiffness` and resets) is turned by: set it to the head's
+    /// `local_shape_stiffness`, `shape_stiffness` and resets) is turned by: set it to the head's
     /// rotation when the engine turns the head.
     pub fn set_rest_rotation(&mut self, rotation: glam::Quat) -> Result<(), Error> {
         if !rotation.is_finite() {
