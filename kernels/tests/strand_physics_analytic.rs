@@ -184,13 +184,13 @@ fn hanging_chain_modes_match_the_eigenvalues_of_k() {
     assert!((omega[0] / continuous - 1.0).abs() < 0.01, "{omega:?}");
 
     let m1 = run_chain(&undamped(), 1, 12.0);
-    println!("mode 1, dt 1/60: {m1:?}");
+    println!("mode 1, dt 1/60: T = {:.4} s, {m1:?}", m1.expected);
     assert!(m1.period_error.abs() < 0.02, "{m1:?}");
     assert!(m1.max_amplitude <= 1.05 && m1.kept >= 0.5, "{m1:?}");
     assert!(m1.max_length_error <= 0.01, "{m1:?}");
 
     let m2 = run_chain(&undamped(), 2, 12.0);
-    println!("mode 2, dt 1/60: {m2:?}");
+    println!("mode 2, dt 1/60: T = {:.4} s, {m2:?}", m2.expected);
     assert!(m2.period_error.abs() < 0.05, "{m2:?}");
     assert!(m2.max_amplitude <= 1.05, "{m2:?}");
 
