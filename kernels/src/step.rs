@@ -6,9 +6,10 @@
 //! (default 4 of 1/240 s). Per block of [`LANES`] strands, in this order
 //! (the numbers are the step comments of [`step_chain`]):
 //!
-//! 1. **Broad phase** (once per step): the block's box, swept over the
-//!    step's predicted motion, against every rig sphere (`broad_phase.rs`);
-//!    only the spheres near the block enter its narrow phase.
+//! 1. **Broad phase** (once per step): the boxes of a group of four blocks,
+//!    swept over the step's predicted motion, against every rig sphere
+//!    (`broad_phase.rs`; the group's union first, then each block's box);
+//!    only the spheres near a block enter its narrow phase.
 //! 2. **Prediction** (per substep): the root moves on the straight line from
 //!    where it was to its target; free vertices take a position-Verlet step
 //!    `x* = x + d^(1/n) (x - x_prev) + g h^2` (Yip 2011's damping `d` spread
@@ -56,7 +57,7 @@
 //! [`Lane::recip`]), which read the same tables in both widths, so the SIMD
 //! and scalar paths agree bit for bit on x86-64 with AVX.
 
-use crate::broad_phase::{block_sweep_aabb, select_candidates, spheres_to_local, Candidate};
+use crate::broad_phase::{block_sweep_aabb, select_candidates, spheres_to_local, Aabb, Candidate};
 use crate::constraints::{BLOWN_UP, MIN_LENGTH};
 use crate::lanes::{Lane, LANES, V3};
 use crate::{SimParams, Sphere, Strands};
@@ -240,6 +241,7 @@ pub(crate) fn step_chain<T: Lane>(
     s: &mut ChainScratch<T>,
     k: &Setup,
     spheres: &[Candidate],
+    block: usize,
 ) -> T::Mask {
     let verts = c.pos.len();
     let segs = verts - 1;
@@ -306,9 +308,9 @@ pub(crate) fn step_chain<T: Lane>(
             }
         }
         // 5. Pearls, 6. strain limit with push-out.
-        pearls(c, k, spheres);
+        pearls(c, k, spheres, block);
         let rounds = if sub + 1 == n { 2 } else { 1 };
-        strain_limit_and_collide(c, k, spheres, rounds);
+        strain_limit_and_collide(c, k, spheres, block, rounds);
     }
     // 7. Velocity over the step, and the guard.
     let nn = T::splat(n as f32);
@@ -463,10 +465,10 @@ fn global_shape<T: Lane>(c: &mut Chain<'_, T>, k: &Setup) {
 /// `x_i += w_i (1-t) s n`, `x_{i+1} += w_{i+1} t s n`. Segments with a pinned
 /// end carry none (the root sits inside the collision skin).
 #[inline(always)]
-fn pearls<T: Lane>(c: &mut Chain<'_, T>, k: &Setup, spheres: &[Candidate]) {
+fn pearls<T: Lane>(c: &mut Chain<'_, T>, k: &Setup, spheres: &[Candidate], block: usize) {
     let verts = c.pos.len();
     let zero = T::splat(0.0);
-    for sp in spheres {
+    for sp in spheres.iter().filter(|sp| sp.touches(block)) {
         let r = Reach::<T>::new(sp.sphere, k.pearl_radius);
         for j in 1..=k.pearls {
             let tt = j as f32 / (k.pearls + 1) as f32;
@@ -504,6 +506,7 @@ fn strain_limit_and_collide<T: Lane>(
     c: &mut Chain<'_, T>,
     k: &Setup,
     spheres: &[Candidate],
+    block: usize,
     rounds: usize,
 ) {
     let zero = T::splat(0.0);
@@ -526,7 +529,7 @@ fn strain_limit_and_collide<T: Lane>(
                 let pulled = c.pos[v - 1] + d * (target * inv);
                 c.pos[v] = V3::select(fix, pulled, c.pos[v]);
             }
-            for sp in spheres {
+            for sp in spheres.iter().filter(|sp| sp.touches(block)) {
                 let r = Reach::<T>::new(sp.sphere, k.pearl_radius);
                 let d = c.pos[v] - r.centre;
                 let d2 = d.dot(d);
@@ -568,39 +571,60 @@ pub fn step(strands: &mut Strands, params: &SimParams, spheres: &[Sphere]) {
     let mut scratch = std::mem::take(&mut strands.scratch);
     spheres_to_local(spheres, strands.origin, &mut scratch.spheres_local);
     let verts = strands.verts;
-    for b in 0..strands.blocks {
-        let r = b * verts..(b + 1) * verts;
-        // 1. Broad phase.
-        let bx = block_sweep_aabb(
-            &strands.pos[r.clone()],
-            &strands.prev[r.clone()],
-            k.gravity_dt2,
-            strands.active[b],
-        );
+    let mut first = 0;
+    while first < strands.blocks {
+        let n = GROUP.min(strands.blocks - first);
+        // 1. Broad phase: the group's swept block boxes against the rig.
+        let mut boxes = [EMPTY_BOX; GROUP];
+        for (g, bx) in boxes.iter_mut().enumerate().take(n) {
+            let r = (first + g) * verts..(first + g + 1) * verts;
+            *bx = block_sweep_aabb(
+                &strands.pos[r.clone()],
+                &strands.prev[r],
+                k.gravity_dt2,
+                strands.active[first + g],
+            );
+        }
         select_candidates(
-            &[bx],
+            &boxes[..n],
             k.margin,
             &scratch.spheres_local,
             &mut scratch.candidates,
         );
-        // 2.-7.
-        let mut c = Chain {
-            pos: &mut strands.pos[r.clone()],
-            prev: &mut strands.prev[r.clone()],
-            w: &strands.inv_mass[r.clone()],
-            rest_len: &strands.rest_len[r.clone()],
-            rest_vec: &strands.rest_vec[r.clone()],
-            rest_dir: &strands.rest_dir[r.clone()],
-            rest_offset: &strands.rest_offset[r.clone()],
-            bend_len: &strands.bend_len[r.clone()],
-            bend_share: &strands.bend_share[r.clone()],
-            shape_weight: &strands.shape_weight[r],
-        };
-        let ok: f32x8 = step_chain(&mut c, &mut scratch.chain, &k, &scratch.candidates);
-        restore_lanes(strands, b, (!ok).to_bitmask());
+        for g in 0..n {
+            let b = first + g;
+            let r = b * verts..(b + 1) * verts;
+            // 2.-7.
+            let mut c = Chain {
+                pos: &mut strands.pos[r.clone()],
+                prev: &mut strands.prev[r.clone()],
+                w: &strands.inv_mass[r.clone()],
+                rest_len: &strands.rest_len[r.clone()],
+                rest_vec: &strands.rest_vec[r.clone()],
+                rest_dir: &strands.rest_dir[r.clone()],
+                rest_offset: &strands.rest_offset[r.clone()],
+                bend_len: &strands.bend_len[r.clone()],
+                bend_share: &strands.bend_share[r.clone()],
+                shape_weight: &strands.shape_weight[r],
+            };
+            let ok: f32x8 = step_chain(&mut c, &mut scratch.chain, &k, &scratch.candidates, g);
+            restore_lanes(strands, b, (!ok).to_bitmask());
+        }
+        first += n;
     }
     strands.scratch = scratch;
 }
+
+/// Blocks whose boxes are tested against the rig together (the union first,
+/// then each block's own box): with a 256-sphere body rig, one test per
+/// sphere per group rejects the far spheres.
+pub(crate) const GROUP: usize = 4;
+
+/// A placeholder box (never tested: only the first `n` of a group are).
+pub(crate) const EMPTY_BOX: Aabb = Aabb {
+    min: Vec3::ZERO,
+    max: Vec3::ZERO,
+};
 
 /// Restores the lanes of block `b` flagged in `bad`; counts those that hold
 /// real strands (padding lanes are restored silently).

@@ -5,8 +5,8 @@
 //!
 //! The numbered steps are those of `step.rs`'s header:
 //!
-//! 1. Broad phase: the block's swept box (the scalar twin of
-//!    `block_sweep_aabb`) against the rig, once per step.
+//! 1. Broad phase: the swept boxes of a group of four blocks (the scalar
+//!    twin of `block_sweep_aabb`) against the rig, once per step.
 //! 2. Prediction: root path, Verlet per substep, fixed direction part.
 //! 3. Shape: local (TressFX 4) and global shape constraints.
 //! 4. Projection of the length constraints (tridiagonal, blended directions),
@@ -19,7 +19,7 @@
 use super::broad_phase::block_sweep_aabb;
 use crate::broad_phase::{select_candidates, spheres_to_local};
 use crate::lanes::{Vec3x8, V3};
-use crate::step::{restore_lanes, step_chain, Chain, ChainScratch, Setup};
+use crate::step::{restore_lanes, step_chain, Chain, ChainScratch, Setup, EMPTY_BOX, GROUP};
 use crate::{SimParams, Sphere, Strands};
 use wide::f32x8;
 
@@ -72,63 +72,71 @@ pub fn step(strands: &mut Strands, params: &SimParams, spheres: &[Sphere]) {
     let mut scratch = std::mem::take(&mut strands.scratch);
     spheres_to_local(spheres, strands.origin, &mut scratch.spheres_local);
     let verts = strands.verts;
-    for b in 0..strands.blocks {
-        let base = b * verts;
-        let r = base..base + verts;
-        let lanes = strands.lanes_in_block(b);
+    let mut first = 0;
+    while first < strands.blocks {
+        let n = GROUP.min(strands.blocks - first);
         // 1. Broad phase.
-        let bx = block_sweep_aabb(
-            &strands.pos[r.clone()],
-            &strands.prev[r.clone()],
-            k.gravity_dt2,
-            lanes,
-        );
+        let mut boxes = [EMPTY_BOX; GROUP];
+        for (g, bx) in boxes.iter_mut().enumerate().take(n) {
+            let r = (first + g) * verts..(first + g + 1) * verts;
+            *bx = block_sweep_aabb(
+                &strands.pos[r.clone()],
+                &strands.prev[r],
+                k.gravity_dt2,
+                strands.lanes_in_block(first + g),
+            );
+        }
         select_candidates(
-            &[bx],
+            &boxes[..n],
             k.margin,
             &scratch.spheres_local,
             &mut scratch.candidates,
         );
-        let mut bad = 0u32;
-        for l in 0..lanes {
-            let lb = &mut scratch.lane;
-            for v in 0..verts {
-                let i = base + v;
-                lb.pos[v] = lane3(&strands.pos[i], l);
-                lb.prev[v] = lane3(&strands.prev[i], l);
-                lb.w[v] = lane1(&strands.inv_mass[i], l);
-                lb.rest_len[v] = lane1(&strands.rest_len[i], l);
-                lb.rest_vec[v] = lane3(&strands.rest_vec[i], l);
-                lb.rest_dir[v] = lane3(&strands.rest_dir[i], l);
-                lb.rest_offset[v] = lane3(&strands.rest_offset[i], l);
-                lb.bend_len[v] = lane1(&strands.bend_len[i], l);
-                let sh = strands.bend_share[i];
-                lb.bend_share[v] = [lane1(&sh[0], l), lane1(&sh[1], l)];
-                lb.shape_weight[v] = lane1(&strands.shape_weight[i], l);
+        for g in 0..n {
+            let b = first + g;
+            let base = b * verts;
+            let mut bad = 0u32;
+            for l in 0..strands.lanes_in_block(b) {
+                let lb = &mut scratch.lane;
+                for v in 0..verts {
+                    let i = base + v;
+                    lb.pos[v] = lane3(&strands.pos[i], l);
+                    lb.prev[v] = lane3(&strands.prev[i], l);
+                    lb.w[v] = lane1(&strands.inv_mass[i], l);
+                    lb.rest_len[v] = lane1(&strands.rest_len[i], l);
+                    lb.rest_vec[v] = lane3(&strands.rest_vec[i], l);
+                    lb.rest_dir[v] = lane3(&strands.rest_dir[i], l);
+                    lb.rest_offset[v] = lane3(&strands.rest_offset[i], l);
+                    lb.bend_len[v] = lane1(&strands.bend_len[i], l);
+                    let sh = strands.bend_share[i];
+                    lb.bend_share[v] = [lane1(&sh[0], l), lane1(&sh[1], l)];
+                    lb.shape_weight[v] = lane1(&strands.shape_weight[i], l);
+                }
+                // 2.-7.
+                let mut c = Chain {
+                    pos: &mut lb.pos,
+                    prev: &mut lb.prev,
+                    w: &lb.w,
+                    rest_len: &lb.rest_len,
+                    rest_vec: &lb.rest_vec,
+                    rest_dir: &lb.rest_dir,
+                    rest_offset: &lb.rest_offset,
+                    bend_len: &lb.bend_len,
+                    bend_share: &lb.bend_share,
+                    shape_weight: &lb.shape_weight,
+                };
+                let ok: bool = step_chain(&mut c, &mut lb.chain, &k, &scratch.candidates, g);
+                for v in 0..verts {
+                    strands.pos[base + v].set_lane(l, lb.pos[v].to_vec3());
+                    strands.prev[base + v].set_lane(l, lb.prev[v].to_vec3());
+                }
+                if !ok {
+                    bad |= 1 << l;
+                }
             }
-            // 2.-7.
-            let mut c = Chain {
-                pos: &mut lb.pos,
-                prev: &mut lb.prev,
-                w: &lb.w,
-                rest_len: &lb.rest_len,
-                rest_vec: &lb.rest_vec,
-                rest_dir: &lb.rest_dir,
-                rest_offset: &lb.rest_offset,
-                bend_len: &lb.bend_len,
-                bend_share: &lb.bend_share,
-                shape_weight: &lb.shape_weight,
-            };
-            let ok: bool = step_chain(&mut c, &mut lb.chain, &k, &scratch.candidates);
-            for v in 0..verts {
-                strands.pos[base + v].set_lane(l, lb.pos[v].to_vec3());
-                strands.prev[base + v].set_lane(l, lb.prev[v].to_vec3());
-            }
-            if !ok {
-                bad |= 1 << l;
-            }
+            restore_lanes(strands, b, bad);
         }
-        restore_lanes(strands, b, bad);
+        first += n;
     }
     strands.scratch = scratch;
 }
