@@ -13,6 +13,8 @@ const LINK: f64 = 0.01;
 
 /// Eigenvalues (ascending) and eigenvectors (columns, `vecs[row][k]`) of a
 /// symmetric matrix by cyclic Jacobi rotations, in f64.
+// The row rotation updates two rows of `a` at the same index.
+#[allow(clippy::needless_range_loop)]
 fn jacobi_eigen(a: &[Vec<f64>]) -> (Vec<f64>, Vec<Vec<f64>>) {
     let n = a.len();
     let mut a = a.to_vec();
