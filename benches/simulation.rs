@@ -1,7 +1,10 @@
 //! Simulation step, SIMD against scalar, on the TressFX mohawk (2,226 x 32)
-//! and a synthetic 10,000 x 32 head, over iterations {4, 8}, pearls {0, 1}
+//! and a synthetic 10,000 x 32 head, over projections per substep
+//! (`iterations`) {1, 2} at the default 4 substeps of 1/240 s, pearls {0, 1}
 //! and rigs of {1, 16, 256} spheres (head, neck, and the rest of a body rig
-//! a body length away). Throughput is in vertex-steps per second.
+//! a body length away: the broad phase keeps the 254 far ones out of the
+//! narrow phase), plus the default with local shape constraints on
+//! (`shape1`). Throughput is in vertex-steps per second.
 //!
 //! `cargo bench --bench simulation` (add `-- --quick` for a fast pass).
 
@@ -58,31 +61,41 @@ fn bench_set(c: &mut Criterion, name: &str, pts: &[Vec3], verts: usize, make_rig
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(2));
     group.throughput(Throughput::Elements(pts.len() as u64));
-    for iterations in [4u32, 8] {
+    let mut rows = vec![];
+    for iterations in [1u32, 2] {
         for pearls in [0u32, 1] {
             for spheres in [1usize, 16, 256] {
-                let rig = make_rig(spheres);
-                let params = SimParams {
-                    iterations,
-                    pearls_per_segment: pearls,
-                    ..Default::default()
-                };
-                // Start from a draped state, as in a running game.
-                let mut settled = Strands::from_polylines(pts, verts).unwrap();
-                for _ in 0..30 {
-                    kernels::step(&mut settled, &params, &rig);
-                }
-                let id = format!("it{iterations}/pearls{pearls}/spheres{spheres}");
-                let mut s = settled.clone();
-                group.bench_function(BenchmarkId::new("simd", &id), |b| {
-                    b.iter(|| kernels::step(black_box(&mut s), &params, &rig))
-                });
-                let mut s = settled.clone();
-                group.bench_function(BenchmarkId::new("scalar", &id), |b| {
-                    b.iter(|| scalar::step(black_box(&mut s), &params, &rig))
-                });
+                rows.push((iterations, pearls, spheres, 0.0f32));
             }
         }
+    }
+    rows.push((1, 1, 16, 1.0));
+    for (iterations, pearls, spheres, shape) in rows {
+        let rig = make_rig(spheres);
+        let params = SimParams {
+            iterations,
+            pearls_per_segment: pearls,
+            local_shape_stiffness: shape,
+            ..Default::default()
+        };
+        // Start from a draped state, as in a running game.
+        let mut settled = Strands::from_polylines(pts, verts).unwrap();
+        for _ in 0..30 {
+            kernels::step(&mut settled, &params, &rig);
+        }
+        let id = if shape > 0.0 {
+            format!("it{iterations}/pearls{pearls}/spheres{spheres}/shape1")
+        } else {
+            format!("it{iterations}/pearls{pearls}/spheres{spheres}")
+        };
+        let mut s = settled.clone();
+        group.bench_function(BenchmarkId::new("simd", &id), |b| {
+            b.iter(|| kernels::step(black_box(&mut s), &params, &rig))
+        });
+        let mut s = settled.clone();
+        group.bench_function(BenchmarkId::new("scalar", &id), |b| {
+            b.iter(|| scalar::step(black_box(&mut s), &params, &rig))
+        });
     }
     group.finish();
 }

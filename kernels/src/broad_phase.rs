@@ -74,6 +74,57 @@ pub(crate) fn block_aabb(pos: &[Vec3x8], active: f32x8) -> Aabb {
     }
 }
 
+/// The box of the active lanes of one strand block swept over the step:
+/// every vertex `x` and its extrapolation `x + (x - x_prev) + g dt^2 + m`,
+/// with `m` the root's move (`pos[0] - prev[0]`: the roots' target minus
+/// where they were). Inactive lanes are masked to +-inf, NaNs are skipped.
+pub(crate) fn block_sweep_aabb(
+    pos: &[Vec3x8],
+    prev: &[Vec3x8],
+    g_dt2: Vec3,
+    active: f32x8,
+) -> Aabb {
+    let inf = f32x8::splat(f32::INFINITY);
+    let g = Vec3x8::splat(g_dt2);
+    let root_move = pos[0] - prev[0];
+    let (mut lo, mut hi) = (
+        Vec3x8::splat(Vec3::INFINITY),
+        Vec3x8::splat(Vec3::NEG_INFINITY),
+    );
+    for (x, p) in pos.iter().zip(prev) {
+        let ahead = *x + (*x - *p) + g + root_move;
+        for q in [*x, ahead] {
+            lo = Vec3x8::new(
+                active.select(q.x, inf).fast_min(lo.x),
+                active.select(q.y, inf).fast_min(lo.y),
+                active.select(q.z, inf).fast_min(lo.z),
+            );
+            hi = Vec3x8::new(
+                active.select(q.x, -inf).fast_max(hi.x),
+                active.select(q.y, -inf).fast_max(hi.y),
+                active.select(q.z, -inf).fast_max(hi.z),
+            );
+        }
+    }
+    fold_box(lo, hi)
+}
+
+fn fold_box(lo: Vec3x8, hi: Vec3x8) -> Aabb {
+    let fold = |v: f32x8, f: fn(f32, f32) -> f32, init: f32| v.to_array().into_iter().fold(init, f);
+    Aabb {
+        min: Vec3::new(
+            fold(lo.x, f32::min, f32::INFINITY),
+            fold(lo.y, f32::min, f32::INFINITY),
+            fold(lo.z, f32::min, f32::INFINITY),
+        ),
+        max: Vec3::new(
+            fold(hi.x, f32::max, f32::NEG_INFINITY),
+            fold(hi.y, f32::max, f32::NEG_INFINITY),
+            fold(hi.z, f32::max, f32::NEG_INFINITY),
+        ),
+    }
+}
+
 /// A rig sphere (local centre, radius) that may touch a group of blocks,
 /// with bit `b` set in `blocks` for each block `b` of the group it may touch.
 #[derive(Clone, Copy, Debug, PartialEq)]

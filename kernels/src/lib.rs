@@ -5,12 +5,18 @@
 //! (fins, ribbons) with the same code, columns in lanes.
 //!
 //! One strand step ([`step`]; `README.md` beside this crate gives every
-//! formula and its source): 1 Verlet with damping (Yip 2011) -> 2 shape
-//! keeping -> 3 broad phase against the sphere rig -> 4 `iterations` sweeps of
-//! length and bending constraints (Jakobsen 2001) -> 5 strain limit
-//! (Provot 1995, Follow-The-Leader order, Muller et al. 2012) alternated with
-//! the sphere collisions -> 6 pearls (Nalu's point-on-segment rule) -> 7 a
-//! guard that restores a lane gone non-finite.
+//! formula, its source and the measurements behind the design) runs
+//! `ceil(dt / max_substep)` substeps (default 4 of 1/240 s): 1 broad phase
+//! against the sphere rig (once per step) -> 2 Verlet prediction -> 3 local
+//! shape constraints (TressFX 4) and global shape -> 4 projection of the
+//! length constraints along blended directions by a tridiagonal (Thomas)
+//! solve per chain (fast projection, Goldenthal et al. 2007; SHAKE, Ryckaert
+//! et al. 1977; the trapezoidal rule, Newmark 1959) -> 5 pearls (Nalu's
+//! point-on-segment rule) -> 6 two-sided strain limit (Provot 1995,
+//! Follow-The-Leader order, Muller et al. 2012) alternated with the sphere
+//! push-out -> 7 velocity over the step and a guard that restores a lane
+//! gone non-finite. One generic body over [`lanes::Lane`] serves the SIMD
+//! path and its scalar twin.
 //!
 //! The lane math (`Vec3x8`, `LANES`, `inv_sqrt_x8`), the RNG, [`Sphere`] and
 //! [`StrandBlocks`] come from `coif-base` and are re-exported here.
@@ -18,6 +24,7 @@
 #![warn(missing_docs)]
 
 mod broad_phase;
+mod constraints;
 mod error;
 mod fixed_step;
 pub mod measure;
@@ -31,7 +38,7 @@ pub use coif_base::{lanes, rng, Sphere, StrandBlocks, Vec3x8, LANES};
 pub use error::Error;
 pub use fixed_step::FixedStep;
 pub use measure::{measure, Measures};
-pub use params::{SimParams, MAX_PEARLS_PER_SEGMENT};
+pub use params::{SimParams, MAX_PEARLS_PER_SEGMENT, MAX_SUBSTEPS};
 pub use patch::{Patch, Ribbon};
 pub use step::step;
 pub use strands::Strands;

@@ -1,125 +1,564 @@
-//! One fixed simulation step, SIMD path: eight strands per instruction stream.
+//! One fixed strand step, SIMD path: eight strands per instruction stream,
+//! one generic body ([`step_chain`], written over [`Lane`]) that the scalar
+//! twin [`crate::scalar::step`] instantiates at `f32`, one lane at a time.
 //!
-//! Per block of [`LANES`] strands, in this order (the numbers are the step
-//! comments of [`step`]'s body and of its scalar twin [`crate::scalar::step`]):
+//! A step of `dt` runs `n = ceil(dt / max_substep)` substeps of `h = dt / n`
+//! (default 4 of 1/240 s). Per block of [`LANES`] strands, in this order
+//! (the numbers are the step comments of [`step_chain`]):
 //!
-//! 1. **Verlet** with damping (Yip 2011):
-//!    `x' = x + d (x - x_prev) + g dt^2`; pinned vertices (inverse mass 0) stay.
-//! 2. **Shape keeping** (optional): `x += k w_v (root + R rest_v - x)` with
-//!    `w_v = 1 - arc(v)/arc(tip)`, strongest at the root (Yip; TressFX).
-//! 3. **Broad phase**: each block's bounding box against every rig sphere
-//!    (`broad_phase.rs`); only spheres near a block are tested against it.
-//! 4. `iterations` Gauss-Seidel sweeps, root to tip, of the mass-weighted
-//!    length constraint (Jakobsen 2001): `delta = x2 - x1`,
-//!    `k = (|delta| - l) / |delta|`, `x1 += w1/(w1+w2) k delta`,
-//!    `x2 -= w2/(w1+w2) k delta` (`1/|delta|` by [`inv_sqrt_x8`] of
-//!    `max(|delta|^2, 1e-14)`, so zero-length segments stay finite); with
-//!    bending on, the same rule between v and v + 2 scaled by `bend_stiffness`
-//!    right after segment v. Before the last sweep, one collision pass
-//!    (vertices and pearls, as in 6), so that the sweep smooths what the
-//!    push-out did.
-//! 5. **Strain limit with collisions**, root to tip: each vertex is pulled
-//!    toward its parent until `|x_v - x_{v-1}| <= (1 + max_stretch) l_{v-1}`
-//!    (Provot 1995; Follow-The-Leader order, Muller et al. 2012), then pushed
-//!    out of every nearby sphere to distance `R + r`, twice over; a pushed
-//!    vertex loses the share `friction` of its tangential velocity
-//!    (`x_prev += mu (v - n (v.n))`). Summed over segments the limit gives
-//!    Yip's root spheres `|x_v - root| <= (1 + max_stretch) arc(v)`, and unlike
-//!    them it holds for hair wrapped round the head. Alternating the two per
-//!    vertex is what lets neither undo the other: with collisions last, root
-//!    jumps stretched segments by 50 %; with the limit last, hair was pulled
-//!    9 cm into the head.
-//! 6. **Pearls**: `k` points `p = (1-t) x_i + t x_{i+1}`, `t = j/(k+1)`, per
-//!    segment, pushed out by the point-on-segment rule of the Nalu demo
-//!    (Nguyen and Donnelly 2005, "Hair animation and rendering in the Nalu
-//!    demo", GPU Gems 2):
-//!    `C = |p - c| - (R + r)`, `s = -C / (w_i (1-t)^2 + w_{i+1} t^2)`,
-//!    `x_i += w_i (1-t) s n`, `x_{i+1} += w_{i+1} t s n`. Segments with a
-//!    pinned end carry no pearls: the root sits on the scalp, inside the
-//!    collision skin, and a pearl there pushed against the pin every step
-//!    (5 m/s jitter at the tips with 1 iteration). Pearls must be spaced
-//!    closer than a sphere's diameter or the sphere slips between them.
-//! 7. **Guard**: a lane with a non-finite coordinate, or one beyond 10^6 m of
-//!    the local origin, is restored to its rest pose at its root and counted;
-//!    lanes never exchange data, so no other strand is touched.
+//! 1. **Broad phase** (once per step): the boxes of a group of four blocks,
+//!    swept over the step's predicted motion, against every rig sphere
+//!    (`broad_phase.rs`; the group's union first, then each block's box);
+//!    only the spheres near a block enter its narrow phase.
+//! 2. **Prediction** (per substep): the root moves on the straight line from
+//!    where it was to its target; free vertices take a position-Verlet step
+//!    `x* = x + d^(1/n) (x - x_prev) + g h^2` (Yip 2011's damping `d` spread
+//!    over the substeps). The same pass stores the fixed part of the
+//!    constraint directions, `(1/2) d_s(x_n) + (1/4 - a) d_s(x_{n-1})` with
+//!    `d_s(x) = x_{s+1} - x_s`.
+//! 3. **Shape** (optional): TressFX 4's local shape constraints, root to tip
+//!    (segment s is pulled toward its rest vector carried by the minimal
+//!    rotation that takes the parent's rest direction to its current
+//!    direction; the root segment toward the groom frame), the child taking
+//!    the whole correction; then the global shape pull toward
+//!    `root + R rest_v`, weighted `1 - arc(v)/arc(tip)` (Yip 2011).
+//! 4. **Projection** of the length constraints, `iterations` times: per
+//!    chain, with `e_s` the current unit segment directions and the blended
+//!    constraint directions
+//!    `q_s = (1/4 + a) d_s(x*) + (1/2) d_s(x_n) + (1/4 - a) d_s(x_{n-1})`,
+//!    solve the tridiagonal system
+//!    `e_s . (dx_{s+1} - dx_s) = l_s - |x*_{s+1} - x*_s|`,
+//!    `dx_v = w_v (lambda_{v-1} q_{v-1} - lambda_v q_v)`
+//!    for the multipliers (Thomas algorithm, no pivoting: the matrix is
+//!    diagonally dominant while the `e . q` stay near `|q|`), then move the
+//!    vertices. `a = 0` is the trapezoidal (average-acceleration) rule
+//!    (Newmark 1959) of the constrained dynamics; `[1, 0, 0]` would be fast
+//!    projection (Goldenthal et al. 2007), `[0, 1, 0]` SHAKE (Ryckaert et al.
+//!    1977; Andersen 1983's RATTLE is its velocity form). `q_s` is not
+//!    normalised (its multiplier absorbs the scale); it falls back to `e_s`
+//!    where its cosine with `e_s` is below 1/2. With bending on, a sweep of
+//!    i..i+2 distance constraints (Jakobsen 2001) follows each projection.
+//! 5. **Pearls** against the block's spheres: `k` points per segment pushed
+//!    out by the Nalu demo's point-on-segment rule (Nguyen and Donnelly
+//!    2005).
+//! 6. **Strain limit with push-out**, root to tip: each vertex is moved
+//!    along its segment until `(1 - s) l <= |x_v - x_{v-1}| <= (1 + s) l`
+//!    (Provot 1995, Follow-The-Leader order, Muller et al. 2012), then pushed
+//!    out of the spheres, with friction `x_prev += mu v_t`; one round per
+//!    substep, two on the last.
+//! 7. **Velocity and guard** (end of step): `x_prev` is rewritten so that
+//!    `(x - x_prev) / dt` is the last substep's velocity (what `set_velocity`
+//!    and `measure::max_speed` read); a lane with a non-finite coordinate or
+//!    one beyond 10^6 m is restored to its rest pose at its root and counted.
+//!    Lanes never exchange data, so no other strand is touched.
 //!
-//! Collision passes cost most of a step, so there are two per step (before
-//! the last sweep in 4, and 5-6), not one per sweep: the same outcomes in every
-//! test at 104 instead of 167 instructions per vertex-step on the mohawk.
-//! With only the final pass (83 instructions) hair draped on a head flapped
-//! at 3-5 m/s at rest.
-//!
-//! Blocks are processed in groups of [`GROUP`], interleaved segment by
-//! segment, so that four independent constraint chains are in flight.
-//!
-//! [`crate::scalar::step`] runs the same operations in the same order, one
-//! lane at a time; neither path uses fused multiply-adds and both read the
-//! same inverse-square-root estimate, so the two agree bit for bit on
-//! x86-64 with AVX.
+//! No division and no square root in the body: `1/sqrt` and `1/x` are the
+//! hardware estimates plus one Newton step ([`Lane::inv_sqrt`],
+//! [`Lane::recip`]), which read the same tables in both widths, so the SIMD
+//! and scalar paths agree bit for bit on x86-64 with AVX.
 
-use crate::broad_phase::{block_aabb, select_candidates, spheres_to_local, Aabb, Candidate};
-use crate::lanes::{inv_sqrt_x8, Vec3x8, LANES};
+use crate::broad_phase::{block_sweep_aabb, select_candidates, spheres_to_local, Aabb, Candidate};
+use crate::constraints::{BLOWN_UP, MIN_LENGTH};
+use crate::lanes::{Lane, LANES, V3};
 use crate::{SimParams, Sphere, Strands};
 use glam::{Mat3, Vec3};
 use wide::f32x8;
 
-/// Coordinates beyond this (metres from the local origin) count as blown up.
-pub(crate) const BLOWN_UP: f32 = 1.0e6;
-/// Alternations of strain limit and vertex push-out per vertex at the end of
-/// a step.
-pub(crate) const STRAIN_COLLIDE_ROUNDS: usize = 2;
-/// Smallest length a constraint divides by (TressFX clamps with 1e-7 too).
-pub(crate) const MIN_LENGTH: f32 = 1.0e-7;
+/// Constraint directions whose cosine with the current segment falls below
+/// this are replaced by the current direction (the blend means nothing once
+/// a segment turned by more than 60 degrees within a substep).
+pub(crate) const MIN_DIRECTION_COSINE: f32 = 0.5;
+/// Local shape correction per [`LOCAL_SHAPE_H_REF`] at stiffness 1.
+pub(crate) const LOCAL_SHAPE_MAX: f32 = 0.99;
+/// Substep length at which [`LOCAL_SHAPE_MAX`] was measured (s).
+pub(crate) const LOCAL_SHAPE_H_REF: f32 = 1.0 / 240.0;
 
 /// Per-step values shared by the SIMD and scalar paths.
-pub(crate) struct StepSetup {
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Setup {
+    pub substeps: u32,
+    /// Velocity kept per substep, `damping^(1/n)`.
     pub damping: f32,
+    pub gravity_h2: Vec3,
+    /// `g dt^2`, the broad phase's sweep.
     pub gravity_dt2: Vec3,
     pub iterations: u32,
+    /// Weights of `d(x*)`, `d(x_n)`, `d(x_{n-1})` in the directions.
+    pub direction: [f32; 3],
+    pub stretch_factor: f32,
+    pub shrink_factor: f32,
     pub pearls: u32,
     pub pearl_radius: f32,
-    pub stretch_factor: f32,
-    pub bend: f32,
-    pub shape: f32,
     pub friction: f32,
-    pub rest_rotation: Mat3,
+    /// Per substep: local shape share, global shape pull, bending stiffness.
+    pub local_shape: f32,
+    pub shape: f32,
+    pub bend: f32,
+    pub rotation: Mat3,
     /// Broad-phase margin: pearl radius plus one longest rest segment.
     pub margin: f32,
 }
 
-impl StepSetup {
-    pub(crate) fn new(strands: &Strands, p: &SimParams) -> Self {
-        StepSetup {
-            damping: p.damping,
+/// The local shape correction per substep of length `h` for the user's
+/// stiffness `k` in [0, 1]: `c / (1 - c) = (c_ref / (1 - c_ref)) (h / h_ref)`
+/// with `c_ref = 0.99 k`, `h_ref = 1/240 s`. Measured on the mohawk, this
+/// keeps the rest drift, lag and return flat from 4 to 8 substeps per 1/60 s;
+/// the exponential `1 - (1 - c_ref)^(h / h_ref)` (the decay of an
+/// undisturbed error) let the mohawk drift 66 % at 8 substeps.
+pub(crate) fn local_shape_per_substep(k: f32, h: f32) -> f32 {
+    let k = k.clamp(0.0, 1.0);
+    if k <= 0.0 || h.is_nan() {
+        return 0.0;
+    }
+    let c_ref = LOCAL_SHAPE_MAX * k;
+    let s = c_ref / (1.0 - c_ref) * (h / LOCAL_SHAPE_H_REF);
+    s / (1.0 + s)
+}
+
+/// A per-step pull `k` in [0, 1] spread over `n` substeps: `1 - (1 - k)^(1/n)`.
+fn per_substep(k: f32, n: u32) -> f32 {
+    let k = k.clamp(0.0, 1.0);
+    if k >= 1.0 {
+        1.0
+    } else {
+        1.0 - (1.0 - k).powf(1.0 / n as f32)
+    }
+}
+
+impl Setup {
+    pub(crate) fn new(s: &Strands, p: &SimParams) -> Setup {
+        let n = p.substeps();
+        let h = p.dt / n as f32;
+        let a = p.stiff_mode_damping.clamp(0.0, 0.25);
+        Setup {
+            substeps: n,
+            damping: p.damping.powf(1.0 / n as f32),
+            gravity_h2: p.gravity * (h * h),
             gravity_dt2: p.gravity * (p.dt * p.dt),
             iterations: p.iterations,
+            direction: [0.25 + a, 0.5, 0.25 - a],
+            stretch_factor: 1.0 + p.max_stretch,
+            shrink_factor: (1.0 - p.max_stretch).max(0.0),
             pearls: p.pearls_per_segment.min(crate::MAX_PEARLS_PER_SEGMENT),
             pearl_radius: p.pearl_radius,
-            stretch_factor: 1.0 + p.max_stretch,
-            bend: p.bend_stiffness,
-            shape: p.shape_stiffness,
             friction: p.friction,
-            rest_rotation: strands.rest_rotation,
-            margin: p.pearl_radius.max(0.0) + strands.max_rest_segment,
+            local_shape: local_shape_per_substep(p.local_shape_stiffness, h),
+            shape: per_substep(p.shape_stiffness, n),
+            bend: per_substep(p.bend_stiffness, n),
+            rotation: s.rest_rotation,
+            margin: p.pearl_radius.max(0.0) + s.max_rest_segment,
         }
     }
+}
 
-    /// Pearl parameter t = j / (k + 1).
-    #[inline(always)]
-    pub(crate) fn pearl_t(&self, j: u32) -> f32 {
-        j as f32 / (self.pearls + 1) as f32
+/// One chain's data: eight chains in lanes (`T = f32x8`) or one (`f32`),
+/// `V` entries each, root first.
+pub(crate) struct Chain<'a, T: Lane> {
+    pub pos: &'a mut [V3<T>],
+    /// Previous positions: one step ago outside the step, one substep ago
+    /// inside it.
+    pub prev: &'a mut [V3<T>],
+    /// Inverse mass (0 = pinned).
+    pub w: &'a [T],
+    /// Rest length of segment v -> v + 1.
+    pub rest_len: &'a [T],
+    /// Rest vector and unit rest direction of segment v -> v + 1, groom frame.
+    pub rest_vec: &'a [V3<T>],
+    pub rest_dir: &'a [V3<T>],
+    /// Rest offset of vertex v from the root, groom frame.
+    pub rest_offset: &'a [V3<T>],
+    /// Rest distance v -> v + 2 and the mass shares of that constraint.
+    pub bend_len: &'a [T],
+    pub bend_share: &'a [[T; 2]],
+    /// Global shape weight `1 - arc(v) / arc(tip)`.
+    pub shape_weight: &'a [T],
+}
+
+/// Per-chain scratch, `V` entries each, sized when the strands are built.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct ChainScratch<T: Lane> {
+    qfix: Vec<V3<T>>,
+    n: Vec<V3<T>>,
+    cp: Vec<T>,
+    dp: Vec<T>,
+    rvec: Vec<V3<T>>,
+    rdir: Vec<V3<T>>,
+}
+
+impl<T: Lane> ChainScratch<T> {
+    pub(crate) fn new(verts: usize) -> Self {
+        ChainScratch {
+            qfix: vec![V3::zero(); verts],
+            n: vec![V3::zero(); verts],
+            cp: vec![T::splat(0.0); verts],
+            dp: vec![T::splat(0.0); verts],
+            rvec: vec![V3::zero(); verts],
+            rdir: vec![V3::zero(); verts],
+        }
     }
 }
 
-/// `m * v` for eight vectors: `x_axis v.x + y_axis v.y + z_axis v.z`.
-#[inline(always)]
-fn rotate(m: &Mat3, v: Vec3x8) -> Vec3x8 {
-    Vec3x8::splat(m.x_axis) * v.x + Vec3x8::splat(m.y_axis) * v.y + Vec3x8::splat(m.z_axis) * v.z
+/// A rig sphere grown by the pearl radius, splatted.
+#[derive(Clone, Copy)]
+struct Reach<T: Lane> {
+    centre: V3<T>,
+    reach: T,
+    reach2: T,
 }
 
-/// Blocks processed together: their constraint chains are independent, so
-/// interleaving them hides the latency of each chain's sqrt and division.
-pub(crate) const GROUP: usize = 4;
+impl<T: Lane> Reach<T> {
+    #[inline(always)]
+    fn new(s: [f32; 4], r: f32) -> Self {
+        let reach = T::splat(s[3] + r);
+        Reach {
+            centre: V3::splat(Vec3::new(s[0], s[1], s[2])),
+            reach,
+            reach2: reach * reach,
+        }
+    }
+}
+
+/// `m * v` as `x_axis v.x + y_axis v.y + z_axis v.z`.
+#[inline(always)]
+fn rotate<T: Lane>(m: &Mat3, v: V3<T>) -> V3<T> {
+    V3::splat(m.x_axis) * v.x + V3::splat(m.y_axis) * v.y + V3::splat(m.z_axis) * v.z
+}
+
+/// `|d|` and `d / |d|`, lengths clamped to [`MIN_LENGTH`].
+#[inline(always)]
+fn length_dir<T: Lane>(d: V3<T>) -> (T, V3<T>) {
+    let d2 = d.dot(d).max(T::splat(MIN_LENGTH * MIN_LENGTH));
+    let r = d2.inv_sqrt();
+    (d2 * r, d * r)
+}
+
+/// Advances one chain (or eight, in lanes) by one step; returns the lanes
+/// that stayed finite and within [`BLOWN_UP`] (the caller restores the
+/// others). On entry `pos[0]` is the root's target and `prev[0]` where it was.
+#[inline(always)]
+pub(crate) fn step_chain<T: Lane>(
+    c: &mut Chain<'_, T>,
+    s: &mut ChainScratch<T>,
+    k: &Setup,
+    spheres: &[Candidate],
+    block: usize,
+) -> T::Mask {
+    let verts = c.pos.len();
+    let segs = verts - 1;
+    let zero = T::splat(0.0);
+    let n = k.substeps;
+    let d = T::splat(k.damping);
+    let g = V3::<T>::splat(k.gravity_h2);
+    let a1 = T::splat(k.direction[0]);
+    let a0 = T::splat(k.direction[1]);
+    let am = T::splat(k.direction[2]);
+    let root_from = c.prev[0];
+    let root_to = c.pos[0];
+    // 2. (set-up) Previous positions one substep back: the step's velocity
+    // (x - x_prev) / dt, over h.
+    let inv_n = T::splat(1.0 / n as f32);
+    c.pos[0] = root_from;
+    for v in 1..verts {
+        let x = c.pos[v];
+        c.prev[v] = x - (x - c.prev[v]) * inv_n;
+    }
+    // 3. (set-up) The rest vectors in the groom frame's current orientation.
+    if k.local_shape > 0.0 {
+        for v in 0..segs {
+            s.rvec[v] = rotate(&k.rotation, c.rest_vec[v]);
+            s.rdir[v] = rotate(&k.rotation, c.rest_dir[v]);
+        }
+    }
+    for sub in 0..n {
+        // 2. Prediction: the root on its path, Verlet for the free vertices,
+        // and the fixed part of the directions of segment v - 1 from the
+        // positions before the prediction.
+        let root = if sub + 1 == n {
+            root_to
+        } else {
+            root_from + (root_to - root_from) * T::splat((sub + 1) as f32 / n as f32)
+        };
+        let mut x_last = c.pos[0];
+        let mut p_last = c.prev[0];
+        for v in 0..verts {
+            let x = c.pos[v];
+            let xp = c.prev[v];
+            if v > 0 {
+                s.qfix[v - 1] = (x - x_last) * a0 + (xp - p_last) * am;
+            }
+            let moved = x + (x - xp) * d + g;
+            let pinned = if v == 0 { root } else { x };
+            c.pos[v] = V3::select(c.w[v].gt(zero), moved, pinned);
+            c.prev[v] = x;
+            x_last = x;
+            p_last = xp;
+        }
+        // 3. Shape: local (TressFX 4), then global.
+        if k.local_shape > 0.0 {
+            local_shape(c, s, k);
+        }
+        if k.shape > 0.0 {
+            global_shape(c, k);
+        }
+        // 4. Projections of the length constraints (and bending).
+        for _ in 0..k.iterations {
+            project(c, s, a1);
+            if k.bend > 0.0 {
+                bend(c, T::splat(k.bend));
+            }
+        }
+        // 5. Pearls, 6. strain limit with push-out.
+        pearls(c, k, spheres, block);
+        let rounds = if sub + 1 == n { 2 } else { 1 };
+        strain_limit_and_collide(c, k, spheres, block, rounds);
+    }
+    // 7. Velocity over the step, and the guard.
+    let nn = T::splat(n as f32);
+    let big = T::splat(BLOWN_UP);
+    let mut ok = T::all_lanes();
+    for v in 0..verts {
+        let x = c.pos[v];
+        let back = x - (x - c.prev[v]) * nn;
+        c.prev[v] = V3::select(c.w[v].gt(zero), back, x);
+        ok = ok & x.finite() & x.x.abs().lt(big) & x.y.abs().lt(big) & x.z.abs().lt(big);
+    }
+    ok
+}
+
+/// Step 4: one projection of the chain's length constraints along the
+/// blended directions (tridiagonal solve, Thomas algorithm).
+#[inline(always)]
+fn project<T: Lane>(c: &mut Chain<'_, T>, s: &mut ChainScratch<T>, a1: T) {
+    let segs = c.pos.len() - 1;
+    let zero = T::splat(0.0);
+    let min_cos = T::splat(MIN_DIRECTION_COSINE);
+    let tiny = T::splat(1.0e-12);
+    let w = c.w;
+    let dir = |pos: &[V3<T>], qfix: &[V3<T>], v: usize| -> (T, V3<T>, V3<T>) {
+        let d = pos[v + 1] - pos[v];
+        let (len, e) = length_dir(d);
+        let n = blended(d * a1 + qfix[v], e, min_cos);
+        (len, e, n)
+    };
+    // Forward elimination.
+    let (mut len, mut e, mut n) = dir(c.pos, &s.qfix, 0);
+    let mut n_prev = V3::zero();
+    let mut cp_prev = zero;
+    let mut dp_prev = zero;
+    for v in 0..segs {
+        let (len_next, e_next, n_next) = if v + 1 < segs {
+            dir(c.pos, &s.qfix, v + 1)
+        } else {
+            (zero, V3::zero(), V3::zero())
+        };
+        let sub = -(w[v] * e.dot(n_prev));
+        let diag = (w[v] + w[v + 1]) * e.dot(n);
+        let sup = -(w[v + 1] * e.dot(n_next));
+        let rhs = c.rest_len[v] - len;
+        let pivot = diag - sub * cp_prev;
+        let live = pivot.gt(tiny);
+        let inv = pivot.max(tiny).recip();
+        cp_prev = T::select(live, sup * inv, zero);
+        dp_prev = T::select(live, (rhs - sub * dp_prev) * inv, zero);
+        s.cp[v] = cp_prev;
+        s.dp[v] = dp_prev;
+        s.n[v] = n;
+        n_prev = n;
+        (len, e, n) = (len_next, e_next, n_next);
+    }
+    // Back substitution, moving vertices as the multipliers become known.
+    let mut lambda_next = zero;
+    let mut n_next = V3::zero();
+    for v in (0..segs).rev() {
+        let lambda = s.dp[v] - s.cp[v] * lambda_next;
+        let n = s.n[v];
+        c.pos[v + 1] = c.pos[v + 1] + (n * lambda - n_next * lambda_next) * w[v + 1];
+        lambda_next = lambda;
+        n_next = n;
+    }
+    c.pos[0] = c.pos[0] - n_next * (lambda_next * w[0]);
+}
+
+/// The constraint direction: `q` itself (the multiplier absorbs its scale),
+/// or `e` where `q` is shorter than [`MIN_LENGTH`] or its cosine with `e`
+/// is below `min_cos` (`e.q < min_cos |q|`, tested squared).
+#[inline(always)]
+fn blended<T: Lane>(q: V3<T>, e: V3<T>, min_cos: T) -> V3<T> {
+    let eq = e.dot(q);
+    let q2 = q.dot(q);
+    let bad = eq.lt(T::splat(0.0))
+        | (eq * eq).lt(min_cos * min_cos * q2)
+        | q2.lt(T::splat(MIN_LENGTH * MIN_LENGTH));
+    V3::select(bad, e, q)
+}
+
+/// Step 4 (bending on): one sweep of the i..i+2 distance constraints,
+/// `k = b (1 - l / |delta|)`, `x_i += share_i k delta`, `x_j -= share_j k delta`
+/// (Jakobsen 2001).
+#[inline(always)]
+fn bend<T: Lane>(c: &mut Chain<'_, T>, stiffness: T) {
+    let verts = c.pos.len();
+    for v in 0..verts.saturating_sub(2) {
+        let delta = c.pos[v + 2] - c.pos[v];
+        let inv = delta
+            .dot(delta)
+            .max(T::splat(MIN_LENGTH * MIN_LENGTH))
+            .inv_sqrt();
+        let k = stiffness * (T::splat(1.0) - c.bend_len[v] * inv);
+        let share = c.bend_share[v];
+        c.pos[v] = c.pos[v] + delta * (k * share[0]);
+        c.pos[v + 2] = c.pos[v + 2] - delta * (k * share[1]);
+    }
+}
+
+/// Step 3: TressFX 4's local shape constraint, root to tip. Segment s should
+/// point along its rest vector carried by the minimal rotation that takes
+/// the parent's rest direction `a` to the parent's current direction `b`
+/// (Rodrigues: `r cos + (a x b) x r + (a x b) ((a x b).r) / (1 + cos)`); the
+/// root segment along its rest vector in the groom frame. The child takes
+/// the whole correction (the parent is final, as in Follow-The-Leader):
+/// sharing it with the parent, as TressFX does, let gravity win on the
+/// mohawk (65 % tip drift at stiffness 1).
+#[inline(always)]
+fn local_shape<T: Lane>(c: &mut Chain<'_, T>, s: &ChainScratch<T>, k: &Setup) {
+    let segs = c.pos.len() - 1;
+    let zero = T::splat(0.0);
+    let one = T::splat(1.0);
+    let eps = T::splat(1.0e-6);
+    let stiff = T::splat(k.local_shape);
+    for v in 0..segs {
+        let rest = s.rvec[v];
+        let target = if v == 0 {
+            rest
+        } else {
+            let a = s.rdir[v - 1];
+            let (_, b) = length_dir(c.pos[v] - c.pos[v - 1]);
+            let cos = a.dot(b);
+            let axis = a.cross(b);
+            let denom = one + cos;
+            let ok = denom.gt(eps);
+            let turned =
+                rest * cos + axis.cross(rest) + axis * (axis.dot(rest) * denom.max(eps).recip());
+            V3::select(ok, turned, rest)
+        };
+        let err = c.pos[v] + target - c.pos[v + 1];
+        let live = c.w[v + 1].gt(zero);
+        c.pos[v + 1] = V3::select(live, c.pos[v + 1] + err * stiff, c.pos[v + 1]);
+    }
+}
+
+/// Step 3: the global shape pull `x += k w_v (root + R rest_v - x)`.
+#[inline(always)]
+fn global_shape<T: Lane>(c: &mut Chain<'_, T>, k: &Setup) {
+    let zero = T::splat(0.0);
+    let stiff = T::splat(k.shape);
+    let root = c.pos[0];
+    for v in 1..c.pos.len() {
+        let target = root + rotate(&k.rotation, c.rest_offset[v]);
+        let pulled = c.pos[v] + (target - c.pos[v]) * (stiff * c.shape_weight[v]);
+        c.pos[v] = V3::select(c.w[v].gt(zero), pulled, c.pos[v]);
+    }
+}
+
+/// Step 5: every pearl `p = (1-t) x_i + t x_{i+1}` against every candidate
+/// sphere, `s = (R + r - |p - c|) / (w_i (1-t)^2 + w_{i+1} t^2)`,
+/// `x_i += w_i (1-t) s n`, `x_{i+1} += w_{i+1} t s n`. Segments with a pinned
+/// end carry none (the root sits inside the collision skin).
+#[inline(always)]
+fn pearls<T: Lane>(c: &mut Chain<'_, T>, k: &Setup, spheres: &[Candidate], block: usize) {
+    let verts = c.pos.len();
+    let zero = T::splat(0.0);
+    for sp in spheres.iter().filter(|sp| sp.touches(block)) {
+        let r = Reach::<T>::new(sp.sphere, k.pearl_radius);
+        for j in 1..=k.pearls {
+            let tt = j as f32 / (k.pearls + 1) as f32;
+            let t = T::splat(tt);
+            let u = T::splat(1.0 - tt);
+            for v in 0..verts - 1 {
+                let p = c.pos[v] * u + c.pos[v + 1] * t;
+                let d = p - r.centre;
+                let d2 = d.dot(d);
+                let both = c.w[v].gt(zero) & c.w[v + 1].gt(zero);
+                let hit = d2.lt(r.reach2) & both;
+                if T::any(hit) {
+                    let (dist, nrm) = outward(d, d2);
+                    let denom = c.w[v] * (u * u) + c.w[v + 1] * (t * t);
+                    let push = (r.reach - dist) * denom.max(T::splat(1.0e-12)).recip();
+                    c.pos[v] = V3::select(hit, c.pos[v] + nrm * (c.w[v] * u * push), c.pos[v]);
+                    c.pos[v + 1] = V3::select(
+                        hit,
+                        c.pos[v + 1] + nrm * (c.w[v + 1] * t * push),
+                        c.pos[v + 1],
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// Step 6: the two-sided strain limit, root to tip, alternating `rounds`
+/// times per vertex with the push-out (and contact friction). The parent is
+/// final and outside the rig, so the two sets meet and alternating closes
+/// in on a point of both: the limit does not pull hair into the head and
+/// the push-out does not stretch it.
+#[inline(always)]
+fn strain_limit_and_collide<T: Lane>(
+    c: &mut Chain<'_, T>,
+    k: &Setup,
+    spheres: &[Candidate],
+    block: usize,
+    rounds: usize,
+) {
+    let zero = T::splat(0.0);
+    let factor = T::splat(k.stretch_factor);
+    let shrink = T::splat(k.shrink_factor);
+    let mu = T::splat(k.friction);
+    for v in 1..c.pos.len() {
+        let limit = c.rest_len[v - 1] * factor;
+        let floor = c.rest_len[v - 1] * shrink;
+        let free = c.w[v].gt(zero);
+        for _ in 0..rounds {
+            let d = c.pos[v] - c.pos[v - 1];
+            let d2 = d.dot(d);
+            let long = d2.gt(limit * limit);
+            let short = d2.lt(floor * floor);
+            let fix = (long | short) & free;
+            if T::any(fix) {
+                let target = T::select(long, limit, floor);
+                let inv = d2.max(T::splat(MIN_LENGTH * MIN_LENGTH)).inv_sqrt();
+                let pulled = c.pos[v - 1] + d * (target * inv);
+                c.pos[v] = V3::select(fix, pulled, c.pos[v]);
+            }
+            for sp in spheres.iter().filter(|sp| sp.touches(block)) {
+                let r = Reach::<T>::new(sp.sphere, k.pearl_radius);
+                let d = c.pos[v] - r.centre;
+                let d2 = d.dot(d);
+                let hit = d2.lt(r.reach2) & free;
+                if T::any(hit) {
+                    let (dist, nrm) = outward(d, d2);
+                    c.pos[v] = V3::select(hit, c.pos[v] + nrm * (r.reach - dist), c.pos[v]);
+                    if k.friction > 0.0 {
+                        let vel = c.pos[v] - c.prev[v];
+                        let tang = vel - nrm * vel.dot(nrm);
+                        c.prev[v] = V3::select(hit, c.prev[v] + tang * mu, c.prev[v]);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Distance and outward unit normal; 0 and +y where the point sits on the
+/// centre.
+#[inline(always)]
+fn outward<T: Lane>(d: V3<T>, d2: T) -> (T, V3<T>) {
+    let tiny = T::splat(1.0e-30);
+    let d2c = d2.max(tiny);
+    let r = d2c.inv_sqrt();
+    let on = d2.gt(tiny);
+    let nrm = V3::select(on, d * r, V3::splat(Vec3::Y));
+    (T::select(on, d2c * r, T::splat(0.0)), nrm)
+}
 
 /// Advances every strand by one fixed step of `params.dt` (SIMD path).
 ///
@@ -128,338 +567,76 @@ pub(crate) const GROUP: usize = 4;
 /// ([`Strands::restored_strands`]). Allocates only when the rig has more
 /// spheres than any earlier step.
 pub fn step(strands: &mut Strands, params: &SimParams, spheres: &[Sphere]) {
-    let setup = StepSetup::new(strands, params);
+    let k = Setup::new(strands, params);
     let mut scratch = std::mem::take(&mut strands.scratch);
     spheres_to_local(spheres, strands.origin, &mut scratch.spheres_local);
+    let verts = strands.verts;
     let mut first = 0;
     while first < strands.blocks {
         let n = GROUP.min(strands.blocks - first);
-        step_group(
-            strands,
-            &setup,
-            first,
-            n,
+        // 1. Broad phase: the group's swept block boxes against the rig.
+        let mut boxes = [EMPTY_BOX; GROUP];
+        for (g, bx) in boxes.iter_mut().enumerate().take(n) {
+            let r = (first + g) * verts..(first + g + 1) * verts;
+            *bx = block_sweep_aabb(
+                &strands.pos[r.clone()],
+                &strands.prev[r],
+                k.gravity_dt2,
+                strands.active[first + g],
+            );
+        }
+        select_candidates(
+            &boxes[..n],
+            k.margin,
             &scratch.spheres_local,
             &mut scratch.candidates,
         );
+        for g in 0..n {
+            let b = first + g;
+            let r = b * verts..(b + 1) * verts;
+            // 2.-7.
+            let mut c = Chain {
+                pos: &mut strands.pos[r.clone()],
+                prev: &mut strands.prev[r.clone()],
+                w: &strands.inv_mass[r.clone()],
+                rest_len: &strands.rest_len[r.clone()],
+                rest_vec: &strands.rest_vec[r.clone()],
+                rest_dir: &strands.rest_dir[r.clone()],
+                rest_offset: &strands.rest_offset[r.clone()],
+                bend_len: &strands.bend_len[r.clone()],
+                bend_share: &strands.bend_share[r.clone()],
+                shape_weight: &strands.shape_weight[r],
+            };
+            let ok: f32x8 = step_chain(&mut c, &mut scratch.chain, &k, &scratch.candidates, g);
+            restore_lanes(strands, b, (!ok).to_bitmask());
+        }
         first += n;
     }
     strands.scratch = scratch;
 }
 
-/// Steps blocks `first .. first + n`; index `g * V + v` is vertex v of block
-/// `first + g`.
-fn step_group(
-    s: &mut Strands,
-    k: &StepSetup,
-    first: usize,
-    n: usize,
-    spheres: &[[f32; 4]],
-    candidates: &mut Vec<Candidate>,
-) {
-    let verts = s.verts;
-    let range = first * verts..(first + n) * verts;
-    let pos = &mut s.pos[range.clone()];
-    let prev = &mut s.prev[range.clone()];
-    let w = &s.inv_mass[range.clone()];
-    let zero = f32x8::ZERO;
+/// Blocks whose boxes are tested against the rig together (the union first,
+/// then each block's own box): with a 256-sphere body rig, one test per
+/// sphere per group rejects the far spheres.
+pub(crate) const GROUP: usize = 4;
 
-    // 1. Verlet.
-    let d = f32x8::splat(k.damping);
-    let g = Vec3x8::splat(k.gravity_dt2);
-    for i in 0..pos.len() {
-        let x = pos[i];
-        let moved = x + (x - prev[i]) * d + g;
-        pos[i] = Vec3x8::select(w[i].simd_gt(zero), moved, x);
-        prev[i] = x;
+/// A placeholder box (never tested: only the first `n` of a group are).
+pub(crate) const EMPTY_BOX: Aabb = Aabb {
+    min: Vec3::ZERO,
+    max: Vec3::ZERO,
+};
+
+/// Restores the lanes of block `b` flagged in `bad`; counts those that hold
+/// real strands (padding lanes are restored silently).
+pub(crate) fn restore_lanes(s: &mut Strands, b: usize, bad: u32) {
+    if bad == 0 {
+        return;
     }
-
-    // 2. Shape keeping.
-    if k.shape > 0.0 {
-        let rest = &s.rest_offset[range.clone()];
-        let weight = &s.shape_weight[range.clone()];
-        let stiffness = f32x8::splat(k.shape);
-        for b in 0..n {
-            let root = pos[b * verts];
-            for i in b * verts + 1..(b + 1) * verts {
-                let target = root + rotate(&k.rest_rotation, rest[i]);
-                let pulled = pos[i] + (target - pos[i]) * (stiffness * weight[i]);
-                pos[i] = Vec3x8::select(w[i].simd_gt(zero), pulled, pos[i]);
-            }
-        }
-    }
-
-    // 3. Broad phase: the group's blocks' boxes against the rig.
-    let mut boxes = [Aabb {
-        min: Vec3::ZERO,
-        max: Vec3::ZERO,
-    }; GROUP];
-    for (b, bx) in boxes.iter_mut().enumerate().take(n) {
-        *bx = block_aabb(&pos[b * verts..(b + 1) * verts], s.active[first + b]);
-    }
-    select_candidates(&boxes[..n], k.margin, spheres, candidates);
-
-    // 4. Constraint sweeps (length, then bending), the blocks interleaved
-    // segment by segment; one collision pass before the last sweep.
-    let rest_len = &s.rest_len[range.clone()];
-    let bend_len = &s.bend_len[range.clone()];
-    let share = &s.share[range.clone()];
-    let bend_share = &s.bend_share[range.clone()];
-    let bend = f32x8::splat(k.bend);
-    for it in 0..k.iterations {
-        if it + 1 == k.iterations {
-            collide_group(pos, w, verts, n, candidates, k);
-        }
-        for v in 0..verts - 1 {
-            for b in 0..n {
-                let i = b * verts + v;
-                distance_constraint(pos, i, i + 1, rest_len[i], share[i], f32x8::ONE);
-                if k.bend > 0.0 && v + 2 < verts {
-                    distance_constraint(pos, i, i + 2, bend_len[i], bend_share[i], bend);
-                }
-            }
-        }
-    }
-    // 5. Strain limit alternated with the vertex collisions, root to tip.
-    let factor = f32x8::splat(k.stretch_factor);
-    strain_limit_and_collide(pos, prev, w, rest_len, verts, n, factor, candidates, k);
-
-    // 6. Pearls.
-    for c in candidates.iter() {
-        let sphere = Reach::new(c.sphere, k.pearl_radius);
-        for b in (0..n).filter(|&b| c.touches(b)) {
-            let r = b * verts..(b + 1) * verts;
-            collide_pearls(&mut pos[r.clone()], &w[r], &sphere, k);
-        }
-    }
-
-    // 7. Guard: restore the lanes that went non-finite or blew up.
-    let big = f32x8::splat(BLOWN_UP);
-    let mut bad = [0u32; GROUP];
-    for (b, bits) in bad.iter_mut().enumerate().take(n) {
-        let mut ok = f32x8::ZERO.simd_eq(f32x8::ZERO);
-        for p in &pos[b * verts..(b + 1) * verts] {
-            ok = ok & p.x.abs().simd_lt(big) & p.y.abs().simd_lt(big) & p.z.abs().simd_lt(big);
-        }
-        *bits = (!ok).to_bitmask();
-    }
-    restore_lanes(s, first, &bad);
-}
-
-/// Restores the lanes flagged in `bad` (one bit mask per block of the
-/// group); counts those that hold real strands (padding lanes are restored
-/// silently).
-pub(crate) fn restore_lanes(s: &mut Strands, first: usize, bad: &[u32; GROUP]) {
-    for (b, &bits) in bad.iter().enumerate() {
-        for l in 0..LANES {
-            if bits & (1 << l) != 0 {
-                s.reset_strand(first + b, l);
-                if l < s.lanes_in_block(first + b) {
-                    s.restored += 1;
-                }
-            }
-        }
-    }
-}
-
-/// `1 / max(|delta|, MIN_LENGTH)` by [`inv_sqrt_x8`] (shared with patches).
-#[inline(always)]
-pub(crate) fn inv_len(delta: Vec3x8) -> f32x8 {
-    inv_sqrt_x8(
-        delta
-            .length_squared()
-            .fast_max(f32x8::splat(MIN_LENGTH * MIN_LENGTH)),
-    )
-}
-
-/// Mass-weighted distance constraint between vertices `i` and `j` of one
-/// lane chain (a block of strands, or a column block of a patch):
-/// `k = stiffness (|delta| - l) / |delta|`, `x_i += share_i k delta`,
-/// `x_j -= share_j k delta` with `share_i = w_i / (w_i + w_j)` (Jakobsen
-/// 2001's rule, with `1/|delta|` from [`inv_len`]).
-#[inline(always)]
-pub(crate) fn distance_constraint(
-    pos: &mut [Vec3x8],
-    i: usize,
-    j: usize,
-    rest: f32x8,
-    share: [f32x8; 2],
-    stiffness: f32x8,
-) {
-    let delta = pos[j] - pos[i];
-    let inv_len = inv_len(delta);
-    let k = stiffness * (f32x8::ONE - rest * inv_len);
-    // A pinned end has share 0 and does not move. (A lane whose positions
-    // went NaN can move its root; the guard then restores the whole strand,
-    // root included, from `Strands::roots`.)
-    pos[i] = pos[i] + delta * (k * share[0]);
-    pos[j] = pos[j] - delta * (k * share[1]);
-}
-
-/// Step 5. Strain limit, root to tip, combined with the vertex collisions: every free
-/// vertex is pulled toward its parent until `|x_v - x_{v-1}| <= factor l_{v-1}`
-/// (Provot 1995's deformation limit, in Follow-The-Leader order, Muller et
-/// al. 2012), then pushed out of the rig, twice. The parent is final and
-/// outside the rig, so the two sets (a ball around the parent, the outside
-/// of the spheres) meet, and alternating projections close in on a point of
-/// both: the limit does not pull hair into the head and the push-out does not
-/// stretch it. Summed over segments the limit gives Yip's root spheres
-/// `|x_v - root| <= factor arc(v)`, and it also holds for hair wrapped round
-/// the head, whose chord is shorter than its arc.
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-fn strain_limit_and_collide(
-    pos: &mut [Vec3x8],
-    prev: &mut [Vec3x8],
-    w: &[f32x8],
-    rest_len: &[f32x8],
-    verts: usize,
-    n: usize,
-    factor: f32x8,
-    candidates: &[Candidate],
-    k: &StepSetup,
-) {
-    let friction = f32x8::splat(k.friction);
-    for v in 1..verts {
-        for b in 0..n {
-            let i = b * verts + v;
-            let limit = rest_len[i - 1] * factor;
-            for _ in 0..STRAIN_COLLIDE_ROUNDS {
-                let d = pos[i] - pos[i - 1];
-                let d2 = d.length_squared();
-                let over = d2.simd_gt(limit * limit) & w[i].simd_gt(f32x8::ZERO);
-                if over.any() {
-                    let pulled = pos[i - 1] + d * (limit * inv_sqrt_x8(d2));
-                    pos[i] = Vec3x8::select(over, pulled, pos[i]);
-                }
-                for c in candidates.iter().filter(|c| c.touches(b)) {
-                    let (hit, normal) =
-                        collide_vertex(pos, w, i, &Reach::new(c.sphere, k.pearl_radius));
-                    if k.friction > 0.0 && hit.any() {
-                        contact_friction(pos, prev, i, hit, normal, friction);
-                    }
-                }
-            }
-        }
-    }
-}
-
-/// Step 4's collision pass: every block of the group against every
-/// candidate sphere near it, vertices, then pearls. Run once before the last sweep, so that the sweep
-/// smooths what the push-out did (without it, hair draped on a head flapped
-/// at 3-5 m/s at rest).
-#[inline(always)]
-fn collide_group(
-    pos: &mut [Vec3x8],
-    w: &[f32x8],
-    verts: usize,
-    n: usize,
-    candidates: &[Candidate],
-    k: &StepSetup,
-) {
-    for c in candidates {
-        let sphere = Reach::new(c.sphere, k.pearl_radius);
-        for b in (0..n).filter(|&b| c.touches(b)) {
-            let r = b * verts..(b + 1) * verts;
-            for i in r.clone() {
-                collide_vertex(pos, w, i, &sphere);
-            }
-            collide_pearls(&mut pos[r.clone()], &w[r], &sphere, k);
-        }
-    }
-}
-
-/// Outward unit normal and distance from `d` and `d2 = |d|^2`; +y and 0
-/// where the point sits on the centre.
-#[inline(always)]
-pub(crate) fn outward(d: Vec3x8, d2: f32x8) -> (Vec3x8, f32x8) {
-    let tiny = f32x8::splat(1e-30);
-    let inv = inv_sqrt_x8(d2.max(tiny));
-    let on_centre = d2.simd_gt(tiny);
-    (
-        Vec3x8::select(on_centre, d * inv, Vec3x8::splat(Vec3::Y)),
-        on_centre.select(d2 * inv, f32x8::ZERO),
-    )
-}
-
-/// A rig sphere grown by the pearl radius, as lanes.
-#[derive(Clone, Copy)]
-pub(crate) struct Reach {
-    centre: Vec3x8,
-    reach: f32x8,
-    reach2: f32x8,
-}
-
-impl Reach {
-    #[inline(always)]
-    pub(crate) fn new(sphere: [f32; 4], pearl_radius: f32) -> Self {
-        let reach = f32x8::splat(sphere[3] + pearl_radius);
-        Reach {
-            centre: Vec3x8::splat(Vec3::new(sphere[0], sphere[1], sphere[2])),
-            reach,
-            reach2: reach * reach,
-        }
-    }
-}
-
-/// Pushes free vertex `i` out of the sphere to distance `R + r`; returns the
-/// lanes it pushed and their outward normals.
-#[inline(always)]
-pub(crate) fn collide_vertex(
-    pos: &mut [Vec3x8],
-    w: &[f32x8],
-    i: usize,
-    s: &Reach,
-) -> (f32x8, Vec3x8) {
-    let d = pos[i] - s.centre;
-    let d2 = d.length_squared();
-    let hit = d2.simd_lt(s.reach2) & w[i].simd_gt(f32x8::ZERO);
-    if !hit.any() {
-        return (hit, Vec3x8::ZERO);
-    }
-    let (n, dist) = outward(d, d2);
-    let pushed = pos[i] + n * (s.reach - dist);
-    pos[i] = Vec3x8::select(hit, pushed, pos[i]);
-    (hit, n)
-}
-
-/// Contact friction: removes the share `mu` of the tangential part of the
-/// velocity `x - x_prev` of the lanes in `hit` (outward normals `n`), by
-/// moving `x_prev`: `v_t = v - n (v.n)`, `x_prev += mu v_t`.
-#[inline(always)]
-fn contact_friction(
-    pos: &[Vec3x8],
-    prev: &mut [Vec3x8],
-    i: usize,
-    hit: f32x8,
-    n: Vec3x8,
-    mu: f32x8,
-) {
-    let v = pos[i] - prev[i];
-    let tangential = v - n * v.dot(n);
-    prev[i] = Vec3x8::select(hit, prev[i] + tangential * mu, prev[i]);
-}
-
-/// Every pearl of one block (a slice of V vertices) against one sphere.
-#[inline(always)]
-pub(crate) fn collide_pearls(pos: &mut [Vec3x8], w: &[f32x8], s: &Reach, k: &StepSetup) {
-    let zero = f32x8::ZERO;
-    for j in 1..=k.pearls {
-        let t = f32x8::splat(k.pearl_t(j));
-        let u = f32x8::ONE - t;
-        for v in 0..pos.len() - 1 {
-            let p = pos[v] * u + pos[v + 1] * t;
-            let d = p - s.centre;
-            let d2 = d.length_squared();
-            let denom = w[v] * (u * u) + w[v + 1] * (t * t);
-            let both_free = w[v].simd_gt(zero) & w[v + 1].simd_gt(zero);
-            let hit = d2.simd_lt(s.reach2) & both_free;
-            if hit.any() {
-                let (n, dist) = outward(d, d2);
-                let push = (s.reach - dist) / denom;
-                pos[v] = Vec3x8::select(hit, pos[v] + n * (w[v] * u * push), pos[v]);
-                pos[v + 1] =
-                    Vec3x8::select(hit, pos[v + 1] + n * (w[v + 1] * t * push), pos[v + 1]);
+    for l in 0..LANES {
+        if bad & (1 << l) != 0 {
+            s.reset_strand(b, l);
+            if l < s.lanes_in_block(b) {
+                s.restored += 1;
             }
         }
     }

@@ -41,10 +41,12 @@ pub struct Strands {
     pub(crate) inv_mass: Vec<f32x8>,
     /// Rest length of segment v -> v + 1 (the last vertex's entry is 0).
     pub(crate) rest_len: Vec<f32x8>,
-    /// Mass shares of the length constraint on segment v -> v + 1:
-    /// `w_v / (w_v + w_{v+1})` and `w_{v+1} / (w_v + w_{v+1})` (0 where both are pinned).
-    pub(crate) share: Vec<[f32x8; 2]>,
-    /// The same for the bending constraint v -> v + 2.
+    /// Rest vector of segment v -> v + 1 in the groom frame (local shape).
+    pub(crate) rest_vec: Vec<Vec3x8>,
+    /// Its unit direction.
+    pub(crate) rest_dir: Vec<Vec3x8>,
+    /// Mass shares of the bending constraint v -> v + 2:
+    /// `w_v / (w_v + w_{v+2})` and `w_{v+2} / (w_v + w_{v+2})` (0 where both are pinned).
     pub(crate) bend_share: Vec<[f32x8; 2]>,
     /// Rest distance v -> v + 2 for bending (0 where v + 2 is past the tip).
     pub(crate) bend_len: Vec<f32x8>,
@@ -69,8 +71,23 @@ pub struct Strands {
 pub(crate) struct Scratch {
     /// Rig spheres in local coordinates: centre and radius.
     pub(crate) spheres_local: Vec<[f32; 4]>,
-    /// Spheres that may touch the current group of blocks.
+    /// Spheres that may touch the current block.
     pub(crate) candidates: Vec<crate::broad_phase::Candidate>,
+    /// The SIMD step's per-chain scratch.
+    pub(crate) chain: crate::step::ChainScratch<f32x8>,
+    /// The scalar step's copy of one lane.
+    pub(crate) lane: crate::scalar::LaneBuffers,
+}
+
+impl Scratch {
+    fn new(verts: usize) -> Scratch {
+        Scratch {
+            spheres_local: Vec::new(),
+            candidates: Vec::new(),
+            chain: crate::step::ChainScratch::new(verts),
+            lane: crate::scalar::LaneBuffers::new(verts),
+        }
+    }
 }
 
 impl Strands {
@@ -111,7 +128,8 @@ impl Strands {
             rest_offset: vec![Vec3x8::ZERO; n],
             inv_mass: vec![f32x8::ZERO; n],
             rest_len: vec![f32x8::ZERO; n],
-            share: vec![[f32x8::ZERO; 2]; n],
+            rest_vec: vec![Vec3x8::ZERO; n],
+            rest_dir: vec![Vec3x8::ZERO; n],
             bend_share: vec![[f32x8::ZERO; 2]; n],
             bend_len: vec![f32x8::ZERO; n],
             rest_arc: vec![f32x8::ZERO; n],
@@ -120,7 +138,7 @@ impl Strands {
             max_rest_segment: 0.0,
             rest_rotation: Mat3::IDENTITY,
             restored: 0,
-            scratch: Scratch::default(),
+            scratch: Scratch::new(verts),
         }
     }
 
@@ -154,6 +172,11 @@ impl Strands {
                 0.0
             };
             self.rest_len[i].as_mut_array()[l] = seg;
+            if v + 1 < verts {
+                let d = pts[v + 1] - pts[v];
+                self.rest_vec[i].set_lane(l, d);
+                self.rest_dir[i].set_lane(l, d / seg.max(crate::constraints::MIN_LENGTH));
+            }
             self.max_rest_segment = self.max_rest_segment.max(seg);
             self.bend_len[i].as_mut_array()[l] = if v + 2 < verts {
                 (pts[v + 2] - pts[v]).length()
@@ -170,16 +193,13 @@ impl Strands {
         }
     }
 
-    /// The mass shares `w_i / (w_i + w_j)` of every length (v, v + 1) and
-    /// bending (v, v + 2) constraint, from the inverse masses.
+    /// The mass shares `w_i / (w_i + w_j)` of every bending (v, v + 2)
+    /// constraint, from the inverse masses.
     fn fill_mass_shares(&mut self) {
         let verts = self.verts;
         for b in 0..self.blocks {
             for v in 0..verts {
                 let i = b * verts + v;
-                if v + 1 < verts {
-                    self.share[i] = mass_shares(self.inv_mass[i], self.inv_mass[i + 1]);
-                }
                 if v + 2 < verts {
                     self.bend_share[i] = mass_shares(self.inv_mass[i], self.inv_mass[i + 2]);
                 }
@@ -284,7 +304,9 @@ impl Strands {
     }
 
     /// Moves the pinned roots (one per strand, world space): skinning or head
-    /// motion. Rebases the local origin if the roots have wandered far.
+    /// motion. The next step carries each root from where it was to here
+    /// over its substeps. Rebases the local origin if the roots have
+    /// wandered far.
     pub fn set_roots(&mut self, roots: &[Vec3]) -> Result<(), Error> {
         self.check_roots(roots)?;
         let o = self.origin;
@@ -323,9 +345,11 @@ impl Strands {
             } else {
                 i % LANES..i % LANES + 1
             };
+            // The previous position keeps where the root was at the end of
+            // the last step: the step moves it from there to `r` over its
+            // substeps.
             for l in lanes {
                 self.pos[k].set_lane(l, r);
-                self.prev[k].set_lane(l, r);
                 self.roots[i / LANES].set_lane(l, r);
             }
         }
@@ -390,7 +414,7 @@ impl Strands {
     }
 
     /// Orientation of the groom frame that the rest shape (used by
-    /// `shape_stiffness` and resets) is turned by: set it to the head's
+    /// `local_shape_stiffness`, `shape_stiffness` and resets) is turned by: set it to the head's
     /// rotation when the engine turns the head.
     pub fn set_rest_rotation(&mut self, rotation: glam::Quat) -> Result<(), Error> {
         if !rotation.is_finite() {

@@ -58,16 +58,16 @@ use super::grid::{Patch, PatchScratch};
 use super::pairs::gather_row;
 use super::row_limit::limit_row;
 use crate::broad_phase::{block_aabb, select_candidates, spheres_to_local, Candidate};
-use crate::lanes::{inv_sqrt_x8, Vec3x8, LANES};
-use crate::step::{
+use crate::constraints::{
     collide_pearls, collide_vertex, distance_constraint, inv_len, outward, Reach, StepSetup,
     BLOWN_UP, STRAIN_COLLIDE_ROUNDS,
 };
+use crate::lanes::{inv_sqrt_x8, Vec3x8, LANES};
 use crate::{SimParams, Sphere, MAX_PEARLS_PER_SEGMENT};
-use glam::{Mat3, Vec3};
+use glam::Vec3;
 use wide::f32x8;
 
-/// Per-step constants of a patch (the strand step's [`StepSetup`]; shape
+/// Per-step constants of a patch ([`StepSetup`]; shape
 /// keeping and contact friction are not used by patches).
 pub(crate) fn setup(patch: &Patch, p: &SimParams) -> StepSetup {
     StepSetup {
@@ -78,9 +78,6 @@ pub(crate) fn setup(patch: &Patch, p: &SimParams) -> StepSetup {
         pearl_radius: p.pearl_radius,
         stretch_factor: 1.0 + p.max_stretch,
         bend: p.bend_stiffness,
-        shape: 0.0,
-        friction: 0.0,
-        rest_rotation: Mat3::IDENTITY,
         margin: p.pearl_radius.max(0.0) + patch.max_rest_edge,
     }
 }

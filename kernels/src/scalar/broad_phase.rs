@@ -20,3 +20,24 @@ pub(crate) fn block_aabb(pos: &[Vec3x8], lanes: usize) -> Aabb {
     }
     b
 }
+
+/// The scalar twin of [`crate::broad_phase::block_sweep_aabb`]: the same
+/// points in the same arithmetic order, lane by lane (lanes `0 .. lanes`).
+pub(crate) fn block_sweep_aabb(pos: &[Vec3x8], prev: &[Vec3x8], g_dt2: Vec3, lanes: usize) -> Aabb {
+    let mut b = Aabb {
+        min: Vec3::INFINITY,
+        max: Vec3::NEG_INFINITY,
+    };
+    for l in 0..lanes.min(LANES) {
+        let root_move = pos[0].lane(l) - prev[0].lane(l);
+        for (x, p) in pos.iter().zip(prev) {
+            let (x, p) = (x.lane(l), p.lane(l));
+            let ahead = x + (x - p) + g_dt2 + root_move;
+            for q in [x, ahead] {
+                b.min = Vec3::new(b.min.x.min(q.x), b.min.y.min(q.y), b.min.z.min(q.z));
+                b.max = Vec3::new(b.max.x.max(q.x), b.max.y.max(q.y), b.max.z.max(q.z));
+            }
+        }
+    }
+    b
+}

@@ -10,6 +10,7 @@
 //! row), 6 pearls, 7 guard.
 
 use crate::broad_phase::{select_candidates, spheres_to_local, Candidate};
+use crate::constraints::{StepSetup, BLOWN_UP, STRAIN_COLLIDE_ROUNDS};
 use crate::lanes::{inv_sqrt, LANES};
 use crate::patch::grid::Patch;
 use crate::patch::pairs::{partner, PairSet};
@@ -17,7 +18,6 @@ use crate::patch::row_limit::limit_row;
 use crate::patch::step::{padded_lanes, setup};
 use crate::scalar::broad_phase::block_aabb;
 use crate::scalar::{dot, inv_len, outward, push_out};
-use crate::step::{StepSetup, BLOWN_UP, STRAIN_COLLIDE_ROUNDS};
 use crate::{SimParams, Sphere};
 use glam::Vec3;
 
