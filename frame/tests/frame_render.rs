@@ -16,7 +16,7 @@ fn scene() -> HairScene {
 
 /// Builds a pipeline and runs `frames` frames of the built-in motion.
 fn run(settings: FrameSettings, frames: usize) -> (FramePipeline, RgbImage) {
-    let mut p = FramePipeline::new(&scene(), settings, 0.5).unwrap();
+    let mut p = FramePipeline::new(&scene(), settings, 1.5).unwrap();
     let pivot = p.pivot();
     for f in 0..frames {
         p.frame(1.0 / 30.0, motion::turn_and_nod(f as f32 / 30.0, pivot));
@@ -115,8 +115,11 @@ fn hair_in_the_heads_shadow_is_darker_for_every_model() {
             1,
         );
         let (shadowed, lit, share) = shadowed_and_lit(&p);
+        // A guard that the scene puts enough hair behind the head for the
+        // comparison below to mean something (thousands of vertices at 5 %);
+        // how much depends on how the hair drapes, not on the shading.
         assert!(
-            share > 0.1,
+            share > 0.05,
             "{model}: {share} of the hair is behind the head"
         );
         assert!(lit > 0.0, "{model}: lit hair gets direct light ({lit})");
