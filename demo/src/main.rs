@@ -9,8 +9,9 @@
 use clap::Parser;
 use coif::frame::{motion, FramePipeline, FrameSettings, FrameStats, HairScene, ShadingModel};
 use coif::geometry::scene::GrowOptions;
+use coif::kernels::SimParams;
 use coif::render::RgbImage;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -23,9 +24,17 @@ use std::time::Instant;
 )]
 struct Cli {
     /// Groom file to draw (TressFX 4 .tfx or cyHair .hair, centimetres);
-    /// default: the built-in sphere head with grown guides.
+    /// a bare file name not found here is looked up in the shared groom
+    /// folder beside the repository (`ratboy_mohawk.tfx`); default: the
+    /// built-in sphere head with grown guides.
     #[arg(long, value_name = "PATH")]
     groom: Option<PathBuf>,
+    /// Local shape stiffness in [0, 1]: each segment keeps its groomed
+    /// direction in its parent's frame (TressFX 4). Default: 1 for a loaded
+    /// groom (it keeps its style), 0 for the built-in head (its guides grow
+    /// straight out and must drape).
+    #[arg(long, value_name = "K")]
+    local_shape: Option<f32>,
     /// Hair shading model: kajiya-kay, marschner (Marschner 2003 table) or
     /// pbrt (pbrt-v3 far-field table).
     #[arg(long, default_value = "kajiya-kay", value_parser = parse_model)]
@@ -115,11 +124,28 @@ fn main() -> ExitCode {
     }
 }
 
+/// `path` itself if it exists; else, for a bare file name, the same name in
+/// the shared groom folder beside the repository (`../shared/data/grooms`,
+/// from the working directory or from the workspace root).
+fn groom_path(path: &Path) -> PathBuf {
+    let bare = path.parent().is_none_or(|p| p.as_os_str().is_empty());
+    if path.exists() || !bare {
+        return path.to_path_buf();
+    }
+    let workspace = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    [Path::new("."), workspace.as_path()]
+        .iter()
+        .map(|root| root.join("../shared/data/grooms").join(path))
+        .find(|p| p.exists())
+        .unwrap_or_else(|| path.to_path_buf())
+}
+
 /// Loads the groom of `--groom` or grows the built-in head; returns the
 /// scene (without ribbons under `--no-ribbon`) and a line describing it.
 fn load_scene(cli: &Cli) -> Result<(HairScene, String), Box<dyn std::error::Error>> {
     let (scene, what) = match &cli.groom {
         Some(path) => {
+            let path = &groom_path(path);
             let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
             let groom =
                 coif::groom::load(&bytes).map_err(|e| format!("{}: {e}", path.display()))?;
@@ -213,6 +239,16 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         view_direction: cli.view,
         shadows: !cli.no_shadows,
         ..FrameSettings::default()
+    };
+    let local_shape = cli
+        .local_shape
+        .unwrap_or(if cli.groom.is_some() { 1.0 } else { 0.0 });
+    let settings = FrameSettings {
+        simulation: SimParams {
+            local_shape_stiffness: local_shape,
+            ..settings.simulation
+        },
+        ..settings
     };
     let mut pipeline = FramePipeline::new(&scene, settings, 1.5)?;
     println!(

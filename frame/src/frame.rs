@@ -94,14 +94,24 @@ fn validate(settings: &FrameSettings) -> Result<(), Error> {
     Ok(())
 }
 
-/// A camera on the bounding box of the `settled` hair and the head: it
+/// A camera on the bounding box of the `settled` hair and the head near it: it
 /// looks at the box's centre from `view_distance` half-diagonals along the
 /// view direction (the settings', else the scene's).
 fn frame_camera(settled: &[Vec3], scene: &HairScene, settings: &FrameSettings) -> Camera {
     let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-    for p in settled.iter().chain(scene.head.iter().map(|s| &s.center)) {
+    for p in settled {
         lo = lo.min(*p);
         hi = hi.max(*p);
+    }
+    // The head too, as far as it reaches within a quarter of the hair's size of the
+    // hair: a whole groom's scalp sphere can be far larger than the hair
+    // (the mohawk's is), and framing only its centre cut it off.
+    let margin = 0.25 * (hi - lo);
+    let (near_lo, near_hi) = (lo - margin, hi + margin);
+    for s in &scene.head {
+        let r = Vec3::splat(s.radius);
+        lo = lo.min((s.center - r).clamp(near_lo, near_hi));
+        hi = hi.max((s.center + r).clamp(near_lo, near_hi));
     }
     let (focus, extent) = (0.5 * (lo + hi), 0.5 * (hi - lo).length());
     let view = settings

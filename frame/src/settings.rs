@@ -85,8 +85,12 @@ impl Default for FrameSettings {
             pixel_error: 0.5,
             max_segments_per_span: 3,
             simulation: SimParams {
+                // No global shape pull: the built-in head's rest shape is its
+                // guides grown straight out, and with the substepped solver a
+                // pull of 0.05 per step held them out stiffly instead of
+                // letting them drape. Grooms keep their style with local
+                // shape constraints (the demo turns them on for grooms).
                 bend_stiffness: 0.3,
-                shape_stiffness: 0.05,
                 ..SimParams::default()
             },
             max_substeps: 4,

@@ -144,11 +144,11 @@ fn the_head_is_lambert_lit_brighter_toward_the_light() {
     );
     let camera = p.camera();
     let to_light = p.settings().light.to_light;
-    // Screen direction of the light: project a point toward it from the target.
-    let a = camera.project(camera.target(), 1e-3).unwrap();
-    let b = camera
-        .project(camera.target() + to_light * 0.05, 1e-3)
-        .unwrap();
+    // Screen direction of the light: project a point toward it from the
+    // head's centre (the split between the halves compared below).
+    let centre = p.head_spheres()[0].center;
+    let a = camera.project(centre, 1e-3).unwrap();
+    let b = camera.project(centre + to_light * 0.05, 1e-3).unwrap();
     let dir = (b - a).truncate().normalize();
     let (mut toward, mut away) = ((0.0f64, 0), (0.0f64, 0));
     let fb = p.framebuffer();
