@@ -2,8 +2,8 @@
 
 mod common;
 
+use coif_geometry::scene::{grow_on_sphere, horizontal_strand, GrowOptions};
 use coif_kernels::{self as kernels, measure, SimParams, Sphere, Strands};
-use common::scene::{grow_on_sphere, horizontal_strand, GrowOptions};
 use glam::Vec3;
 
 #[test]

@@ -6,9 +6,9 @@
 
 mod common;
 
+use coif_geometry::scene::{grow_on_sphere, GrowOptions};
 use coif_kernels::rng::SplitMix64;
 use coif_kernels::{self as kernels, measure, SimParams, Sphere, Strands};
-use common::scene::{grow_on_sphere, GrowOptions};
 use glam::{Affine3A, DVec3, Quat, Vec3};
 
 fn all_finite(s: &Strands) -> bool {

@@ -1,9 +1,7 @@
 //! Fixtures shared by coif-kernels' integration tests: random curly strands
-//! round a head with a rig of spheres, root motions for the stress matrices,
-//! and hair grown on a sphere head (`scene`).
+//! round a head with a rig of spheres, and root motions for the stress matrices (hair grown
+//! on a sphere head comes from coif_geometry::scene).
 #![allow(dead_code)]
-
-pub mod scene;
 
 use coif_kernels::rng::SplitMix64;
 use coif_kernels::Sphere;
