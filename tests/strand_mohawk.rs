@@ -4,9 +4,7 @@
 //! returns; SIMD = scalar with local shape on. Skipped, with a message, when
 //! the shared groom folder is absent.
 
-mod common;
-
-use common::groom_path;
+use coif_testkit::groom_path;
 
 use coif::geometry::scene::scalp_spheres;
 use coif::groom;

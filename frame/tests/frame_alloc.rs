@@ -7,10 +7,10 @@ mod common;
 
 use coif_frame::{motion, FramePipeline, FrameSettings, HairScene, ShadingModel};
 use coif_geometry::scene::GrowOptions;
-use common::counting::allocations;
+use coif_testkit::counting::allocations;
 
 #[global_allocator]
-static GLOBAL: common::counting::Counting = common::counting::Counting;
+static GLOBAL: coif_testkit::counting::Counting = coif_testkit::counting::Counting;
 
 #[test]
 fn frames_allocate_nothing_for_every_shading_model() {

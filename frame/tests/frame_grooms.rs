@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::groom_path;
+use coif_testkit::groom_path;
 
 use coif_frame::{FramePipeline, FrameSettings, HairScene};
 use coif_geometry::groom;

@@ -1,8 +1,6 @@
 //! The real TressFX grooms in `shared/data/grooms` load and simulate.
 
-mod common;
-
-use common::groom_path;
+use coif_testkit::groom_path;
 
 use coif_geometry::groom::{self, cyhair, tfx};
 use coif_kernels::{self as kernels, SimParams, Strands};

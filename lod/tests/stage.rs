@@ -3,18 +3,16 @@
 //! vertex write) allocates nothing, and its output matches the unculled,
 //! full-detail path on the hair it draws.
 
-mod common;
-
 use coif_kernels::Strands;
 use coif_lod::{
     self as lod, level, HairWidth, Interpolation, RefinedGuides, RenderHairs, RenderVertex,
     Visibility,
 };
-use common::counting::allocations;
+use coif_testkit::counting::allocations;
 use glam::{Mat4, Vec3, Vec4};
 
 #[global_allocator]
-static GLOBAL: common::counting::Counting = common::counting::Counting;
+static GLOBAL: coif_testkit::counting::Counting = coif_testkit::counting::Counting;
 
 #[test]
 fn a_frame_allocates_nothing_and_draws_what_full_detail_draws() {

@@ -6,11 +6,11 @@ mod common;
 
 use coif_base::SplitMix64;
 use coif_shading::shadow::{OpacityShadowMap, ShadowMode, ShadowSettings};
-use common::counting::allocations;
+use coif_testkit::counting::allocations;
 use glam::Vec3;
 
 #[global_allocator]
-static GLOBAL: common::counting::Counting = common::counting::Counting;
+static GLOBAL: coif_testkit::counting::Counting = coif_testkit::counting::Counting;
 
 fn curly_hair(strands: usize, verts: usize, seed: u64) -> Vec<Vec3> {
     let mut rng = SplitMix64::new(seed);

@@ -1,8 +1,6 @@
 //! Dev-only fixtures of the coif-shading tests.
 #![allow(dead_code)]
 
-pub mod counting;
-
 use glam::Vec3;
 
 /// A unit direction at longitudinal angle `theta` from the normal plane of

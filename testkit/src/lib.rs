@@ -1,5 +1,12 @@
-//! Fixtures shared by the geometry tests.
-#![allow(dead_code)]
+//! coif-testkit: fixtures the crates' own tests share (a dev-dependency
+//! only, never part of the library).
+//!
+//! - [`counting`]: a counting global allocator for the "allocates nothing
+//!   per frame" tests.
+//! - [`groom_path`]: where the shared TressFX grooms are, or a skip message.
+#![warn(missing_docs)]
+
+pub mod counting;
 
 use std::path::PathBuf;
 

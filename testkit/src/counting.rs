@@ -3,7 +3,7 @@
 //!
 //! ```ignore
 //! #[global_allocator]
-//! static GLOBAL: common::counting::Counting = common::counting::Counting;
+//! static GLOBAL: coif_testkit::counting::Counting = coif_testkit::counting::Counting;
 //! ```
 //!
 //! The count is per thread (tests run on parallel threads) and includes
@@ -12,6 +12,8 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
+/// The counting allocator: forwards to the system allocator and counts
+/// allocations and reallocations per thread.
 pub struct Counting;
 
 thread_local! {

@@ -1,4 +1,0 @@
-//! Dev-only fixtures of the coif-lod tests.
-#![allow(dead_code)]
-
-pub mod counting;
