@@ -21,6 +21,7 @@ pub mod csv;
 pub mod fits;
 pub mod interpolation;
 pub mod patch;
+pub mod physics;
 pub mod plot;
 pub mod quality;
 pub mod refinement;
@@ -106,12 +107,14 @@ impl Row {
 /// A kernel family's measurement.
 type Family = fn(Options) -> Vec<Row>;
 
-/// Measures every kernel family, in order: simulation, refinement, fits,
+/// Measures every kernel family, in order: simulation, physics (the strand
+/// step against the analytic hanging chain), refinement, fits,
 /// interpolation, shading, shadow maps, cloth patches.
 pub fn run(options: Options) -> Vec<Row> {
     let mut rows = Vec::new();
-    let families: [(&str, Family); 7] = [
+    let families: [(&str, Family); 8] = [
         ("simulation", simulation::rows),
+        ("physics", physics::rows),
         ("refinement", refinement::rows),
         ("fits", fits::rows),
         ("interpolation", interpolation::rows),

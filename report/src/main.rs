@@ -10,7 +10,36 @@ use std::path::PathBuf;
 
 const USAGE: &str = "usage: report [--quick] [--out DIR] [--from-csv FILE]";
 
-const MACHINE: &str = "a 2-core Intel Xeon, build x86-64-v3 (AVX2 + FMA)";
+/// The machine line when `/proc/cpuinfo` cannot say (and for redraws from a
+/// CSV, whose run this process did not see).
+const MACHINE: &str = "a 2-core AMD EPYC, build x86-64-v3 (AVX2 + FMA)";
+
+/// The 1-minute load average from `/proc/loadavg` (Linux), if readable.
+fn load_average() -> Option<String> {
+    let text = std::fs::read_to_string("/proc/loadavg").ok()?;
+    text.split_whitespace().next().map(str::to_string)
+}
+
+/// The machine measured on: core count and CPU model (from
+/// `/proc/cpuinfo`, else [`MACHINE`]), the build, and the 1-minute load
+/// average before and after the run (other work shares the cores).
+fn machine(load_before: Option<String>) -> String {
+    let model = std::fs::read_to_string("/proc/cpuinfo").ok().and_then(|t| {
+        t.lines()
+            .find(|l| l.starts_with("model name"))
+            .and_then(|l| l.split(':').nth(1))
+            .map(|m| m.trim().to_string())
+    });
+    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
+    let mut line = match model {
+        Some(m) if cores > 0 => format!("a {cores}-core {m}, build x86-64-v3 (AVX2 + FMA)"),
+        _ => MACHINE.to_string(),
+    };
+    if let (Some(before), Some(after)) = (load_before, load_average()) {
+        line += &format!(", 1-minute load average {before} before the run and {after} after it");
+    }
+    line
+}
 
 fn main() {
     let mut quick = false;
@@ -63,8 +92,9 @@ fn main() {
             (rows, written)
         }
         None => {
+            let load_before = load_average();
             let rows = report::run(Options { quick });
-            let written = report::write(&rows, &out, MACHINE);
+            let written = report::write(&rows, &out, &machine(load_before));
             (rows, written)
         }
     };

@@ -1,22 +1,21 @@
-//! Simulation: iterations (Gauss-Seidel sweeps of the length constraints,
-//! Jakobsen 2001), pearls (extra collision points per segment, Nguyen and
-//! Donnelly 2005) and substeps against error, via
-//! [`crate::quality::simulation`]: 256 strands of 32 vertices on a sphere
-//! head, scenes `settling` (3 s) and `whipping` (head on a 10 cm circle at
-//! 3 Hz, 2 s).
+//! Simulation: projections (of the length constraints per substep, the
+//! Newton iterations of the chain's tridiagonal solve), pearls (extra
+//! collision points per segment, Nguyen and Donnelly 2005) and substeps
+//! against error, via [`crate::quality::simulation`]: 256 strands of 32
+//! vertices on a sphere head, scenes `settling` (3 s) and `whipping` (head
+//! on a 10 cm circle at 3 Hz, 2 s), one step of dt = 1/60 s per frame.
 //!
-//! - Kernels `simulation <scene>`: iterations x pearls, one step of 1/60 s
-//!   per frame; time per vertex-step; reference 256 iterations, 3 pearls.
-//! - Kernels `simulation <scene> substeps`: frames of 1/30 s in 1, 2, 4, 8
-//!   substeps (default iterations and pearls; damping and friction per
-//!   second held equal, see
-//!   [`crate::quality::simulation::per_second_equivalent`]); time per
-//!   vertex-frame (all substeps of a frame), so the settings compare;
-//!   reference 16 substeps of 32 iterations, 3 pearls, compared at the end
-//!   of every frame (RMS over all frames). The default is the 2 substeps
-//!   the pipeline's dt = 1/60 s gives at the `coif` binary's 30 fps.
+//! - Kernels `simulation <scene>`: iterations (projections per substep) x
+//!   pearls at the default 4 substeps; time per vertex-step; reference 256
+//!   projections, 3 pearls, compared at the end.
+//! - Kernels `simulation <scene> substeps`: the solver's own substep knob,
+//!   `max_substep = dt / n` for n in 2, 4, 8, 16 substeps per step
+//!   (default 4; default projections and pearls); time per vertex-step (a
+//!   step = all its substeps), so the settings compare; reference 32
+//!   substeps of 8 projections, 3 pearls, compared at the end of every
+//!   frame (RMS over all frames).
 //!
-//! Time is the median over the run's frames; the run is repeated (three
+//! Time is the median over the run's steps; the run is repeated (three
 //! times in a full report) and the spread is the range of those medians.
 //! Three errors per scene and study, each its own kernel in the report: RMS
 //! vertex distance (metres) to the converged run, the largest
@@ -26,7 +25,7 @@
 use super::{Options, Path, Row, Timing};
 use crate::quality::simulation::{
     converged, converged_substeps, converged_substeps_with, default_substeps, measure_setting,
-    measure_substeps, Row as SettingRow, Scene, SUBSTEPS,
+    measure_substeps, Row as SettingRow, Scene, REFERENCE_SUBSTEPS, SUBSTEPS,
 };
 use coif::kernels::SimParams;
 
@@ -38,6 +37,7 @@ pub const PEARLS: [u32; 3] = [0, 1, 2];
 /// The three errors reported per scene: (kernel suffix, metric, value).
 /// The distance is taken at the end (`per_frame` false: the iterations x
 /// pearls study) or at every frame's end (`per_frame`: the substeps study).
+/// Time is per vertex-step in both.
 fn errors(r: &SettingRow, per_frame: bool) -> [(&'static str, &'static str, f64); 3] {
     let distance = if per_frame {
         (
@@ -70,16 +70,13 @@ fn push_rows(
     rows: &mut Vec<Row>,
     kernel: &str,
     setting: String,
-    element: &'static str,
     runs: &[SettingRow],
     per_frame: bool,
     is_default: bool,
 ) {
-    let ns = |r: &SettingRow, path: Path| match (path, per_frame) {
-        (Path::Simd, false) => r.simd_ns_per_vertex_step,
-        (Path::Scalar, false) => r.scalar_ns_per_vertex_step,
-        (Path::Simd, true) => r.simd_ns_per_vertex_frame(),
-        (Path::Scalar, true) => r.scalar_ns_per_vertex_frame(),
+    let ns = |r: &SettingRow, path: Path| match path {
+        Path::Simd => r.simd_ns_per_vertex_step,
+        Path::Scalar => r.scalar_ns_per_vertex_step,
     };
     for (suffix, error_metric, error) in errors(&runs[0], per_frame) {
         for path in [Path::Simd, Path::Scalar] {
@@ -87,7 +84,7 @@ fn push_rows(
                 kernel: format!("{kernel}{suffix}"),
                 setting: setting.clone(),
                 path,
-                element,
+                element: "vertex-step",
                 time: Timing::from_samples(runs.iter().map(|r| ns(r, path)).collect()),
                 error_metric,
                 error,
@@ -119,7 +116,6 @@ pub fn rows(options: Options) -> Vec<Row> {
                     &mut rows,
                     &format!("simulation {}", scene.name()),
                     format!("iterations={it} pearls={p}"),
-                    "vertex-step",
                     &runs,
                     false,
                     is_default,
@@ -132,18 +128,18 @@ pub fn rows(options: Options) -> Vec<Row> {
 }
 
 /// The substeps study (kernels `simulation <scene> substeps ...`). Quick
-/// runs measure 1 and 4 substeps against a cheaper reference (8 substeps
-/// of 8 iterations).
+/// runs measure 4 and 16 substeps against a cheaper reference (32
+/// substeps of 2 projections).
 fn substeps_rows(options: Options) -> Vec<Row> {
     let (substeps, reps): (&[u32], usize) = if options.quick {
-        (&[1, 4], 1)
+        (&[4, 16], 1)
     } else {
         (&SUBSTEPS, 3)
     };
     let mut rows = Vec::new();
     for scene in [Scene::Settling, Scene::Whipping] {
         let reference = if options.quick {
-            converged_substeps_with(scene, 8, 8)
+            converged_substeps_with(scene, REFERENCE_SUBSTEPS, 2)
         } else {
             converged_substeps(scene)
         };
@@ -155,7 +151,6 @@ fn substeps_rows(options: Options) -> Vec<Row> {
                 &mut rows,
                 &format!("simulation {} substeps", scene.name()),
                 format!("substeps={n}"),
-                "vertex-frame",
                 &runs,
                 true,
                 n == default_substeps(),

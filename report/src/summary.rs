@@ -56,19 +56,35 @@ fn fmt_ns(ns: f64) -> String {
 /// What the run measures, per kernel family (the summary's first list).
 pub const MEASURED: &str = "What is measured (knob; time per element; error):
 
-- **simulation** (`simulation <scene>`, settling and whipping): iterations x pearls at one \
-step of 1/60 s per frame; ns per vertex-step; RMS distance at the end to a converged run \
-(256 iterations, 3 pearls), and as their own kernels the largest stretch and the deepest \
-penetration seen.
-- **simulation substeps** (`simulation <scene> substeps`): frames of 1/30 s (the `coif` \
-binary's 30 fps) in 1, 2, 4, 8 substeps at the default 4 iterations and 1 pearl; ns per \
-vertex-frame (all substeps of a frame), so the settings compare; the same three errors \
-against a run of 16 substeps of 32 iterations and 3 pearls, the distance taken at the end of \
-every frame (RMS over all frames). That reference is itself resolved to about 4 mm \
-(settling) and 8 cm (whipping, whose flailing hair is chaotic) against 32 substeps \
-(`cargo run --release --example substeps_reference`): smaller differences are noise. Damping and friction act per \
-step, so each setting runs with them rescaled to keep the velocity kept per second equal \
-(`d' = d^(dt'/dt)`); the default is the 2 substeps the pipeline's dt = 1/60 s gives at 30 fps.
+- **simulation** (`simulation <scene>`, settling and whipping): iterations (projections of \
+the length constraints per substep) x pearls at one step of 1/60 s per frame and the default 4 \
+substeps; ns per vertex-step; RMS distance at the end to a converged run (256 projections, 3 \
+pearls), and as their own kernels the largest stretch and the deepest penetration seen.
+- **simulation substeps** (`simulation <scene> substeps`): the solver's own substep knob, one \
+step of 1/60 s per frame with `max_substep = dt / n`, n = 2, 4, 8, 16 substeps per step \
+(default 4; 1 projection, 1 pearl); ns per vertex-step (a step = all its substeps), so the \
+settings compare; the same three errors against a run of 32 substeps of 8 projections and 3 \
+pearls, the distance taken at the end of every frame (RMS over all frames). That reference \
+is itself resolved to about 5 mm (settling) and 10 cm (whipping, whose flailing hair is \
+chaotic) against 64 substeps (`cargo run --release -p coif-report --example \
+substeps_reference`): smaller differences are noise. The step spreads its damping over its substeps, so every setting keeps \
+the same velocity per step.
+- **physics** (`physics chain mode 1 period`, `... mode 1 amplitude`, `... mode 2 period`): \
+the strand step against the analytic hanging chain, which a converged run of the step cannot \
+judge: 31 links of 1 cm pinned at the top, g = 9.81, started at rest in mode 1 or 2 of its \
+tension matrix K (periods from K's eigenvalues, `omega_k^2 = (g/l) lambda_k`; shape from the \
+eigenvector) with the tip 2 % of the length off vertical, undamped, no collisions, 12 s; \
+errors: |period error| from the tip's zero crossings (1 where it did not cross three times), \
+and `max(1 - kept, peak - 1)` of the mode 1 amplitude (kept: over the last period; peak: over \
+the run). Settings: substeps n = dt / max_substep in 2, 4, 8, 16 x `stiff_mode_damping` a in \
+0, 0.05, 0.15 at dt = 1/60 s (default n 4, a 0.05), and dt = 1/30 s at the default \
+max_substep (8 substeps). ns per vertex-step on 64 identical chains (8 SIMD blocks); mode read \
+from strand 0 (`cargo run --release -p coif-report --example physics_chain` prints the \
+family as one table). Diverging settings are measured as they come out of the step (its guard \
+restores non-finite strands). The closed form is undamped, so the amplitude the blend a > 0 \
+takes is counted as error although it is the blend's purpose (it damps the stiff modes; mode \
+1 is the slowest, mode 2 loses more); a does not change the cost, so time differences \
+between the a settings of one n are noise.
 - **refinement**: segments per span; ns per guide (input) vertex; largest chord error.
 - **fits**: controls x smoothing; ns per strand; RMS distance to the noise-free curve \
 (scalar only: faer's Cholesky).

@@ -47,6 +47,9 @@ fn quick_report_rows_are_finite_and_files_are_written() {
         "simulation whipping substeps",
         "simulation whipping substeps stretch",
         "simulation settling substeps penetration",
+        "physics chain mode 1 period",
+        "physics chain mode 1 amplitude",
+        "physics chain mode 2 period",
         "refinement",
         "fits",
         "interpolation",
@@ -72,9 +75,17 @@ fn quick_report_rows_are_finite_and_files_are_written() {
             "{r:?}"
         );
     }
-    // Time is per vertex-frame: 4 substeps of a frame take longer than 1.
+    // The substeps study is the solver's own knob: rows at increasing n,
+    // and a step of 16 substeps costs more than one of 4 (about 4x in
+    // instructions; 1.5x leaves room for a loaded machine).
     for scene in ["settling", "whipping"] {
         let kernel = format!("simulation {scene} substeps");
+        let settings: Vec<&str> = rows
+            .iter()
+            .filter(|r| r.kernel == kernel && r.path == Path::Simd)
+            .map(|r| r.setting.as_str())
+            .collect();
+        assert_eq!(settings, ["substeps=4", "substeps=16"], "{kernel}");
         for path in [Path::Simd, Path::Scalar] {
             let ns = |setting: &str| {
                 rows.iter()
@@ -83,13 +94,27 @@ fn quick_report_rows_are_finite_and_files_are_written() {
                     .expect("substeps row")
             };
             assert!(
-                ns("substeps=4") > 1.5 * ns("substeps=1"),
+                ns("substeps=16") > 1.5 * ns("substeps=4"),
                 "{kernel} {path:?}: {} vs {}",
-                ns("substeps=4"),
-                ns("substeps=1")
+                ns("substeps=16"),
+                ns("substeps=4")
             );
         }
     }
+    // The physics family: the default swings the chain's mode 1 at K's
+    // period (the kernels' analytic test holds it within 2 %, measured
+    // +0.005 %) and keeps at least half of it; every setting has a row.
+    let physics = |kernel: &str, setting: &str| {
+        rows.iter()
+            .find(|r| r.kernel == kernel && r.setting == setting && r.path == Path::Simd)
+            .unwrap_or_else(|| panic!("no {kernel} row at {setting}"))
+    };
+    let default = physics("physics chain mode 1 period", "substeps=4 a=0.05");
+    assert!(default.is_default && default.error < 0.02, "{default:?}");
+    assert!(physics("physics chain mode 1 amplitude", "substeps=4 a=0.05").error < 0.5);
+    assert!(physics("physics chain mode 2 period", "substeps=4 a=0.05").error < 0.05);
+    physics("physics chain mode 1 period", "substeps=2 a=0.05");
+    physics("physics chain mode 1 period", "dt=1/30 substeps=8 a=0.05");
     // Drawing every render hair is the reference of the thinning error.
     let interpolation: Vec<&Row> = rows
         .iter()

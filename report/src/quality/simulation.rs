@@ -1,33 +1,35 @@
-//! The simulation's quality knobs (iterations, pearls, substeps) against
+//! The simulation's quality knobs (projections, pearls, substeps) against
 //! error.
 //!
 //! Two scenes on a grown sphere head: **settling** (hair grown straight out
 //! falls and drapes for 3 s) and **whipping** (the head and roots swing on a
-//! 10 cm circle at 3 Hz, about 1.9 m/s, for 2 s). For every setting the run
-//! records the time per frame (SIMD and scalar), the largest stretch and
-//! penetration seen at the end of any frame, and the distance at the end to
-//! a converged run of the same scene.
+//! 10 cm circle at 3 Hz, about 1.9 m/s, for 2 s). Every frame is one step
+//! of the default `dt` = 1/60 s. For every setting the run records the time
+//! per step (SIMD and scalar), the largest stretch and penetration seen at
+//! the end of any frame, and the distance to a converged run of the same
+//! scene.
 //!
 //! Two studies:
-//! - **iterations x pearls** ([`measure_setting`]): one step of the default
-//!   `dt` = 1/60 s per frame, against [`converged`] (256 iterations, 3 pearls);
-//! - **substeps** ([`measure_substeps`]): frames of [`FRAME_TIME`] = 1/30 s
-//!   (the `coif` binary's default 30 fps, which the pipeline's fixed
-//!   `dt` = 1/60 s turns into 2 substeps per frame) advanced with `n` steps of
-//!   `dt = FRAME_TIME / n`, against [`converged_substeps`] (16 substeps of
-//!   32 iterations, 3 pearls) at the end of every frame
-//!   ([`Row::rms_distance_over_frames`]). How well that reference is resolved
-//!   is measured by `examples/substeps_reference.rs` (against 32 substeps):
-//!   about 4 mm for settling but 8 cm for whipping, whose flailing hair is
-//!   chaotic, so differences between settings below that are noise.
+//! - **iterations x pearls** ([`measure_setting`]): `iterations` is the
+//!   projections of the length constraints per substep (Newton iterations of
+//!   the chain's tridiagonal solve), at the default substeps, against
+//!   [`converged`] (256 projections, 3 pearls), compared at the end;
+//! - **substeps** ([`measure_substeps`]): the solver's own substep knob,
+//!   `max_substep = dt / n`, so that each step of `dt` runs `n` substeps
+//!   (`SimParams::substeps`; default 4), against [`converged_substeps`] (32
+//!   substeps of 8 projections, 3 pearls) at the end of every frame
+//!   ([`Row::rms_distance_over_frames`]). How well that reference is
+//!   resolved is measured by `examples/substeps_reference.rs` (against 64
+//!   substeps, the most a step runs): about 5 mm for settling but 10 cm for
+//!   whipping, whose flailing hair is chaotic, so differences between
+//!   settings below that are noise.
 //!
-//! `SimParams::damping` and `friction` are per step (`x + d (x - x_prev)`;
-//! the share of tangential velocity removed per push-out), so more substeps
-//! would damp more per second. [`per_second_equivalent`] rescales both so
-//! that the velocity kept per second is the same as with the default
-//! `dt` = 1/60 s: `d' = d^(dt'/dt)`, `1 - mu' = (1 - mu)^(dt'/dt)`. Every
-//! substeps setting (and its reference) runs with those, so the settings
-//! differ only in how finely they resolve the same physics.
+//! `dt` is the same in every setting, and the step spreads its damping over
+//! its substeps (`d^(1/n)` per substep: the velocity kept per step does not
+//! depend on `n`), so the settings differ in how finely they resolve the
+//! same physics. Contact friction acts at every push-out, once per substep
+//! (twice on the last): that is the solver's own behaviour and part of what
+//! the knob changes.
 
 use coif::geometry::scene::{grow_on_sphere, GrowOptions};
 use coif::kernels::{self as kernels, measure, scalar, SimParams, Sphere, Strands};
@@ -77,15 +79,15 @@ impl Scene {
 pub struct Row {
     /// The scene run.
     pub scene: Scene,
-    /// Constraint iterations per step.
+    /// Projections of the length constraints per substep.
     pub iterations: u32,
     /// Pearls per segment: collision points between a segment's end
     /// vertices (Nguyen and Donnelly 2005, the Nalu demo).
     pub pearls: u32,
-    /// Simulation steps per frame.
+    /// Substeps per step of `dt` (`SimParams::substeps`).
     pub substeps: u32,
-    /// Median nanoseconds per vertex-step, SIMD path (the median frame's
-    /// time over the vertices and substeps).
+    /// Median nanoseconds per vertex-step, SIMD path (the median step's
+    /// time, all its substeps, over the vertices).
     pub simd_ns_per_vertex_step: f64,
     /// Median nanoseconds per vertex-step, scalar reference.
     pub scalar_ns_per_vertex_step: f64,
@@ -105,46 +107,20 @@ pub struct Row {
     pub rms_distance_over_frames: f32,
 }
 
-impl Row {
-    /// Median nanoseconds per vertex-frame (all substeps of a frame), SIMD.
-    pub fn simd_ns_per_vertex_frame(&self) -> f64 {
-        self.simd_ns_per_vertex_step * self.substeps as f64
-    }
-
-    /// Median nanoseconds per vertex-frame (all substeps of a frame), scalar.
-    pub fn scalar_ns_per_vertex_frame(&self) -> f64 {
-        self.scalar_ns_per_vertex_step * self.substeps as f64
-    }
-}
-
-/// Frame time of the substeps study: 1/30 s, the `coif` binary's default
-/// frame rate.
-pub const FRAME_TIME: f32 = 1.0 / 30.0;
-
-/// Substeps per frame the frame pipeline runs at [`FRAME_TIME`] with its
-/// default fixed step (`SimParams::default().dt` = 1/60 s): 2.
+/// Substeps per step the default parameters run (4 of 1/240 s at dt = 1/60 s).
 pub fn default_substeps() -> u32 {
-    (FRAME_TIME / SimParams::default().dt).round() as u32
+    SimParams::default().substeps()
 }
 
-/// Substeps measured by the study.
-pub const SUBSTEPS: [u32; 4] = [1, 2, 4, 8];
+/// Substeps per step measured by the study.
+pub const SUBSTEPS: [u32; 4] = [2, 4, 8, 16];
 
-/// `params` for a step of `dt` seconds with the same damping and contact
-/// friction per second as `params` at its own `params.dt`:
-/// `d' = d^(dt / params.dt)` and `1 - mu' = (1 - mu)^(dt / params.dt)`
-/// (both act once per step, see [`SimParams`]). At `dt == params.dt` it
-/// returns `params` unchanged.
-pub fn per_second_equivalent(params: &SimParams, dt: f32) -> SimParams {
-    let ratio = dt / params.dt;
-    if ratio == 1.0 {
-        return params.clone();
-    }
+/// Parameters for `substeps` substeps per step of the default `dt`
+/// (`max_substep = dt / substeps`), the rest from `base`.
+pub fn with_substeps(base: &SimParams, substeps: u32) -> SimParams {
     SimParams {
-        dt,
-        damping: params.damping.powf(ratio),
-        friction: 1.0 - (1.0 - params.friction).powf(ratio),
-        ..params.clone()
+        max_substep: base.dt / substeps.max(1) as f32,
+        ..base.clone()
     }
 }
 
@@ -178,8 +154,8 @@ pub struct Trajectory {
 /// What [`run`] saw.
 struct RunResult {
     last: Strands,
-    /// Seconds per frame (all its substeps).
-    frame_times: Vec<f64>,
+    /// Seconds per step (all its substeps).
+    step_times: Vec<f64>,
     max_stretch: f32,
     max_penetration: f32,
     /// Positions at the end of every frame, if asked for.
@@ -188,17 +164,14 @@ struct RunResult {
     rms_over_frames: f32,
 }
 
-/// Runs a scene in frames of `frame_time` seconds, each of `substeps`
-/// steps of `params` (whose `dt` must be `frame_time / substeps`); every
-/// step sees the head where it is at the start of that step. Measures the
-/// worst stretch and penetration at the end of every frame, records the
-/// positions of every frame if `record`, and compares them with
-/// `reference`'s frames at the same times if given (NaN otherwise).
+/// Runs a scene in frames of one step of `params.dt`; every step sees the
+/// head where it is at the start of that step. Measures the worst stretch
+/// and penetration at the end of every frame, records the positions of
+/// every frame if `record`, and compares them with `reference`'s frames at
+/// the same times if given (NaN otherwise).
 fn run(
     scene: Scene,
     params: &SimParams,
-    frame_time: f32,
-    substeps: u32,
     stepper: StepFn,
     record: bool,
     reference: Option<&Trajectory>,
@@ -208,25 +181,20 @@ fn run(
     let mut roots: Vec<Vec3> = points.iter().step_by(STUDY_VERTS).copied().collect();
     let base = roots.clone();
     let mut rig = [head.clone()];
-    let frame_count = (scene.duration() / frame_time).round() as usize;
+    let frame_count = (scene.duration() / params.dt).round() as usize;
     let (mut times, mut stretch, mut depth) = (Vec::with_capacity(frame_count), 0.0f32, 0.0f32);
     let mut frames = Vec::new();
     let (mut sum_sq, mut count) = (0.0f64, 0usize);
     for f in 0..frame_count {
-        let mut elapsed = 0.0;
-        for k in 0..substeps as usize {
-            let step_index = f * substeps as usize + k;
-            let off = scene.offset(step_index as f32 * params.dt);
-            for (r, b) in roots.iter_mut().zip(&base) {
-                *r = *b + off;
-            }
-            rig[0].center = head.center + off;
-            s.set_roots(&roots).expect("finite roots");
-            let t0 = Instant::now();
-            stepper(&mut s, params, &rig);
-            elapsed += t0.elapsed().as_secs_f64();
+        let off = scene.offset(f as f32 * params.dt);
+        for (r, b) in roots.iter_mut().zip(&base) {
+            *r = *b + off;
         }
-        times.push(elapsed);
+        rig[0].center = head.center + off;
+        s.set_roots(&roots).expect("finite roots");
+        let t0 = Instant::now();
+        stepper(&mut s, params, &rig);
+        times.push(t0.elapsed().as_secs_f64());
         let m = kernels::measure(&s, &rig);
         stretch = stretch.max(m.max_stretch);
         depth = depth.max(m.max_penetration);
@@ -245,7 +213,7 @@ fn run(
     }
     RunResult {
         last: s,
-        frame_times: times,
+        step_times: times,
         max_stretch: stretch,
         max_penetration: depth,
         frames,
@@ -262,59 +230,43 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-/// Measures one setting of one scene against a converged run.
+/// Measures one setting of the iterations x pearls study (`iterations`
+/// projections per substep, `pearls` per segment, the default substeps)
+/// against a converged run.
 pub fn measure_setting(scene: Scene, iterations: u32, pearls: u32, converged: &Trajectory) -> Row {
     let params = SimParams {
         iterations,
         pearls_per_segment: pearls,
         ..Default::default()
     };
-    measure_frames(scene, &params, params.dt, 1, converged)
+    measure_params(scene, &params, converged)
 }
 
-/// Measures `substeps` steps per frame of [`FRAME_TIME`] (default
-/// iterations and pearls, damping and friction per second kept, see
-/// [`per_second_equivalent`]) against [`converged_substeps`].
+/// Measures `substeps` substeps per step of the default `dt` (default
+/// projections and pearls, see [`with_substeps`]) against
+/// [`converged_substeps`].
 pub fn measure_substeps(scene: Scene, substeps: u32, converged: &Trajectory) -> Row {
-    let substeps = substeps.max(1);
-    let params = per_second_equivalent(&SimParams::default(), FRAME_TIME / substeps as f32);
-    measure_frames(scene, &params, FRAME_TIME, substeps, converged)
+    measure_params(
+        scene,
+        &with_substeps(&SimParams::default(), substeps),
+        converged,
+    )
 }
 
-fn measure_frames(
-    scene: Scene,
-    params: &SimParams,
-    frame_time: f32,
-    substeps: u32,
-    converged: &Trajectory,
-) -> Row {
-    let per_step = (STUDY_STRANDS * STUDY_VERTS) as f64 * substeps as f64;
-    let simd = run(
-        scene,
-        params,
-        frame_time,
-        substeps,
-        kernels::step,
-        false,
-        Some(converged),
-    );
-    let scalar = run(
-        scene,
-        params,
-        frame_time,
-        substeps,
-        scalar::step,
-        false,
-        None,
-    );
+/// Runs `params` on both paths and measures the SIMD run against
+/// `converged` (at the end and over every frame).
+pub fn measure_params(scene: Scene, params: &SimParams, converged: &Trajectory) -> Row {
+    let per_step = (STUDY_STRANDS * STUDY_VERTS) as f64;
+    let simd = run(scene, params, kernels::step, false, Some(converged));
+    let scalar = run(scene, params, scalar::step, false, None);
     let dist = measure::distances(&simd.last, &converged.last);
     Row {
         scene,
         iterations: params.iterations,
         pearls: params.pearls_per_segment,
-        substeps,
-        simd_ns_per_vertex_step: median(simd.frame_times) * 1e9 / per_step,
-        scalar_ns_per_vertex_step: median(scalar.frame_times) * 1e9 / per_step,
+        substeps: params.substeps(),
+        simd_ns_per_vertex_step: median(simd.step_times) * 1e9 / per_step,
+        scalar_ns_per_vertex_step: median(scalar.step_times) * 1e9 / per_step,
         max_stretch: simd.max_stretch,
         max_penetration: simd.max_penetration,
         max_distance_to_converged: dist.0,
@@ -330,41 +282,40 @@ fn trajectory(r: RunResult) -> Trajectory {
     }
 }
 
-/// The converged reference of a scene: 256 iterations, 3 pearls.
+/// The converged reference of the iterations x pearls study: 256
+/// projections per substep, 3 pearls, the default substeps.
 pub fn converged(scene: Scene) -> Trajectory {
     let params = SimParams {
         iterations: 256,
         pearls_per_segment: 3,
         ..Default::default()
     };
-    trajectory(run(scene, &params, params.dt, 1, kernels::step, true, None))
+    trajectory(run(scene, &params, kernels::step, true, None))
 }
 
-/// Substeps per frame of [`converged_substeps`].
-pub const REFERENCE_SUBSTEPS: u32 = 16;
+/// Substeps per step of [`converged_substeps`].
+pub const REFERENCE_SUBSTEPS: u32 = 32;
+/// Projections per substep of [`converged_substeps`].
+pub const REFERENCE_ITERATIONS: u32 = 8;
 
-/// The converged reference of the substeps study: frames of [`FRAME_TIME`]
-/// in [`REFERENCE_SUBSTEPS`] steps of 32 iterations and 3 pearls (damping
-/// and friction per second as in the default, see [`per_second_equivalent`]).
+/// The converged reference of the substeps study: [`REFERENCE_SUBSTEPS`]
+/// substeps of [`REFERENCE_ITERATIONS`] projections per step of the
+/// default `dt`, 3 pearls.
 pub fn converged_substeps(scene: Scene) -> Trajectory {
-    converged_substeps_with(scene, REFERENCE_SUBSTEPS, 32)
+    converged_substeps_with(scene, REFERENCE_SUBSTEPS, REFERENCE_ITERATIONS)
 }
 
-/// [`converged_substeps`] with another number of substeps and iterations
-/// (a cheaper reference for quick runs).
+/// [`converged_substeps`] with another number of substeps (at most
+/// `coif::kernels::MAX_SUBSTEPS` = 64 take effect) and projections.
 pub fn converged_substeps_with(scene: Scene, substeps: u32, iterations: u32) -> Trajectory {
-    let substeps = substeps.max(1);
     let base = SimParams {
         iterations,
         pearls_per_segment: 3,
         ..Default::default()
     };
-    let params = per_second_equivalent(&base, FRAME_TIME / substeps as f32);
     trajectory(run(
         scene,
-        &params,
-        FRAME_TIME,
-        substeps,
+        &with_substeps(&base, substeps),
         kernels::step,
         true,
         None,
@@ -436,16 +387,16 @@ mod tests {
     use super::*;
 
     #[test]
-    fn per_second_equivalent_keeps_the_velocity_kept_per_second() {
+    fn substeps_are_the_solvers_own_knob() {
+        assert_eq!(default_substeps(), 4);
         let base = SimParams::default();
-        assert_eq!(per_second_equivalent(&base, base.dt), base);
-        let quarter = per_second_equivalent(&base, base.dt / 4.0);
-        assert_eq!(quarter.dt, base.dt / 4.0);
-        // Four steps of the quarter keep what one step of the base keeps.
-        assert!((quarter.damping.powi(4) - base.damping).abs() < 1e-6);
-        assert!(((1.0 - quarter.friction).powi(4) - (1.0 - base.friction)).abs() < 1e-6);
-        assert!(quarter.damping > base.damping && quarter.friction < base.friction);
-        assert_eq!(quarter.iterations, base.iterations);
-        assert_eq!(default_substeps(), 2);
+        for n in SUBSTEPS.into_iter().chain([REFERENCE_SUBSTEPS]) {
+            let p = with_substeps(&base, n);
+            assert_eq!(p.substeps(), n);
+            assert_eq!(p.dt, base.dt, "the frame is one step of the same dt");
+            assert_eq!(p.damping, base.damping, "damping is per step of dt");
+            assert!(p.validate().is_ok());
+        }
+        assert_eq!(with_substeps(&base, default_substeps()).substeps(), 4);
     }
 }
