@@ -1,0 +1,523 @@
+//! coif-capi: the C interface of the coif hair simulation.
+//!
+//! A C or C++ program creates a set of equal-length strands from its points
+//! ([`coif_strands_new`]), moves their roots every frame
+//! ([`coif_strands_set_roots`]), advances them by one fixed step against a
+//! rig of spheres ([`coif_step`]) and reads the positions back into a buffer
+//! it owns ([`coif_strands_positions`]). The header `include/coif.h` is
+//! generated from this file by cbindgen (`cbindgen.toml`); a test fails when
+//! the committed header differs from what cbindgen generates now.
+//!
+//! Rules at the boundary (every function follows them):
+//! - handles are opaque ([`CoifStrands`]); the caller owns every buffer and
+//!   passes its size, which is checked;
+//! - bad input (NULL, NaN or infinity, wrong counts, a buffer too small,
+//!   parameters out of range) returns an error [`CoifStatus`] and changes
+//!   nothing: every check runs before anything is written;
+//! - no panic crosses the boundary: each body runs under
+//!   [`std::panic::catch_unwind`] and a panic returns
+//!   [`CoifStatus::COIF_ERROR_PANIC`];
+//! - [`coif_step`], [`coif_strands_set_roots`] and [`coif_strands_positions`]
+//!   do not allocate once the rig is as large as it will get (the sphere
+//!   scratch lives in the handle and only grows).
+
+#![warn(missing_docs)]
+// The C names are the Rust names: `COIF_OK`, not `Ok`.
+#![allow(non_camel_case_types)]
+
+use coif_kernels::{SimParams, Sphere, Strands};
+use glam::{Affine3A, Mat3, Vec3};
+use std::ffi::c_char;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+/// Result of every fallible call: `COIF_OK` (0) or the reason it refused its
+/// input. A call that returns an error changed nothing.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CoifStatus {
+    /// Success.
+    COIF_OK = 0,
+    /// A required pointer was NULL.
+    COIF_ERROR_NULL = 1,
+    /// An argument is out of its range (fewer than 2 vertices per strand, no
+    /// points, a parameter out of range, a non-rigid transform, a misaligned
+    /// pointer, a size that overflows).
+    COIF_ERROR_INVALID_ARGUMENT = 2,
+    /// A coordinate or parameter is NaN or infinite.
+    COIF_ERROR_NON_FINITE = 3,
+    /// The output buffer holds fewer points than the set has.
+    COIF_ERROR_BUFFER_TOO_SMALL = 4,
+    /// A count does not match: roots other than one per strand, or a point
+    /// count that is not a whole number of strands.
+    COIF_ERROR_COUNT_MISMATCH = 5,
+    /// The library panicked (a bug in coif); the handle may be in a partial
+    /// state and should be freed.
+    COIF_ERROR_PANIC = 6,
+}
+
+/// Parameters of one fixed step (`coif_step`); start from
+/// `coif_sim_params_default()` and change the fields you need. The meaning
+/// and range of every field is that of `coif_kernels::SimParams`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CoifSimParams {
+    /// Fixed step in seconds (> 0; default 1/60).
+    pub dt: f32,
+    /// Velocity kept per step in [0, 1] (default 0.97; 1 = no damping).
+    pub damping: f32,
+    /// Acceleration in m/s^2 (default 0, -9.81, 0).
+    pub gravity: [f32; 3],
+    /// Projections of the length constraints per substep (default 1).
+    pub iterations: u32,
+    /// Collision points per segment besides its end vertices (0..=64, default 1).
+    pub pearls_per_segment: u32,
+    /// Collision radius of vertices and pearls in metres (>= 0, default 0.002).
+    pub pearl_radius: f32,
+    /// Two-sided strain limit per segment (>= 0, default 0.01).
+    pub max_stretch: f32,
+    /// Local shape constraints (TressFX 4, AMD 2017) in [0, 1]; 0 (default) = off.
+    pub local_shape_stiffness: f32,
+    /// Longest substep in seconds (> 0, default 1/240).
+    pub max_substep: f32,
+    /// Blend of the constraint directions in [0, 0.25] (default 0.05).
+    pub stiff_mode_damping: f32,
+    /// Bending constraints (Yip 2011) in [0, 1]; 0 (default) = off.
+    pub bend_stiffness: f32,
+    /// Pull toward the rest shape at the root in [0, 1]; 0 (default) = off.
+    pub shape_stiffness: f32,
+    /// Contact friction in [0, 1] (default 0.3).
+    pub friction: f32,
+}
+
+/// A collision sphere of the rig, world coordinates (metres).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CoifSphere {
+    /// Centre.
+    pub center: [f32; 3],
+    /// Radius (>= 0).
+    pub radius: f32,
+}
+
+/// An opaque set of equal-length strands (created by `coif_strands_new`,
+/// freed by `coif_strands_free`).
+pub struct CoifStrands {
+    strands: Strands,
+    /// The rig converted for `coif_kernels::step`; grows only when the rig does.
+    spheres: Vec<Sphere>,
+}
+
+// The casts of caller buffers (`*const f32`, three per point) to `&[Vec3]`
+// rely on glam's `Vec3` being `#[repr(C)] { x, y, z: f32 }`.
+const _: () = assert!(std::mem::size_of::<Vec3>() == 12 && std::mem::align_of::<Vec3>() == 4);
+
+impl From<&CoifSimParams> for SimParams {
+    fn from(p: &CoifSimParams) -> SimParams {
+        SimParams {
+            dt: p.dt,
+            damping: p.damping,
+            gravity: Vec3::from_array(p.gravity),
+            iterations: p.iterations,
+            pearls_per_segment: p.pearls_per_segment,
+            pearl_radius: p.pearl_radius,
+            max_stretch: p.max_stretch,
+            bend_stiffness: p.bend_stiffness,
+            shape_stiffness: p.shape_stiffness,
+            friction: p.friction,
+            local_shape_stiffness: p.local_shape_stiffness,
+            max_substep: p.max_substep,
+            stiff_mode_damping: p.stiff_mode_damping,
+        }
+    }
+}
+
+impl From<&SimParams> for CoifSimParams {
+    fn from(p: &SimParams) -> CoifSimParams {
+        CoifSimParams {
+            dt: p.dt,
+            damping: p.damping,
+            gravity: p.gravity.to_array(),
+            iterations: p.iterations,
+            pearls_per_segment: p.pearls_per_segment,
+            pearl_radius: p.pearl_radius,
+            max_stretch: p.max_stretch,
+            local_shape_stiffness: p.local_shape_stiffness,
+            max_substep: p.max_substep,
+            stiff_mode_damping: p.stiff_mode_damping,
+            bend_stiffness: p.bend_stiffness,
+            shape_stiffness: p.shape_stiffness,
+            friction: p.friction,
+        }
+    }
+}
+
+impl From<coif_kernels::Error> for CoifStatus {
+    fn from(e: coif_kernels::Error) -> CoifStatus {
+        use coif_kernels::Error as E;
+        match e {
+            E::NonFinite { .. } => CoifStatus::COIF_ERROR_NON_FINITE,
+            E::CountMismatch { .. } | E::NotWholeStrands { .. } => {
+                CoifStatus::COIF_ERROR_COUNT_MISMATCH
+            }
+            E::InvalidParameter { value, .. } if !value.is_finite() => {
+                CoifStatus::COIF_ERROR_NON_FINITE
+            }
+            _ => CoifStatus::COIF_ERROR_INVALID_ARGUMENT,
+        }
+    }
+}
+
+/// Runs `body`, turning a panic into `COIF_ERROR_PANIC`.
+fn guard(body: impl FnOnce() -> Result<(), CoifStatus>) -> CoifStatus {
+    match catch_unwind(AssertUnwindSafe(body)) {
+        Ok(Ok(())) => CoifStatus::COIF_OK,
+        Ok(Err(status)) => status,
+        Err(_) => CoifStatus::COIF_ERROR_PANIC,
+    }
+}
+
+/// Runs `body`, returning `fallback` on a panic (for calls without a status).
+fn guard_or<T>(fallback: T, body: impl FnOnce() -> T) -> T {
+    catch_unwind(AssertUnwindSafe(body)).unwrap_or(fallback)
+}
+
+/// Checks that `ptr` can back a slice of `count` values of `T`: not NULL,
+/// aligned for `T`, and not so long that its size in bytes overflows `isize`.
+fn check_slice<T>(ptr: *const T, count: usize) -> Result<(), CoifStatus> {
+    if ptr.is_null() {
+        return Err(CoifStatus::COIF_ERROR_NULL);
+    }
+    if !ptr.is_aligned() {
+        return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
+    }
+    match count.checked_mul(std::mem::size_of::<T>()) {
+        Some(bytes) if bytes <= isize::MAX as usize => Ok(()),
+        _ => Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT),
+    }
+}
+
+/// [`check_slice`] for `count` points of 3 floats at `xyz`.
+fn check_points(xyz: *const f32, count: usize) -> Result<(), CoifStatus> {
+    check_slice(xyz.cast::<Vec3>(), count)
+}
+
+/// The points at `xyz` as a slice of `Vec3`.
+///
+/// # Safety
+/// `check_points(xyz, count)` passed and `xyz` points to `3 * count` readable
+/// floats that nothing writes while the slice lives.
+unsafe fn points<'a>(xyz: *const f32, count: usize) -> &'a [Vec3] {
+    // SAFETY: non-NULL, 4-aligned and at most isize::MAX bytes (checked by
+    // `check_points`); `Vec3` is three packed f32 (asserted above); the
+    // caller guarantees the floats are readable and not mutated meanwhile.
+    unsafe { std::slice::from_raw_parts(xyz.cast::<Vec3>(), count) }
+}
+
+/// The default parameters (those of `coif_kernels::SimParams::default()`):
+/// one step of 1/60 s in 4 substeps, damping 0.97, gravity -9.81 along y.
+#[no_mangle]
+pub extern "C" fn coif_sim_params_default() -> CoifSimParams {
+    CoifSimParams::from(&SimParams::default())
+}
+
+/// Checks every field of `*params` against its range: `COIF_OK`,
+/// `COIF_ERROR_NULL`, `COIF_ERROR_NON_FINITE` (a NaN or infinite field) or
+/// `COIF_ERROR_INVALID_ARGUMENT` (a field out of range).
+///
+/// # Safety
+/// `params` is NULL or points to a readable `CoifSimParams`.
+#[no_mangle]
+pub unsafe extern "C" fn coif_sim_params_validate(params: *const CoifSimParams) -> CoifStatus {
+    guard(|| {
+        // SAFETY: the caller passes NULL or a valid pointer; NULL is refused.
+        let p = unsafe { params.as_ref() }.ok_or(CoifStatus::COIF_ERROR_NULL)?;
+        validate_params(p).map(|_| ())
+    })
+}
+
+fn validate_params(p: &CoifSimParams) -> Result<SimParams, CoifStatus> {
+    let params = SimParams::from(p);
+    params.validate()?;
+    Ok(params)
+}
+
+/// Creates a set of strands from `point_count` points (`xyz`: 3 floats per
+/// point, world coordinates in metres), `verts_per_strand` per strand, strand
+/// after strand, root first. Roots are pinned; rest lengths and the rest
+/// shape come from these points. On success `*out` is the new handle (free
+/// it with `coif_strands_free`); on error `*out` is NULL (when `out` is not).
+///
+/// Errors: `COIF_ERROR_NULL` (`xyz` or `out`), `COIF_ERROR_INVALID_ARGUMENT`
+/// (`verts_per_strand < 2`, no points), `COIF_ERROR_COUNT_MISMATCH`
+/// (`point_count` not a multiple of `verts_per_strand`),
+/// `COIF_ERROR_NON_FINITE` (a NaN or infinite coordinate).
+///
+/// # Safety
+/// `xyz` is NULL or points to `3 * point_count` readable floats; `out` is
+/// NULL or points to a writable `CoifStrands *`.
+#[no_mangle]
+pub unsafe extern "C" fn coif_strands_new(
+    xyz: *const f32,
+    point_count: usize,
+    verts_per_strand: usize,
+    out: *mut *mut CoifStrands,
+) -> CoifStatus {
+    guard(|| {
+        if out.is_null() {
+            return Err(CoifStatus::COIF_ERROR_NULL);
+        }
+        // SAFETY: `out` is not NULL and the caller guarantees it is writable.
+        unsafe { out.write(std::ptr::null_mut()) };
+        check_points(xyz, point_count)?;
+        // SAFETY: checked above; the caller guarantees 3 * point_count floats.
+        let pts = unsafe { points(xyz, point_count) };
+        let strands = Strands::from_polylines(pts, verts_per_strand)?;
+        let handle = Box::new(CoifStrands {
+            strands,
+            spheres: Vec::new(),
+        });
+        // SAFETY: as above, `out` is writable.
+        unsafe { out.write(Box::into_raw(handle)) };
+        Ok(())
+    })
+}
+
+/// Frees a set made by `coif_strands_new`. NULL is fine.
+///
+/// # Safety
+/// `s` is NULL or a handle from `coif_strands_new` not freed before; it must
+/// not be used afterwards.
+#[no_mangle]
+pub unsafe extern "C" fn coif_strands_free(s: *mut CoifStrands) {
+    guard_or((), || {
+        if !s.is_null() {
+            // SAFETY: `s` came from `Box::into_raw` in `coif_strands_new` and
+            // is freed once (the caller's contract).
+            drop(unsafe { Box::from_raw(s) });
+        }
+    })
+}
+
+/// Number of strands in the set (0 for NULL).
+///
+/// # Safety
+/// `s` is NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn coif_strands_strand_count(s: *const CoifStrands) -> usize {
+    guard_or(0, || {
+        // SAFETY: NULL or a live handle (the caller's contract).
+        unsafe { s.as_ref() }.map_or(0, |h| h.strands.strand_count())
+    })
+}
+
+/// Vertices per strand, root included (0 for NULL).
+///
+/// # Safety
+/// `s` is NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn coif_strands_verts_per_strand(s: *const CoifStrands) -> usize {
+    guard_or(0, || {
+        // SAFETY: NULL or a live handle (the caller's contract).
+        unsafe { s.as_ref() }.map_or(0, |h| h.strands.verts_per_strand())
+    })
+}
+
+/// Number of points `coif_strands_positions` writes: strands times vertices
+/// per strand (0 for NULL). Size the buffer with it (3 floats per point).
+///
+/// # Safety
+/// `s` is NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn coif_strands_point_count(s: *const CoifStrands) -> usize {
+    guard_or(0, || {
+        // SAFETY: NULL or a live handle (the caller's contract).
+        unsafe { s.as_ref() }.map_or(0, |h| {
+            h.strands.strand_count() * h.strands.verts_per_strand()
+        })
+    })
+}
+
+/// Moves the pinned roots: `root_count` points (`xyz`, 3 floats each, world
+/// space), one per strand. The next step carries each root there over its
+/// substeps. Does not allocate.
+///
+/// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_COUNT_MISMATCH` (not one root per
+/// strand), `COIF_ERROR_NON_FINITE`.
+///
+/// # Safety
+/// `s` is NULL or a live handle; `xyz` is NULL or points to `3 * root_count`
+/// readable floats.
+#[no_mangle]
+pub unsafe extern "C" fn coif_strands_set_roots(
+    s: *mut CoifStrands,
+    xyz: *const f32,
+    root_count: usize,
+) -> CoifStatus {
+    guard(|| {
+        // SAFETY: NULL or a live handle not aliased during the call.
+        let h = unsafe { s.as_mut() }.ok_or(CoifStatus::COIF_ERROR_NULL)?;
+        check_points(xyz, root_count)?;
+        // SAFETY: checked above; the caller guarantees 3 * root_count floats.
+        let roots = unsafe { points(xyz, root_count) };
+        // `set_roots` checks the count and every coordinate before writing.
+        h.strands.set_roots(roots)?;
+        Ok(())
+    })
+}
+
+/// Advances every strand by one fixed step of `params->dt` against
+/// `sphere_count` spheres (`spheres` may be NULL when `sphere_count` is 0).
+/// Validates the parameters and spheres first; does not allocate unless the
+/// rig has more spheres than at any earlier call.
+///
+/// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_NON_FINITE` (a NaN or infinite
+/// parameter or sphere), `COIF_ERROR_INVALID_ARGUMENT` (a parameter out of
+/// range, a negative radius).
+///
+/// # Safety
+/// `s` is NULL or a live handle; `params` is NULL or readable; `spheres` is
+/// NULL or points to `sphere_count` readable spheres.
+#[no_mangle]
+pub unsafe extern "C" fn coif_step(
+    s: *mut CoifStrands,
+    params: *const CoifSimParams,
+    spheres: *const CoifSphere,
+    sphere_count: usize,
+) -> CoifStatus {
+    guard(|| {
+        // SAFETY: NULL or a live handle not aliased during the call.
+        let h = unsafe { s.as_mut() }.ok_or(CoifStatus::COIF_ERROR_NULL)?;
+        // SAFETY: NULL or readable (the caller's contract).
+        let p = unsafe { params.as_ref() }.ok_or(CoifStatus::COIF_ERROR_NULL)?;
+        let params = validate_params(p)?;
+        let rig: &[CoifSphere] = if sphere_count == 0 {
+            &[]
+        } else {
+            check_slice(spheres, sphere_count)?;
+            // SAFETY: `spheres` is non-NULL, aligned and `sphere_count`
+            // spheres fit in isize::MAX bytes (checked by `check_slice`);
+            // the caller guarantees they are readable and not mutated during
+            // the call.
+            unsafe { std::slice::from_raw_parts(spheres, sphere_count) }
+        };
+        for sphere in rig {
+            if !(sphere.center.iter().all(|c| c.is_finite()) && sphere.radius.is_finite()) {
+                return Err(CoifStatus::COIF_ERROR_NON_FINITE);
+            }
+            if sphere.radius < 0.0 {
+                return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
+            }
+        }
+        // Convert into the handle's scratch: allocates only when it grows.
+        h.spheres.clear();
+        h.spheres.extend(rig.iter().map(|c| Sphere {
+            center: Vec3::from_array(c.center),
+            radius: c.radius,
+        }));
+        coif_kernels::step(&mut h.strands, &params, &h.spheres);
+        Ok(())
+    })
+}
+
+/// Writes every point (strand after strand, root first; 3 floats each,
+/// world space) into `out_xyz` when it holds `capacity_points` points and
+/// that is at least `coif_strands_point_count(s)`. Does not allocate.
+///
+/// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_BUFFER_TOO_SMALL` (nothing written).
+///
+/// # Safety
+/// `s` is NULL or a live handle; `out_xyz` is NULL or points to
+/// `3 * capacity_points` writable floats.
+#[no_mangle]
+pub unsafe extern "C" fn coif_strands_positions(
+    s: *const CoifStrands,
+    out_xyz: *mut f32,
+    capacity_points: usize,
+) -> CoifStatus {
+    guard(|| {
+        // SAFETY: NULL or a live handle (the caller's contract).
+        let h = unsafe { s.as_ref() }.ok_or(CoifStatus::COIF_ERROR_NULL)?;
+        let n = h.strands.strand_count() * h.strands.verts_per_strand();
+        check_points(out_xyz.cast_const(), n)?;
+        if capacity_points < n {
+            return Err(CoifStatus::COIF_ERROR_BUFFER_TOO_SMALL);
+        }
+        // SAFETY: non-NULL and 4-aligned (checked), `n <= capacity_points`
+        // points of 12 bytes within isize::MAX (checked), writable and not
+        // aliased per the caller's contract; `Vec3` is three packed f32.
+        let out = unsafe { std::slice::from_raw_parts_mut(out_xyz.cast::<Vec3>(), n) };
+        h.strands.write_positions(out);
+        Ok(())
+    })
+}
+
+/// Moves the whole set rigidly by a 3x4 row-major affine transform
+/// (`m[0..4]` is the first row: x' = m0 x + m1 y + m2 z + m3), positions and
+/// previous positions alike, so no velocity is injected (a teleport, a cut).
+/// The 3x3 part must be a rotation (orthonormal within 1e-3, determinant +1).
+///
+/// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_NON_FINITE`,
+/// `COIF_ERROR_INVALID_ARGUMENT` (not a rotation).
+///
+/// # Safety
+/// `s` is NULL or a live handle; `m` is NULL or points to 12 readable floats.
+#[no_mangle]
+pub unsafe extern "C" fn coif_strands_teleport(s: *mut CoifStrands, m: *const f32) -> CoifStatus {
+    guard(|| {
+        // SAFETY: NULL or a live handle not aliased during the call.
+        let h = unsafe { s.as_mut() }.ok_or(CoifStatus::COIF_ERROR_NULL)?;
+        if m.is_null() {
+            return Err(CoifStatus::COIF_ERROR_NULL);
+        }
+        if !m.is_aligned() {
+            return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
+        }
+        // SAFETY: non-NULL and aligned (checked); 12 readable floats per the
+        // caller's contract.
+        let m = unsafe { &*m.cast::<[f32; 12]>() };
+        if !m.iter().all(|v| v.is_finite()) {
+            return Err(CoifStatus::COIF_ERROR_NON_FINITE);
+        }
+        let rot = Mat3::from_cols_array(&[m[0], m[4], m[8], m[1], m[5], m[9], m[2], m[6], m[10]]);
+        let gram = rot.transpose() * rot;
+        let orthonormal = gram.abs_diff_eq(Mat3::IDENTITY, 1e-3);
+        if !orthonormal || rot.determinant() < 0.0 {
+            return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
+        }
+        let xform = Affine3A::from_mat3_translation(rot, Vec3::new(m[3], m[7], m[11]));
+        h.strands.teleport(xform)?;
+        Ok(())
+    })
+}
+
+/// Puts every strand in its rest shape at its current root, at rest.
+///
+/// Errors: `COIF_ERROR_NULL`.
+///
+/// # Safety
+/// `s` is NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn coif_strands_reset_to_rest(s: *mut CoifStrands) -> CoifStatus {
+    guard(|| {
+        // SAFETY: NULL or a live handle not aliased during the call.
+        let h = unsafe { s.as_mut() }.ok_or(CoifStatus::COIF_ERROR_NULL)?;
+        h.strands.reset_to_rest();
+        Ok(())
+    })
+}
+
+/// A static, NUL-terminated English description of `status` (never NULL).
+/// Pass a value of `CoifStatus` (one a coif call returned).
+#[no_mangle]
+pub extern "C" fn coif_status_message(status: CoifStatus) -> *const c_char {
+    let msg = match status {
+        CoifStatus::COIF_OK => c"success",
+        CoifStatus::COIF_ERROR_NULL => c"a required pointer is NULL",
+        CoifStatus::COIF_ERROR_INVALID_ARGUMENT => c"an argument is out of its range",
+        CoifStatus::COIF_ERROR_NON_FINITE => c"a coordinate or parameter is NaN or infinite",
+        CoifStatus::COIF_ERROR_BUFFER_TOO_SMALL => c"the output buffer is too small",
+        CoifStatus::COIF_ERROR_COUNT_MISMATCH => c"a count does not match the strands",
+        CoifStatus::COIF_ERROR_PANIC => c"internal error (panic caught in coif)",
+    };
+    msg.as_ptr()
+}

@@ -1,0 +1,69 @@
+//! The committed header `include/coif.h` is what cbindgen generates from
+//! `src/lib.rs` with `cbindgen.toml` now (a header check in the manner of
+//! hyper's C API). `COIF_BLESS=1` rewrites the header instead of failing.
+//! (cbindgen's `style = "both"` spells the uses `struct CoifStrands *`,
+//! `enum CoifStatus`: the same C types as the typedef names.)
+
+use std::path::Path;
+
+fn generate() -> String {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let config = cbindgen::Config::from_file(dir.join("cbindgen.toml")).expect("cbindgen.toml");
+    let bindings = cbindgen::Builder::new()
+        .with_config(config)
+        .with_src(dir.join("src/lib.rs"))
+        .generate()
+        .expect("cbindgen generates the header");
+    let mut out = Vec::new();
+    bindings.write(&mut out);
+    String::from_utf8(out).expect("UTF-8 header")
+}
+
+#[test]
+fn header_is_current() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("include/coif.h");
+    let generated = generate();
+    if std::env::var_os("COIF_BLESS").is_some() {
+        std::fs::write(&path, &generated).expect("write include/coif.h");
+        return;
+    }
+    let committed = std::fs::read_to_string(&path).unwrap_or_default();
+    assert!(
+        committed == generated,
+        "capi/include/coif.h differs from what cbindgen generates from capi/src/lib.rs.\n\
+         Regenerate it with:\n    COIF_BLESS=1 cargo test -p coif-capi --release --test header\n\
+         and commit the result."
+    );
+}
+
+#[test]
+fn header_declares_the_c_names() {
+    let h = generate();
+    for name in [
+        "typedef struct CoifStrands CoifStrands;",
+        "typedef enum CoifStatus",
+        "COIF_OK = 0",
+        "COIF_ERROR_NULL",
+        "COIF_ERROR_INVALID_ARGUMENT",
+        "COIF_ERROR_NON_FINITE",
+        "COIF_ERROR_BUFFER_TOO_SMALL",
+        "COIF_ERROR_COUNT_MISMATCH",
+        "COIF_ERROR_PANIC",
+        "typedef struct CoifSimParams",
+        "typedef struct CoifSphere",
+        "struct CoifSimParams coif_sim_params_default(void);",
+        "enum CoifStatus coif_strands_new(const float *xyz,",
+        "void coif_strands_free(struct CoifStrands *s);",
+        "size_t coif_strands_strand_count(const struct CoifStrands *s);",
+        "enum CoifStatus coif_strands_set_roots(struct CoifStrands *s, const float *xyz, size_t root_count);",
+        "enum CoifStatus coif_step(struct CoifStrands *s,",
+        "enum CoifStatus coif_strands_positions(const struct CoifStrands *s,",
+        "const char *coif_status_message(enum CoifStatus status);",
+        "#ifndef COIF_H",
+        "extern \"C\" {",
+        "#include <stdint.h>",
+        "#include <stddef.h>",
+    ] {
+        assert!(h.contains(name), "coif.h lacks `{name}`:\n{h}");
+    }
+}
