@@ -1,0 +1,116 @@
+//! Builds `examples/hang.c` (C99) and `examples/hang.cpp` (C++17) against the
+//! static library and the committed header with the system C and C++
+//! compilers, runs them, and checks their exit code and output. Also
+//! compiles the header alone as C99 and as C++17.
+//!
+//! `cargo test -p coif-capi` builds `libcoif_capi.a` (a crate type of this
+//! package) into `target/<profile>/`, next to this test's `deps/` folder.
+//! The tests are skipped, saying so, only when no compiler runs (`CC` / `CXX`
+//! override `cc` / `c++`).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn capi_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// `target/<profile>/libcoif_capi.a`, found from this test executable
+/// (`target/<profile>/deps/c_examples-<hash>`).
+fn static_lib() -> PathBuf {
+    let exe = std::env::current_exe().expect("test executable path");
+    let profile_dir = exe
+        .parent()
+        .and_then(Path::parent)
+        .expect("target/<profile>/deps/<test>");
+    let lib = profile_dir.join("libcoif_capi.a");
+    assert!(
+        lib.exists(),
+        "{} not found: build it with `cargo build -p coif-capi` (same profile)",
+        lib.display()
+    );
+    lib
+}
+
+/// The compiler named by `var` (else `default`) if it runs.
+fn compiler(var: &str, default: &str) -> Option<String> {
+    let cc = std::env::var(var).unwrap_or_else(|_| default.to_string());
+    let runs = Command::new(&cc)
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if runs {
+        Some(cc)
+    } else {
+        eprintln!("SKIPPED: no C/C++ compiler `{cc}` found (set {var})");
+        None
+    }
+}
+
+fn run(cmd: &mut Command) -> std::process::Output {
+    let out = cmd
+        .output()
+        .unwrap_or_else(|e| panic!("{cmd:?} did not start: {e}"));
+    assert!(
+        out.status.success(),
+        "{cmd:?} failed ({}):\nstdout:\n{}\nstderr:\n{}",
+        out.status,
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+/// Compiles `source` with `cc` and `flags`, links the static library, runs
+/// the program and returns its standard output.
+fn build_and_run(cc: &str, flags: &[&str], source: &str, name: &str) -> String {
+    let exe = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let include = capi_dir().join("include");
+    run(Command::new(cc)
+        .args(flags)
+        .args(["-Wall", "-Wextra", "-Werror", "-pedantic"])
+        .arg("-I")
+        .arg(&include)
+        .arg(capi_dir().join("examples").join(source))
+        .arg(static_lib())
+        .args(["-lm", "-lpthread", "-ldl", "-o"])
+        .arg(&exe));
+    let out = run(&mut Command::new(&exe));
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+#[test]
+fn hang_c_runs_and_passes_its_checks() {
+    let Some(cc) = compiler("CC", "cc") else {
+        return;
+    };
+    let stdout = build_and_run(&cc, &["-std=c99"], "hang.c", "hang_c");
+    assert!(stdout.contains("hang: all checks passed"), "{stdout}");
+}
+
+#[test]
+fn hang_cpp_runs_and_passes_its_checks() {
+    let Some(cxx) = compiler("CXX", "c++") else {
+        return;
+    };
+    let stdout = build_and_run(&cxx, &["-std=c++17"], "hang.cpp", "hang_cpp");
+    assert!(stdout.contains("all checks passed"), "{stdout}");
+}
+
+#[test]
+fn header_alone_compiles_as_c99_and_cpp17() {
+    let header = capi_dir().join("include").join("coif.h");
+    let strict = ["-Wall", "-Wextra", "-Werror", "-pedantic", "-fsyntax-only"];
+    if let Some(cc) = compiler("CC", "cc") {
+        run(Command::new(cc)
+            .args(["-std=c99", "-x", "c"])
+            .args(strict)
+            .arg(&header));
+    }
+    if let Some(cxx) = compiler("CXX", "c++") {
+        run(Command::new(cxx)
+            .args(["-std=c++17", "-x", "c++"])
+            .args(strict)
+            .arg(&header));
+    }
+}
