@@ -4,7 +4,7 @@
 //! compiles the header alone as C99 and as C++17.
 //!
 //! `cargo test -p coif-capi` builds `libcoif_capi.a` (a crate type of this
-//! package) into `target/<profile>/`, next to this test's `deps/` folder.
+//! package) into `target/<profile>/deps/`, beside this test's executable.
 //! The tests are skipped, saying so, only when no compiler runs (`CC` / `CXX`
 //! override `cc` / `c++`).
 
@@ -15,21 +15,23 @@ fn capi_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// `target/<profile>/libcoif_capi.a`, found from this test executable
-/// (`target/<profile>/deps/c_examples-<hash>`).
+/// The static library this `cargo test` built: `cargo test` writes it into
+/// `target/<profile>/deps/` beside this test executable (`cargo build` copies
+/// it up to `target/<profile>/`, the fallback).
 fn static_lib() -> PathBuf {
     let exe = std::env::current_exe().expect("test executable path");
-    let profile_dir = exe
-        .parent()
-        .and_then(Path::parent)
-        .expect("target/<profile>/deps/<test>");
-    let lib = profile_dir.join("libcoif_capi.a");
-    assert!(
-        lib.exists(),
-        "{} not found: build it with `cargo build -p coif-capi` (same profile)",
-        lib.display()
-    );
-    lib
+    let deps = exe.parent().expect("target/<profile>/deps");
+    let candidates = [deps.join("libcoif_capi.a"), deps.join("../libcoif_capi.a")];
+    candidates
+        .iter()
+        .find(|p| p.exists())
+        .cloned()
+        .unwrap_or_else(|| {
+            panic!(
+                "libcoif_capi.a not found beside {}: build it with `cargo build -p coif-capi` (same profile)",
+                exe.display()
+            )
+        })
 }
 
 /// The compiler named by `var` (else `default`) if it runs.
