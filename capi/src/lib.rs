@@ -521,3 +521,15 @@ pub extern "C" fn coif_status_message(status: CoifStatus) -> *const c_char {
     };
     msg.as_ptr()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_panic_becomes_a_status() {
+        let status = guard(|| panic!("a bug inside coif"));
+        assert_eq!(status, CoifStatus::COIF_ERROR_PANIC);
+        assert_eq!(guard_or(7usize, || panic!("a bug")), 7);
+    }
+}
