@@ -266,7 +266,11 @@ pub unsafe extern "C" fn coif_strands_new(
         if out.is_null() {
             return Err(CoifStatus::COIF_ERROR_NULL);
         }
-        // SAFETY: `out` is not NULL and the caller guarantees it is writable.
+        if !out.is_aligned() {
+            return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
+        }
+        // SAFETY: `out` is not NULL, aligned (checked) and the caller
+        // guarantees it is writable.
         unsafe { out.write(std::ptr::null_mut()) };
         check_points(xyz, point_count)?;
         // SAFETY: checked above; the caller guarantees 3 * point_count floats.
