@@ -40,38 +40,32 @@ pub(crate) fn spheres_to_local(spheres: &[Sphere], origin: DVec3, out: &mut Vec<
 /// Bounding box of the active lanes of one block (SIMD: lane-wise min/max over
 /// the vertices, then across lanes). Inactive lanes are masked to +-inf.
 pub(crate) fn block_aabb(pos: &[Vec3x8], active: f32x8) -> Aabb {
-    let inf = f32x8::splat(f32::INFINITY);
     let (mut lo, mut hi) = (
         Vec3x8::splat(Vec3::INFINITY),
         Vec3x8::splat(Vec3::NEG_INFINITY),
     );
-    // `candidate.fast_min(running)` keeps `running` where the candidate is
-    // NaN (minps returns its second operand), as f32::min does.
     for p in pos {
-        lo = Vec3x8::new(
-            active.select(p.x, inf).fast_min(lo.x),
-            active.select(p.y, inf).fast_min(lo.y),
-            active.select(p.z, inf).fast_min(lo.z),
-        );
-        hi = Vec3x8::new(
-            active.select(p.x, -inf).fast_max(hi.x),
-            active.select(p.y, -inf).fast_max(hi.y),
-            active.select(p.z, -inf).fast_max(hi.z),
-        );
+        grow_box(&mut lo, &mut hi, *p, active);
     }
-    let fold = |v: f32x8, f: fn(f32, f32) -> f32, init: f32| v.to_array().into_iter().fold(init, f);
-    Aabb {
-        min: Vec3::new(
-            fold(lo.x, f32::min, f32::INFINITY),
-            fold(lo.y, f32::min, f32::INFINITY),
-            fold(lo.z, f32::min, f32::INFINITY),
-        ),
-        max: Vec3::new(
-            fold(hi.x, f32::max, f32::NEG_INFINITY),
-            fold(hi.y, f32::max, f32::NEG_INFINITY),
-            fold(hi.z, f32::max, f32::NEG_INFINITY),
-        ),
-    }
+    fold_box(lo, hi)
+}
+
+/// Grows the lane-wise box `lo..hi` by `q` in the active lanes.
+/// `candidate.fast_min(running)` keeps `running` where the candidate is NaN
+/// (minps returns its second operand), as f32::min does.
+#[inline(always)]
+fn grow_box(lo: &mut Vec3x8, hi: &mut Vec3x8, q: Vec3x8, active: f32x8) {
+    let inf = f32x8::splat(f32::INFINITY);
+    *lo = Vec3x8::new(
+        active.select(q.x, inf).fast_min(lo.x),
+        active.select(q.y, inf).fast_min(lo.y),
+        active.select(q.z, inf).fast_min(lo.z),
+    );
+    *hi = Vec3x8::new(
+        active.select(q.x, -inf).fast_max(hi.x),
+        active.select(q.y, -inf).fast_max(hi.y),
+        active.select(q.z, -inf).fast_max(hi.z),
+    );
 }
 
 /// The box of the active lanes of one strand block swept over the step:
@@ -84,7 +78,6 @@ pub(crate) fn block_sweep_aabb(
     g_dt2: Vec3,
     active: f32x8,
 ) -> Aabb {
-    let inf = f32x8::splat(f32::INFINITY);
     let g = Vec3x8::splat(g_dt2);
     let root_move = pos[0] - prev[0];
     let (mut lo, mut hi) = (
@@ -93,18 +86,8 @@ pub(crate) fn block_sweep_aabb(
     );
     for (x, p) in pos.iter().zip(prev) {
         let ahead = *x + (*x - *p) + g + root_move;
-        for q in [*x, ahead] {
-            lo = Vec3x8::new(
-                active.select(q.x, inf).fast_min(lo.x),
-                active.select(q.y, inf).fast_min(lo.y),
-                active.select(q.z, inf).fast_min(lo.z),
-            );
-            hi = Vec3x8::new(
-                active.select(q.x, -inf).fast_max(hi.x),
-                active.select(q.y, -inf).fast_max(hi.y),
-                active.select(q.z, -inf).fast_max(hi.z),
-            );
-        }
+        grow_box(&mut lo, &mut hi, *x, active);
+        grow_box(&mut lo, &mut hi, ahead, active);
     }
     fold_box(lo, hi)
 }

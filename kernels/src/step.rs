@@ -60,6 +60,7 @@
 use crate::broad_phase::{block_sweep_aabb, select_candidates, spheres_to_local, Aabb, Candidate};
 use crate::constraints::{BLOWN_UP, MIN_LENGTH};
 use crate::lanes::{Lane, LANES, V3};
+use crate::strands::Scratch;
 use crate::{SimParams, Sphere, Strands};
 use glam::{Mat3, Vec3};
 use wide::f32x8;
@@ -567,33 +568,16 @@ fn outward<T: Lane>(d: V3<T>, d2: T) -> (T, V3<T>) {
 /// ([`Strands::restored_strands`]). Allocates only when the rig has more
 /// spheres than any earlier step.
 pub fn step(strands: &mut Strands, params: &SimParams, spheres: &[Sphere]) {
-    let k = Setup::new(strands, params);
-    let mut scratch = std::mem::take(&mut strands.scratch);
-    spheres_to_local(spheres, strands.origin, &mut scratch.spheres_local);
-    let verts = strands.verts;
-    let mut first = 0;
-    while first < strands.blocks {
-        let n = GROUP.min(strands.blocks - first);
-        // 1. Broad phase: the group's swept block boxes against the rig.
-        let mut boxes = [EMPTY_BOX; GROUP];
-        for (g, bx) in boxes.iter_mut().enumerate().take(n) {
-            let r = (first + g) * verts..(first + g + 1) * verts;
-            *bx = block_sweep_aabb(
-                &strands.pos[r.clone()],
-                &strands.prev[r],
-                k.gravity_dt2,
-                strands.active[first + g],
-            );
-        }
-        select_candidates(
-            &boxes[..n],
-            k.margin,
-            &scratch.spheres_local,
-            &mut scratch.candidates,
-        );
-        for g in 0..n {
-            let b = first + g;
-            let r = b * verts..(b + 1) * verts;
+    drive(
+        strands,
+        params,
+        spheres,
+        |s, b, k| {
+            let r = b * s.verts..(b + 1) * s.verts;
+            block_sweep_aabb(&s.pos[r.clone()], &s.prev[r], k.gravity_dt2, s.active[b])
+        },
+        |strands, scratch, k, b, g| {
+            let r = b * strands.verts..(b + 1) * strands.verts;
             // 2.-7.
             let mut c = Chain {
                 pos: &mut strands.pos[r.clone()],
@@ -607,8 +591,44 @@ pub fn step(strands: &mut Strands, params: &SimParams, spheres: &[Sphere]) {
                 bend_share: &strands.bend_share[r.clone()],
                 shape_weight: &strands.shape_weight[r],
             };
-            let ok: f32x8 = step_chain(&mut c, &mut scratch.chain, &k, &scratch.candidates, g);
-            restore_lanes(strands, b, (!ok).to_bitmask());
+            let ok: f32x8 = step_chain(&mut c, &mut scratch.chain, k, &scratch.candidates, g);
+            (!ok).to_bitmask()
+        },
+    );
+}
+
+/// The step's driver, shared by the SIMD path and its scalar twin: the rig
+/// to local coordinates, then per group of [`GROUP`] blocks 1. the broad
+/// phase (`block_box` gives block `b`'s swept box) and steps 2.-7. of each
+/// block of the group (`block(strands, scratch, setup, b, g)`, which returns
+/// the lanes that went bad); those lanes are restored.
+pub(crate) fn drive(
+    strands: &mut Strands,
+    params: &SimParams,
+    spheres: &[Sphere],
+    block_box: impl Fn(&Strands, usize, &Setup) -> Aabb,
+    mut block: impl FnMut(&mut Strands, &mut Scratch, &Setup, usize, usize) -> u32,
+) {
+    let k = Setup::new(strands, params);
+    let mut scratch = std::mem::take(&mut strands.scratch);
+    spheres_to_local(spheres, strands.origin, &mut scratch.spheres_local);
+    let mut first = 0;
+    while first < strands.blocks {
+        let n = GROUP.min(strands.blocks - first);
+        // 1. Broad phase: the group's swept block boxes against the rig.
+        let mut boxes = [EMPTY_BOX; GROUP];
+        for (g, bx) in boxes.iter_mut().enumerate().take(n) {
+            *bx = block_box(strands, first + g, &k);
+        }
+        select_candidates(
+            &boxes[..n],
+            k.margin,
+            &scratch.spheres_local,
+            &mut scratch.candidates,
+        );
+        for g in 0..n {
+            let bad = block(strands, &mut scratch, &k, first + g, g);
+            restore_lanes(strands, first + g, bad);
         }
         first += n;
     }

@@ -17,9 +17,8 @@
 //!    beyond 10^6 m is restored).
 
 use super::broad_phase::block_sweep_aabb;
-use crate::broad_phase::{select_candidates, spheres_to_local};
 use crate::lanes::{Vec3x8, V3};
-use crate::step::{restore_lanes, step_chain, Chain, ChainScratch, Setup, EMPTY_BOX, GROUP};
+use crate::step::{drive, step_chain, Chain, ChainScratch};
 use crate::{SimParams, Sphere, Strands};
 use wide::f32x8;
 
@@ -68,33 +67,21 @@ fn lane1(a: &f32x8, l: usize) -> f32 {
 
 /// Advances every strand by one fixed step of `params.dt`, one lane at a time.
 pub fn step(strands: &mut Strands, params: &SimParams, spheres: &[Sphere]) {
-    let k = Setup::new(strands, params);
-    let mut scratch = std::mem::take(&mut strands.scratch);
-    spheres_to_local(spheres, strands.origin, &mut scratch.spheres_local);
-    let verts = strands.verts;
-    let mut first = 0;
-    while first < strands.blocks {
-        let n = GROUP.min(strands.blocks - first);
-        // 1. Broad phase.
-        let mut boxes = [EMPTY_BOX; GROUP];
-        for (g, bx) in boxes.iter_mut().enumerate().take(n) {
-            let r = (first + g) * verts..(first + g + 1) * verts;
-            *bx = block_sweep_aabb(
-                &strands.pos[r.clone()],
-                &strands.prev[r],
+    drive(
+        strands,
+        params,
+        spheres,
+        |s, b, k| {
+            let r = b * s.verts..(b + 1) * s.verts;
+            block_sweep_aabb(
+                &s.pos[r.clone()],
+                &s.prev[r],
                 k.gravity_dt2,
-                strands.lanes_in_block(first + g),
-            );
-        }
-        select_candidates(
-            &boxes[..n],
-            k.margin,
-            &scratch.spheres_local,
-            &mut scratch.candidates,
-        );
-        for g in 0..n {
-            let b = first + g;
-            let base = b * verts;
+                s.lanes_in_block(b),
+            )
+        },
+        |strands, scratch, k, b, g| {
+            let (verts, base) = (strands.verts, b * strands.verts);
             let mut bad = 0u32;
             for l in 0..strands.lanes_in_block(b) {
                 let lb = &mut scratch.lane;
@@ -125,7 +112,7 @@ pub fn step(strands: &mut Strands, params: &SimParams, spheres: &[Sphere]) {
                     bend_share: &lb.bend_share,
                     shape_weight: &lb.shape_weight,
                 };
-                let ok: bool = step_chain(&mut c, &mut lb.chain, &k, &scratch.candidates, g);
+                let ok: bool = step_chain(&mut c, &mut lb.chain, k, &scratch.candidates, g);
                 for v in 0..verts {
                     strands.pos[base + v].set_lane(l, lb.pos[v].to_vec3());
                     strands.prev[base + v].set_lane(l, lb.prev[v].to_vec3());
@@ -134,9 +121,7 @@ pub fn step(strands: &mut Strands, params: &SimParams, spheres: &[Sphere]) {
                     bad |= 1 << l;
                 }
             }
-            restore_lanes(strands, b, bad);
-        }
-        first += n;
-    }
-    strands.scratch = scratch;
+            bad
+        },
+    );
 }
