@@ -15,6 +15,7 @@
 //! - [`hair`]: drawing every strand's segments in that order.
 //! - [`triangle`]: opaque triangles (edge functions, top-left rule, depth
 //!   test) and [`grid`]: a row-major grid mesh of them (the ribbon).
+//! - [`ShadedVertex`]: the shaded vertex the hair rasteriser reads.
 //! - [`image`]: tone map and sRGB encode to 8-bit RGB, contact sheets, PNG.
 
 #![warn(missing_docs)]
@@ -28,7 +29,9 @@ pub mod image;
 pub mod line;
 pub mod sort;
 pub mod triangle;
+mod vertex;
 
 pub use camera::Camera;
 pub use framebuffer::{Framebuffer, Pixel};
 pub use image::RgbImage;
+pub use vertex::ShadedVertex;
