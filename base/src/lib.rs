@@ -7,12 +7,16 @@
 //! - [`rng`]: [`SplitMix64`], the small deterministic generator behind every
 //!   random choice (scenes, sampling, tests), so the same seed gives the
 //!   same bytes on every machine.
+//! - [`tasks`]: the [`tasks::Executor`] a stage's independent tasks run
+//!   on: the calling thread, a rayon pool (feature `rayon`, default) or an
+//!   engine's own job system.
 #![warn(missing_docs)]
 
 pub mod lanes;
 pub mod rng;
 mod sphere;
 mod strand_blocks;
+pub mod tasks;
 
 pub use lanes::{Vec3x8, LANES};
 pub use rng::SplitMix64;
