@@ -6,7 +6,9 @@
  *    hairs interpolated from the guides into CoifRenderVertex buffers
  *    (distance LOD, bound first).
  * 3. Shading: Kajiya-Kay and Marschner tables, linear RGB per vertex.
- * 4. A groom from memory (argv[1], a TressFX .tfx or cyHair .hair file, if
+ * 4. A cloth patch (a 4 x 9 ribbon pinned at its top row) following a
+ *    moving skin, blended half and half at its free end.
+ * 5. A groom from memory (argv[1], a TressFX .tfx or cyHair .hair file, if
  *    given): counts, a strand's points, simulation strands in metres, and
  *    corrupted copies of its bytes (truncated, lying counts) refused.
  * Every call is checked, and bad input must give its error status and
@@ -239,6 +241,63 @@ static void lod_and_shading(CoifStrands *guides) {
     coif_hairs_free(hairs);
 }
 
+#define PATCH_ROWS 4
+#define PATCH_COLS 9
+#define PATCH_N (PATCH_ROWS * PATCH_COLS)
+
+static void cloth(void) {
+    float grid[PATCH_N * 3], skin[PATCH_N * 3], blended[PATCH_N * 3], weights[PATCH_N];
+    uint8_t pinned[PATCH_N];
+    for (int k = 0; k < PATCH_N; k++) {
+        int r = k / PATCH_COLS, c = k % PATCH_COLS;
+        grid[3 * k + 0] = 0.02f * (float)c;
+        grid[3 * k + 1] = 1.5f - 0.02f * (float)r;
+        grid[3 * k + 2] = 0.0f;
+        pinned[k] = r == 0;
+        weights[k] = r == PATCH_ROWS - 1 ? 0.5f : 1.0f;
+    }
+    CoifPatch *patch = NULL;
+    expect(coif_patch_new(grid, PATCH_ROWS, PATCH_COLS, pinned, &patch), COIF_OK,
+           "coif_patch_new");
+    if (patch == NULL) return;
+    check(coif_patch_particle_count(patch) == PATCH_N, "patch particle count");
+    expect(coif_patch_set_weights(patch, weights, PATCH_N), COIF_OK, "patch weights");
+    CoifSimParams params = coif_sim_params_default();
+    CoifSphere body = {{0.08f, 1.3f, 0.05f}, 0.05f};
+    for (int frame = 0; frame < 60; frame++) {
+        memcpy(skin, grid, sizeof skin);
+        for (int k = 0; k < PATCH_N; k++) skin[3 * k + 2] = 0.001f * (float)frame;
+        expect(coif_patch_set_skinned(patch, skin, PATCH_N), COIF_OK, "patch skin");
+        expect(coif_patch_step(patch, &params, &body, 1), COIF_OK, "patch step");
+    }
+    expect(coif_patch_blended(patch, blended, PATCH_N), COIF_OK, "patch blended");
+    check(all_finite(blended, PATCH_N * 3), "patch finite");
+    check(memcmp(blended, skin, 3 * PATCH_COLS * sizeof(float)) == 0,
+          "pinned row on the skin exactly");
+    check(blended[3 * (PATCH_N - 1) + 1] < grid[3 * (PATCH_N - 1) + 1] + 1e-3f,
+          "the free end does not rise");
+
+    float before[PATCH_N * 3];
+    memcpy(before, blended, sizeof before);
+    weights[5] = 2.0f;
+    expect(coif_patch_set_weights(patch, weights, PATCH_N), COIF_ERROR_INVALID_ARGUMENT,
+           "patch: weight 2");
+    expect(coif_patch_set_skinned(patch, skin, PATCH_N - 1), COIF_ERROR_COUNT_MISMATCH,
+           "patch: one skinned point short");
+    skin[4] = NAN;
+    expect(coif_patch_set_skinned(patch, skin, PATCH_N), COIF_ERROR_NON_FINITE, "patch: NaN skin");
+    expect(coif_patch_blended(patch, blended, PATCH_N - 1), COIF_ERROR_BUFFER_TOO_SMALL,
+           "patch: buffer one point short");
+    expect(coif_patch_blended(patch, blended, PATCH_N), COIF_OK, "patch blended again");
+    check(memcmp(before, blended, sizeof before) == 0, "patch: failed calls changed nothing");
+    CoifPatch *bad = patch;
+    expect(coif_patch_new(grid, 1, PATCH_N, pinned, &bad), COIF_ERROR_INVALID_ARGUMENT,
+           "patch: one row");
+    check(bad == NULL, "patch: *out NULL on error");
+    printf("cloth: %d x %d patch, 60 steps\n", PATCH_ROWS, PATCH_COLS);
+    coif_patch_free(patch);
+}
+
 static void groom_from_file(const char *path) {
     FILE *f = fopen(path, "rb");
     if (f == NULL) {
@@ -316,6 +375,7 @@ int main(int argc, char **argv) {
     if (guides == NULL) return 1;
     lod_and_shading(guides);
     coif_strands_free(guides);
+    cloth();
     if (argc > 1) {
         groom_from_file(argv[1]);
     } else {

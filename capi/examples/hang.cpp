@@ -27,11 +27,13 @@ struct Deleter {
     void operator()(CoifGroom *g) const noexcept { coif_groom_free(g); }
     void operator()(CoifHairs *h) const noexcept { coif_hairs_free(h); }
     void operator()(CoifMarschnerLut *l) const noexcept { coif_marschner_lut_free(l); }
+    void operator()(CoifPatch *p) const noexcept { coif_patch_free(p); }
 };
 using StrandsPtr = std::unique_ptr<CoifStrands, Deleter>;
 using GroomPtr = std::unique_ptr<CoifGroom, Deleter>;
 using HairsPtr = std::unique_ptr<CoifHairs, Deleter>;
 using LutPtr = std::unique_ptr<CoifMarschnerLut, Deleter>;
+using PatchPtr = std::unique_ptr<CoifPatch, Deleter>;
 
 static_assert(sizeof(CoifRenderVertex) == 32, "one render vertex is 32 bytes");
 
@@ -95,6 +97,29 @@ void engine_calls(CoifStrands *hair, int grid) {
     std::printf("hang.cpp: %zu render vertices shaded\n", written);
 }
 
+// A 3 x 8 cloth patch pinned at its top row, stepped, blended.
+void cloth_calls() {
+    constexpr int rows = 3, cols = 8;
+    std::vector<float> grid;
+    std::vector<std::uint8_t> pinned;
+    for (int k = 0; k < rows * cols; k++) {
+        grid.insert(grid.end(), {0.02f * (k % cols), 1.5f - 0.02f * (k / cols), 0.0f});
+        pinned.push_back(k < cols ? 1 : 0);
+    }
+    CoifPatch *raw = nullptr;
+    ok(coif_patch_new(grid.data(), rows, cols, pinned.data(), &raw), "coif_patch_new");
+    PatchPtr patch(raw);
+    CoifSimParams params = coif_sim_params_default();
+    for (int step = 0; step < 30; step++) {
+        ok(coif_patch_set_skinned(patch.get(), grid.data(), rows * cols), "patch skin");
+        ok(coif_patch_step(patch.get(), &params, nullptr, 0), "patch step");
+    }
+    std::vector<float> out(3 * coif_patch_particle_count(patch.get()));
+    ok(coif_patch_blended(patch.get(), out.data(), out.size() / 3), "patch blended");
+    for (float c : out) require(std::isfinite(c), "patch finite");
+    std::printf("hang.cpp: cloth blended, %d particles\n", rows * cols);
+}
+
 // A groom from a file: strands in metres, stepped; a truncated copy refused.
 void groom_calls(const char *path) {
     std::ifstream file(path, std::ios::binary);
@@ -151,6 +176,7 @@ int main(int argc, char **argv) {
             throw std::runtime_error("a too-small buffer was accepted");
         }
         engine_calls(hair.get(), 8);
+        cloth_calls();
         if (argc > 1) groom_calls(argv[1]);
         std::printf("hang.cpp: 600 steps, tip sideways %.3g m: all checks passed\n",
                     static_cast<double>(worst));

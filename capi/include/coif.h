@@ -49,6 +49,10 @@ typedef struct CoifHairs CoifHairs;
 // `coif_marschner_lut_new`, freed by `coif_marschner_lut_free`).
 typedef struct CoifMarschnerLut CoifMarschnerLut;
 
+// An opaque cloth patch (created by `coif_patch_new`, freed by
+// `coif_patch_free`).
+typedef struct CoifPatch CoifPatch;
+
 // An opaque set of equal-length strands (created by `coif_strands_new`,
 // freed by `coif_strands_free`).
 typedef struct CoifStrands CoifStrands;
@@ -534,6 +538,128 @@ enum CoifStatus coif_hairs_write_vertices(struct CoifHairs *h,
                                           struct CoifRenderVertex *out,
                                           size_t capacity,
                                           size_t *written);
+
+// Creates a patch from its rest grid: `rows * cols` points (`grid_xyz`, 3
+// floats each, world metres, row-major) and a flag per particle
+// (`pinned`, nonzero = follows the skin exactly). Needs at least 2 rows
+// and 2 columns, at most 256 columns. The skin starts at the grid, blend
+// weights at 1 (fully simulated), max distances at infinity, shear
+// stiffness at 0. On error `*out` is NULL (when `out` is not).
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_INVALID_ARGUMENT` (a grid shape
+// out of range, a size that overflows), `COIF_ERROR_NON_FINITE`.
+//
+// # Safety
+// `grid_xyz` is NULL or points to `3 * rows * cols` readable floats,
+// `pinned` to `rows * cols` readable bytes; `out` is NULL or writable.
+enum CoifStatus coif_patch_new(const float *grid_xyz,
+                               size_t rows,
+                               size_t cols,
+                               const uint8_t *pinned,
+                               struct CoifPatch **out);
+
+// Frees a patch made by `coif_patch_new`. NULL is fine.
+//
+// # Safety
+// `p` is NULL or a handle from `coif_patch_new` not freed before.
+void coif_patch_free(struct CoifPatch *p);
+
+// Number of particles, `rows * cols` (0 for NULL): the count of every
+// per-particle array and the bound of the output calls.
+//
+// # Safety
+// `p` is NULL or a live handle.
+size_t coif_patch_particle_count(const struct CoifPatch *p);
+
+// Gives this frame's skinned positions (`count` points, 3 floats each,
+// world metres, row-major, one per particle): pinned particles move there
+// at the next step, the others are held by max distance and blended.
+// Does not allocate.
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_COUNT_MISMATCH`, `COIF_ERROR_NON_FINITE`.
+//
+// # Safety
+// `p` is NULL or a live handle; `xyz` is NULL or points to `3 * count` readable floats.
+enum CoifStatus coif_patch_set_skinned(struct CoifPatch *p, const float *xyz, size_t count);
+
+// Sets the blend weight of every particle (`count` floats in [0, 1],
+// row-major): 0 = the blended output is the skin, 1 = fully simulated.
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_COUNT_MISMATCH`,
+// `COIF_ERROR_NON_FINITE`, `COIF_ERROR_INVALID_ARGUMENT` (outside [0, 1]).
+//
+// # Safety
+// `p` is NULL or a live handle; `weights` is NULL or points to `count` readable floats.
+enum CoifStatus coif_patch_set_weights(struct CoifPatch *p, const float *weights, size_t count);
+
+// Sets how far (metres, `>= 0`, `INFINITY` = no limit) each simulated
+// particle may move from its skinned position (`count` floats, row-major).
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_COUNT_MISMATCH`,
+// `COIF_ERROR_INVALID_ARGUMENT` (negative), `COIF_ERROR_NON_FINITE` (NaN).
+//
+// # Safety
+// `p` is NULL or a live handle; `distances` is NULL or points to `count` readable floats.
+enum CoifStatus coif_patch_set_max_distances(struct CoifPatch *p,
+                                             const float *distances,
+                                             size_t count);
+
+// Sets the stiffness in [0, 1] of the shear (diagonal) edges (0 = off, the default).
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_INVALID_ARGUMENT`, `COIF_ERROR_NON_FINITE`.
+//
+// # Safety
+// `p` is NULL or a live handle.
+enum CoifStatus coif_patch_set_shear_stiffness(struct CoifPatch *p, float stiffness);
+
+// Advances the patch by one fixed step of `params->dt` toward the last
+// skin, against `sphere_count` spheres (`coif_kernels::patch::step`, SIMD;
+// the parameters mean what they mean for strands). Validates the
+// parameters and spheres first; does not allocate unless the rig has more
+// spheres than at any earlier call.
+//
+// Errors: as `coif_step`.
+//
+// # Safety
+// `p` is NULL or a live handle; `params` is NULL or readable; `spheres` is
+// NULL or points to `sphere_count` readable spheres.
+enum CoifStatus coif_patch_step(struct CoifPatch *p,
+                                const struct CoifSimParams *params,
+                                const struct CoifSphere *spheres,
+                                size_t sphere_count);
+
+// Writes the blended positions, `skinned (1 - weight) + simulated weight`
+// per particle (world metres, row-major, 3 floats each) into `out_xyz`,
+// which holds `capacity_points` points, at least `coif_patch_particle_count`.
+// Does not allocate.
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_BUFFER_TOO_SMALL` (nothing written).
+//
+// # Safety
+// `p` is NULL or a live handle; `out_xyz` is NULL or points to
+// `3 * capacity_points` writable floats.
+enum CoifStatus coif_patch_blended(const struct CoifPatch *p,
+                                   float *out_xyz,
+                                   size_t capacity_points);
+
+// Writes the simulated positions (before the blend; world metres,
+// row-major) into `out_xyz`, as `coif_patch_blended` does.
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_BUFFER_TOO_SMALL` (nothing written).
+//
+// # Safety
+// As `coif_patch_blended`.
+enum CoifStatus coif_patch_positions(const struct CoifPatch *p,
+                                     float *out_xyz,
+                                     size_t capacity_points);
+
+// Moves every particle onto the skin, at rest (a teleport or a reset).
+//
+// Errors: `COIF_ERROR_NULL`.
+//
+// # Safety
+// `p` is NULL or a live handle.
+enum CoifStatus coif_patch_reset_to_skin(struct CoifPatch *p);
 
 // Scheuermann-style brown hair (`KajiyaKay::default()`).
 struct CoifKajiyaKay coif_kajiya_kay_default(void);

@@ -27,10 +27,12 @@
 
 pub mod groom;
 pub mod lod;
+pub mod patch;
 pub mod shading;
 
 pub use groom::*;
 pub use lod::*;
+pub use patch::*;
 pub use shading::*;
 
 use coif_kernels::{SimParams, Sphere, Strands};
@@ -362,7 +364,7 @@ pub unsafe extern "C" fn coif_sim_params_validate(params: *const CoifSimParams) 
     })
 }
 
-fn validate_params(p: &CoifSimParams) -> Result<SimParams, CoifStatus> {
+pub(crate) fn validate_params(p: &CoifSimParams) -> Result<SimParams, CoifStatus> {
     let params = SimParams::from(p);
     params.validate()?;
     Ok(params)
@@ -508,33 +510,39 @@ pub unsafe extern "C" fn coif_step(
         // SAFETY: NULL or readable (the caller's contract).
         let p = unsafe { params.as_ref() }.ok_or(CoifStatus::COIF_ERROR_NULL)?;
         let params = validate_params(p)?;
-        let rig: &[CoifSphere] = if sphere_count == 0 {
-            &[]
-        } else {
-            check_slice(spheres, sphere_count)?;
-            // SAFETY: `spheres` is non-NULL, aligned and `sphere_count`
-            // spheres fit in isize::MAX bytes (checked by `check_slice`);
-            // the caller guarantees they are readable and not mutated during
-            // the call.
-            unsafe { std::slice::from_raw_parts(spheres, sphere_count) }
-        };
-        for sphere in rig {
-            if !(sphere.center.iter().all(|c| c.is_finite()) && sphere.radius.is_finite()) {
-                return Err(CoifStatus::COIF_ERROR_NON_FINITE);
-            }
-            if sphere.radius < 0.0 {
-                return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
-            }
-        }
-        // Convert into the handle's scratch: allocates only when it grows.
-        h.spheres.clear();
-        h.spheres.extend(rig.iter().map(|c| Sphere {
-            center: Vec3::from_array(c.center),
-            radius: c.radius,
-        }));
+        // SAFETY: the caller's contract on `spheres`.
+        unsafe { convert_rig(spheres, sphere_count, &mut h.spheres) }?;
         coif_kernels::step(&mut h.strands, &params, &h.spheres);
         Ok(())
     })
+}
+
+/// Checks `count` spheres at `spheres` (finite, radius >= 0) and converts
+/// them into `scratch`, which allocates only when it grows.
+///
+/// # Safety
+/// `spheres` is NULL or points to `count` readable spheres.
+pub(crate) unsafe fn convert_rig(
+    spheres: *const CoifSphere,
+    count: usize,
+    scratch: &mut Vec<Sphere>,
+) -> Result<(), CoifStatus> {
+    // SAFETY: the caller's contract.
+    let rig = unsafe { input(spheres, count) }?;
+    for sphere in rig {
+        if !(sphere.center.iter().all(|c| c.is_finite()) && sphere.radius.is_finite()) {
+            return Err(CoifStatus::COIF_ERROR_NON_FINITE);
+        }
+        if sphere.radius < 0.0 {
+            return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
+        }
+    }
+    scratch.clear();
+    scratch.extend(rig.iter().map(|c| Sphere {
+        center: Vec3::from_array(c.center),
+        radius: c.radius,
+    }));
+    Ok(())
 }
 
 /// Writes every point (strand after strand, root first; 3 floats each,

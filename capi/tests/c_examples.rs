@@ -103,6 +103,7 @@ fn hang_cpp_runs_and_passes_its_checks() {
     let stdout = build_and_run(&cxx, &["-std=c++17"], "hang.cpp", "hang_cpp", &groom);
     assert!(stdout.contains("all checks passed"), "{stdout}");
     assert!(stdout.contains("render vertices shaded"), "{stdout}");
+    assert!(stdout.contains("hang.cpp: cloth blended"), "{stdout}");
     if !groom.is_empty() {
         assert!(
             stdout.contains("hang.cpp: groom of 228 strands"),
@@ -121,6 +122,7 @@ fn engine_c_runs_and_passes_its_checks() {
         .collect();
     let stdout = build_and_run(&cc, &["-std=c99"], "engine.c", "engine_c", &groom);
     assert!(stdout.contains("engine: all checks passed"), "{stdout}");
+    assert!(stdout.contains("cloth: 4 x 9 patch, 60 steps"), "{stdout}");
     if !groom.is_empty() {
         // sintel_lite: 228 strands of 32 vertices; every 10th is a guide.
         assert!(

@@ -1,8 +1,9 @@
 //! The per-frame calls do not allocate once the set, its rig and the
 //! refinement level are sized: `coif_step`, `coif_strands_set_roots`,
 //! `coif_strands_positions`, `coif_refine`, `coif_hairs_distance_lod`,
-//! `coif_hairs_write_vertices`, `coif_shade_kajiya_kay` and
-//! `coif_shade_marschner_lut`. Counted by a global allocator (this test
+//! `coif_hairs_write_vertices`, `coif_shade_kajiya_kay`,
+//! `coif_shade_marschner_lut`, and for cloth `coif_patch_set_skinned`,
+//! `coif_patch_step` and `coif_patch_blended`. Counted by a global allocator (this test
 //! binary holds one test, so nothing else allocates meanwhile).
 
 use coif_capi::*;
@@ -76,6 +77,20 @@ fn per_frame_calls_do_not_allocate() {
         ..coif_hair_settings_default()
     };
     let kk = coif_kajiya_kay_default();
+    let (patch_rows, patch_cols) = (5usize, 9usize);
+    let patch_n = patch_rows * patch_cols;
+    let mut patch_grid: Vec<f32> = (0..patch_n)
+        .flat_map(|k| {
+            [
+                0.02 * (k % patch_cols) as f32,
+                1.5,
+                0.02 * (k / patch_cols) as f32,
+            ]
+        })
+        .collect();
+    let patch_pinned: Vec<u8> = (0..patch_n).map(|k| u8::from(k < patch_cols)).collect();
+    let mut patch_out = vec![0.0f32; 3 * patch_n];
+    let mut patch: *mut CoifPatch = ptr::null_mut();
     let (light, eye) = ([0.3f32, 1.0, 0.5], [0.0f32, 0.2, 1.0]);
     // SAFETY: every buffer holds what its count says; `c` is live until freed.
     unsafe {
@@ -90,6 +105,20 @@ fn per_frame_calls_do_not_allocate() {
         let lut_params = coif_marschner_params_default();
         assert_eq!(
             coif_marschner_lut_new(&lut_params, 16, &mut lut),
+            CoifStatus::COIF_OK
+        );
+        assert_eq!(
+            coif_patch_new(
+                patch_grid.as_ptr(),
+                patch_rows,
+                patch_cols,
+                patch_pinned.as_ptr(),
+                &mut patch
+            ),
+            CoifStatus::COIF_OK
+        );
+        assert_eq!(
+            coif_patch_step(patch, &params, rig.as_ptr(), rig.len()),
             CoifStatus::COIF_OK
         );
         let refined_len = coif_refine_bound(c, 4);
@@ -129,6 +158,19 @@ fn per_frame_calls_do_not_allocate() {
             assert_eq!(coif_step(c, &params, rig.as_ptr(), 1), CoifStatus::COIF_OK);
             assert_eq!(
                 coif_strands_positions(c, out.as_mut_ptr(), STRANDS * VERTS),
+                CoifStatus::COIF_OK
+            );
+            patch_grid[0] = 0.001 * frame as f32;
+            assert_eq!(
+                coif_patch_set_skinned(patch, patch_grid.as_ptr(), patch_n),
+                CoifStatus::COIF_OK
+            );
+            assert_eq!(
+                coif_patch_step(patch, &params, rig.as_ptr(), rig.len()),
+                CoifStatus::COIF_OK
+            );
+            assert_eq!(
+                coif_patch_blended(patch, patch_out.as_mut_ptr(), patch_n),
                 CoifStatus::COIF_OK
             );
             // Coarser levels reuse the refinement scratch.
@@ -197,6 +239,7 @@ fn per_frame_calls_do_not_allocate() {
         let allocations = ALLOCATIONS.load(Ordering::Relaxed) - before;
         assert!(rgb.iter().all(|c| c.is_finite()) && rgb.iter().any(|&c| c > 0.0));
         coif_marschner_lut_free(lut);
+        coif_patch_free(patch);
         coif_hairs_free(hairs);
         coif_strands_free(c);
         assert_eq!(allocations, 0, "per-frame C calls allocated");
