@@ -21,6 +21,7 @@
  * Exit code 0 only if every check passes. */
 
 #include "coif.h"
+#include "checks.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -31,23 +32,6 @@
 #define GRID 6
 #define STRANDS (GRID * GRID)
 #define VERTS 8
-
-static int failures = 0;
-
-static void check(int ok, const char *what) {
-    if (!ok) {
-        fprintf(stderr, "FAIL: %s\n", what);
-        failures++;
-    }
-}
-
-static void expect(CoifStatus got, CoifStatus want, const char *what) {
-    if (got != want) {
-        fprintf(stderr, "FAIL: %s: got %d (%s), want %d (%s)\n", what, (int)got,
-                coif_status_message_code((int)got), (int)want, coif_status_message(want));
-        failures++;
-    }
-}
 
 static void *xmalloc(size_t bytes) {
     void *p = malloc(bytes > 0 ? bytes : 1);

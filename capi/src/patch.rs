@@ -215,14 +215,12 @@ pub unsafe extern "C" fn coif_patch_blended(
     out_xyz: *mut f32,
     capacity_points: usize,
 ) -> CoifStatus {
-    guard(|| {
-        // SAFETY: NULL or a live handle; the buffer as the caller's contract says.
-        let h = unsafe { handle(p) }?;
-        let n = h.patch.particle_count();
-        let out = unsafe { output(out_xyz.cast::<Vec3>(), n, capacity_points) }?;
-        h.patch.write_blended(out)?;
-        Ok(())
-    })
+    // SAFETY: the caller's contract.
+    unsafe {
+        write_particles(p, out_xyz, capacity_points, |patch, out| {
+            patch.write_blended(out).map_err(CoifStatus::from)
+        })
+    }
 }
 
 /// Writes the simulated positions (before the blend; world metres,
@@ -238,13 +236,31 @@ pub unsafe extern "C" fn coif_patch_positions(
     out_xyz: *mut f32,
     capacity_points: usize,
 ) -> CoifStatus {
+    // SAFETY: the caller's contract.
+    unsafe {
+        write_particles(p, out_xyz, capacity_points, |patch, out| {
+            patch.write_positions(out);
+            Ok(())
+        })
+    }
+}
+
+/// One point per particle into the caller's buffer, by `write`.
+///
+/// # Safety
+/// As `coif_patch_blended`.
+unsafe fn write_particles(
+    p: *const CoifPatch,
+    out_xyz: *mut f32,
+    capacity_points: usize,
+    write: impl FnOnce(&Patch, &mut [Vec3]) -> Result<(), CoifStatus>,
+) -> CoifStatus {
     guard(|| {
         // SAFETY: NULL or a live handle; the buffer as the caller's contract says.
         let h = unsafe { handle(p) }?;
         let n = h.patch.particle_count();
         let out = unsafe { output(out_xyz.cast::<Vec3>(), n, capacity_points) }?;
-        h.patch.write_positions(out);
-        Ok(())
+        write(&h.patch, out)
     })
 }
 

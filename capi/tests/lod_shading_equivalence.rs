@@ -217,67 +217,21 @@ fn c_render_vertices_match_rust_bit_for_bit() {
             coif_strands_new(xyz.as_ptr(), 24 * VERTS, VERTS, &mut d),
             CoifStatus::COIF_OK
         );
+        // Every call but the one with its own arguments.
+        let mut write = |guides, n, wf, out, cap| {
+            // SAFETY: as above; `out` holds `cap` vertices or is NULL.
+            unsafe {
+                coif_hairs_write_vertices(h, guides, n, usize::MAX, wf, out, cap, &mut written)
+            }
+        };
+        let buf = out.as_mut_ptr();
         let statuses = [
-            coif_hairs_write_vertices(
-                h,
-                c,
-                6,
-                usize::MAX,
-                1.0,
-                out.as_mut_ptr(),
-                bound - 1,
-                &mut written,
-            ),
-            coif_hairs_write_vertices(
-                h,
-                c,
-                7,
-                usize::MAX,
-                1.0,
-                out.as_mut_ptr(),
-                bound,
-                &mut written,
-            ),
-            coif_hairs_write_vertices(
-                h,
-                d,
-                6,
-                usize::MAX,
-                1.0,
-                out.as_mut_ptr(),
-                bound,
-                &mut written,
-            ),
-            coif_hairs_write_vertices(
-                h,
-                c,
-                6,
-                usize::MAX,
-                0.0,
-                out.as_mut_ptr(),
-                bound,
-                &mut written,
-            ),
-            coif_hairs_write_vertices(
-                h,
-                c,
-                6,
-                usize::MAX,
-                f32::NAN,
-                out.as_mut_ptr(),
-                bound,
-                &mut written,
-            ),
-            coif_hairs_write_vertices(
-                h,
-                c,
-                6,
-                usize::MAX,
-                1.0,
-                ptr::null_mut(),
-                bound,
-                &mut written,
-            ),
+            write(c, 6, 1.0, buf, bound - 1),
+            write(c, 7, 1.0, buf, bound),
+            write(d, 6, 1.0, buf, bound),
+            write(c, 6, 0.0, buf, bound),
+            write(c, 6, f32::NAN, buf, bound),
+            write(c, 6, 1.0, ptr::null_mut(), bound),
         ];
         assert_eq!(
             statuses,

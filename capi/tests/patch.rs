@@ -86,12 +86,14 @@ fn c_patch_matches_rust_bit_for_bit() {
                 CoifStatus::COIF_OK
             );
         }
-        assert_eq!(
-            coif_patch_blended(c, got.as_mut_ptr(), n),
-            CoifStatus::COIF_OK
-        );
-        rust.write_blended(&mut want).unwrap();
-        assert_eq!(got, flat(&want));
+        let same_blend = |got: &mut [f32], want: &mut [Vec3], rust: &Patch| {
+            // SAFETY: `got` holds `n` points; `c` is live.
+            let st = unsafe { coif_patch_blended(c, got.as_mut_ptr(), n) };
+            assert_eq!(st, CoifStatus::COIF_OK);
+            rust.write_blended(want).unwrap();
+            assert_eq!(got, flat(want));
+        };
+        same_blend(&mut got, &mut want, &rust);
         assert_eq!(
             coif_patch_positions(c, got.as_mut_ptr(), n),
             CoifStatus::COIF_OK
@@ -153,12 +155,7 @@ fn c_patch_matches_rust_bit_for_bit() {
             coif_patch_step(c, &c_params, c_rig.as_ptr(), 1),
             CoifStatus::COIF_OK
         );
-        assert_eq!(
-            coif_patch_blended(c, got.as_mut_ptr(), n),
-            CoifStatus::COIF_OK
-        );
-        rust.write_blended(&mut want).unwrap();
-        assert_eq!(got, flat(&want));
+        same_blend(&mut got, &mut want, &rust);
 
         assert_eq!(coif_patch_reset_to_skin(c), CoifStatus::COIF_OK);
         assert_eq!(
