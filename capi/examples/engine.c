@@ -5,7 +5,8 @@
  * 2. LOD: B-spline refinement into a caller buffer (bound first), render
  *    hairs interpolated from the guides into CoifRenderVertex buffers
  *    (distance LOD, bound first).
- * 3. Shading: Kajiya-Kay and Marschner tables, linear RGB per vertex.
+ * 3. Shading: Kajiya-Kay, Marschner tables and pbrt tables, linear RGB
+ *    per vertex.
  * 4. A cloth patch (a 4 x 9 ribbon pinned at its top row) following a
  *    moving skin, blended half and half at its free end.
  * 5. A groom from memory (argv[1], a TressFX .tfx or cyHair .hair file, if
@@ -195,6 +196,18 @@ static void lod_and_shading(CoifStrands *guides) {
     expect(coif_shade_marschner_lut(lut, vertices, written, light, eye, rgb, written), COIF_OK,
            "Marschner");
     check(all_finite(rgb, written * 3), "Marschner colours finite");
+    CoifPbrtParams pp = coif_pbrt_params_default();
+    CoifPbrtTable *table = NULL;
+    expect(coif_pbrt_table_new(&pp, 16, &table), COIF_OK, "pbrt tables");
+    expect(coif_shade_pbrt_table(table, vertices, written, light, eye, rgb, written), COIF_OK,
+           "pbrt");
+    check(all_finite(rgb, written * 3), "pbrt colours finite");
+    pp.beta_n = 2.0f;
+    CoifPbrtTable *bad_table = table;
+    expect(coif_pbrt_table_new(&pp, 16, &bad_table), COIF_ERROR_INVALID_ARGUMENT,
+           "pbrt tables: beta_n 2");
+    check(bad_table == NULL, "pbrt tables: *out NULL on error");
+    coif_pbrt_table_free(table);
 
     for (size_t k = 0; k < written * 3; k++) rgb[k] = -1.0f;
     float nan_light[3] = {0.0f, NAN, 1.0f};

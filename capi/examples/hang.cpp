@@ -28,12 +28,14 @@ struct Deleter {
     void operator()(CoifHairs *h) const noexcept { coif_hairs_free(h); }
     void operator()(CoifMarschnerLut *l) const noexcept { coif_marschner_lut_free(l); }
     void operator()(CoifPatch *p) const noexcept { coif_patch_free(p); }
+    void operator()(CoifPbrtTable *t) const noexcept { coif_pbrt_table_free(t); }
 };
 using StrandsPtr = std::unique_ptr<CoifStrands, Deleter>;
 using GroomPtr = std::unique_ptr<CoifGroom, Deleter>;
 using HairsPtr = std::unique_ptr<CoifHairs, Deleter>;
 using LutPtr = std::unique_ptr<CoifMarschnerLut, Deleter>;
 using PatchPtr = std::unique_ptr<CoifPatch, Deleter>;
+using TablePtr = std::unique_ptr<CoifPbrtTable, Deleter>;
 
 static_assert(sizeof(CoifRenderVertex) == 32, "one render vertex is 32 bytes");
 
@@ -91,6 +93,14 @@ void engine_calls(CoifStrands *hair, int grid) {
                                 written),
        "Marschner");
     for (float c : rgb) require(std::isfinite(c), "Marschner colour");
+    CoifPbrtParams pp = coif_pbrt_params_default();
+    CoifPbrtTable *raw_table = nullptr;
+    ok(coif_pbrt_table_new(&pp, 16, &raw_table), "coif_pbrt_table_new");
+    TablePtr table(raw_table);
+    ok(coif_shade_pbrt_table(table.get(), vertices.data(), written, light, eye, rgb.data(),
+                             written),
+       "pbrt");
+    for (float c : rgb) require(std::isfinite(c), "pbrt colour");
     require(coif_shade_marschner_lut(lut.get(), vertices.data(), written, light, eye, rgb.data(),
                                      written - 1) == COIF_ERROR_BUFFER_TOO_SMALL,
             "a too-small colour buffer was accepted");

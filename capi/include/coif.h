@@ -53,6 +53,10 @@ typedef struct CoifMarschnerLut CoifMarschnerLut;
 // `coif_patch_free`).
 typedef struct CoifPatch CoifPatch;
 
+// An opaque pair of pbrt far-field tables (created by
+// `coif_pbrt_table_new`, freed by `coif_pbrt_table_free`).
+typedef struct CoifPbrtTable CoifPbrtTable;
+
 // An opaque set of equal-length strands (created by `coif_strands_new`,
 // freed by `coif_strands_free`).
 typedef struct CoifStrands CoifStrands;
@@ -179,6 +183,22 @@ typedef struct CoifMarschnerParams {
     // cubic approximation.
     uint32_t cubic_roots;
 } CoifMarschnerParams;
+
+// pbrt-v3's hair material (Chiang et al. 2016 as pbrt-v3 implements it);
+// the fields of `coif_shading::pbrt::Params`. Start from
+// `coif_pbrt_params_default()`.
+typedef struct CoifPbrtParams {
+    // Index of refraction (> 1; default 1.55).
+    float eta;
+    // Longitudinal roughness in (0, 1] (default 0.3).
+    float beta_m;
+    // Azimuthal roughness in (0, 1] (default 0.3).
+    float beta_n;
+    // Cuticle scale tilt, radians, |alpha| < pi/4 (default 2 degrees).
+    float alpha;
+    // Absorption per unit radius, RGB (>= 0; default eumelanin 1.3).
+    float sigma_a[3];
+} CoifPbrtParams;
 
 #ifdef __cplusplus
 extern "C" {
@@ -687,6 +707,45 @@ enum CoifStatus coif_marschner_lut_new(const struct CoifMarschnerParams *params,
 // # Safety
 // `lut` is NULL or a handle from `coif_marschner_lut_new` not freed before.
 void coif_marschner_lut_free(struct CoifMarschnerLut *lut);
+
+// pbrt-v3's defaults (`pbrt::Params::default()`).
+struct CoifPbrtParams coif_pbrt_params_default(void);
+
+// Tabulates pbrt-v3's hair BSDF in the far field (`pbrt::Table::new`) at
+// `resolution` x `resolution` cells per table (2..=1024). Made once per
+// material.
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_NON_FINITE`,
+// `COIF_ERROR_INVALID_ARGUMENT` (a parameter or the resolution out of range).
+//
+// # Safety
+// `params` is NULL or readable; `out` is NULL or points to a writable
+// `CoifPbrtTable *`.
+enum CoifStatus coif_pbrt_table_new(const struct CoifPbrtParams *params,
+                                    size_t resolution,
+                                    struct CoifPbrtTable **out);
+
+// Frees tables made by `coif_pbrt_table_new`. NULL is fine.
+//
+// # Safety
+// `table` is NULL or a handle from `coif_pbrt_table_new` not freed before.
+void coif_pbrt_table_free(struct CoifPbrtTable *table);
+
+// As `coif_shade_kajiya_kay`, with pbrt-v3's hair BSDF from the tables
+// `table` (`Table::scattering_x8`, the same numbers as
+// `Table::scattering_batch`). Allocates nothing.
+//
+// Errors: as `coif_shade_kajiya_kay`.
+//
+// # Safety
+// `table` is NULL or a live handle; the rest as `coif_shade_kajiya_kay`.
+enum CoifStatus coif_shade_pbrt_table(const struct CoifPbrtTable *table,
+                                      const struct CoifRenderVertex *vertices,
+                                      size_t count,
+                                      const float *light_dir,
+                                      const float *eye,
+                                      float *out_rgb,
+                                      size_t capacity);
 
 // Shades `count` vertices with Kajiya-Kay: per vertex, `wi` is
 // `light_dir` normalised (the direction toward a distant light), `wo` is

@@ -139,6 +139,7 @@ impl CoifStrands {
 const _: () = assert!(std::mem::size_of::<Vec3>() == 12 && std::mem::align_of::<Vec3>() == 4);
 
 impl From<&CoifSimParams> for SimParams {
+    #[allow(clippy::needless_update)]
     fn from(p: &CoifSimParams) -> SimParams {
         SimParams {
             dt: p.dt,
@@ -154,6 +155,9 @@ impl From<&CoifSimParams> for SimParams {
             local_shape_stiffness: p.local_shape_stiffness,
             max_substep: p.max_substep,
             stiff_mode_damping: p.stiff_mode_damping,
+            // Fields SimParams gains before CoifSimParams carries them keep
+            // their Rust defaults (the C layout changes only deliberately).
+            ..SimParams::default()
         }
     }
 }

@@ -1,14 +1,16 @@
 //! Hair shading of caller vertices into caller RGB buffers: Kajiya-Kay with
-//! two shifted highlights (`coif_shading::kajiya_kay`) and Marschner 2003
-//! from its lookup tables (`coif_shading::marschner::Lut`), eight vertices
-//! per SIMD step (`shade_x8` / `scattering_x8`, the kernels of the Rust
-//! batch paths).
+//! two shifted highlights (`coif_shading::kajiya_kay`), Marschner 2003
+//! from its lookup tables (`coif_shading::marschner::Lut`) and pbrt-v3's
+//! hair BSDF from its far-field tables (`coif_shading::pbrt::Table`), eight
+//! vertices per SIMD step (`shade_x8` / `scattering_x8`, the kernels of the
+//! Rust batch paths).
 
 use crate::lod::CoifRenderVertex;
 use crate::{guard, handle, input, new_handle, output, vec3_arg, CoifStatus};
 use coif_base::{Vec3x8, LANES};
 use coif_shading::kajiya_kay::{Highlight, KajiyaKay};
 use coif_shading::marschner::{self, Lut, RootSolver};
+use coif_shading::pbrt::{self, Table};
 use glam::Vec3;
 
 /// Kajiya-Kay (1989) diffuse plus Scheuermann's (2004) two shifted
@@ -230,6 +232,140 @@ pub unsafe extern "C" fn coif_marschner_lut_new(
 pub unsafe extern "C" fn coif_marschner_lut_free(lut: *mut CoifMarschnerLut) {
     // SAFETY: the caller's contract.
     unsafe { crate::free_handle(lut) }
+}
+
+impl From<coif_shading::Error> for CoifStatus {
+    fn from(e: coif_shading::Error) -> CoifStatus {
+        match e {
+            coif_shading::Error::InvalidParameter { value, .. } if !value.is_finite() => {
+                CoifStatus::COIF_ERROR_NON_FINITE
+            }
+            _ => CoifStatus::COIF_ERROR_INVALID_ARGUMENT,
+        }
+    }
+}
+
+/// pbrt-v3's hair material (Chiang et al. 2016 as pbrt-v3 implements it);
+/// the fields of `coif_shading::pbrt::Params`. Start from
+/// `coif_pbrt_params_default()`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CoifPbrtParams {
+    /// Index of refraction (> 1; default 1.55).
+    pub eta: f32,
+    /// Longitudinal roughness in (0, 1] (default 0.3).
+    pub beta_m: f32,
+    /// Azimuthal roughness in (0, 1] (default 0.3).
+    pub beta_n: f32,
+    /// Cuticle scale tilt, radians, |alpha| < pi/4 (default 2 degrees).
+    pub alpha: f32,
+    /// Absorption per unit radius, RGB (>= 0; default eumelanin 1.3).
+    pub sigma_a: [f32; 3],
+}
+
+/// pbrt-v3's defaults (`pbrt::Params::default()`).
+#[no_mangle]
+pub extern "C" fn coif_pbrt_params_default() -> CoifPbrtParams {
+    let p = pbrt::Params::default();
+    CoifPbrtParams {
+        eta: p.eta,
+        beta_m: p.beta_m,
+        beta_n: p.beta_n,
+        alpha: p.alpha,
+        sigma_a: p.sigma_a.to_array(),
+    }
+}
+
+/// An opaque pair of pbrt far-field tables (created by
+/// `coif_pbrt_table_new`, freed by `coif_pbrt_table_free`).
+pub struct CoifPbrtTable {
+    table: Table,
+}
+
+/// Tabulates pbrt-v3's hair BSDF in the far field (`pbrt::Table::new`) at
+/// `resolution` x `resolution` cells per table (2..=1024). Made once per
+/// material.
+///
+/// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_NON_FINITE`,
+/// `COIF_ERROR_INVALID_ARGUMENT` (a parameter or the resolution out of range).
+///
+/// # Safety
+/// `params` is NULL or readable; `out` is NULL or points to a writable
+/// `CoifPbrtTable *`.
+#[no_mangle]
+pub unsafe extern "C" fn coif_pbrt_table_new(
+    params: *const CoifPbrtParams,
+    resolution: usize,
+    out: *mut *mut CoifPbrtTable,
+) -> CoifStatus {
+    guard(|| {
+        // SAFETY: the pointers are NULL or valid (the caller's contract).
+        unsafe {
+            new_handle(out, || {
+                let c = handle(params)?;
+                let p = pbrt::Params {
+                    eta: c.eta,
+                    beta_m: c.beta_m,
+                    beta_n: c.beta_n,
+                    alpha: c.alpha,
+                    sigma_a: Vec3::from_array(c.sigma_a),
+                };
+                p.validate()?;
+                if !(2..=1024).contains(&resolution) {
+                    return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
+                }
+                Ok(CoifPbrtTable {
+                    table: Table::new(&p, resolution)?,
+                })
+            })
+        }
+    })
+}
+
+/// Frees tables made by `coif_pbrt_table_new`. NULL is fine.
+///
+/// # Safety
+/// `table` is NULL or a handle from `coif_pbrt_table_new` not freed before.
+#[no_mangle]
+pub unsafe extern "C" fn coif_pbrt_table_free(table: *mut CoifPbrtTable) {
+    // SAFETY: the caller's contract.
+    unsafe { crate::free_handle(table) }
+}
+
+/// As `coif_shade_kajiya_kay`, with pbrt-v3's hair BSDF from the tables
+/// `table` (`Table::scattering_x8`, the same numbers as
+/// `Table::scattering_batch`). Allocates nothing.
+///
+/// Errors: as `coif_shade_kajiya_kay`.
+///
+/// # Safety
+/// `table` is NULL or a live handle; the rest as `coif_shade_kajiya_kay`.
+#[no_mangle]
+pub unsafe extern "C" fn coif_shade_pbrt_table(
+    table: *const CoifPbrtTable,
+    vertices: *const CoifRenderVertex,
+    count: usize,
+    light_dir: *const f32,
+    eye: *const f32,
+    out_rgb: *mut f32,
+    capacity: usize,
+) -> CoifStatus {
+    guard(|| {
+        // SAFETY: NULL or a live handle.
+        let table = &unsafe { handle(table) }?.table;
+        // SAFETY: the buffers as the caller's contract says.
+        unsafe {
+            shade(
+                vertices,
+                count,
+                light_dir,
+                eye,
+                out_rgb,
+                capacity,
+                |t, wi, wo| table.scattering_x8(t, wi, wo),
+            )
+        }
+    })
 }
 
 /// Shades `count` vertices with Kajiya-Kay: per vertex, `wi` is

@@ -73,6 +73,8 @@ fn header_declares_the_c_names() {
         "enum CoifStatus coif_shade_marschner_lut(const struct CoifMarschnerLut *lut,",
         "static_assert(sizeof(CoifRenderVertex) == 32",
         "typedef struct CoifPatch CoifPatch;",
+        "typedef struct CoifPbrtTable CoifPbrtTable;",
+        "enum CoifStatus coif_shade_pbrt_table(const struct CoifPbrtTable *table,",
         "enum CoifStatus coif_patch_step(struct CoifPatch *p,",
         "enum CoifStatus coif_patch_blended(const struct CoifPatch *p,",
         "typedef char coif_render_vertex_is_32_bytes[sizeof(CoifRenderVertex) == 32 ? 1 : -1];",

@@ -10,6 +10,7 @@ use coif_kernels::{SimParams, Strands};
 use coif_lod::{HairWidth, Interpolation, RefinedGuides, RenderHairs, RenderVertex};
 use coif_shading::kajiya_kay::KajiyaKay;
 use coif_shading::marschner::{self, Lut};
+use coif_shading::pbrt::{self, Table};
 use coif_shading::{RgbBuffer, ShadingSamples};
 use glam::Vec3;
 use std::ptr;
@@ -217,12 +218,10 @@ fn c_render_vertices_match_rust_bit_for_bit() {
             coif_strands_new(xyz.as_ptr(), 24 * VERTS, VERTS, &mut d),
             CoifStatus::COIF_OK
         );
-        // Every call but the one with its own arguments.
+        // The same call with one argument wrong each time (`out` holds
+        // `cap` vertices or is NULL).
         let mut write = |guides, n, wf, out, cap| {
-            // SAFETY: as above; `out` holds `cap` vertices or is NULL.
-            unsafe {
-                coif_hairs_write_vertices(h, guides, n, usize::MAX, wf, out, cap, &mut written)
-            }
+            coif_hairs_write_vertices(h, guides, n, usize::MAX, wf, out, cap, &mut written)
         };
         let buf = out.as_mut_ptr();
         let statuses = [
@@ -378,6 +377,52 @@ fn c_shading_matches_rust_batches_bit_for_bit() {
             CoifStatus::COIF_OK
         );
         assert!(same_bits(&got, &rgb_flat(&want)), "Marschner tables");
+
+        let pbrt_params = coif_pbrt_params_default();
+        let rust_table = Table::new(&pbrt::Params::default(), 16).unwrap();
+        rust_table.scattering_batch(&s, &mut want);
+        let mut table: *mut CoifPbrtTable = ptr::null_mut();
+        assert_eq!(
+            coif_pbrt_table_new(&pbrt_params, 16, &mut table),
+            CoifStatus::COIF_OK
+        );
+        assert_eq!(
+            coif_shade_pbrt_table(
+                table,
+                verts.as_ptr(),
+                n,
+                l.as_ptr(),
+                e.as_ptr(),
+                got.as_mut_ptr(),
+                n
+            ),
+            CoifStatus::COIF_OK
+        );
+        assert!(same_bits(&got, &rgb_flat(&want)), "pbrt tables");
+        assert!(got.iter().any(|&c| c > 0.0));
+        let mut bad_table: *mut CoifPbrtTable = ptr::null_mut();
+        let rough = CoifPbrtParams {
+            beta_m: 0.0,
+            ..pbrt_params
+        };
+        let nan_eta = CoifPbrtParams {
+            eta: f32::NAN,
+            ..pbrt_params
+        };
+        assert_eq!(
+            coif_pbrt_table_new(&rough, 16, &mut bad_table),
+            CoifStatus::COIF_ERROR_INVALID_ARGUMENT
+        );
+        assert_eq!(
+            coif_pbrt_table_new(&nan_eta, 16, &mut bad_table),
+            CoifStatus::COIF_ERROR_NON_FINITE
+        );
+        assert_eq!(
+            coif_pbrt_table_new(&pbrt_params, 1, &mut bad_table),
+            CoifStatus::COIF_ERROR_INVALID_ARGUMENT
+        );
+        assert!(bad_table.is_null());
+        coif_pbrt_table_free(table);
 
         // Refused, nothing written: too small, NaN vertex, zero light, bad
         // material, bad table settings.

@@ -2,7 +2,7 @@
 //! refinement level are sized: `coif_step`, `coif_strands_set_roots`,
 //! `coif_strands_positions`, `coif_refine`, `coif_hairs_distance_lod`,
 //! `coif_hairs_write_vertices`, `coif_shade_kajiya_kay`,
-//! `coif_shade_marschner_lut`, and for cloth `coif_patch_set_skinned`,
+//! `coif_shade_marschner_lut`, `coif_shade_pbrt_table`, and for cloth `coif_patch_set_skinned`,
 //! `coif_patch_step` and `coif_patch_blended`. Counted by a global allocator (this test
 //! binary holds one test, so nothing else allocates meanwhile).
 
@@ -63,6 +63,7 @@ fn per_frame_calls_do_not_allocate() {
     let mut c: *mut CoifStrands = ptr::null_mut();
     let mut hairs: *mut CoifHairs = ptr::null_mut();
     let mut lut: *mut CoifMarschnerLut = ptr::null_mut();
+    let mut table: *mut CoifPbrtTable = ptr::null_mut();
     // Scalp triangles over the 8 x 5 grid of roots.
     let mut tris = Vec::new();
     for j in 0..4u32 {
@@ -119,6 +120,11 @@ fn per_frame_calls_do_not_allocate() {
         );
         assert_eq!(
             coif_patch_step(patch, &params, rig.as_ptr(), rig.len()),
+            CoifStatus::COIF_OK
+        );
+        let pbrt_params = coif_pbrt_params_default();
+        assert_eq!(
+            coif_pbrt_table_new(&pbrt_params, 8, &mut table),
             CoifStatus::COIF_OK
         );
         let refined_len = coif_refine_bound(c, 4);
@@ -235,8 +241,21 @@ fn per_frame_calls_do_not_allocate() {
                 ),
                 CoifStatus::COIF_OK
             );
+            assert_eq!(
+                coif_shade_pbrt_table(
+                    table,
+                    vertices.as_ptr(),
+                    written,
+                    light.as_ptr(),
+                    eye.as_ptr(),
+                    rgb.as_mut_ptr(),
+                    vertex_len
+                ),
+                CoifStatus::COIF_OK
+            );
         }
         let allocations = ALLOCATIONS.load(Ordering::Relaxed) - before;
+        coif_pbrt_table_free(table);
         assert!(rgb.iter().all(|c| c.is_finite()) && rgb.iter().any(|&c| c > 0.0));
         coif_marschner_lut_free(lut);
         coif_patch_free(patch);

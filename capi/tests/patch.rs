@@ -87,8 +87,8 @@ fn c_patch_matches_rust_bit_for_bit() {
             );
         }
         let same_blend = |got: &mut [f32], want: &mut [Vec3], rust: &Patch| {
-            // SAFETY: `got` holds `n` points; `c` is live.
-            let st = unsafe { coif_patch_blended(c, got.as_mut_ptr(), n) };
+            // `got` holds `n` points; `c` is live.
+            let st = coif_patch_blended(c, got.as_mut_ptr(), n);
             assert_eq!(st, CoifStatus::COIF_OK);
             rust.write_blended(want).unwrap();
             assert_eq!(got, flat(want));
