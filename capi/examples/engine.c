@@ -259,6 +259,10 @@ static void cloth(void) {
     if (patch == NULL) return;
     check(coif_patch_particle_count(patch) == PATCH_N, "patch particle count");
     expect(coif_patch_set_weights(patch, weights, PATCH_N), COIF_OK, "patch weights");
+    float reach[PATCH_N];
+    for (int k = 0; k < PATCH_N; k++) reach[k] = k % 2 == 0 ? 0.05f : INFINITY;
+    expect(coif_patch_set_max_distances(patch, reach, PATCH_N), COIF_OK, "patch max distances");
+    expect(coif_patch_set_shear_stiffness(patch, 0.1f), COIF_OK, "patch shear");
     CoifSimParams params = coif_sim_params_default();
     CoifSphere body = {{0.08f, 1.3f, 0.05f}, 0.05f};
     for (int frame = 0; frame < 60; frame++) {
@@ -287,6 +291,15 @@ static void cloth(void) {
            "patch: buffer one point short");
     expect(coif_patch_blended(patch, blended, PATCH_N), COIF_OK, "patch blended again");
     check(memcmp(before, blended, sizeof before) == 0, "patch: failed calls changed nothing");
+    expect(coif_patch_set_shear_stiffness(patch, 1.5f), COIF_ERROR_INVALID_ARGUMENT,
+           "patch: shear 1.5");
+    reach[3] = -1.0f;
+    expect(coif_patch_set_max_distances(patch, reach, PATCH_N), COIF_ERROR_INVALID_ARGUMENT,
+           "patch: negative max distance");
+    expect(coif_patch_reset_to_skin(patch), COIF_OK, "patch reset to skin");
+    expect(coif_patch_positions(patch, blended, PATCH_N), COIF_OK, "patch positions");
+    skin[4] = grid[4];
+    check(memcmp(blended, skin, sizeof blended) == 0, "after a reset the patch is its skin");
     CoifPatch *bad = patch;
     expect(coif_patch_new(grid, 1, PATCH_N, pinned, &bad), COIF_ERROR_INVALID_ARGUMENT,
            "patch: one row");
