@@ -217,42 +217,18 @@ fn per_frame_calls_do_not_allocate() {
                 CoifStatus::COIF_OK
             );
             assert!(written > 0);
-            assert_eq!(
-                coif_shade_kajiya_kay(
-                    &kk,
-                    vertices.as_ptr(),
-                    written,
-                    light.as_ptr(),
-                    eye.as_ptr(),
-                    rgb.as_mut_ptr(),
-                    vertex_len
-                ),
-                CoifStatus::COIF_OK
+            let (v, l, e, out) = (
+                vertices.as_ptr(),
+                light.as_ptr(),
+                eye.as_ptr(),
+                rgb.as_mut_ptr(),
             );
-            assert_eq!(
-                coif_shade_marschner_lut(
-                    lut,
-                    vertices.as_ptr(),
-                    written,
-                    light.as_ptr(),
-                    eye.as_ptr(),
-                    rgb.as_mut_ptr(),
-                    vertex_len
-                ),
-                CoifStatus::COIF_OK
-            );
-            assert_eq!(
-                coif_shade_pbrt_table(
-                    table,
-                    vertices.as_ptr(),
-                    written,
-                    light.as_ptr(),
-                    eye.as_ptr(),
-                    rgb.as_mut_ptr(),
-                    vertex_len
-                ),
-                CoifStatus::COIF_OK
-            );
+            let statuses = [
+                coif_shade_kajiya_kay(&kk, v, written, l, e, out, vertex_len),
+                coif_shade_marschner_lut(lut, v, written, l, e, out, vertex_len),
+                coif_shade_pbrt_table(table, v, written, l, e, out, vertex_len),
+            ];
+            assert_eq!(statuses, [CoifStatus::COIF_OK; 3]);
         }
         let allocations = ALLOCATIONS.load(Ordering::Relaxed) - before;
         coif_pbrt_table_free(table);
