@@ -10,6 +10,7 @@
  * Exit code 0 only if every check passes. */
 
 #include "coif.h"
+#include "checks.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -20,23 +21,6 @@
 #define VERTS 16
 #define POINTS (STRANDS * VERTS)
 #define SEGMENT 0.01f
-
-static int failures = 0;
-
-static void check(int ok, const char *what) {
-    if (!ok) {
-        fprintf(stderr, "FAIL: %s\n", what);
-        failures++;
-    }
-}
-
-static void expect(CoifStatus got, CoifStatus want, const char *what) {
-    if (got != want) {
-        fprintf(stderr, "FAIL: %s: got %d (%s), want %d (%s)\n", what, (int)got,
-                coif_status_message(got), (int)want, coif_status_message(want));
-        failures++;
-    }
-}
 
 static float points[POINTS * 3];
 static float roots[STRANDS * 3];

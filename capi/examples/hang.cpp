@@ -1,14 +1,20 @@
-// hang.cpp: the core of hang.c in C++17, with the handle owned by a
-// std::unique_ptr whose deleter is coif_strands_free (RAII).
+// hang.cpp: the core of hang.c in C++17, with every handle owned by a
+// std::unique_ptr whose deleter is the matching coif_*_free (RAII); then
+// the engine calls of engine.c (refinement, render hairs, shading, and a
+// groom from the file named by argv[1], if any) in the same style.
 //
 // Build (from the workspace root, after cargo build --release -p coif-capi):
 //   c++ -std=c++17 -Wall -Wextra capi/examples/hang.cpp -Icapi/include
 //       target/release/libcoif_capi.a -lm -lpthread -ldl -o hang_cpp
+//   ./hang_cpp shared/data/grooms/sintel_lite.tfx
 
 #include "coif.h"
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -16,10 +22,22 @@
 
 namespace {
 
-struct StrandsDeleter {
+struct Deleter {
     void operator()(CoifStrands *s) const noexcept { coif_strands_free(s); }
+    void operator()(CoifGroom *g) const noexcept { coif_groom_free(g); }
+    void operator()(CoifHairs *h) const noexcept { coif_hairs_free(h); }
+    void operator()(CoifMarschnerLut *l) const noexcept { coif_marschner_lut_free(l); }
+    void operator()(CoifPatch *p) const noexcept { coif_patch_free(p); }
+    void operator()(CoifPbrtTable *t) const noexcept { coif_pbrt_table_free(t); }
 };
-using StrandsPtr = std::unique_ptr<CoifStrands, StrandsDeleter>;
+using StrandsPtr = std::unique_ptr<CoifStrands, Deleter>;
+using GroomPtr = std::unique_ptr<CoifGroom, Deleter>;
+using HairsPtr = std::unique_ptr<CoifHairs, Deleter>;
+using LutPtr = std::unique_ptr<CoifMarschnerLut, Deleter>;
+using PatchPtr = std::unique_ptr<CoifPatch, Deleter>;
+using TablePtr = std::unique_ptr<CoifPbrtTable, Deleter>;
+
+static_assert(sizeof(CoifRenderVertex) == 32, "one render vertex is 32 bytes");
 
 void ok(CoifStatus status, const char *what) {
     if (status != COIF_OK) {
@@ -33,9 +51,111 @@ StrandsPtr make_strands(const std::vector<float> &xyz, std::size_t verts) {
     return StrandsPtr(raw);
 }
 
+void require(bool ok, const char *what) {
+    if (!ok) throw std::runtime_error(what);
+}
+
+// Refinement, render hairs on the 8 x 8 grid's triangles, both shaders.
+void engine_calls(CoifStrands *hair, int grid) {
+    std::vector<float> refined(coif_refine_bound(hair, 3) * 3);
+    ok(coif_refine(hair, 3, refined.data(), nullptr, refined.size() / 3), "coif_refine");
+    std::vector<std::uint32_t> triangles;
+    for (int j = 0; j + 1 < grid; j++) {
+        for (int i = 0; i + 1 < grid; i++) {
+            std::uint32_t k = j * grid + i, g = grid;
+            triangles.insert(triangles.end(), {k, k + 1, k + g, k + 1, k + g + 1, k + g});
+        }
+    }
+    CoifHairSettings settings = coif_hair_settings_default();
+    settings.hairs_per_cm2 = 10.0f;  // the roots are 2 cm apart: 196 cm^2
+    CoifHairs *raw_hairs = nullptr;
+    ok(coif_hairs_new(hair, triangles.data(), triangles.size() / 3, &settings, &raw_hairs),
+       "coif_hairs_new");
+    HairsPtr hairs(raw_hairs);
+    std::vector<CoifRenderVertex> vertices(coif_hairs_vertex_bound(hairs.get(), 4, SIZE_MAX));
+    std::size_t written = 0;
+    ok(coif_hairs_write_vertices(hairs.get(), hair, 4, SIZE_MAX, 1.0f, vertices.data(),
+                                 vertices.size(), &written),
+       "coif_hairs_write_vertices");
+    require(written == vertices.size() && written > 0, "every hair written");
+
+    CoifMarschnerParams params = coif_marschner_params_default();
+    CoifMarschnerLut *raw_lut = nullptr;
+    ok(coif_marschner_lut_new(&params, 32, &raw_lut), "coif_marschner_lut_new");
+    LutPtr lut(raw_lut);
+    const float light[3] = {0.0f, 1.0f, 1.0f}, eye[3] = {0.0f, 0.0f, 2.0f};
+    std::vector<float> rgb(3 * written);
+    CoifKajiyaKay kk = coif_kajiya_kay_default();
+    ok(coif_shade_kajiya_kay(&kk, vertices.data(), written, light, eye, rgb.data(), written),
+       "Kajiya-Kay");
+    for (float c : rgb) require(std::isfinite(c) && c >= 0.0f, "Kajiya-Kay colour");
+    ok(coif_shade_marschner_lut(lut.get(), vertices.data(), written, light, eye, rgb.data(),
+                                written),
+       "Marschner");
+    for (float c : rgb) require(std::isfinite(c), "Marschner colour");
+    CoifPbrtParams pp = coif_pbrt_params_default();
+    CoifPbrtTable *raw_table = nullptr;
+    ok(coif_pbrt_table_new(&pp, 16, &raw_table), "coif_pbrt_table_new");
+    TablePtr table(raw_table);
+    ok(coif_shade_pbrt_table(table.get(), vertices.data(), written, light, eye, rgb.data(),
+                             written),
+       "pbrt");
+    for (float c : rgb) require(std::isfinite(c), "pbrt colour");
+    require(coif_shade_marschner_lut(lut.get(), vertices.data(), written, light, eye, rgb.data(),
+                                     written - 1) == COIF_ERROR_BUFFER_TOO_SMALL,
+            "a too-small colour buffer was accepted");
+    std::printf("hang.cpp: %zu render vertices shaded\n", written);
+}
+
+// A 3 x 8 cloth patch pinned at its top row, stepped, blended.
+void cloth_calls() {
+    constexpr int rows = 3, cols = 8;
+    std::vector<float> grid;
+    std::vector<std::uint8_t> pinned;
+    for (int k = 0; k < rows * cols; k++) {
+        grid.insert(grid.end(), {0.02f * (k % cols), 1.5f - 0.02f * (k / cols), 0.0f});
+        pinned.push_back(k < cols ? 1 : 0);
+    }
+    CoifPatch *raw = nullptr;
+    ok(coif_patch_new(grid.data(), rows, cols, pinned.data(), &raw), "coif_patch_new");
+    PatchPtr patch(raw);
+    CoifSimParams params = coif_sim_params_default();
+    for (int step = 0; step < 30; step++) {
+        ok(coif_patch_set_skinned(patch.get(), grid.data(), rows * cols), "patch skin");
+        ok(coif_patch_step(patch.get(), &params, nullptr, 0), "patch step");
+    }
+    std::vector<float> out(3 * coif_patch_particle_count(patch.get()));
+    ok(coif_patch_blended(patch.get(), out.data(), out.size() / 3), "patch blended");
+    for (float c : out) require(std::isfinite(c), "patch finite");
+    std::printf("hang.cpp: cloth blended, %d particles\n", rows * cols);
+}
+
+// A groom from a file: strands in metres, stepped; a truncated copy refused.
+void groom_calls(const char *path) {
+    std::ifstream file(path, std::ios::binary);
+    require(file.good(), "cannot open the groom");
+    std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(file)),
+                                    std::istreambuf_iterator<char>());
+    CoifGroom *raw = nullptr;
+    ok(coif_groom_load(bytes.data(), bytes.size(), &raw), "coif_groom_load");
+    GroomPtr groom(raw);
+    CoifStrands *raw_strands = nullptr;
+    ok(coif_strands_from_groom(groom.get(), 20, 12, 0.01f, &raw_strands),
+       "coif_strands_from_groom");
+    StrandsPtr strands(raw_strands);
+    CoifSimParams params = coif_sim_params_default();
+    for (int step = 0; step < 30; step++) ok(coif_step(strands.get(), &params, nullptr, 0), "step");
+    CoifGroom *bad = nullptr;
+    require(coif_groom_load(bytes.data(), bytes.size() / 2, &bad) == COIF_ERROR_BAD_DATA &&
+                bad == nullptr,
+            "a truncated groom was accepted");
+    std::printf("hang.cpp: groom of %zu strands, %zu guides stepped\n",
+                coif_groom_strand_count(groom.get()), coif_strands_strand_count(strands.get()));
+}
+
 }  // namespace
 
-int main() {
+int main(int argc, char **argv) {
     constexpr int strands = 64, verts = 16;
     constexpr float segment = 0.01f;
     std::vector<float> xyz;
@@ -65,6 +185,9 @@ int main() {
         if (coif_strands_positions(hair.get(), out.data(), 1) != COIF_ERROR_BUFFER_TOO_SMALL) {
             throw std::runtime_error("a too-small buffer was accepted");
         }
+        engine_calls(hair.get(), 8);
+        cloth_calls();
+        if (argc > 1) groom_calls(argv[1]);
         std::printf("hang.cpp: 600 steps, tip sideways %.3g m: all checks passed\n",
                     static_cast<double>(worst));
     } catch (const std::exception &e) {

@@ -29,7 +29,33 @@ typedef enum CoifStatus {
     // The library panicked (a bug in coif); the handle may be in a partial
     // state and should be freed.
     COIF_ERROR_PANIC = 6,
+    // Input data is malformed: a groom file that is truncated, whose header
+    // lies about its counts or offsets, or that is neither TressFX 4 nor
+    // cyHair.
+    COIF_ERROR_BAD_DATA = 7,
 } CoifStatus;
+
+// An opaque authored groom: strands of any vertex count, positions as
+// stored in the file (created by `coif_groom_load`, freed by
+// `coif_groom_free`).
+typedef struct CoifGroom CoifGroom;
+
+// An opaque set of render hairs interpolated from guide strands (created
+// by `coif_hairs_new`, freed by `coif_hairs_free`): where each hair sits,
+// and the buffers of a frame, sized once.
+typedef struct CoifHairs CoifHairs;
+
+// An opaque pair of Marschner lookup tables (created by
+// `coif_marschner_lut_new`, freed by `coif_marschner_lut_free`).
+typedef struct CoifMarschnerLut CoifMarschnerLut;
+
+// An opaque cloth patch (created by `coif_patch_new`, freed by
+// `coif_patch_free`).
+typedef struct CoifPatch CoifPatch;
+
+// An opaque pair of pbrt far-field tables (created by
+// `coif_pbrt_table_new`, freed by `coif_pbrt_table_free`).
+typedef struct CoifPbrtTable CoifPbrtTable;
 
 // An opaque set of equal-length strands (created by `coif_strands_new`,
 // freed by `coif_strands_free`).
@@ -74,6 +100,105 @@ typedef struct CoifSphere {
     // Radius (>= 0).
     float radius;
 } CoifSphere;
+
+// Settings of the render hairs (`coif_hairs_new`); start from
+// `coif_hair_settings_default()`.
+typedef struct CoifHairSettings {
+    // Seed of the hairs' placement (same seed, same hairs).
+    uint64_t seed;
+    // Render hairs per square centimetre of scalp (finite, >= 0; default 150).
+    float hairs_per_cm2;
+    // Finest level `coif_hairs_write_vertices` will be asked for (1..=256,
+    // default 16); the buffers inside the handle are sized for it.
+    uint32_t max_segments_per_span;
+    // 1: every scalp triangle gets a whole number of groups of 8 hairs
+    // (`Interpolation::with_whole_groups`, no SIMD lane wasted); 0
+    // (default): hair counts per triangle in steps of 1.
+    uint32_t whole_groups;
+    // Hair width at the root, metres (finite, >= 0; default 80e-6).
+    float width_root;
+    // Hair width at the tip, metres (finite, >= 0; default 40e-6).
+    float width_tip;
+} CoifHairSettings;
+
+// One render-hair vertex, 32 bytes, the layout of `coif_lod::RenderVertex`
+// (a GPU vertex buffer can take an array of them as is): position (metres,
+// relative to `coif_strands_origin` of the guides), width (metres, the
+// distance-LOD width factor included), unit tangent root to tip, and the
+// parameter along the hair (0 at the root, 1 at the tip).
+typedef struct CoifRenderVertex {
+    // Position relative to the guides' origin, metres.
+    float position[3];
+    // Hair width at this vertex, metres.
+    float width;
+    // Unit tangent, root to tip.
+    float tangent[3];
+    // Parameter along the hair, 0 at the root, 1 at the tip.
+    float strand_parameter;
+} CoifRenderVertex;
+
+// Kajiya-Kay (1989) diffuse plus Scheuermann's (2004) two shifted
+// specular highlights; the fields of `coif_shading::kajiya_kay::KajiyaKay`.
+// Start from `coif_kajiya_kay_default()`.
+typedef struct CoifKajiyaKay {
+    // Diffuse colour K_d (linear RGB, >= 0).
+    float diffuse[3];
+    // Primary highlight colour (>= 0), shifted toward the tip.
+    float primary_color[3];
+    // Primary highlight exponent (>= 0).
+    float primary_exponent;
+    // Primary tangent shift along the normal (e.g. 0.1).
+    float primary_shift;
+    // Secondary highlight colour (>= 0), shifted toward the root.
+    float secondary_color[3];
+    // Secondary highlight exponent (>= 0).
+    float secondary_exponent;
+    // Secondary tangent shift (e.g. -0.1).
+    float secondary_shift;
+} CoifKajiyaKay;
+
+// Parameters of Marschner et al. 2003 (table 1 of the paper); the fields
+// of `coif_shading::marschner::Params`, angles in radians. Start from
+// `coif_marschner_params_default()`.
+typedef struct CoifMarschnerParams {
+    // Index of refraction (> 1; paper 1.55).
+    float eta;
+    // Longitudinal shift of the R lobe, radians (paper -10 to -5 degrees).
+    float alpha_r;
+    // Longitudinal width of the R lobe, radians (> 0; paper 5 to 10 degrees).
+    float beta_r;
+    // Absorption per unit fibre radius, per RGB channel (>= 0).
+    float absorption[3];
+    // Minor over major axis of the cross section (0.1..=10; paper 0.85 to 1).
+    float eccentricity;
+    // Scale of the TRT glints (>= 0; paper 0.5 to 5).
+    float glint_scale;
+    // Azimuthal width of the caustic, radians (> 0; paper 10 to 25 degrees).
+    float caustic_width;
+    // Range of eta' over which the glints fade (> 0; paper 0.2 to 0.4).
+    float caustic_fade_range;
+    // Largest h-interval a caustic gathers (>= 0; paper 0.5).
+    float caustic_limit;
+    // 0: exact roots of the azimuthal equation (default); 1: the paper's
+    // cubic approximation.
+    uint32_t cubic_roots;
+} CoifMarschnerParams;
+
+// pbrt-v3's hair material (Chiang et al. 2016 as pbrt-v3 implements it);
+// the fields of `coif_shading::pbrt::Params`. Start from
+// `coif_pbrt_params_default()`.
+typedef struct CoifPbrtParams {
+    // Index of refraction (> 1; default 1.55).
+    float eta;
+    // Longitudinal roughness in (0, 1] (default 0.3).
+    float beta_m;
+    // Azimuthal roughness in (0, 1] (default 0.3).
+    float beta_n;
+    // Cuticle scale tilt, radians, |alpha| < pi/4 (default 2 degrees).
+    float alpha;
+    // Absorption per unit radius, RGB (>= 0; default eumelanin 1.3).
+    float sigma_a[3];
+} CoifPbrtParams;
 
 #ifdef __cplusplus
 extern "C" {
@@ -202,8 +327,487 @@ enum CoifStatus coif_strands_reset_to_rest(struct CoifStrands *s);
 // Pass a value of `CoifStatus` (one a coif call returned).
 const char *coif_status_message(enum CoifStatus status);
 
+// `coif_status_message` for any integer: the message of the status with
+// that value, or "unknown status" for a value no `CoifStatus` has (a C
+// `enum` may hold any `int`, which `coif_status_message` must not be given).
+const char *coif_status_message_code(int32_t code);
+
+// Reads a groom from the `len` bytes at `bytes`: a TressFX 4 `.tfx` or a
+// cyHair `.hair` file, told apart by content. The bytes are only read
+// during the call (the groom keeps its own copy of the points). On success
+// `*out` is the new handle (free it with `coif_groom_free`); on error
+// `*out` is NULL (when `out` is not).
+//
+// Errors: `COIF_ERROR_NULL` (`bytes` or `out`), `COIF_ERROR_BAD_DATA`
+// (truncated, a header whose counts or offsets do not fit the bytes, an
+// unknown format), `COIF_ERROR_NON_FINITE` (a NaN or infinite coordinate).
+//
+// # Safety
+// `bytes` is NULL or points to `len` readable bytes; `out` is NULL or points
+// to a writable `CoifGroom *`.
+enum CoifStatus coif_groom_load(const uint8_t *bytes, size_t len, struct CoifGroom **out);
+
+// Frees a groom made by `coif_groom_load`. NULL is fine. Strands made from
+// it with `coif_strands_from_groom` stay valid.
+//
+// # Safety
+// `g` is NULL or a handle from `coif_groom_load` not freed before.
+void coif_groom_free(struct CoifGroom *g);
+
+// Number of strands in the groom (0 for NULL).
+//
+// # Safety
+// `g` is NULL or a live handle.
+size_t coif_groom_strand_count(const struct CoifGroom *g);
+
+// Number of vertices over all strands (0 for NULL).
+//
+// # Safety
+// `g` is NULL or a live handle.
+size_t coif_groom_vertex_count(const struct CoifGroom *g);
+
+// Number of vertices of strand `strand` (0 for NULL or a strand out of
+// range): the bound of `coif_groom_strand_points`.
+//
+// # Safety
+// `g` is NULL or a live handle.
+size_t coif_groom_strand_vertex_count(const struct CoifGroom *g, size_t strand);
+
+// Writes strand `strand`'s points (root first, 3 floats each, as stored in
+// the file: no unit conversion) into `out_xyz`, which holds
+// `capacity_points` points, at least `coif_groom_strand_vertex_count`.
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_INVALID_ARGUMENT` (no such
+// strand), `COIF_ERROR_BUFFER_TOO_SMALL` (nothing written).
+//
+// # Safety
+// `g` is NULL or a live handle; `out_xyz` is NULL or points to
+// `3 * capacity_points` writable floats.
+enum CoifStatus coif_groom_strand_points(const struct CoifGroom *g,
+                                         size_t strand,
+                                         float *out_xyz,
+                                         size_t capacity_points);
+
+// Number of strands `coif_strands_from_groom(g, stride, ...)` makes: the
+// strands `0, stride, 2 stride, ...` of the groom that have at least two
+// points (0 for NULL or `stride == 0`).
+//
+// # Safety
+// `g` is NULL or a live handle.
+size_t coif_groom_guide_count(const struct CoifGroom *g, size_t stride);
+
+// Creates simulation strands from a groom: the strands `0, stride,
+// 2 stride, ...` (every strand for `stride` 1) that have at least two
+// points, each scaled by `scale` (0.01 turns TressFX's and cyHair's usual
+// centimetres into metres) and resampled to `verts_per_strand` points
+// evenly spaced in arc length (authored strands differ in vertex count;
+// `coif_lod::arc_length_samples`). Roots are pinned; the groom's pose is
+// the rest shape. Move the result into place with `coif_strands_teleport`.
+// `coif_groom_guide_count(g, stride)` tells how many strands it has.
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_INVALID_ARGUMENT`
+// (`verts_per_strand < 2`, `stride == 0`, `scale <= 0`, no strand of two
+// points), `COIF_ERROR_NON_FINITE` (`scale` or a scaled point not finite).
+//
+// # Safety
+// `g` is NULL or a live handle; `out` is NULL or points to a writable
+// `CoifStrands *`.
+enum CoifStatus coif_strands_from_groom(const struct CoifGroom *g,
+                                        size_t stride,
+                                        size_t verts_per_strand,
+                                        float scale,
+                                        struct CoifStrands **out);
+
+// Writes the local origin of the set (f64 x, y, z, world metres) into
+// `out_xyz`: render vertices are relative to it (add it in the model
+// matrix, in double precision where the world is large).
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_INVALID_ARGUMENT` (misaligned).
+//
+// # Safety
+// `s` is NULL or a live handle; `out_xyz` is NULL or points to 3 writable doubles.
+enum CoifStatus coif_strands_origin(const struct CoifStrands *s, double *out_xyz);
+
+// Number of points `coif_refine(s, segments_per_span, ...)` writes:
+// strands times `(V - 1) N + 1` for `V` vertices per strand and `N =
+// segments_per_span` (0 for NULL or `N` outside 1..=256).
+//
+// # Safety
+// `s` is NULL or a live handle.
+size_t coif_refine_bound(const struct CoifStrands *s, size_t segments_per_span);
+
+// Refines every strand into a uniform cubic B-spline through its vertices
+// as control points (`coif_lod::refine_strands`, SIMD; phantom end points,
+// ends pinned to the first and last vertex), `segments_per_span` (1..=256)
+// segments per span, and writes the points (world metres, 3 floats each,
+// strand after strand, root first) into `out_xyz` and, unless
+// `out_tangents` is NULL, the unit tangents (3 floats each) into
+// `out_tangents`. Both hold `capacity_points` points, at least
+// `coif_refine_bound(s, segments_per_span)`.
+//
+// The refinement scratch lives in the handle: the first call, and a call
+// at a finer level than any before, allocate it; others allocate nothing.
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_INVALID_ARGUMENT` (level out of
+// range, a misaligned buffer), `COIF_ERROR_BUFFER_TOO_SMALL` (nothing written).
+//
+// # Safety
+// `s` is NULL or a live handle; `out_xyz` (and `out_tangents` unless NULL)
+// is NULL or points to `3 * capacity_points` writable floats; the two do not overlap.
+enum CoifStatus coif_refine(struct CoifStrands *s,
+                            size_t segments_per_span,
+                            float *out_xyz,
+                            float *out_tangents,
+                            size_t capacity_points);
+
+// Default render-hair settings: 150 hairs per cm^2, seed 7, up to 16
+// segments per span, 80 to 40 micrometre wide hairs.
+struct CoifHairSettings coif_hair_settings_default(void);
+
+// Places render hairs on scalp triangles between guide strands
+// (`coif_lod::Interpolation`): `triangle_count` triangles, 3 indices each
+// into the strands of `guides` (at `triangles`), each render hair a fixed
+// barycentric blend of its triangle's three guides. The guides' current
+// roots give the triangles' areas (hair counts). The handle only reads
+// `guides` now; later calls take the guides again (the same shape).
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_INVALID_ARGUMENT` (no triangles,
+// an index out of range, a setting out of range, more than 2^24 hairs),
+// `COIF_ERROR_NON_FINITE` (a NaN or infinite setting).
+//
+// # Safety
+// `guides` is NULL or a live handle; `triangles` is NULL or points to
+// `3 * triangle_count` readable indices; `settings` is NULL or readable;
+// `out` is NULL or points to a writable `CoifHairs *`.
+enum CoifStatus coif_hairs_new(const struct CoifStrands *guides,
+                               const uint32_t *triangles,
+                               size_t triangle_count,
+                               const struct CoifHairSettings *settings,
+                               struct CoifHairs **out);
+
+// Frees render hairs made by `coif_hairs_new`. NULL is fine.
+//
+// # Safety
+// `h` is NULL or a handle from `coif_hairs_new` not freed before.
+void coif_hairs_free(struct CoifHairs *h);
+
+// Number of render hairs (0 for NULL).
+//
+// # Safety
+// `h` is NULL or a live handle.
+size_t coif_hairs_hair_count(const struct CoifHairs *h);
+
+// Number of hair groups (up to 8 hairs of one triangle each; drawing the
+// first k groups of their shuffled order thins the hair evenly). 0 for NULL.
+//
+// # Safety
+// `h` is NULL or a live handle.
+size_t coif_hairs_group_count(const struct CoifHairs *h);
+
+// Number of vertices `coif_hairs_write_vertices(h, ..., segments_per_span,
+// groups_drawn, ...)` writes: the hairs of the first `groups_drawn` groups
+// (all of them for `groups_drawn >= coif_hairs_group_count`) times `(V - 1)
+// N + 1` vertices each (0 for NULL or `N` outside 1..=max_segments_per_span).
+//
+// # Safety
+// `h` is NULL or a live handle.
+size_t coif_hairs_vertex_bound(const struct CoifHairs *h,
+                               size_t segments_per_span,
+                               size_t groups_drawn);
+
+// Distance LOD (`coif_lod::distance_lod`): from the projected width of one
+// hair in pixels, how many groups to draw (`*groups_drawn`: all while a
+// hair is at least a pixel wide, fewer below, never below the fraction
+// `min_fraction` in (0, 1]) and the width factor that keeps the coverage
+// (`*width_factor`, for `coif_hairs_write_vertices`).
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_NON_FINITE`,
+// `COIF_ERROR_INVALID_ARGUMENT` (a negative width, `min_fraction` outside
+// (0, 1]).
+//
+// # Safety
+// `h` is NULL or a live handle; the outputs are NULL or writable.
+enum CoifStatus coif_hairs_distance_lod(const struct CoifHairs *h,
+                                        float hair_width_px,
+                                        float min_fraction,
+                                        size_t *groups_drawn,
+                                        float *width_factor);
+
+// One frame of render hairs: refines `guides` at `segments_per_span`
+// (1..=`max_segments_per_span` of the settings), interpolates the hairs of
+// the first `groups_drawn` groups (SIMD) and writes their vertices, hair
+// after hair, root first, widths times `width_factor` (> 0; 1, or the
+// factor of `coif_hairs_distance_lod`) into `out`, which holds `capacity`
+// vertices, at least `coif_hairs_vertex_bound`. `*written` (unless NULL)
+// is the number written, the bound. Positions are relative to
+// `coif_strands_origin(guides)`. Allocates nothing.
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_COUNT_MISMATCH` (`guides` not of
+// the shape the hairs were made for), `COIF_ERROR_INVALID_ARGUMENT` (level
+// out of range, `width_factor <= 0`), `COIF_ERROR_NON_FINITE`,
+// `COIF_ERROR_BUFFER_TOO_SMALL` (nothing written).
+//
+// # Safety
+// `h` and `guides` are NULL or live handles; `out` is NULL or points to
+// `capacity` writable vertices; `written` is NULL or writable.
+enum CoifStatus coif_hairs_write_vertices(struct CoifHairs *h,
+                                          const struct CoifStrands *guides,
+                                          size_t segments_per_span,
+                                          size_t groups_drawn,
+                                          float width_factor,
+                                          struct CoifRenderVertex *out,
+                                          size_t capacity,
+                                          size_t *written);
+
+// Creates a patch from its rest grid: `rows * cols` points (`grid_xyz`, 3
+// floats each, world metres, row-major) and a flag per particle
+// (`pinned`, nonzero = follows the skin exactly). Needs at least 2 rows
+// and 2 columns, at most 256 columns. The skin starts at the grid, blend
+// weights at 1 (fully simulated), max distances at infinity, shear
+// stiffness at 0. On error `*out` is NULL (when `out` is not).
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_INVALID_ARGUMENT` (a grid shape
+// out of range, a size that overflows), `COIF_ERROR_NON_FINITE`.
+//
+// # Safety
+// `grid_xyz` is NULL or points to `3 * rows * cols` readable floats,
+// `pinned` to `rows * cols` readable bytes; `out` is NULL or writable.
+enum CoifStatus coif_patch_new(const float *grid_xyz,
+                               size_t rows,
+                               size_t cols,
+                               const uint8_t *pinned,
+                               struct CoifPatch **out);
+
+// Frees a patch made by `coif_patch_new`. NULL is fine.
+//
+// # Safety
+// `p` is NULL or a handle from `coif_patch_new` not freed before.
+void coif_patch_free(struct CoifPatch *p);
+
+// Number of particles, `rows * cols` (0 for NULL): the count of every
+// per-particle array and the bound of the output calls.
+//
+// # Safety
+// `p` is NULL or a live handle.
+size_t coif_patch_particle_count(const struct CoifPatch *p);
+
+// Gives this frame's skinned positions (`count` points, 3 floats each,
+// world metres, row-major, one per particle): pinned particles move there
+// at the next step, the others are held by max distance and blended.
+// Does not allocate.
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_COUNT_MISMATCH`, `COIF_ERROR_NON_FINITE`.
+//
+// # Safety
+// `p` is NULL or a live handle; `xyz` is NULL or points to `3 * count` readable floats.
+enum CoifStatus coif_patch_set_skinned(struct CoifPatch *p, const float *xyz, size_t count);
+
+// Sets the blend weight of every particle (`count` floats in [0, 1],
+// row-major): 0 = the blended output is the skin, 1 = fully simulated.
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_COUNT_MISMATCH`,
+// `COIF_ERROR_NON_FINITE`, `COIF_ERROR_INVALID_ARGUMENT` (outside [0, 1]).
+//
+// # Safety
+// `p` is NULL or a live handle; `weights` is NULL or points to `count` readable floats.
+enum CoifStatus coif_patch_set_weights(struct CoifPatch *p, const float *weights, size_t count);
+
+// Sets how far (metres, `>= 0`, `INFINITY` = no limit) each simulated
+// particle may move from its skinned position (`count` floats, row-major).
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_COUNT_MISMATCH`,
+// `COIF_ERROR_INVALID_ARGUMENT` (negative), `COIF_ERROR_NON_FINITE` (NaN).
+//
+// # Safety
+// `p` is NULL or a live handle; `distances` is NULL or points to `count` readable floats.
+enum CoifStatus coif_patch_set_max_distances(struct CoifPatch *p,
+                                             const float *distances,
+                                             size_t count);
+
+// Sets the stiffness in [0, 1] of the shear (diagonal) edges (0 = off, the default).
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_INVALID_ARGUMENT`, `COIF_ERROR_NON_FINITE`.
+//
+// # Safety
+// `p` is NULL or a live handle.
+enum CoifStatus coif_patch_set_shear_stiffness(struct CoifPatch *p, float stiffness);
+
+// Advances the patch by one fixed step of `params->dt` toward the last
+// skin, against `sphere_count` spheres (`coif_kernels::patch::step`, SIMD;
+// the parameters mean what they mean for strands). Validates the
+// parameters and spheres first; does not allocate unless the rig has more
+// spheres than at any earlier call.
+//
+// Errors: as `coif_step`.
+//
+// # Safety
+// `p` is NULL or a live handle; `params` is NULL or readable; `spheres` is
+// NULL or points to `sphere_count` readable spheres.
+enum CoifStatus coif_patch_step(struct CoifPatch *p,
+                                const struct CoifSimParams *params,
+                                const struct CoifSphere *spheres,
+                                size_t sphere_count);
+
+// Writes the blended positions, `skinned (1 - weight) + simulated weight`
+// per particle (world metres, row-major, 3 floats each) into `out_xyz`,
+// which holds `capacity_points` points, at least `coif_patch_particle_count`.
+// Does not allocate.
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_BUFFER_TOO_SMALL` (nothing written).
+//
+// # Safety
+// `p` is NULL or a live handle; `out_xyz` is NULL or points to
+// `3 * capacity_points` writable floats.
+enum CoifStatus coif_patch_blended(const struct CoifPatch *p,
+                                   float *out_xyz,
+                                   size_t capacity_points);
+
+// Writes the simulated positions (before the blend; world metres,
+// row-major) into `out_xyz`, as `coif_patch_blended` does.
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_BUFFER_TOO_SMALL` (nothing written).
+//
+// # Safety
+// As `coif_patch_blended`.
+enum CoifStatus coif_patch_positions(const struct CoifPatch *p,
+                                     float *out_xyz,
+                                     size_t capacity_points);
+
+// Moves every particle onto the skin, at rest (a teleport or a reset).
+//
+// Errors: `COIF_ERROR_NULL`.
+//
+// # Safety
+// `p` is NULL or a live handle.
+enum CoifStatus coif_patch_reset_to_skin(struct CoifPatch *p);
+
+// Scheuermann-style brown hair (`KajiyaKay::default()`).
+struct CoifKajiyaKay coif_kajiya_kay_default(void);
+
+// The paper's typical values (`marschner::Params::default()`).
+struct CoifMarschnerParams coif_marschner_params_default(void);
+
+// Tabulates Marschner's factored scattering function (`marschner::Lut`,
+// default layout) at `resolution` x `resolution` texels per table
+// (2..=1024; 64 to 256 are usual; 48 bytes a texel pair). Made once per
+// material; this is where the time goes (seconds at 256).
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_NON_FINITE`,
+// `COIF_ERROR_INVALID_ARGUMENT` (a parameter or the resolution out of range).
+//
+// # Safety
+// `params` is NULL or readable; `out` is NULL or points to a writable
+// `CoifMarschnerLut *`.
+enum CoifStatus coif_marschner_lut_new(const struct CoifMarschnerParams *params,
+                                       size_t resolution,
+                                       struct CoifMarschnerLut **out);
+
+// Frees tables made by `coif_marschner_lut_new`. NULL is fine.
+//
+// # Safety
+// `lut` is NULL or a handle from `coif_marschner_lut_new` not freed before.
+void coif_marschner_lut_free(struct CoifMarschnerLut *lut);
+
+// pbrt-v3's defaults (`pbrt::Params::default()`).
+struct CoifPbrtParams coif_pbrt_params_default(void);
+
+// Tabulates pbrt-v3's hair BSDF in the far field (`pbrt::Table::new`) at
+// `resolution` x `resolution` cells per table (2..=1024). Made once per
+// material.
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_NON_FINITE`,
+// `COIF_ERROR_INVALID_ARGUMENT` (a parameter or the resolution out of range).
+//
+// # Safety
+// `params` is NULL or readable; `out` is NULL or points to a writable
+// `CoifPbrtTable *`.
+enum CoifStatus coif_pbrt_table_new(const struct CoifPbrtParams *params,
+                                    size_t resolution,
+                                    struct CoifPbrtTable **out);
+
+// Frees tables made by `coif_pbrt_table_new`. NULL is fine.
+//
+// # Safety
+// `table` is NULL or a handle from `coif_pbrt_table_new` not freed before.
+void coif_pbrt_table_free(struct CoifPbrtTable *table);
+
+// As `coif_shade_kajiya_kay`, with pbrt-v3's hair BSDF from the tables
+// `table` (`Table::scattering_x8`, the same numbers as
+// `Table::scattering_batch`). Allocates nothing.
+//
+// Errors: as `coif_shade_kajiya_kay`.
+//
+// # Safety
+// `table` is NULL or a live handle; the rest as `coif_shade_kajiya_kay`.
+enum CoifStatus coif_shade_pbrt_table(const struct CoifPbrtTable *table,
+                                      const struct CoifRenderVertex *vertices,
+                                      size_t count,
+                                      const float *light_dir,
+                                      const float *eye,
+                                      float *out_rgb,
+                                      size_t capacity);
+
+// Shades `count` vertices with Kajiya-Kay: per vertex, `wi` is
+// `light_dir` normalised (the direction toward a distant light), `wo` is
+// `normalize(eye - position)` (the direction toward the eye, whose
+// position is in the vertices' coordinates: subtract `coif_strands_origin`
+// for render vertices), `t` the vertex tangent; writes `K_d s_i` plus both
+// highlights (linear RGB, without light colour) as 3 floats per vertex into
+// `out_rgb`, which holds `capacity` vertices (at least `count`). The same
+// numbers, bit for bit, as `KajiyaKay::shade_batch` on those samples.
+// Allocates nothing.
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_NON_FINITE` (a NaN or infinite
+// parameter, direction, eye or vertex), `COIF_ERROR_INVALID_ARGUMENT` (a
+// negative colour or exponent, a zero light direction),
+// `COIF_ERROR_BUFFER_TOO_SMALL` (nothing written).
+//
+// # Safety
+// `model`, `light_dir` (3 floats) and `eye` (3 floats) are NULL or
+// readable; `vertices` is NULL or points to `count` readable vertices;
+// `out_rgb` is NULL or points to `3 * capacity` writable floats.
+enum CoifStatus coif_shade_kajiya_kay(const struct CoifKajiyaKay *model,
+                                      const struct CoifRenderVertex *vertices,
+                                      size_t count,
+                                      const float *light_dir,
+                                      const float *eye,
+                                      float *out_rgb,
+                                      size_t capacity);
+
+// As `coif_shade_kajiya_kay`, with Marschner's scattering function from
+// the tables `lut` (`Lut::scattering_x8`, the same numbers as
+// `Lut::scattering_batch`). Allocates nothing.
+//
+// Errors: as `coif_shade_kajiya_kay`.
+//
+// # Safety
+// `lut` is NULL or a live handle; the rest as `coif_shade_kajiya_kay`.
+enum CoifStatus coif_shade_marschner_lut(const struct CoifMarschnerLut *lut,
+                                         const struct CoifRenderVertex *vertices,
+                                         size_t count,
+                                         const float *light_dir,
+                                         const float *eye,
+                                         float *out_rgb,
+                                         size_t capacity);
+
 #ifdef __cplusplus
 }  // extern "C"
 #endif  // __cplusplus
 
 #endif  /* COIF_H */
+
+#ifndef COIF_H_LAYOUT_CHECKS
+#define COIF_H_LAYOUT_CHECKS
+#ifdef __cplusplus
+static_assert(sizeof(CoifRenderVertex) == 32, "CoifRenderVertex is 32 bytes");
+static_assert(offsetof(CoifRenderVertex, width) == 12, "width at byte 12");
+static_assert(offsetof(CoifRenderVertex, tangent) == 16, "tangent at byte 16");
+static_assert(offsetof(CoifRenderVertex, strand_parameter) == 28, "strand_parameter at byte 28");
+#else
+/* C99 has no _Static_assert: an array of negative size fails to compile. */
+typedef char coif_render_vertex_is_32_bytes[sizeof(CoifRenderVertex) == 32 ? 1 : -1];
+typedef char coif_render_vertex_width_at_12[offsetof(CoifRenderVertex, width) == 12 ? 1 : -1];
+typedef char coif_render_vertex_tangent_at_16[offsetof(CoifRenderVertex, tangent) == 16 ? 1 : -1];
+typedef char coif_render_vertex_parameter_at_28[offsetof(CoifRenderVertex, strand_parameter) == 28 ? 1 : -1];
+#endif
+#endif

@@ -25,6 +25,16 @@
 // The C names are the Rust names: `COIF_OK`, not `Ok`.
 #![allow(non_camel_case_types)]
 
+pub mod groom;
+pub mod lod;
+pub mod patch;
+pub mod shading;
+
+pub use groom::*;
+pub use lod::*;
+pub use patch::*;
+pub use shading::*;
+
 use coif_kernels::{SimParams, Sphere, Strands};
 use glam::{Affine3A, Mat3, Vec3};
 use std::ffi::c_char;
@@ -53,6 +63,10 @@ pub enum CoifStatus {
     /// The library panicked (a bug in coif); the handle may be in a partial
     /// state and should be freed.
     COIF_ERROR_PANIC = 6,
+    /// Input data is malformed: a groom file that is truncated, whose header
+    /// lies about its counts or offsets, or that is neither TressFX 4 nor
+    /// cyHair.
+    COIF_ERROR_BAD_DATA = 7,
 }
 
 /// Parameters of one fixed step (`coif_step`); start from
@@ -102,9 +116,22 @@ pub struct CoifSphere {
 /// An opaque set of equal-length strands (created by `coif_strands_new`,
 /// freed by `coif_strands_free`).
 pub struct CoifStrands {
-    strands: Strands,
+    pub(crate) strands: Strands,
     /// The rig converted for `coif_kernels::step`; grows only when the rig does.
     spheres: Vec<Sphere>,
+    /// Refinement scratch of `coif_refine`, made at its first call and
+    /// remade only for a finer level than any before.
+    pub(crate) refined: Option<coif_lod::RefinedGuides>,
+}
+
+impl CoifStrands {
+    pub(crate) fn new(strands: Strands) -> CoifStrands {
+        CoifStrands {
+            strands,
+            spheres: Vec::new(),
+            refined: None,
+        }
+    }
 }
 
 // The casts of caller buffers (`*const f32`, three per point) to `&[Vec3]`
@@ -112,6 +139,7 @@ pub struct CoifStrands {
 const _: () = assert!(std::mem::size_of::<Vec3>() == 12 && std::mem::align_of::<Vec3>() == 4);
 
 impl From<&CoifSimParams> for SimParams {
+    #[allow(clippy::needless_update)]
     fn from(p: &CoifSimParams) -> SimParams {
         SimParams {
             dt: p.dt,
@@ -127,6 +155,9 @@ impl From<&CoifSimParams> for SimParams {
             local_shape_stiffness: p.local_shape_stiffness,
             max_substep: p.max_substep,
             stiff_mode_damping: p.stiff_mode_damping,
+            // Fields SimParams gains before CoifSimParams carries them keep
+            // their Rust defaults (the C layout changes only deliberately).
+            ..SimParams::default()
         }
     }
 }
@@ -168,7 +199,7 @@ impl From<coif_kernels::Error> for CoifStatus {
 }
 
 /// Runs `body`, turning a panic into `COIF_ERROR_PANIC`.
-fn guard(body: impl FnOnce() -> Result<(), CoifStatus>) -> CoifStatus {
+pub(crate) fn guard(body: impl FnOnce() -> Result<(), CoifStatus>) -> CoifStatus {
     match catch_unwind(AssertUnwindSafe(body)) {
         Ok(Ok(())) => CoifStatus::COIF_OK,
         Ok(Err(status)) => status,
@@ -177,13 +208,13 @@ fn guard(body: impl FnOnce() -> Result<(), CoifStatus>) -> CoifStatus {
 }
 
 /// Runs `body`, returning `fallback` on a panic (for calls without a status).
-fn guard_or<T>(fallback: T, body: impl FnOnce() -> T) -> T {
+pub(crate) fn guard_or<T>(fallback: T, body: impl FnOnce() -> T) -> T {
     catch_unwind(AssertUnwindSafe(body)).unwrap_or(fallback)
 }
 
 /// Checks that `ptr` can back a slice of `count` values of `T`: not NULL,
 /// aligned for `T`, and not so long that its size in bytes overflows `isize`.
-fn check_slice<T>(ptr: *const T, count: usize) -> Result<(), CoifStatus> {
+pub(crate) fn check_slice<T>(ptr: *const T, count: usize) -> Result<(), CoifStatus> {
     if ptr.is_null() {
         return Err(CoifStatus::COIF_ERROR_NULL);
     }
@@ -196,8 +227,110 @@ fn check_slice<T>(ptr: *const T, count: usize) -> Result<(), CoifStatus> {
     }
 }
 
+/// Boxes what `make` returns into `*out`: `*out` is NULL first and stays
+/// NULL when `make` fails.
+///
+/// # Safety
+/// `out` is NULL or points to a writable `*mut T`.
+pub(crate) unsafe fn new_handle<T>(
+    out: *mut *mut T,
+    make: impl FnOnce() -> Result<T, CoifStatus>,
+) -> Result<(), CoifStatus> {
+    if out.is_null() {
+        return Err(CoifStatus::COIF_ERROR_NULL);
+    }
+    if !out.is_aligned() {
+        return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
+    }
+    // SAFETY: `out` is not NULL, aligned (checked) and writable (the caller's contract).
+    unsafe { out.write(std::ptr::null_mut()) };
+    let value = make()?;
+    // SAFETY: as above.
+    unsafe { out.write(Box::into_raw(Box::new(value))) };
+    Ok(())
+}
+
+/// Drops a handle made by [`new_handle`]; NULL is fine.
+///
+/// # Safety
+/// `p` is NULL or came from [`new_handle`] and is freed once.
+pub(crate) unsafe fn free_handle<T>(p: *mut T) {
+    guard_or((), || {
+        if !p.is_null() {
+            // SAFETY: `p` came from `Box::into_raw` and is freed once.
+            drop(unsafe { Box::from_raw(p) });
+        }
+    })
+}
+
+/// The handle behind `p`, or `COIF_ERROR_NULL`.
+///
+/// # Safety
+/// `p` is NULL or a live handle not written during `'a`.
+pub(crate) unsafe fn handle<'a, T>(p: *const T) -> Result<&'a T, CoifStatus> {
+    // SAFETY: the caller's contract.
+    unsafe { p.as_ref() }.ok_or(CoifStatus::COIF_ERROR_NULL)
+}
+
+/// The handle behind `p` for writing, or `COIF_ERROR_NULL`.
+///
+/// # Safety
+/// `p` is NULL or a live handle not aliased during `'a`.
+pub(crate) unsafe fn handle_mut<'a, T>(p: *mut T) -> Result<&'a mut T, CoifStatus> {
+    // SAFETY: the caller's contract.
+    unsafe { p.as_mut() }.ok_or(CoifStatus::COIF_ERROR_NULL)
+}
+
+/// `count` readable values at `ptr` (NULL is fine when `count` is 0).
+///
+/// # Safety
+/// `ptr` is NULL or points to `count` readable values not written during `'a`.
+pub(crate) unsafe fn input<'a, T>(ptr: *const T, count: usize) -> Result<&'a [T], CoifStatus> {
+    if count == 0 {
+        return Ok(&[]);
+    }
+    check_slice(ptr, count)?;
+    // SAFETY: non-NULL, aligned, within isize::MAX bytes (checked); readable
+    // per the caller's contract.
+    Ok(unsafe { std::slice::from_raw_parts(ptr, count) })
+}
+
+/// The first `needed` of `capacity` writable values at `ptr`:
+/// `COIF_ERROR_NULL`, `COIF_ERROR_INVALID_ARGUMENT` (misaligned, overflowing)
+/// or `COIF_ERROR_BUFFER_TOO_SMALL` when `capacity < needed`.
+///
+/// # Safety
+/// `ptr` is NULL or points to `capacity` writable values not aliased during `'a`.
+pub(crate) unsafe fn output<'a, T>(
+    ptr: *mut T,
+    needed: usize,
+    capacity: usize,
+) -> Result<&'a mut [T], CoifStatus> {
+    check_slice(ptr.cast_const(), needed)?;
+    if capacity < needed {
+        return Err(CoifStatus::COIF_ERROR_BUFFER_TOO_SMALL);
+    }
+    // SAFETY: non-NULL, aligned, `needed <= capacity` values within
+    // isize::MAX bytes (checked); writable and unaliased per the caller.
+    Ok(unsafe { std::slice::from_raw_parts_mut(ptr, needed) })
+}
+
+/// `[f32; 3]` as a finite `Vec3`, or `COIF_ERROR_NULL` / `COIF_ERROR_NON_FINITE`.
+///
+/// # Safety
+/// `v` is NULL or points to 3 readable floats.
+pub(crate) unsafe fn vec3_arg(v: *const f32) -> Result<Vec3, CoifStatus> {
+    check_points(v, 1)?;
+    // SAFETY: checked; 3 readable floats per the caller's contract.
+    let p = unsafe { points(v, 1) }[0];
+    if !p.is_finite() {
+        return Err(CoifStatus::COIF_ERROR_NON_FINITE);
+    }
+    Ok(p)
+}
+
 /// [`check_slice`] for `count` points of 3 floats at `xyz`.
-fn check_points(xyz: *const f32, count: usize) -> Result<(), CoifStatus> {
+pub(crate) fn check_points(xyz: *const f32, count: usize) -> Result<(), CoifStatus> {
     check_slice(xyz.cast::<Vec3>(), count)
 }
 
@@ -206,7 +339,7 @@ fn check_points(xyz: *const f32, count: usize) -> Result<(), CoifStatus> {
 /// # Safety
 /// `check_points(xyz, count)` passed and `xyz` points to `3 * count` readable
 /// floats that nothing writes while the slice lives.
-unsafe fn points<'a>(xyz: *const f32, count: usize) -> &'a [Vec3] {
+pub(crate) unsafe fn points<'a>(xyz: *const f32, count: usize) -> &'a [Vec3] {
     // SAFETY: non-NULL, 4-aligned and at most isize::MAX bytes (checked by
     // `check_points`); `Vec3` is three packed f32 (asserted above); the
     // caller guarantees the floats are readable and not mutated meanwhile.
@@ -235,7 +368,7 @@ pub unsafe extern "C" fn coif_sim_params_validate(params: *const CoifSimParams) 
     })
 }
 
-fn validate_params(p: &CoifSimParams) -> Result<SimParams, CoifStatus> {
+pub(crate) fn validate_params(p: &CoifSimParams) -> Result<SimParams, CoifStatus> {
     let params = SimParams::from(p);
     params.validate()?;
     Ok(params)
@@ -263,26 +396,18 @@ pub unsafe extern "C" fn coif_strands_new(
     out: *mut *mut CoifStrands,
 ) -> CoifStatus {
     guard(|| {
-        if out.is_null() {
-            return Err(CoifStatus::COIF_ERROR_NULL);
+        // SAFETY: `out` is NULL or writable (the caller's contract).
+        unsafe {
+            new_handle(out, || {
+                check_points(xyz, point_count)?;
+                // SAFETY: checked above; the caller guarantees 3 * point_count floats.
+                let pts = points(xyz, point_count);
+                Ok(CoifStrands::new(Strands::from_polylines(
+                    pts,
+                    verts_per_strand,
+                )?))
+            })
         }
-        if !out.is_aligned() {
-            return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
-        }
-        // SAFETY: `out` is not NULL, aligned (checked) and the caller
-        // guarantees it is writable.
-        unsafe { out.write(std::ptr::null_mut()) };
-        check_points(xyz, point_count)?;
-        // SAFETY: checked above; the caller guarantees 3 * point_count floats.
-        let pts = unsafe { points(xyz, point_count) };
-        let strands = Strands::from_polylines(pts, verts_per_strand)?;
-        let handle = Box::new(CoifStrands {
-            strands,
-            spheres: Vec::new(),
-        });
-        // SAFETY: as above, `out` is writable.
-        unsafe { out.write(Box::into_raw(handle)) };
-        Ok(())
     })
 }
 
@@ -293,13 +418,8 @@ pub unsafe extern "C" fn coif_strands_new(
 /// not be used afterwards.
 #[no_mangle]
 pub unsafe extern "C" fn coif_strands_free(s: *mut CoifStrands) {
-    guard_or((), || {
-        if !s.is_null() {
-            // SAFETY: `s` came from `Box::into_raw` in `coif_strands_new` and
-            // is freed once (the caller's contract).
-            drop(unsafe { Box::from_raw(s) });
-        }
-    })
+    // SAFETY: NULL or a handle from coif_strands_new freed once (the caller's contract).
+    unsafe { free_handle(s) }
 }
 
 /// Number of strands in the set (0 for NULL).
@@ -394,33 +514,39 @@ pub unsafe extern "C" fn coif_step(
         // SAFETY: NULL or readable (the caller's contract).
         let p = unsafe { params.as_ref() }.ok_or(CoifStatus::COIF_ERROR_NULL)?;
         let params = validate_params(p)?;
-        let rig: &[CoifSphere] = if sphere_count == 0 {
-            &[]
-        } else {
-            check_slice(spheres, sphere_count)?;
-            // SAFETY: `spheres` is non-NULL, aligned and `sphere_count`
-            // spheres fit in isize::MAX bytes (checked by `check_slice`);
-            // the caller guarantees they are readable and not mutated during
-            // the call.
-            unsafe { std::slice::from_raw_parts(spheres, sphere_count) }
-        };
-        for sphere in rig {
-            if !(sphere.center.iter().all(|c| c.is_finite()) && sphere.radius.is_finite()) {
-                return Err(CoifStatus::COIF_ERROR_NON_FINITE);
-            }
-            if sphere.radius < 0.0 {
-                return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
-            }
-        }
-        // Convert into the handle's scratch: allocates only when it grows.
-        h.spheres.clear();
-        h.spheres.extend(rig.iter().map(|c| Sphere {
-            center: Vec3::from_array(c.center),
-            radius: c.radius,
-        }));
+        // SAFETY: the caller's contract on `spheres`.
+        unsafe { convert_rig(spheres, sphere_count, &mut h.spheres) }?;
         coif_kernels::step(&mut h.strands, &params, &h.spheres);
         Ok(())
     })
+}
+
+/// Checks `count` spheres at `spheres` (finite, radius >= 0) and converts
+/// them into `scratch`, which allocates only when it grows.
+///
+/// # Safety
+/// `spheres` is NULL or points to `count` readable spheres.
+pub(crate) unsafe fn convert_rig(
+    spheres: *const CoifSphere,
+    count: usize,
+    scratch: &mut Vec<Sphere>,
+) -> Result<(), CoifStatus> {
+    // SAFETY: the caller's contract.
+    let rig = unsafe { input(spheres, count) }?;
+    for sphere in rig {
+        if !(sphere.center.iter().all(|c| c.is_finite()) && sphere.radius.is_finite()) {
+            return Err(CoifStatus::COIF_ERROR_NON_FINITE);
+        }
+        if sphere.radius < 0.0 {
+            return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
+        }
+    }
+    scratch.clear();
+    scratch.extend(rig.iter().map(|c| Sphere {
+        center: Vec3::from_array(c.center),
+        radius: c.radius,
+    }));
+    Ok(())
 }
 
 /// Writes every point (strand after strand, root first; 3 floats each,
@@ -522,8 +648,39 @@ pub extern "C" fn coif_status_message(status: CoifStatus) -> *const c_char {
         CoifStatus::COIF_ERROR_BUFFER_TOO_SMALL => c"the output buffer is too small",
         CoifStatus::COIF_ERROR_COUNT_MISMATCH => c"a count does not match the strands",
         CoifStatus::COIF_ERROR_PANIC => c"internal error (panic caught in coif)",
+        CoifStatus::COIF_ERROR_BAD_DATA => {
+            c"malformed data (truncated, lying counts or unknown format)"
+        }
     };
     msg.as_ptr()
+}
+
+/// `coif_status_message` for any integer: the message of the status with
+/// that value, or "unknown status" for a value no `CoifStatus` has (a C
+/// `enum` may hold any `int`, which `coif_status_message` must not be given).
+#[no_mangle]
+pub extern "C" fn coif_status_message_code(code: i32) -> *const c_char {
+    match status_from_code(code) {
+        Some(status) => coif_status_message(status),
+        None => c"unknown status".as_ptr(),
+    }
+}
+
+/// The status whose value is `code`, if there is one.
+fn status_from_code(code: i32) -> Option<CoifStatus> {
+    use CoifStatus as S;
+    [
+        S::COIF_OK,
+        S::COIF_ERROR_NULL,
+        S::COIF_ERROR_INVALID_ARGUMENT,
+        S::COIF_ERROR_NON_FINITE,
+        S::COIF_ERROR_BUFFER_TOO_SMALL,
+        S::COIF_ERROR_COUNT_MISMATCH,
+        S::COIF_ERROR_PANIC,
+        S::COIF_ERROR_BAD_DATA,
+    ]
+    .into_iter()
+    .find(|s| *s as i32 == code)
 }
 
 #[cfg(test)]

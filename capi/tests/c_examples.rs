@@ -1,6 +1,8 @@
-//! Builds `examples/hang.c` (C99) and `examples/hang.cpp` (C++17) against the
-//! static library and the committed header with the system C and C++
-//! compilers, runs them, and checks their exit code and output. Also
+//! Builds `examples/hang.c` and `examples/engine.c` (C99) and
+//! `examples/hang.cpp` (C++17) against the static library and the committed
+//! header with the system C and C++ compilers (`-Wall -Wextra -Werror
+//! -pedantic`), runs them (with the shared groom `sintel_lite.tfx` as
+//! argument when it is there), and checks their exit code and output. Also
 //! compiles the header alone as C99 and as C++17.
 //!
 //! `cargo test -p coif-capi` builds `libcoif_capi.a` (a crate type of this
@@ -64,8 +66,8 @@ fn run(cmd: &mut Command) -> std::process::Output {
 }
 
 /// Compiles `source` with `cc` and `flags`, links the static library, runs
-/// the program and returns its standard output.
-fn build_and_run(cc: &str, flags: &[&str], source: &str, name: &str) -> String {
+/// the program with `args` and returns its standard output.
+fn build_and_run(cc: &str, flags: &[&str], source: &str, name: &str, args: &[PathBuf]) -> String {
     let exe = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
     let include = capi_dir().join("include");
     run(Command::new(cc)
@@ -77,7 +79,7 @@ fn build_and_run(cc: &str, flags: &[&str], source: &str, name: &str) -> String {
         .arg(static_lib())
         .args(["-lm", "-lpthread", "-ldl", "-o"])
         .arg(&exe));
-    let out = run(&mut Command::new(&exe));
+    let out = run(Command::new(&exe).args(args));
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
@@ -86,7 +88,7 @@ fn hang_c_runs_and_passes_its_checks() {
     let Some(cc) = compiler("CC", "cc") else {
         return;
     };
-    let stdout = build_and_run(&cc, &["-std=c99"], "hang.c", "hang_c");
+    let stdout = build_and_run(&cc, &["-std=c99"], "hang.c", "hang_c", &[]);
     assert!(stdout.contains("hang: all checks passed"), "{stdout}");
 }
 
@@ -95,8 +97,39 @@ fn hang_cpp_runs_and_passes_its_checks() {
     let Some(cxx) = compiler("CXX", "c++") else {
         return;
     };
-    let stdout = build_and_run(&cxx, &["-std=c++17"], "hang.cpp", "hang_cpp");
+    let groom: Vec<PathBuf> = coif_testkit::groom_path("sintel_lite.tfx")
+        .into_iter()
+        .collect();
+    let stdout = build_and_run(&cxx, &["-std=c++17"], "hang.cpp", "hang_cpp", &groom);
     assert!(stdout.contains("all checks passed"), "{stdout}");
+    assert!(stdout.contains("render vertices shaded"), "{stdout}");
+    assert!(stdout.contains("hang.cpp: cloth blended"), "{stdout}");
+    if !groom.is_empty() {
+        assert!(
+            stdout.contains("hang.cpp: groom of 228 strands"),
+            "{stdout}"
+        );
+    }
+}
+
+#[test]
+fn engine_c_runs_and_passes_its_checks() {
+    let Some(cc) = compiler("CC", "cc") else {
+        return;
+    };
+    let groom: Vec<PathBuf> = coif_testkit::groom_path("sintel_lite.tfx")
+        .into_iter()
+        .collect();
+    let stdout = build_and_run(&cc, &["-std=c99"], "engine.c", "engine_c", &groom);
+    assert!(stdout.contains("engine: all checks passed"), "{stdout}");
+    assert!(stdout.contains("cloth: 4 x 9 patch, 60 steps"), "{stdout}");
+    if !groom.is_empty() {
+        // sintel_lite: 228 strands of 32 vertices; every 10th is a guide.
+        assert!(
+            stdout.contains("groom: 228 strands, 7296 vertices; 23 guides"),
+            "{stdout}"
+        );
+    }
 }
 
 #[test]

@@ -1,7 +1,10 @@
-//! `coif_step`, `coif_strands_set_roots` and `coif_strands_positions` do not
-//! allocate once the set and its rig are sized: counted by a global
-//! allocator (this test binary holds one test, so nothing else allocates
-//! meanwhile).
+//! The per-frame calls do not allocate once the set, its rig and the
+//! refinement level are sized: `coif_step`, `coif_strands_set_roots`,
+//! `coif_strands_positions`, `coif_refine`, `coif_hairs_distance_lod`,
+//! `coif_hairs_write_vertices`, `coif_shade_kajiya_kay`,
+//! `coif_shade_marschner_lut`, `coif_shade_pbrt_table`, and for cloth `coif_patch_set_skinned`,
+//! `coif_patch_step` and `coif_patch_blended`. Counted by a global allocator (this test
+//! binary holds one test, so nothing else allocates meanwhile).
 
 use coif_capi::*;
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -58,15 +61,93 @@ fn per_frame_calls_do_not_allocate() {
     let params = coif_sim_params_default();
     let mut out = vec![0.0f32; xyz.len()];
     let mut c: *mut CoifStrands = ptr::null_mut();
+    let mut hairs: *mut CoifHairs = ptr::null_mut();
+    let mut lut: *mut CoifMarschnerLut = ptr::null_mut();
+    let mut table: *mut CoifPbrtTable = ptr::null_mut();
+    // Scalp triangles over the 8 x 5 grid of roots.
+    let mut tris = Vec::new();
+    for j in 0..4u32 {
+        for i in 0..7u32 {
+            let k = j * 8 + i;
+            tris.extend([k, k + 1, k + 8, k + 1, k + 9, k + 8]);
+        }
+    }
+    let settings = CoifHairSettings {
+        hairs_per_cm2: 20.0,
+        max_segments_per_span: 8,
+        ..coif_hair_settings_default()
+    };
+    let kk = coif_kajiya_kay_default();
+    let (patch_rows, patch_cols) = (5usize, 9usize);
+    let patch_n = patch_rows * patch_cols;
+    let mut patch_grid: Vec<f32> = (0..patch_n)
+        .flat_map(|k| {
+            [
+                0.02 * (k % patch_cols) as f32,
+                1.5,
+                0.02 * (k / patch_cols) as f32,
+            ]
+        })
+        .collect();
+    let patch_pinned: Vec<u8> = (0..patch_n).map(|k| u8::from(k < patch_cols)).collect();
+    let mut patch_out = vec![0.0f32; 3 * patch_n];
+    let mut patch: *mut CoifPatch = ptr::null_mut();
+    let (light, eye) = ([0.3f32, 1.0, 0.5], [0.0f32, 0.2, 1.0]);
     // SAFETY: every buffer holds what its count says; `c` is live until freed.
     unsafe {
         assert_eq!(
             coif_strands_new(xyz.as_ptr(), STRANDS * VERTS, VERTS, &mut c),
             CoifStatus::COIF_OK
         );
-        // Warm up: the first step with this rig sizes the scratch.
+        assert_eq!(
+            coif_hairs_new(c, tris.as_ptr(), tris.len() / 3, &settings, &mut hairs),
+            CoifStatus::COIF_OK
+        );
+        let lut_params = coif_marschner_params_default();
+        assert_eq!(
+            coif_marschner_lut_new(&lut_params, 16, &mut lut),
+            CoifStatus::COIF_OK
+        );
+        assert_eq!(
+            coif_patch_new(
+                patch_grid.as_ptr(),
+                patch_rows,
+                patch_cols,
+                patch_pinned.as_ptr(),
+                &mut patch
+            ),
+            CoifStatus::COIF_OK
+        );
+        assert_eq!(
+            coif_patch_step(patch, &params, rig.as_ptr(), rig.len()),
+            CoifStatus::COIF_OK
+        );
+        let pbrt_params = coif_pbrt_params_default();
+        assert_eq!(
+            coif_pbrt_table_new(&pbrt_params, 8, &mut table),
+            CoifStatus::COIF_OK
+        );
+        let refined_len = coif_refine_bound(c, 4);
+        let mut refined = vec![0.0f32; 3 * refined_len];
+        let mut tangents = vec![0.0f32; 3 * refined_len];
+        let vertex_len = coif_hairs_vertex_bound(hairs, 8, usize::MAX);
+        assert!(vertex_len > 0);
+        let mut vertices = vec![CoifRenderVertex::default(); vertex_len];
+        let mut rgb = vec![0.0f32; 3 * vertex_len];
+        // Warm up: the first step with this rig sizes the sphere scratch,
+        // the first refinement at the finest level the refinement scratch.
         assert_eq!(
             coif_step(c, &params, rig.as_ptr(), rig.len()),
+            CoifStatus::COIF_OK
+        );
+        assert_eq!(
+            coif_refine(
+                c,
+                4,
+                refined.as_mut_ptr(),
+                tangents.as_mut_ptr(),
+                refined_len
+            ),
             CoifStatus::COIF_OK
         );
         let before = ALLOCATIONS.load(Ordering::Relaxed);
@@ -85,8 +166,76 @@ fn per_frame_calls_do_not_allocate() {
                 coif_strands_positions(c, out.as_mut_ptr(), STRANDS * VERTS),
                 CoifStatus::COIF_OK
             );
+            patch_grid[0] = 0.001 * frame as f32;
+            assert_eq!(
+                coif_patch_set_skinned(patch, patch_grid.as_ptr(), patch_n),
+                CoifStatus::COIF_OK
+            );
+            assert_eq!(
+                coif_patch_step(patch, &params, rig.as_ptr(), rig.len()),
+                CoifStatus::COIF_OK
+            );
+            assert_eq!(
+                coif_patch_blended(patch, patch_out.as_mut_ptr(), patch_n),
+                CoifStatus::COIF_OK
+            );
+            // Coarser levels reuse the refinement scratch.
+            let level = 1 + frame % 4;
+            assert_eq!(
+                coif_refine(
+                    c,
+                    level,
+                    refined.as_mut_ptr(),
+                    tangents.as_mut_ptr(),
+                    refined_len
+                ),
+                CoifStatus::COIF_OK
+            );
+            let (mut groups, mut factor) = (0usize, 0.0f32);
+            assert_eq!(
+                coif_hairs_distance_lod(
+                    hairs,
+                    0.5 + 0.01 * frame as f32,
+                    0.2,
+                    &mut groups,
+                    &mut factor
+                ),
+                CoifStatus::COIF_OK
+            );
+            let mut written = 0usize;
+            assert_eq!(
+                coif_hairs_write_vertices(
+                    hairs,
+                    c,
+                    1 + frame % 8,
+                    groups,
+                    factor,
+                    vertices.as_mut_ptr(),
+                    vertex_len,
+                    &mut written
+                ),
+                CoifStatus::COIF_OK
+            );
+            assert!(written > 0);
+            let (v, l, e, out) = (
+                vertices.as_ptr(),
+                light.as_ptr(),
+                eye.as_ptr(),
+                rgb.as_mut_ptr(),
+            );
+            let statuses = [
+                coif_shade_kajiya_kay(&kk, v, written, l, e, out, vertex_len),
+                coif_shade_marschner_lut(lut, v, written, l, e, out, vertex_len),
+                coif_shade_pbrt_table(table, v, written, l, e, out, vertex_len),
+            ];
+            assert_eq!(statuses, [CoifStatus::COIF_OK; 3]);
         }
         let allocations = ALLOCATIONS.load(Ordering::Relaxed) - before;
+        coif_pbrt_table_free(table);
+        assert!(rgb.iter().all(|c| c.is_finite()) && rgb.iter().any(|&c| c > 0.0));
+        coif_marschner_lut_free(lut);
+        coif_patch_free(patch);
+        coif_hairs_free(hairs);
         coif_strands_free(c);
         assert_eq!(allocations, 0, "per-frame C calls allocated");
     }
