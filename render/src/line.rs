@@ -24,6 +24,7 @@
 use super::Framebuffer;
 use coif_base::lanes::{Lane, V3};
 use glam::Vec3;
+use wide::f32x8;
 
 /// A projected hair vertex: pixel position, view depth, width in pixels and
 /// linear-RGB colour.
@@ -216,7 +217,10 @@ impl Segment {
             return None;
         }
         let [x0, x1, y0, y1] = float_bounds(a, b, width, height);
-        (x0 < x1 && y0 < y1).then(|| [x0 as usize, x1 as usize, y0 as usize, y1 as usize])
+        (x0 < x1 && y0 < y1).then(|| {
+            // Whole numbers in [0, 2^26] (the frame's size): exact as i32.
+            [x0, x1, y0, y1].map(|v| v as i32 as usize)
+        })
     }
 
     /// Sets up segment `a -> b` for a `width x height` frame; `None` when
@@ -259,50 +263,67 @@ impl Segment {
     /// The pixel rectangle `[x0, x1) x [y0, y1)` that can be touched.
     #[inline]
     pub fn bounds(&self) -> [usize; 4] {
+        // Whole numbers in [0, 2^26] (the frame's size): exact as i32.
         [
-            self.x0 as usize,
-            self.x1 as usize,
-            self.y0 as usize,
-            self.y1 as usize,
+            self.x0 as i32 as usize,
+            self.x1 as i32 as usize,
+            self.y0 as i32 as usize,
+            self.y1 as i32 as usize,
         ]
     }
 
     /// The pixels `[xa, xb)` of row `y` that can be touched: inside the
     /// bounds, within the strip's reach of the line (`|dist| <= radius`)
     /// and projecting into the segment (`0 <= t <= 1`). Both slabs are
-    /// linear in x along a row; the range is widened by a pixel and the
-    /// exact per-pixel tests of [`Segment::pixel`] decide. `None` when empty.
+    /// linear in x along a row; the range of pixel centres inside both is
+    /// widened by [`SPAN_MARGIN`] (far more than the rounding of the slab
+    /// ends for on-screen coordinates) and the exact per-pixel tests of
+    /// [`Segment::pixel`] decide. `None` when empty. One lane of
+    /// [`Segment::row_spans`].
     #[inline]
     pub fn row_span(&self, y: usize) -> Option<(usize, usize)> {
+        let (xa, xb) = self.row_spans(y as f32);
+        (xa < xb).then_some((xa as usize, xb as usize))
+    }
+
+    /// [`Segment::row_span`] of the rows `y` (one per lane, whole numbers)
+    /// as floats `(xa, xb)`, both 0 where the span is empty; the scalar and
+    /// eight-lane forms give the same bits.
+    #[inline(always)]
+    pub fn row_spans<T: Rounding>(&self, y: T) -> (T, T) {
         let (a, ex, ey) = (&self.a, self.ex, self.ey);
-        let py = y as f32 + 0.5 - a.y;
-        let (mut lo, mut hi) = (self.x0 - a.x - 0.5, self.x1 - a.x - 0.5);
+        let py = (y + T::splat(0.5)) - T::splat(a.y);
+        let mut lo = T::splat(self.x0 - a.x - 0.5);
+        let mut hi = T::splat(self.x1 - a.x - 0.5);
         // dist = (ex py - ey px) / len within [-radius, radius].
         if ey != 0.0 {
-            let (u, v) = (
-                (ex * py - self.radius_len) * self.inv_ey,
-                (ex * py + self.radius_len) * self.inv_ey,
-            );
+            let exy = T::splat(ex) * py;
+            let u = (exy - T::splat(self.radius_len)) * T::splat(self.inv_ey);
+            let v = (exy + T::splat(self.radius_len)) * T::splat(self.inv_ey);
             lo = lo.max(u.min(v));
             hi = hi.min(u.max(v));
         }
         // t = (ex px + ey py) / len2 within [0, 1].
         if ex != 0.0 {
-            let (u, v) = (-py * ey * self.inv_ex, (self.len2 - py * ey) * self.inv_ex);
+            let pey = py * T::splat(ey);
+            let u = (-py * T::splat(ey)) * T::splat(self.inv_ex);
+            let v = (T::splat(self.len2) - pey) * T::splat(self.inv_ex);
             lo = lo.max(u.min(v));
             hi = hi.min(u.max(v));
         }
-        if lo.is_nan() || hi.is_nan() || lo > hi {
-            return None;
-        }
-        // px = x + 0.5 - a.x.
-        let xa = (lo + a.x - 0.5).floor().max(self.x0);
-        let xb = ((hi + a.x - 0.5).ceil() + 1.0).min(self.x1);
-        (xa < xb).then_some((xa as usize, xb as usize))
+        // px = x + 0.5 - a.x in [lo, hi], widened by SPAN_MARGIN.
+        let xa = ((lo + T::splat(a.x)) - T::splat(0.5 + SPAN_MARGIN))
+            .ceil()
+            .max(T::splat(self.x0));
+        let xb = (((hi + T::splat(a.x)) - T::splat(0.5 - SPAN_MARGIN)).floor() + T::splat(1.0))
+            .min(T::splat(self.x1));
+        let ok = lo.finite() & hi.finite() & !lo.gt(hi) & xa.lt(xb);
+        let zero = T::splat(0.0);
+        (T::select(ok, xa, zero), T::select(ok, xb, zero))
     }
 
-    /// The fragment of the pixels with centres `(xc, y + 0.5)` (`xc =
-    /// x + 0.5` per lane) over stored depths `depth`:
+    /// The fragment of the pixels with centres `(xc, yc)` (`x + 0.5`,
+    /// `y + 0.5` per lane) over stored depths `depth`:
     ///
     /// ```text
     /// t = (px e_x + py e_y) / |e|^2,  dist = (e_x py - e_y px) / |e|,  (px, py) = centre - a
@@ -314,14 +335,14 @@ impl Segment {
     /// `c_a + (c_b - c_a) t`. Plain multiplies and adds in a fixed order
     /// (no fused multiply-add), so every lane width gives the same bits.
     #[inline(always)]
-    pub fn pixel<T: Lane>(&self, xc: T, y: usize, depth: T, opacity: f32) -> Fragment<T> {
+    pub fn pixel<T: Lane>(&self, xc: T, yc: T, depth: T, opacity: f32) -> Fragment<T> {
         let (a, b) = (&self.a, &self.b);
         // 1. Position relative to a; t along the segment.
-        let py = y as f32 + 0.5 - a.y;
+        let py = yc - T::splat(a.y);
         let px = xc - T::splat(a.x);
-        let t = (px * T::splat(self.ex) + T::splat(py * self.ey)) * T::splat(self.inv_len2);
+        let t = (px * T::splat(self.ex) + py * T::splat(self.ey)) * T::splat(self.inv_len2);
         // 2. Signed distance from the line: cross(e, p) / |e|.
-        let dist = (T::splat(self.ex * py) - T::splat(self.ey) * px) * T::splat(self.inv_len);
+        let dist = (T::splat(self.ex) * py - T::splat(self.ey) * px) * T::splat(self.inv_len);
         // 3. Coverage of the strip, width interpolated along it.
         let width = T::splat(a.width_px) + t * T::splat(b.width_px - a.width_px);
         let alpha = coverage_lanes(&self.profile, dist, width) * T::splat(opacity);
@@ -342,6 +363,41 @@ impl Segment {
                 lerp(a.color.z, b.color.z),
             ),
         }
+    }
+}
+
+/// How far (pixels) a row span reaches past the slabs' ends: pixel
+/// centres within this of the exact bounds are tested, so float rounding
+/// of the bounds never drops a covered pixel.
+pub const SPAN_MARGIN: f32 = 1e-2;
+
+/// Lanes that can round to whole numbers (for [`Segment::row_spans`]).
+pub trait Rounding: Lane {
+    /// The largest whole number `<= self`, per lane.
+    fn floor(self) -> Self;
+    /// The smallest whole number `>= self`, per lane.
+    fn ceil(self) -> Self;
+}
+
+impl Rounding for f32 {
+    #[inline(always)]
+    fn floor(self) -> f32 {
+        f32::floor(self)
+    }
+    #[inline(always)]
+    fn ceil(self) -> f32 {
+        f32::ceil(self)
+    }
+}
+
+impl Rounding for f32x8 {
+    #[inline(always)]
+    fn floor(self) -> f32x8 {
+        f32x8::floor(self)
+    }
+    #[inline(always)]
+    fn ceil(self) -> f32x8 {
+        f32x8::ceil(self)
     }
 }
 
@@ -392,7 +448,7 @@ pub fn draw_segment(
         for x in xa..xb {
             let i = row + x;
             let dst = &mut frame.pixels[i];
-            let f = seg.pixel(x as f32 + 0.5, y, dst.depth, opacity);
+            let f = seg.pixel(x as f32 + 0.5, y as f32 + 0.5, dst.depth, opacity);
             if !f.mask {
                 continue;
             }

@@ -351,6 +351,7 @@ impl HairRaster {
         let width = self.width;
         for_each_chunk_mut(executor, &mut frame.pixels, TILE * width, &|ty, band| {
             let rows = band.len() / width;
+            let mut buffer = TileBuffer::zeroed();
             for tx in 0..self.tiles_x {
                 let t = ty * self.tiles_x + tx;
                 let list = &self.bins[self.starts[t] as usize..self.starts[t + 1] as usize];
@@ -366,7 +367,7 @@ impl HairRaster {
                     width,
                     height: self.height,
                 };
-                let mut buffer = TileBuffer::load(band, &area);
+                buffer.load(band, &area);
                 tile(&mut buffer, &area, list, &self.screen, opacity);
                 buffer.store(band, &area);
             }
@@ -402,19 +403,27 @@ pub(crate) struct TileArea {
 }
 
 impl TileArea {
-    /// For each row of the tile crossed by `seg`: `(local row, first and
-    /// end local column)` of [`Segment::row_span`] clipped to the tile.
+    /// The frame rows `[lo, hi)` of the tile that `seg`'s bounds cross.
     #[inline(always)]
-    pub fn spans<'s>(&self, seg: &'s Segment) -> impl Iterator<Item = (usize, usize, usize)> + 's {
+    pub fn rows(&self, seg: &Segment) -> (usize, usize) {
         let [_, _, y0, y1] = seg.bounds();
-        let (lo, hi) = (y0.max(self.y0), y1.min(self.y0 + self.rows));
-        let (x0, x1) = (self.x0, self.x0 + self.columns);
-        let top = self.y0;
-        (lo..hi).filter_map(move |y| {
-            let (xa, xb) = seg.row_span(y)?;
-            let (xa, xb) = (xa.max(x0), xb.min(x1));
-            (xa < xb).then_some((y - top, xa - x0, xb - x0))
-        })
+        (y0.max(self.y0), y1.min(self.y0 + self.rows))
+    }
+
+    /// A row span `[xa, xb)` ([`Segment::row_spans`], frame columns as
+    /// whole floats in `[0, width]`) clipped to the tile, in tile columns;
+    /// `None` when empty.
+    #[inline(always)]
+    pub fn clip(&self, xa: f32, xb: f32) -> Option<(usize, usize)> {
+        self.clip_int(xa as i32, xb as i32)
+    }
+
+    /// [`TileArea::clip`] of a span already in whole numbers.
+    #[inline(always)]
+    pub fn clip_int(&self, xa: i32, xb: i32) -> Option<(usize, usize)> {
+        let x0 = self.x0 as i32;
+        let (xa, xb) = ((xa - x0).max(0), (xb - x0).min(self.columns as i32));
+        (xa < xb).then_some((xa as usize, xb as usize))
     }
 }
 
@@ -430,20 +439,24 @@ pub(crate) struct TileBuffer {
 }
 
 impl TileBuffer {
-    /// Copies the tile's pixels out of its band of rows.
-    #[inline]
-    fn load(band: &[Pixel], area: &TileArea) -> TileBuffer {
-        let mut t = TileBuffer {
+    /// A buffer of zeros (one per task, reused for its tiles).
+    fn zeroed() -> TileBuffer {
+        TileBuffer {
             r: [f32x8::ZERO; TILE_GROUPS],
             g: [f32x8::ZERO; TILE_GROUPS],
             b: [f32x8::ZERO; TILE_GROUPS],
             depth: [f32x8::ZERO; TILE_GROUPS],
-        };
+        }
+    }
+
+    /// Copies the tile's pixels out of its band of rows.
+    #[inline]
+    fn load(&mut self, band: &[Pixel], area: &TileArea) {
         let planes: [&mut [f32]; 4] = [
-            bytemuck::cast_slice_mut(&mut t.r),
-            bytemuck::cast_slice_mut(&mut t.g),
-            bytemuck::cast_slice_mut(&mut t.b),
-            bytemuck::cast_slice_mut(&mut t.depth),
+            bytemuck::cast_slice_mut(&mut self.r),
+            bytemuck::cast_slice_mut(&mut self.g),
+            bytemuck::cast_slice_mut(&mut self.b),
+            bytemuck::cast_slice_mut(&mut self.depth),
         ];
         let [r, g, b, depth] = planes;
         for y in 0..area.rows {
@@ -456,7 +469,6 @@ impl TileBuffer {
                 depth[at + x] = p.depth;
             }
         }
-        t
     }
 
     /// Copies the tile's colours back into its band of rows.
@@ -513,9 +525,56 @@ pub fn project(camera: &Camera, v: &ShadedVertex) -> ScreenVertex {
 /// Lane `l` holds `l as f32`.
 const LANE_INDEX: f32x8 = f32x8::new([0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
 
+/// Up to eight pixels of one segment gathered into lanes: their centres,
+/// their index in the tile and the stored depths.
+struct Lanes {
+    xc: [f32; 8],
+    yc: [f32; 8],
+    index: [u32; 8],
+    depth: [f32; 8],
+    len: usize,
+}
+
+impl Lanes {
+    /// 5d. The fragments of the gathered pixels, eight at a time; then the
+    /// blend of each drawn lane, in lane order (the pixels are distinct).
+    #[inline(always)]
+    fn flush(&mut self, seg: &Segment, planes: [&mut [f32]; 3], opacity: f32) {
+        let f = seg.pixel(
+            f32x8::new(self.xc),
+            f32x8::new(self.yc),
+            f32x8::new(self.depth),
+            opacity,
+        );
+        let live = f.mask & LANE_INDEX.simd_lt(f32x8::splat(self.len as f32));
+        let mut bits = live.to_bitmask();
+        self.len = 0;
+        if bits == 0 {
+            return;
+        }
+        let (alpha, r, g, b) = (
+            f.alpha.to_array(),
+            f.color.x.to_array(),
+            f.color.y.to_array(),
+            f.color.z.to_array(),
+        );
+        let [tr, tg, tb] = planes;
+        while bits != 0 {
+            let l = bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            let i = self.index[l] as usize;
+            tr[i] = blend(tr[i], r[l], alpha[l]);
+            tg[i] = blend(tg[i], g[l], alpha[l]);
+            tb[i] = blend(tb[i], b[l], alpha[l]);
+        }
+    }
+}
+
 /// Step 5 for one tile, eight pixels at a time: every segment of `list`
-/// in order, each row of it a run of `f32x8` groups, lanes outside the
-/// row's span masked off.
+/// in order; the pixels of its row spans are packed eight to a register
+/// (a thin segment has a few pixels per row: rows of eight would leave
+/// most lanes idle), their fragments computed together, the drawn ones
+/// blended.
 fn draw_tile(
     tile: &mut TileBuffer,
     area: &TileArea,
@@ -523,29 +582,56 @@ fn draw_tile(
     screen: &[ScreenVertex],
     opacity: f32,
 ) {
+    let mut lanes = Lanes {
+        xc: [0.0; 8],
+        yc: [0.0; 8],
+        index: [0; 8],
+        depth: [0.0; 8],
+        len: 0,
+    };
+    let TileBuffer { r, g, b, depth } = tile;
+    let depth: &[f32] = bytemuck::cast_slice(&depth[..]);
+    let r: &mut [f32] = bytemuck::cast_slice_mut(&mut r[..]);
+    let g: &mut [f32] = bytemuck::cast_slice_mut(&mut g[..]);
+    let b: &mut [f32] = bytemuck::cast_slice_mut(&mut b[..]);
     for &k in list {
         let k = k as usize;
         // 5a. Set up the segment (its list entry guarantees it draws).
         let Some(seg) = Segment::new(&screen[k], &screen[k + 1], area.width, area.height) else {
             continue;
         };
-        for (ly, xa, xb) in area.spans(&seg) {
-            let y = area.y0 + ly;
-            // 5b. The groups of eight covering [xa, xb).
-            for group in xa / 8..xb.div_ceil(8) {
-                let first = group * 8;
-                let lane = LANE_INDEX + f32x8::splat(first as f32);
-                let inside = !lane.simd_lt(f32x8::splat(xa as f32))
-                    & lane.simd_lt(f32x8::splat(xb as f32));
-                let i = ly * (TILE / 8) + group;
-                // 5c. The fragment and the blend, in the lanes drawn.
-                let xc = lane + f32x8::splat((area.x0 as f32) + 0.5);
-                let f = seg.pixel(xc, y, tile.depth[i], opacity);
-                let m = f.mask & inside;
-                tile.r[i] = m.select(blend(tile.r[i], f.color.x, f.alpha), tile.r[i]);
-                tile.g[i] = m.select(blend(tile.g[i], f.color.y, f.alpha), tile.g[i]);
-                tile.b[i] = m.select(blend(tile.b[i], f.color.z, f.alpha), tile.b[i]);
+        // 5b. The row spans, eight rows at a time.
+        let (lo, hi) = area.rows(&seg);
+        let mut first_row = lo;
+        while first_row < hi {
+            let (xa8, xb8) = seg.row_spans(LANE_INDEX + f32x8::splat(first_row as f32));
+            let (xa8, xb8) = (xa8.trunc_int().to_array(), xb8.trunc_int().to_array());
+            for row in 0..(hi - first_row).min(8) {
+                let Some((xa, xb)) = area.clip_int(xa8[row], xb8[row]) else {
+                    continue;
+                };
+                let y = first_row + row;
+                let at = (y - area.y0) * TILE;
+                let yc = y as f32 + 0.5;
+                let mut xc = (area.x0 + xa) as f32 + 0.5;
+                // 5c. Each pixel of [xa, xb) into the next lane.
+                for (x, &d) in depth[at..at + TILE].iter().enumerate().take(xb).skip(xa) {
+                    let l = lanes.len & 7;
+                    lanes.xc[l] = xc;
+                    lanes.yc[l] = yc;
+                    lanes.index[l] = (at + x) as u32;
+                    lanes.depth[l] = d;
+                    lanes.len = l + 1;
+                    xc += 1.0;
+                    if lanes.len == 8 {
+                        lanes.flush(&seg, [&mut *r, &mut *g, &mut *b], opacity);
+                    }
+                }
             }
+            first_row += 8;
+        }
+        if lanes.len > 0 {
+            lanes.flush(&seg, [&mut *r, &mut *g, &mut *b], opacity);
         }
     }
 }

@@ -47,14 +47,21 @@ fn draw_tile(
         let Some(seg) = Segment::new(&screen[k], &screen[k + 1], area.width, area.height) else {
             continue;
         };
-        for (ly, xa, xb) in area.spans(&seg) {
-            let y = area.y0 + ly;
-            // 5b. The pixels of [xa, xb).
+        // 5b. The row spans, one row at a time.
+        let (lo, hi) = area.rows(&seg);
+        for y in lo..hi {
+            let (xa, xb) = seg.row_spans(y as f32);
+            let Some((xa, xb)) = area.clip(xa, xb) else {
+                continue;
+            };
+            let ly = y - area.y0;
+            // 5c. The pixels of [xa, xb).
             for x in xa..xb {
                 let (i, l) = ((ly * TILE + x) / 8, x % 8);
-                // 5c. The fragment and the blend.
+                // 5d. The fragment and the blend.
                 let xc = (area.x0 + x) as f32 + 0.5;
-                let f = seg.pixel(xc, y, tile.depth[i].as_array()[l], opacity);
+                let yc = y as f32 + 0.5;
+                let f = seg.pixel(xc, yc, tile.depth[i].as_array()[l], opacity);
                 if f.mask {
                     let r = &mut tile.r[i].as_mut_array()[l];
                     *r = blend(*r, f.color.x, f.alpha);
