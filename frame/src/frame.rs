@@ -11,8 +11,8 @@ use coif_lod::{
     Visibility,
 };
 use coif_render::head::{draw_spheres, occluded, HeadShading};
-use coif_render::sort::DepthOrder;
 use coif_render::raster::HairRaster;
+use coif_render::sort::DepthOrder;
 use coif_render::{Camera, Framebuffer, RgbImage, ShadedVertex};
 use coif_shading::{RgbBuffer, ShadingSamples};
 use glam::{Affine3A, Vec3};
@@ -561,7 +561,11 @@ impl FramePipeline {
     fn sort_hair(&mut self, camera: &Camera) {
         let verts_per_hair = self.verts_per_hair();
         let n = self.vertex_count;
-        for (k, (dst, v)) in self.shaded[..n].iter_mut().zip(&self.vertices[..n]).enumerate() {
+        for (k, (dst, v)) in self.shaded[..n]
+            .iter_mut()
+            .zip(&self.vertices[..n])
+            .enumerate()
+        {
             *dst = ShadedVertex {
                 position: v.position,
                 width: v.width,

@@ -63,9 +63,17 @@ pub fn occluded(p: Vec3, to_light: Vec3, spheres: &[Sphere], epsilon: f32) -> bo
 /// projection of a convex body in front of the eye lies inside the hull of
 /// its projected corners), grown by a pixel; the whole frame when a corner
 /// is behind the eye or not finite.
-pub fn screen_bounds(camera: &Camera, spheres: &[Sphere], width: usize, height: usize) -> [usize; 4] {
+pub fn screen_bounds(
+    camera: &Camera,
+    spheres: &[Sphere],
+    width: usize,
+    height: usize,
+) -> [usize; 4] {
     let whole = [0, width, 0, height];
-    let (mut lo, mut hi) = (glam::Vec2::splat(f32::INFINITY), glam::Vec2::splat(f32::NEG_INFINITY));
+    let (mut lo, mut hi) = (
+        glam::Vec2::splat(f32::INFINITY),
+        glam::Vec2::splat(f32::NEG_INFINITY),
+    );
     for s in spheres {
         for k in 0..8 {
             let corner = Vec3::new(
@@ -158,12 +166,18 @@ mod tests {
             },
         ];
         let [x0, x1, y0, y1] = screen_bounds(&camera, &spheres, 120, 90);
-        assert!(x0 > 0 && x1 < 120 && y0 > 0 && y1 < 90, "{x0} {x1} {y0} {y1}");
+        assert!(
+            x0 > 0 && x1 < 120 && y0 > 0 && y1 < 90,
+            "{x0} {x1} {y0} {y1}"
+        );
         let mut hits = 0;
         for y in 0..90 {
             for x in 0..120 {
                 let dir = camera.ray_direction(x as f32 + 0.5, y as f32 + 0.5);
-                if spheres.iter().any(|s| ray_sphere(camera.eye(), dir, s).is_some()) {
+                if spheres
+                    .iter()
+                    .any(|s| ray_sphere(camera.eye(), dir, s).is_some())
+                {
                     hits += 1;
                     assert!((x0..x1).contains(&x) && (y0..y1).contains(&y), "({x}, {y})");
                 }

@@ -140,7 +140,9 @@ fn centred_cumulative<T: Lane>(profile: &PixelProfile, x: T) -> T {
         .min(T::splat(profile.ramp));
     // 2. S(a) = H min(a, p) + (H r / 2 - (H / (2 r)) q q)
     let ramp = T::splat(profile.ramp_area) - (T::splat(profile.ramp_curve) * q) * q;
-    let s = a.min(T::splat(profile.plateau)).mul_add(T::splat(profile.height), ramp);
+    let s = a
+        .min(T::splat(profile.plateau))
+        .mul_add(T::splat(profile.height), ramp);
     // 3. The sign of x.
     T::select(x.lt(T::splat(0.0)), -s, s)
 }
@@ -348,10 +350,8 @@ impl Segment {
         let alpha = coverage_lanes(&self.profile, dist, width) * T::splat(opacity);
         // 4. Depth test against the opaque surfaces.
         let z = T::splat(a.depth) + t * T::splat(b.depth - a.depth);
-        let mask = !t.lt(T::splat(0.0))
-            & t.lt(T::splat(1.0))
-            & alpha.gt(T::splat(0.0))
-            & z.lt(depth);
+        let mask =
+            !t.lt(T::splat(0.0)) & t.lt(T::splat(1.0)) & alpha.gt(T::splat(0.0)) & z.lt(depth);
         // 5. Colour along the segment.
         let lerp = |ca: f32, cb: f32| T::splat(ca) + T::splat(cb - ca) * t;
         Fragment {

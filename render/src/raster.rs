@@ -44,7 +44,7 @@
 //! frames agree bit for bit (the tests compare them on the default scene).
 
 use super::hair::NEAR;
-use super::line::{blend, Segment, ScreenVertex};
+use super::line::{blend, ScreenVertex, Segment};
 use super::sort::DepthOrder;
 use super::{Camera, Framebuffer, Pixel, ShadedVertex};
 use coif_base::tasks::{for_each_chunk_mut, Executor};
@@ -135,8 +135,7 @@ impl HairRaster {
         bin_capacity: usize,
     ) -> Result<HairRaster, Error> {
         let (tiles_x, tiles_y) = (width.div_ceil(TILE), height.div_ceil(TILE));
-        if width == 0 || height == 0 || tiles_x > u16::MAX as usize || tiles_y > u16::MAX as usize
-        {
+        if width == 0 || height == 0 || tiles_x > u16::MAX as usize || tiles_y > u16::MAX as usize {
             return Err(Error::Size { width, height });
         }
         let tiles = tiles_x * tiles_y;

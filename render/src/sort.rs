@@ -150,7 +150,11 @@ impl DepthOrder {
     fn radix_sort(&mut self) {
         let descending = |d: f32| {
             let bits = d.to_bits();
-            !(if bits >> 31 == 1 { !bits } else { bits | 1 << 31 })
+            !(if bits >> 31 == 1 {
+                !bits
+            } else {
+                bits | 1 << 31
+            })
         };
         self.radix.clear();
         self.radix

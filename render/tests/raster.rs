@@ -46,7 +46,14 @@ unsafe impl Executor for TwoThreads {
 }
 
 fn camera() -> Camera {
-    Camera::look_at(Vec3::new(0.0, 0.0, 1.0), Vec3::ZERO, Vec3::Y, 0.6, SIZE, SIZE)
+    Camera::look_at(
+        Vec3::new(0.0, 0.0, 1.0),
+        Vec3::ZERO,
+        Vec3::Y,
+        0.6,
+        SIZE,
+        SIZE,
+    )
 }
 
 /// Hair-like strands of `vps` vertices hanging around the origin (lengths
@@ -62,7 +69,11 @@ fn strands(count: usize, vps: usize, seed: u64) -> Vec<ShadedVertex> {
         );
         let mut dir = Vec3::new(rng.range(-0.3, 0.3), -1.0, rng.range(-0.3, 0.3)).normalize();
         let width = rng.range(0.3e-3, 4e-3);
-        let color = Vec3::new(rng.range(0.1, 0.9), rng.range(0.1, 0.6), rng.range(0.0, 0.3));
+        let color = Vec3::new(
+            rng.range(0.1, 0.9),
+            rng.range(0.1, 0.6),
+            rng.range(0.0, 0.3),
+        );
         for k in 0..vps {
             out.push(ShadedVertex {
                 position: p.into(),
@@ -127,7 +138,9 @@ fn binned(
     let n = if simd {
         raster.draw(&mut frame, &cam, vertices, vps, order, 0.8, executor)
     } else {
-        scalar::draw(raster, &mut frame, &cam, vertices, vps, order, 0.8, executor)
+        scalar::draw(
+            raster, &mut frame, &cam, vertices, vps, order, 0.8, executor,
+        )
     };
     (frame, n)
 }
@@ -165,7 +178,10 @@ fn binned_simd_scalar_and_reference_agree_bit_for_bit() {
         .zip(&backdrop().pixels)
         .filter(|(p, q)| p.color != q.color)
         .count();
-    assert!(changed > SIZE * SIZE / 4, "the hair covers {changed} pixels");
+    assert!(
+        changed > SIZE * SIZE / 4,
+        "the hair covers {changed} pixels"
+    );
     let mut raster = HairRaster::new(SIZE, SIZE, vertices.len()).unwrap();
     for simd in [true, false] {
         for (executor, name) in [
@@ -228,7 +244,10 @@ fn bad_vertices_are_skipped_without_touching_other_strands() {
         poison(&mut v[17 * vps + 5]);
         for simd in [true, false] {
             let (got, _) = binned(&mut raster, &v, vps, &order, simd, &Serial);
-            assert!(got.pixels.iter().all(|p| p.color.is_finite()), "case {case}");
+            assert!(
+                got.pixels.iter().all(|p| p.color.is_finite()),
+                "case {case}"
+            );
             assert_same(&got, &without, &format!("case {case}, simd {simd}"));
         }
     }
