@@ -509,7 +509,7 @@ pub fn project(camera: &Camera, v: &ShadedVertex) -> ScreenVertex {
     };
     let color = Vec3::from(v.color);
     let width_px = v.width * camera.pixels_per_metre(1.0) / p.z;
-    if !color.is_finite() || !(width_px.is_finite() && width_px >= 0.0) {
+    if !(color.is_finite() && width_px.is_finite() && width_px >= 0.0) {
         return invalid;
     }
     ScreenVertex {
