@@ -1,4 +1,4 @@
-//! The hair rasteriser: the direct reference (`hair::draw_strands`) against
+//! The hair rasteriser: the direct reference (`hair::draw_shaded`) against
 //! the binned rasteriser (`raster::HairRaster::draw`, SIMD) and its scalar
 //! twin (`scalar::draw`), in ns per segment (elements = segments drawn).
 //!
@@ -19,20 +19,16 @@ use coif::base::tasks::Serial;
 use coif::frame::{motion, FramePipeline, FrameSettings, HairScene};
 use coif::geometry::scene::GrowOptions;
 use coif::kernels::rng::SplitMix64;
-use coif::lod::RenderVertex;
 use coif::render::raster::HairRaster;
 use coif::render::sort::DepthOrder;
 use coif::render::{hair, scalar, Camera, Framebuffer, ShadedVertex};
-use coif::shading::RgbBuffer;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::Vec3;
 
-/// One scene to draw: camera, vertices in both forms, order, backdrop.
+/// One scene to draw: camera, vertices, order, backdrop.
 struct Scene {
     camera: Camera,
     shaded: Vec<ShadedVertex>,
-    render: Vec<RenderVertex>,
-    colors: RgbBuffer,
     vps: usize,
     order: DepthOrder,
     backdrop: Framebuffer,
@@ -40,26 +36,11 @@ struct Scene {
 
 impl Scene {
     fn new(camera: Camera, shaded: Vec<ShadedVertex>, vps: usize, backdrop: Framebuffer) -> Scene {
-        let render = shaded
-            .iter()
-            .map(|v| RenderVertex {
-                position: v.position,
-                width: v.width,
-                tangent: [0.0, 1.0, 0.0],
-                strand_parameter: v.strand_parameter,
-            })
-            .collect();
-        let mut colors = RgbBuffer::zeros(shaded.len());
-        for (k, v) in shaded.iter().enumerate() {
-            colors.set(k, Vec3::from(v.color));
-        }
         let mut order = DepthOrder::with_capacity(shaded.len() / vps);
         order.sort(&camera, &shaded, vps);
         Scene {
             camera,
             shaded,
-            render,
-            colors,
             vps,
             order,
             backdrop,
@@ -68,11 +49,10 @@ impl Scene {
 
     fn reference(&self, frame: &mut Framebuffer) -> usize {
         frame.pixels.copy_from_slice(&self.backdrop.pixels);
-        hair::draw_strands(
+        hair::draw_shaded(
             frame,
             &self.camera,
-            &self.render,
-            &self.colors,
+            &self.shaded,
             self.vps,
             &self.order,
             0.8,

@@ -188,3 +188,44 @@ impl DepthOrder {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use coif_base::SplitMix64;
+
+    #[test]
+    fn the_radix_sort_gives_the_comparison_sorts_order() {
+        let mut rng = SplitMix64::new(17);
+        // Ties (a few distinct depths), signed zeros, negative depths,
+        // infinities and NaN (sorted as farthest).
+        let special = [
+            0.0f32,
+            -0.0,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            -1.5,
+            1e-30,
+        ];
+        let depths: Vec<f32> = (0..5000)
+            .map(|k| match k % 5 {
+                0 => special[(k / 5) % special.len()],
+                1 => (rng.range(0.0, 8.0)).floor() * 0.25,
+                _ => rng.range(-3.0, 3.0),
+            })
+            .collect();
+        let mut radix = DepthOrder::with_capacity(depths.len());
+        radix.sort_by_depths(depths.iter().copied());
+        assert!(radix.len() >= RADIX_FROM, "the radix path ran");
+        let mut comparison = DepthOrder::with_capacity(depths.len());
+        comparison.sort_by_depths(depths.iter().copied());
+        comparison.comparison_sort();
+        assert_eq!(radix.keys.len(), comparison.keys.len());
+        for (a, b) in radix.keys.iter().zip(&comparison.keys) {
+            assert_eq!((a.0.to_bits(), a.1), (b.0.to_bits(), b.1));
+        }
+        // Farthest first: the NaN and +inf strands lead.
+        assert!(radix.keys[0].0 == f32::INFINITY);
+    }
+}

@@ -151,6 +151,17 @@ fn sorted(vertices: &[ShadedVertex], vps: usize) -> DepthOrder {
     order
 }
 
+/// Pixels whose colour differs from the backdrop's.
+fn changed_pixels(frame: &Framebuffer) -> usize {
+    let back = backdrop();
+    frame
+        .pixels
+        .iter()
+        .zip(&back.pixels)
+        .filter(|(p, q)| p.color != q.color)
+        .count()
+}
+
 /// Bit-for-bit equality of two frames' colours, with the first difference.
 fn assert_same(a: &Framebuffer, b: &Framebuffer, what: &str) {
     for (i, (p, q)) in a.pixels.iter().zip(&b.pixels).enumerate() {
@@ -172,16 +183,19 @@ fn binned_simd_scalar_and_reference_agree_bit_for_bit() {
     let order = sorted(&vertices, vps);
     let (want, n) = reference(&vertices, vps, &order);
     assert!(n > 10_000, "{n} segments");
-    let changed = want
-        .pixels
-        .iter()
-        .zip(&backdrop().pixels)
-        .filter(|(p, q)| p.color != q.color)
-        .count();
+    let changed = changed_pixels(&want);
     assert!(
         changed > SIZE * SIZE / 4,
         "the hair covers {changed} pixels"
     );
+    // The reference over shaded vertices is the same function.
+    let mut shaded = backdrop();
+    let cam = camera();
+    assert_eq!(
+        hair::draw_shaded(&mut shaded, &cam, &vertices, vps, &order, 0.8),
+        n
+    );
+    assert_same(&shaded, &want, "draw_shaded");
     let mut raster = HairRaster::new(SIZE, SIZE, vertices.len()).unwrap();
     for simd in [true, false] {
         for (executor, name) in [
@@ -285,12 +299,7 @@ fn extreme_segments_match_the_reference() {
         assert_same(&got, &want, &format!("simd {simd}"));
     }
     // The wide segment covers thousands of pixels over several tiles.
-    let changed = want
-        .pixels
-        .iter()
-        .zip(&backdrop().pixels)
-        .filter(|(p, q)| p.color != q.color)
-        .count();
+    let changed = changed_pixels(&want);
     assert!(changed > 1000, "{changed} pixels drawn");
     assert!(raster.stats().entries >= 9, "{:?}", raster.stats());
 }
