@@ -11,8 +11,9 @@ use coif_lod::{
     Visibility,
 };
 use coif_render::head::{draw_spheres, occluded, HeadShading};
+use coif_render::raster::HairRaster;
 use coif_render::sort::DepthOrder;
-use coif_render::{hair, Camera, Framebuffer, RgbImage};
+use coif_render::{Camera, Framebuffer, RgbImage, ShadedVertex};
 use coif_shading::{RgbBuffer, ShadingSamples};
 use glam::{Affine3A, Vec3};
 use std::time::Instant;
@@ -201,6 +202,10 @@ pub struct FramePipeline {
     camera: Camera,
     framebuffer: Framebuffer,
     order: DepthOrder,
+    /// The render vertices with their final colours, as the rasteriser
+    /// reads them (filled by `sort_hair` until the prepare pass writes them).
+    shaded: Vec<ShadedVertex>,
+    raster: HairRaster,
     timings: StageTimings,
     stats: FrameStats,
 }
@@ -243,6 +248,12 @@ impl FramePipeline {
         let render_width = render_width(&settings);
         let shader = Shader::new(settings.shading)?;
         let shadow = ShadowStage::new(&settings, capacity)?;
+        let raster = HairRaster::new(settings.width, settings.height, capacity).map_err(|_| {
+            Error::Setting {
+                name: "width x height",
+                expected: "at most 2,097,120 pixels per side",
+            }
+        })?;
         Ok(FramePipeline {
             rest_rig: scene.rig.clone(),
             rest_head: scene.head.clone(),
@@ -272,6 +283,8 @@ impl FramePipeline {
             shadow,
             camera,
             framebuffer: Framebuffer::new(settings.width, settings.height),
+            shaded: vec![ShadedVertex::default(); capacity],
+            raster,
             settings,
             timings: StageTimings::default(),
             stats: FrameStats::default(),
@@ -542,25 +555,39 @@ impl FramePipeline {
         self.stats.ribbon_pixels = self.ribbons.draw(&mut self.framebuffer, camera);
     }
 
-    /// Stage [`Stage::Sort`]: render hairs back to front.
+    /// Stage [`Stage::Sort`]: the render vertices and their colours as
+    /// [`ShadedVertex`]es (a copy into a buffer sized once, until the
+    /// prepare pass writes them directly), then render hairs back to front.
     fn sort_hair(&mut self, camera: &Camera) {
         let verts_per_hair = self.verts_per_hair();
-        self.order
-            .sort(camera, &self.vertices[..self.vertex_count], verts_per_hair);
+        let n = self.vertex_count;
+        for (k, (dst, v)) in self.shaded[..n]
+            .iter_mut()
+            .zip(&self.vertices[..n])
+            .enumerate()
+        {
+            *dst = ShadedVertex {
+                position: v.position,
+                width: v.width,
+                color: self.colors.get(k).into(),
+                strand_parameter: v.strand_parameter,
+            };
+        }
+        self.order.sort(camera, &self.shaded[..n], verts_per_hair);
     }
 
     /// Stage [`Stage::Hair`]: the hair's anti-aliased segments, blended in
-    /// the sorted order.
+    /// the sorted order by the binned rasteriser (`coif_render::raster`).
     fn draw_hair(&mut self, camera: &Camera) {
         let verts_per_hair = self.verts_per_hair();
-        self.stats.segments = hair::draw_strands(
+        self.stats.segments = self.raster.draw(
             &mut self.framebuffer,
             camera,
-            &self.vertices[..self.vertex_count],
-            &self.colors,
+            &self.shaded[..self.vertex_count],
             verts_per_hair,
             &self.order,
             self.settings.hair_opacity,
+            &coif_base::tasks::Serial,
         );
     }
 

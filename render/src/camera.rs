@@ -84,6 +84,11 @@ impl Camera {
         self.target
     }
 
+    /// The up direction the camera was built with (not necessarily unit).
+    pub fn up(&self) -> Vec3 {
+        self.up
+    }
+
     /// Unit view direction, eye toward target.
     pub fn forward(&self) -> Vec3 {
         self.forward

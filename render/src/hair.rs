@@ -2,7 +2,7 @@
 
 use super::line::{draw_segment, ScreenVertex};
 use super::sort::DepthOrder;
-use super::{Camera, Framebuffer};
+use super::{raster, Camera, Framebuffer, ShadedVertex};
 use coif_lod::RenderVertex;
 use coif_shading::RgbBuffer;
 use glam::Vec3;
@@ -25,10 +25,6 @@ pub fn draw_strands(
     order: &DepthOrder,
     opacity: f32,
 ) -> usize {
-    if verts_per_strand < 2 {
-        return 0;
-    }
-    let mut drawn = 0;
     let ppm_at_unit_depth = camera.pixels_per_metre(1.0);
     let project = |k: usize| -> Option<ScreenVertex> {
         let v = vertices.get(k)?;
@@ -46,9 +42,59 @@ pub fn draw_strands(
             color,
         })
     };
+    draw_projected(
+        frame,
+        project,
+        vertices.len(),
+        verts_per_strand,
+        order,
+        opacity,
+    )
+}
+
+/// [`draw_strands`] over [`ShadedVertex`]es (colour in the vertex), with
+/// the binned rasteriser's projection ([`crate::raster::project`]: a
+/// vertex with a non-finite or negative width is skipped too): the direct
+/// reference the binned rasteriser is compared with.
+pub fn draw_shaded(
+    frame: &mut Framebuffer,
+    camera: &Camera,
+    vertices: &[ShadedVertex],
+    verts_per_strand: usize,
+    order: &DepthOrder,
+    opacity: f32,
+) -> usize {
+    let project = |k: usize| -> Option<ScreenVertex> {
+        let v = raster::project(camera, vertices.get(k)?);
+        (!v.depth.is_nan()).then_some(v)
+    };
+    draw_projected(
+        frame,
+        project,
+        vertices.len(),
+        verts_per_strand,
+        order,
+        opacity,
+    )
+}
+
+/// The strands' segments in `order`, each vertex from `project` (`None`:
+/// skipped with its two segments), each segment by [`draw_segment`].
+fn draw_projected(
+    frame: &mut Framebuffer,
+    project: impl Fn(usize) -> Option<ScreenVertex>,
+    len: usize,
+    verts_per_strand: usize,
+    order: &DepthOrder,
+    opacity: f32,
+) -> usize {
+    if verts_per_strand < 2 {
+        return 0;
+    }
+    let mut drawn = 0;
     for s in order.strands() {
         let base = s * verts_per_strand;
-        if base + verts_per_strand > vertices.len() {
+        if base + verts_per_strand > len {
             continue;
         }
         let mut prev = project(base);

@@ -57,11 +57,55 @@ pub fn occluded(p: Vec3, to_light: Vec3, spheres: &[Sphere], epsilon: f32) -> bo
     })
 }
 
+/// Pixels `[x0, x1) x [y0, y1)` outside which no ray through a pixel
+/// centre meets any of `spheres`: the box of the projected corners of each
+/// sphere's bounding cube (a sphere lies inside its cube, and the
+/// projection of a convex body in front of the eye lies inside the hull of
+/// its projected corners), grown by a pixel; the whole frame when a corner
+/// is behind the eye or not finite.
+pub fn screen_bounds(
+    camera: &Camera,
+    spheres: &[Sphere],
+    width: usize,
+    height: usize,
+) -> [usize; 4] {
+    let whole = [0, width, 0, height];
+    let (mut lo, mut hi) = (
+        glam::Vec2::splat(f32::INFINITY),
+        glam::Vec2::splat(f32::NEG_INFINITY),
+    );
+    for s in spheres {
+        for k in 0..8 {
+            let corner = Vec3::new(
+                if k & 1 == 0 { -1.0 } else { 1.0 },
+                if k & 2 == 0 { -1.0 } else { 1.0 },
+                if k & 4 == 0 { -1.0 } else { 1.0 },
+            );
+            let Some(p) = camera.project(s.center + corner * s.radius, 1e-6) else {
+                return whole;
+            };
+            lo = lo.min(p.truncate());
+            hi = hi.max(p.truncate());
+        }
+    }
+    if spheres.is_empty() {
+        return [0, 0, 0, 0];
+    }
+    let clamp = |v: f32, max: usize| v.clamp(0.0, max as f32) as usize;
+    [
+        clamp(lo.x.floor() - 1.0, width),
+        clamp(hi.x.ceil() + 1.0, width),
+        clamp(lo.y.floor() - 1.0, height),
+        clamp(hi.y.ceil() + 1.0, height),
+    ]
+}
+
 /// Ray-casts `spheres` (the head rig near the hair, in the camera's space)
 /// over the whole frame: where a ray hits, writes the Lambert-lit colour and
 /// the hit's view depth; `transmittance(p)` gives the light's visibility at
 /// hit point `p` (hair shadow), and other spheres' shadows are added by
-/// [`occluded`]. Returns the number of pixels covered.
+/// [`occluded`]. Only the pixels inside [`screen_bounds`] are cast.
+/// Returns the number of pixels covered.
 pub fn draw_spheres(
     frame: &mut Framebuffer,
     camera: &Camera,
@@ -72,8 +116,9 @@ pub fn draw_spheres(
     let eye = camera.eye();
     let forward = camera.forward();
     let mut covered = 0;
-    for y in 0..frame.height() {
-        for x in 0..frame.width() {
+    let [x0, x1, y0, y1] = screen_bounds(camera, spheres, frame.width(), frame.height());
+    for y in y0..y1 {
+        for x in x0..x1 {
             let dir = camera.ray_direction(x as f32 + 0.5, y as f32 + 0.5);
             let mut best: Option<(f32, usize)> = None;
             for (k, s) in spheres.iter().enumerate() {
@@ -106,6 +151,46 @@ pub fn draw_spheres(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn no_ray_outside_the_screen_bounds_hits_a_sphere() {
+        let camera = Camera::look_at(Vec3::new(0.3, 0.1, 1.0), Vec3::ZERO, Vec3::Y, 0.7, 120, 90);
+        let spheres = [
+            Sphere {
+                center: Vec3::new(0.05, 0.0, 0.0),
+                radius: 0.1,
+            },
+            Sphere {
+                center: Vec3::new(-0.1, 0.08, -0.05),
+                radius: 0.04,
+            },
+        ];
+        let [x0, x1, y0, y1] = screen_bounds(&camera, &spheres, 120, 90);
+        assert!(
+            x0 > 0 && x1 < 120 && y0 > 0 && y1 < 90,
+            "{x0} {x1} {y0} {y1}"
+        );
+        let mut hits = 0;
+        for y in 0..90 {
+            for x in 0..120 {
+                let dir = camera.ray_direction(x as f32 + 0.5, y as f32 + 0.5);
+                if spheres
+                    .iter()
+                    .any(|s| ray_sphere(camera.eye(), dir, s).is_some())
+                {
+                    hits += 1;
+                    assert!((x0..x1).contains(&x) && (y0..y1).contains(&y), "({x}, {y})");
+                }
+            }
+        }
+        assert!(hits > 300, "{hits}");
+        // A sphere around the eye: the whole frame.
+        let around = [Sphere {
+            center: camera.eye(),
+            radius: 0.5,
+        }];
+        assert_eq!(screen_bounds(&camera, &around, 120, 90), [0, 120, 0, 90]);
+    }
 
     #[test]
     fn rays_hit_the_sphere_at_the_right_distance_and_shadows_fall_behind_it() {

@@ -12,7 +12,11 @@
 //!   blended segment.
 //! - [`head`]: the ray-cast, Lambert-lit sphere head.
 //! - [`sort`]: back-to-front order of hair strands.
-//! - [`hair`]: drawing every strand's segments in that order.
+//! - [`hair`]: drawing every strand's segments in that order, directly
+//!   (the reference).
+//! - [`raster`]: the binned rasteriser the frame uses: segments sorted into
+//!   screen tiles, each tile drawn in cache eight pixels at a time
+//!   ([`raster::HairRaster`]; scalar twin [`scalar::draw`]).
 //! - [`triangle`]: opaque triangles (edge functions, top-left rule, depth
 //!   test) and [`grid`]: a row-major grid mesh of them (the ribbon).
 //! - [`ShadedVertex`]: the shaded vertex the hair rasteriser reads.
@@ -27,6 +31,8 @@ pub mod hair;
 pub mod head;
 pub mod image;
 pub mod line;
+pub mod raster;
+pub mod scalar;
 pub mod sort;
 pub mod triangle;
 mod vertex;

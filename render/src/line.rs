@@ -22,7 +22,9 @@
 //! without double-blending their shared end.
 
 use super::Framebuffer;
+use coif_base::lanes::{Lane, V3};
 use glam::Vec3;
+use wide::f32x8;
 
 /// A projected hair vertex: pixel position, view depth, width in pixels and
 /// linear-RGB colour.
@@ -42,6 +44,21 @@ pub struct ScreenVertex {
 
 /// The unit pixel square's width profile across a line with unit normal
 /// `(n_x, n_y)`, as its cumulative integral `G` (see the module doc).
+///
+/// [`PixelProfile::cumulative`] evaluates `G` piecewise (the formula as
+/// written in the module doc); [`PixelProfile::coverage`] uses the same
+/// `G` in a branch-free form that the SIMD rasteriser evaluates eight
+/// pixels at a time ([`coverage_lanes`]): with `a = |x|`,
+///
+/// ```text
+/// G(x) - 1/2 = sign(x) S(a),   S(a) = H min(a, p) + H r / 2 - (H / (2 r)) q^2,
+/// q = clamp(h - a, 0, r)
+/// ```
+///
+/// (`h` the half-width, `p` the plateau half-width, `r = h - p` the ramp,
+/// `H` the plateau height): `S` is the plateau's share `H min(a, p)` plus
+/// the part of the ramp between `p` and `a`. The two forms agree to
+/// float rounding (a test compares them).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PixelProfile {
     /// Half-width of the support, `(|n_x| + |n_y|) / 2`.
@@ -52,6 +69,11 @@ pub struct PixelProfile {
     ramp: f32,
     /// Height of the plateau, `1 / max(|n_x|, |n_y|)`.
     height: f32,
+    /// `H r / 2`: the ramp's share of `S` beyond the support.
+    ramp_area: f32,
+    /// `H / (2 r)`, or 0 for a ramp shorter than `1e-20` (an axis-aligned
+    /// line: no ramp, and no `0 * inf`).
+    ramp_curve: f32,
 }
 
 impl PixelProfile {
@@ -60,16 +82,26 @@ impl PixelProfile {
         let len = (dx * dx + dy * dy).sqrt();
         let (a, b) = ((dy / len).abs(), (dx / len).abs());
         let (lo, hi) = (a.min(b), a.max(b));
+        let height = 1.0 / hi;
         PixelProfile {
             half: 0.5 * (a + b),
             plateau: 0.5 * (hi - lo),
             ramp: lo,
-            height: 1.0 / hi,
+            height,
+            ramp_area: 0.5 * height * lo,
+            ramp_curve: if lo > 1e-20 { 0.5 * height / lo } else { 0.0 },
         }
     }
 
+    /// Half-width of the profile's support, `(|n_x| + |n_y|) / 2` pixels:
+    /// a pixel whose centre is farther than this plus half the line's
+    /// width from the line gets no coverage.
+    pub fn half_width(&self) -> f32 {
+        self.half
+    }
+
     /// `G(x)`: the share of the pixel on the side `<= x` of a line at
-    /// signed distance `x` from its centre.
+    /// signed distance `x` from its centre (piecewise, as in the module doc).
     #[inline]
     pub fn cumulative(&self, x: f32) -> f32 {
         if x <= -self.half {
@@ -88,22 +120,313 @@ impl PixelProfile {
     }
 
     /// Share of the pixel covered by a strip of width `width_px` whose
-    /// centre line is `distance` pixels from the pixel's centre.
+    /// centre line is `distance` pixels from the pixel's centre:
+    /// `G(d + w/2) - G(d - w/2)` clamped to `[0, 1]`, 0 for a width that is
+    /// not positive (or NaN). One lane of [`coverage_lanes`].
     #[inline]
     pub fn coverage(&self, distance: f32, width_px: f32) -> f32 {
-        if width_px.is_nan() || width_px <= 0.0 {
-            return 0.0;
-        }
-        (self.cumulative(distance + 0.5 * width_px) - self.cumulative(distance - 0.5 * width_px))
-            .clamp(0.0, 1.0)
+        coverage_lanes(self, distance, width_px)
     }
+}
+
+/// `G(x) - 1/2` of `profile` in every lane (see [`PixelProfile`]): the
+/// branch-free form, one generic body for `f32` and `f32x8`.
+#[inline(always)]
+fn centred_cumulative<T: Lane>(profile: &PixelProfile, x: T) -> T {
+    // 1. a = |x|; q = clamp(h - a, 0, r)
+    let a = x.abs();
+    let q = (T::splat(profile.half) - a)
+        .max(T::splat(0.0))
+        .min(T::splat(profile.ramp));
+    // 2. S(a) = H min(a, p) + (H r / 2 - (H / (2 r)) q q)
+    let ramp = T::splat(profile.ramp_area) - (T::splat(profile.ramp_curve) * q) * q;
+    let s = a
+        .min(T::splat(profile.plateau))
+        .mul_add(T::splat(profile.height), ramp);
+    // 3. The sign of x.
+    T::select(x.lt(T::splat(0.0)), -s, s)
+}
+
+/// [`PixelProfile::coverage`] in every lane: `G(d + w/2) - G(d - w/2)`
+/// clamped to `[0, 1]`, 0 where `width_px` is not positive or is NaN.
+/// The scalar (`f32`) and eight-lane (`f32x8`) forms round the same way.
+#[inline(always)]
+pub fn coverage_lanes<T: Lane>(profile: &PixelProfile, distance: T, width_px: T) -> T {
+    let half_width = T::splat(0.5) * width_px;
+    let cov = centred_cumulative(profile, distance + half_width)
+        - centred_cumulative(profile, distance - half_width);
+    let cov = cov.max(T::splat(0.0)).min(T::splat(1.0));
+    T::select(width_px.gt(T::splat(0.0)), cov, T::splat(0.0))
+}
+
+/// A segment set up for drawing: its two ends, the pixel profile across
+/// it and the reciprocals every pixel needs. The reference
+/// [`draw_segment`] and both tiled rasterisers ([`crate::raster`]) share
+/// it, and the per-pixel step [`Segment::pixel`], so all three blend the
+/// same bits.
+#[derive(Clone, Copy, Debug)]
+pub struct Segment {
+    a: ScreenVertex,
+    b: ScreenVertex,
+    ex: f32,
+    ey: f32,
+    len2: f32,
+    inv_len2: f32,
+    inv_len: f32,
+    profile: PixelProfile,
+    /// Largest distance from the line at which a pixel centre can be
+    /// covered: the profile's half-width plus half the wider end.
+    radius_len: f32,
+    /// `1 / ey` and `1 / ex` (0 where the component is 0).
+    inv_ey: f32,
+    inv_ex: f32,
+    /// Pixel bounds `[x0, x1) x [y0, y1)` within the frame (as floats).
+    x0: f32,
+    x1: f32,
+    y0: f32,
+    y1: f32,
+}
+
+/// What one pixel gets from a segment: its alpha (coverage times
+/// opacity; 0 where the pixel is not drawn) and colour, per lane.
+#[derive(Clone, Copy, Debug)]
+pub struct Fragment<T: Lane> {
+    /// Lanes the segment blends into.
+    pub mask: T::Mask,
+    /// `coverage * opacity` (meaningful where `mask` is set).
+    pub alpha: T,
+    /// Linear-RGB colour interpolated along the segment.
+    pub color: V3<T>,
+}
+
+impl Segment {
+    /// The pixels `[x0, x1) x [y0, y1)` segment `a -> b` can touch in a
+    /// `width x height` frame: its ends' box grown by the reach
+    /// `w_max / 2 + 0.75` (half the wider end plus more than the pixel
+    /// profile's half-width, at most `sqrt(2) / 2`), clipped to the frame;
+    /// `None` when that is empty or the segment is shorter than `1e-6` px
+    /// or not finite.
+    #[inline]
+    pub fn pixel_bounds(
+        a: &ScreenVertex,
+        b: &ScreenVertex,
+        width: usize,
+        height: usize,
+    ) -> Option<[usize; 4]> {
+        let (ex, ey) = (b.x - a.x, b.y - a.y);
+        let len2 = ex * ex + ey * ey;
+        if len2.is_nan() || len2 <= 1e-12 || !len2.is_finite() {
+            return None;
+        }
+        let [x0, x1, y0, y1] = float_bounds(a, b, width, height);
+        (x0 < x1 && y0 < y1).then(|| {
+            // Whole numbers in [0, 2^26] (the frame's size): exact as i32.
+            [x0, x1, y0, y1].map(|v| v as i32 as usize)
+        })
+    }
+
+    /// Sets up segment `a -> b` for a `width x height` frame; `None` when
+    /// [`Segment::pixel_bounds`] is.
+    #[inline]
+    pub fn new(a: &ScreenVertex, b: &ScreenVertex, width: usize, height: usize) -> Option<Segment> {
+        let (ex, ey) = (b.x - a.x, b.y - a.y);
+        let len2 = ex * ex + ey * ey;
+        if len2.is_nan() || len2 <= 1e-12 || !len2.is_finite() {
+            return None;
+        }
+        let [x0, x1, y0, y1] = float_bounds(a, b, width, height);
+        if !(x0 < x1 && y0 < y1) {
+            return None;
+        }
+        let inv_len2 = 1.0 / len2;
+        let inv_len = inv_len2.sqrt();
+        let profile = PixelProfile::for_direction(ex, ey);
+        let radius = profile.half + 0.5 * a.width_px.max(b.width_px);
+        let recip = |v: f32| if v != 0.0 { 1.0 / v } else { 0.0 };
+        Some(Segment {
+            a: *a,
+            b: *b,
+            ex,
+            ey,
+            len2,
+            inv_len2,
+            inv_len,
+            profile,
+            radius_len: radius * len2.sqrt(),
+            inv_ey: recip(ey),
+            inv_ex: recip(ex),
+            x0,
+            x1,
+            y0,
+            y1,
+        })
+    }
+
+    /// The pixel rectangle `[x0, x1) x [y0, y1)` that can be touched.
+    #[inline]
+    pub fn bounds(&self) -> [usize; 4] {
+        // Whole numbers in [0, 2^26] (the frame's size): exact as i32.
+        [
+            self.x0 as i32 as usize,
+            self.x1 as i32 as usize,
+            self.y0 as i32 as usize,
+            self.y1 as i32 as usize,
+        ]
+    }
+
+    /// The pixels `[xa, xb)` of row `y` that can be touched: inside the
+    /// bounds, within the strip's reach of the line (`|dist| <= radius`)
+    /// and projecting into the segment (`0 <= t <= 1`). Both slabs are
+    /// linear in x along a row; the range of pixel centres inside both is
+    /// widened by [`SPAN_MARGIN`] (far more than the rounding of the slab
+    /// ends for on-screen coordinates) and the exact per-pixel tests of
+    /// [`Segment::pixel`] decide. `None` when empty. One lane of
+    /// [`Segment::row_spans`].
+    #[inline]
+    pub fn row_span(&self, y: usize) -> Option<(usize, usize)> {
+        let (xa, xb) = self.row_spans(y as f32);
+        (xa < xb).then_some((xa as usize, xb as usize))
+    }
+
+    /// [`Segment::row_span`] of the rows `y` (one per lane, whole numbers)
+    /// as floats `(xa, xb)`, both 0 where the span is empty; the scalar and
+    /// eight-lane forms give the same bits.
+    #[inline(always)]
+    pub fn row_spans<T: Rounding>(&self, y: T) -> (T, T) {
+        let (a, ex, ey) = (&self.a, self.ex, self.ey);
+        let py = (y + T::splat(0.5)) - T::splat(a.y);
+        let mut lo = T::splat(self.x0 - a.x - 0.5);
+        let mut hi = T::splat(self.x1 - a.x - 0.5);
+        // dist = (ex py - ey px) / len within [-radius, radius].
+        if ey != 0.0 {
+            let exy = T::splat(ex) * py;
+            let u = (exy - T::splat(self.radius_len)) * T::splat(self.inv_ey);
+            let v = (exy + T::splat(self.radius_len)) * T::splat(self.inv_ey);
+            lo = lo.max(u.min(v));
+            hi = hi.min(u.max(v));
+        }
+        // t = (ex px + ey py) / len2 within [0, 1].
+        if ex != 0.0 {
+            let pey = py * T::splat(ey);
+            let u = (-py * T::splat(ey)) * T::splat(self.inv_ex);
+            let v = (T::splat(self.len2) - pey) * T::splat(self.inv_ex);
+            lo = lo.max(u.min(v));
+            hi = hi.min(u.max(v));
+        }
+        // px = x + 0.5 - a.x in [lo, hi], widened by SPAN_MARGIN.
+        let xa = ((lo + T::splat(a.x)) - T::splat(0.5 + SPAN_MARGIN))
+            .ceil()
+            .max(T::splat(self.x0));
+        let xb = (((hi + T::splat(a.x)) - T::splat(0.5 - SPAN_MARGIN)).floor() + T::splat(1.0))
+            .min(T::splat(self.x1));
+        let ok = lo.finite() & hi.finite() & !lo.gt(hi) & xa.lt(xb);
+        let zero = T::splat(0.0);
+        (T::select(ok, xa, zero), T::select(ok, xb, zero))
+    }
+
+    /// The fragment of the pixels with centres `(xc, yc)` (`x + 0.5`,
+    /// `y + 0.5` per lane) over stored depths `depth`:
+    ///
+    /// ```text
+    /// t = (px e_x + py e_y) / |e|^2,  dist = (e_x py - e_y px) / |e|,  (px, py) = centre - a
+    /// alpha = coverage(dist, w_a + t (w_b - w_a)) * opacity
+    /// ```
+    ///
+    /// drawn where `0 <= t < 1`, `alpha > 0` and the segment's depth
+    /// `d_a + t (d_b - d_a)` is nearer than `depth` (the head's); colour
+    /// `c_a + (c_b - c_a) t`. Plain multiplies and adds in a fixed order
+    /// (no fused multiply-add), so every lane width gives the same bits.
+    #[inline(always)]
+    pub fn pixel<T: Lane>(&self, xc: T, yc: T, depth: T, opacity: f32) -> Fragment<T> {
+        let (a, b) = (&self.a, &self.b);
+        // 1. Position relative to a; t along the segment.
+        let py = yc - T::splat(a.y);
+        let px = xc - T::splat(a.x);
+        let t = (px * T::splat(self.ex) + py * T::splat(self.ey)) * T::splat(self.inv_len2);
+        // 2. Signed distance from the line: cross(e, p) / |e|.
+        let dist = (T::splat(self.ex) * py - T::splat(self.ey) * px) * T::splat(self.inv_len);
+        // 3. Coverage of the strip, width interpolated along it.
+        let width = T::splat(a.width_px) + t * T::splat(b.width_px - a.width_px);
+        let alpha = coverage_lanes(&self.profile, dist, width) * T::splat(opacity);
+        // 4. Depth test against the opaque surfaces.
+        let z = T::splat(a.depth) + t * T::splat(b.depth - a.depth);
+        let mask =
+            !t.lt(T::splat(0.0)) & t.lt(T::splat(1.0)) & alpha.gt(T::splat(0.0)) & z.lt(depth);
+        // 5. Colour along the segment.
+        let lerp = |ca: f32, cb: f32| T::splat(ca) + T::splat(cb - ca) * t;
+        Fragment {
+            mask,
+            alpha,
+            color: V3::new(
+                lerp(a.color.x, b.color.x),
+                lerp(a.color.y, b.color.y),
+                lerp(a.color.z, b.color.z),
+            ),
+        }
+    }
+}
+
+/// How far (pixels) a row span reaches past the slabs' ends: pixel
+/// centres within this of the exact bounds are tested, so float rounding
+/// of the bounds never drops a covered pixel.
+pub const SPAN_MARGIN: f32 = 1e-2;
+
+/// Lanes that can round to whole numbers (for [`Segment::row_spans`]).
+pub trait Rounding: Lane {
+    /// The largest whole number `<= self`, per lane.
+    fn floor(self) -> Self;
+    /// The smallest whole number `>= self`, per lane.
+    fn ceil(self) -> Self;
+}
+
+impl Rounding for f32 {
+    #[inline(always)]
+    fn floor(self) -> f32 {
+        f32::floor(self)
+    }
+    #[inline(always)]
+    fn ceil(self) -> f32 {
+        f32::ceil(self)
+    }
+}
+
+impl Rounding for f32x8 {
+    #[inline(always)]
+    fn floor(self) -> f32x8 {
+        f32x8::floor(self)
+    }
+    #[inline(always)]
+    fn ceil(self) -> f32x8 {
+        f32x8::ceil(self)
+    }
+}
+
+/// [`Segment::pixel_bounds`] as floats (not checked for emptiness).
+#[inline(always)]
+fn float_bounds(a: &ScreenVertex, b: &ScreenVertex, width: usize, height: usize) -> [f32; 4] {
+    let reach = 0.5 * a.width_px.max(b.width_px) + 0.75;
+    let (w, h) = (width as f32, height as f32);
+    [
+        (a.x.min(b.x) - reach).floor().max(0.0),
+        (a.x.max(b.x) + reach).ceil().min(w),
+        (a.y.min(b.y) - reach).floor().max(0.0),
+        (a.y.max(b.y) + reach).ceil().min(h),
+    ]
+}
+
+/// `dst + (c - dst) alpha` per lane: the blend every hair fragment gets.
+#[inline(always)]
+pub fn blend<T: Lane>(dst: T, color: T, alpha: T) -> T {
+    dst + (color - dst) * alpha
 }
 
 /// Blends segment `a -> b` into `frame` with `alpha = coverage * opacity`:
 /// `c <- c + alpha (colour - c)`, colour, width and depth interpolated
-/// linearly along the segment. Pixels whose stored depth (the head) is
-/// nearer than the segment are left alone. Calls `visit` with every pixel
-/// index and alpha it blends (tests use it to sum coverage; pass `|_, _| {}`).
+/// linearly along the segment ([`Segment::pixel`]). Pixels whose stored
+/// depth (the head) is nearer than the segment are left alone. Calls
+/// `visit` with every pixel index and alpha it blends (tests use it to sum
+/// coverage; pass `|_, _| {}`). This is the direct reference: one segment
+/// at a time over the whole frame, row by row ([`Segment::row_span`]).
 #[inline]
 pub fn draw_segment(
     frame: &mut Framebuffer,
@@ -112,75 +435,29 @@ pub fn draw_segment(
     opacity: f32,
     mut visit: impl FnMut(usize, f32),
 ) {
-    let (ex, ey) = (b.x - a.x, b.y - a.y);
-    let len2 = ex * ex + ey * ey;
-    if len2.is_nan() || len2 <= 1e-12 || !len2.is_finite() {
-        return;
-    }
-    let inv_len2 = 1.0 / len2;
-    let inv_len = inv_len2.sqrt();
-    let profile = PixelProfile::for_direction(ex, ey);
-    let reach = 0.5 * a.width_px.max(b.width_px) + 0.75;
-    let (w, h) = (frame.width() as f32, frame.height() as f32);
-    let x0 = (a.x.min(b.x) - reach).floor().max(0.0);
-    let x1 = (a.x.max(b.x) + reach).ceil().min(w);
-    let y0 = (a.y.min(b.y) - reach).floor().max(0.0);
-    let y1 = (a.y.max(b.y) + reach).ceil().min(h);
-    if !(x0 < x1 && y0 < y1) {
-        return;
-    }
-    let (y0, y1) = (y0 as usize, y1 as usize);
     let width = frame.width();
-    // Pixels that can be touched lie in two slabs: |dist| <= radius (the
-    // strip plus the pixel profile's half-width) and 0 <= t < 1. Both are
-    // linear in x on a row, so each row visits only the x range inside both
-    // (widened by a pixel; the exact tests below decide).
-    let radius = profile.half + 0.5 * a.width_px.max(b.width_px);
-    let len = len2.sqrt();
+    let Some(seg) = Segment::new(a, b, width, frame.height()) else {
+        return;
+    };
+    let [_, _, y0, y1] = seg.bounds();
     for y in y0..y1 {
-        let py = y as f32 + 0.5 - a.y;
-        let (mut lo, mut hi) = (x0 - a.x - 0.5, x1 - a.x - 0.5);
-        // dist = (ex py - ey px) / len within [-radius, radius].
-        if ey != 0.0 {
-            let (u, v) = ((ex * py - radius * len) / ey, (ex * py + radius * len) / ey);
-            lo = lo.max(u.min(v));
-            hi = hi.min(u.max(v));
-        }
-        // t = (ex px + ey py) / len2 within [0, 1].
-        if ex != 0.0 {
-            let (u, v) = (-py * ey / ex, (len2 - py * ey) / ex);
-            lo = lo.max(u.min(v));
-            hi = hi.min(u.max(v));
-        }
-        if lo.is_nan() || hi.is_nan() || lo > hi {
+        let Some((xa, xb)) = seg.row_span(y) else {
             continue;
-        }
-        // px = x + 0.5 - a.x.
-        let xa = (lo + a.x - 0.5).floor().max(x0) as usize;
-        let xb = ((hi + a.x - 0.5).ceil() + 1.0).min(x1) as usize;
+        };
         let row = y * width;
         for x in xa..xb {
-            let px = x as f32 + 0.5 - a.x;
-            let t = (px * ex + py * ey) * inv_len2;
-            if !(0.0..1.0).contains(&t) {
-                continue;
-            }
-            // Signed perpendicular distance: cross(e, p) / |e|.
-            let dist = (ex * py - ey * px) * inv_len;
-            let cov = profile.coverage(dist, a.width_px + t * (b.width_px - a.width_px));
-            if cov <= 0.0 {
-                continue;
-            }
             let i = row + x;
-            let depth = a.depth + t * (b.depth - a.depth);
             let dst = &mut frame.pixels[i];
-            if depth >= dst.depth {
+            let f = seg.pixel(x as f32 + 0.5, y as f32 + 0.5, dst.depth, opacity);
+            if !f.mask {
                 continue;
             }
-            let alpha = cov * opacity;
-            let c = a.color + (b.color - a.color) * t;
-            dst.color += (c - dst.color) * alpha;
-            visit(i, alpha);
+            dst.color = Vec3::new(
+                blend(dst.color.x, f.color.x, f.alpha),
+                blend(dst.color.y, f.color.y, f.alpha),
+                blend(dst.color.z, f.color.z, f.alpha),
+            );
+            visit(i, f.alpha);
         }
     }
 }
