@@ -31,23 +31,32 @@ impl OpacityShadowMap {
             .chunks(LANES)
             .zip(out[..len].chunks_mut(LANES))
         {
-            let t = self.transmittance_x8(chunk);
+            let mut p = Vec3x8::ZERO;
+            for (l, q) in chunk.iter().enumerate() {
+                p.set_lane(l, *q);
+            }
+            let t = self.transmittance_x8(p);
             o.copy_from_slice(&t.as_array()[..chunk.len()]);
         }
     }
 
-    /// Transmittance of up to 8 points (lanes past `points.len()` and
-    /// non-finite points give 1).
+    /// Transmittance toward the light of eight points, one per lane: the
+    /// eight-lane twin of [`OpacityShadowMap::transmittance`], the same
+    /// steps in the same order (`T = exp(-alpha sigma)`, sigma bilinear
+    /// over the four texels around the point, linear in depth between each
+    /// texel's planes). A lane whose point is not finite gives 1 and never
+    /// disturbs the other lanes; before a build found hair every lane is 1.
+    /// Agrees with [`OpacityShadowMap::transmittance`] to the rounding of
+    /// the exponential (below 1e-6, tested). For a fused per-vertex pass:
+    /// no frame-sized buffer, no allocation.
     #[inline]
-    fn transmittance_x8(&self, points: &[Vec3]) -> f32x8 {
-        let mut p = Vec3x8::ZERO;
-        let mut finite = [0.0f32; LANES];
-        for (l, q) in points.iter().enumerate() {
-            if q.is_finite() {
-                p.set_lane(l, *q);
-                finite[l] = 1.0;
-            }
+    pub fn transmittance_x8(&self, p: Vec3x8) -> f32x8 {
+        let one = f32x8::ONE;
+        if !self.ready {
+            return one;
         }
+        let finite = p.finite();
+        let p = Vec3x8::select(finite, p, Vec3x8::ZERO);
         // 1. Light space, texel coordinates, corners and fractions.
         let f = &self.frame;
         let lx = p.dot(Vec3x8::splat(f.x_axis));
@@ -65,7 +74,6 @@ impl OpacityShadowMap {
         // (so the gathers need no branches) and a mask of the corners that
         // really are inside it; the others contribute 0, as in the scalar.
         let last = f32x8::splat((self.settings.resolution - 1) as f32);
-        let one = f32x8::ONE;
         let inside = |a: f32x8| a.simd_ge(f32x8::ZERO) & a.simd_le(last);
         let clamp = |a: f32x8| a.max(f32x8::ZERO).min(last).to_array();
         let (fu1, fv1) = (fu + one, fv + one);
@@ -107,7 +115,7 @@ impl OpacityShadowMap {
         let s = (sigma[0] * (one - fx) + sigma[1] * fx) * (one - fy)
             + (sigma[2] * (one - fx) + sigma[3] * fx) * fy;
         let t = (f32x8::splat(-self.hair_opacity) * s).exp();
-        f32x8::new(finite).simd_gt(f32x8::ZERO).select(t, one)
+        finite.select(t, one)
     }
 
     /// [`super::layers::Layering::locate`] on eight depths: interval indices
