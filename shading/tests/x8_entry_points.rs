@@ -148,13 +148,9 @@ fn transmittance_x8_equals_transmittance_per_lane() {
                 p.set_lane(6, Vec3::NAN);
             }
             let got = map.transmittance_x8(p).to_array();
-            for l in 0..LANES {
+            for (l, g) in got.iter().enumerate() {
                 let want = map.transmittance(p.lane(l));
-                assert!(
-                    (got[l] - want).abs() <= 1e-6,
-                    "{k} lane {l}: {} vs {want}",
-                    got[l]
-                );
+                assert!((g - want).abs() <= 1e-6, "{k} lane {l}: {g} vs {want}");
                 shadowed += usize::from(want < 0.9);
             }
             if k == 5 {
