@@ -10,7 +10,7 @@ use super::raster::for_each_sample;
 use super::settings::ShadowMode;
 use coif_base::{Vec3x8, LANES};
 use glam::Vec3;
-use wide::f32x8;
+use wide::{f32x8, i32x8};
 
 impl OpacityShadowMap {
     /// Rebuilds the map for a directional light shining along `light_dir`
@@ -47,7 +47,7 @@ impl OpacityShadowMap {
                 for_each_sample(&frame, &placement, n, r, points, verts_per_strand, |sp| {
                     let slices = layering.interval_x8(sp.z - near);
                     let w = sp.weights.map(|w| w.to_array());
-                    for l in 0..sp.count {
+                    for l in sp.lanes() {
                         let slice = slices[l];
                         let start = (slice / 4) * nn + sp.t0[l];
                         // One bounds check for the four texels.
@@ -64,7 +64,7 @@ impl OpacityShadowMap {
                 z0.fill(f32::INFINITY);
                 for_each_sample(&frame, &placement, n, r, points, verts_per_strand, |sp| {
                     let z = sp.z.to_array();
-                    for l in 0..sp.count {
+                    for l in sp.lanes() {
                         let quad = &mut z0[sp.t0[l]..sp.t0[l] + n + 2];
                         for o in offsets {
                             quad[o] = quad[o].min(z[l]);
@@ -76,11 +76,15 @@ impl OpacityShadowMap {
                 }
                 // 3. Deposit every sample into its plane interval from z0.
                 let z0 = &self.first_depth;
+                // Float indices into the flat map fit in i32 lanes (every
+                // map up to 2^29 texels; larger ones index lane by lane).
+                let flat_fits = self.texels.len() <= (i32::MAX as usize) / 4;
+                let nn4 = i32x8::splat((4 * nn).min(i32::MAX as usize) as i32);
                 let texels = &mut self.texels;
                 for_each_sample(&frame, &placement, n, r, points, verts_per_strand, |sp| {
                     // Each corner's plane interval, relative to its own z0,
                     // gathered lane by lane (every lane's `t0` is clamped
-                    // into the map, also past `count`).
+                    // into the map, also the inactive lanes').
                     let mut base = [[0.0f32; LANES]; 4];
                     for l in 0..LANES {
                         let quad = &z0[sp.t0[l]..sp.t0[l] + n + 2];
@@ -88,12 +92,31 @@ impl OpacityShadowMap {
                             base[c][l] = quad[*o];
                         }
                     }
-                    let slices = base.map(|b| layering.interval_x8(sp.z - f32x8::new(b)));
                     let w = sp.weights.map(|w| w.to_array());
-                    for l in 0..sp.count {
-                        for (c, o) in offsets.iter().enumerate() {
-                            let slice = slices[c][l];
-                            texels[(slice / 4) * nn + sp.t0[l] + o][slice % 4] += w[c][l];
+                    if flat_fits {
+                        // Each corner's float index into the flat map,
+                        // (slice / 4) 4 n^2 + 4 (t0 + o) + slice % 4, in
+                        // i32 lanes; the same deposits in the same order.
+                        let index: [[i32; LANES]; 4] = std::array::from_fn(|c| {
+                            let s = layering.interval_i32x8(sp.z - f32x8::new(base[c]));
+                            let t = sp.t0_x8 + i32x8::splat(offsets[c] as i32);
+                            let group: i32x8 = s >> 2;
+                            let texel: i32x8 = t << 2;
+                            (group * nn4 + texel + (s & i32x8::splat(3))).to_array()
+                        });
+                        let flat = texels.as_flattened_mut();
+                        for l in sp.lanes() {
+                            for c in 0..4 {
+                                flat[index[c][l] as usize] += w[c][l];
+                            }
+                        }
+                    } else {
+                        let slices = base.map(|b| layering.interval_x8(sp.z - f32x8::new(b)));
+                        for l in sp.lanes() {
+                            for (c, o) in offsets.iter().enumerate() {
+                                let slice = slices[c][l];
+                                texels[(slice / 4) * nn + sp.t0[l] + o][slice % 4] += w[c][l];
+                            }
                         }
                     }
                 });
