@@ -479,6 +479,125 @@ fn step_case(size: Size) -> Case {
     }
 }
 
+fn patch_case(size: Size) -> Case {
+    use coif::kernels::patch::{self, quality, Patch};
+    // 16 x 32 particles per patch: one in cache, 4096 (about 100 MiB of
+    // state) streaming.
+    let count = match size {
+        Size::Cache => 1,
+        Size::Stream => 4096,
+        Size::Quick => 64,
+    };
+    let (points, pinned) = quality::flag_scene(16, 32);
+    let one = Patch::new(&points, 16, 32, &pinned).expect("valid flag");
+    let mut patches = vec![one; count];
+    let params = kernels::SimParams::default();
+    let rig = [coif::kernels::Sphere {
+        center: Vec3::new(0.32, 0.8, 0.0),
+        radius: 0.1,
+    }];
+    Case {
+        elements: count * 16 * 32,
+        run: Box::new(move || {
+            for p in patches.iter_mut() {
+                patch::step(p, &params, &rig);
+            }
+            black_box(&patches);
+        }),
+    }
+}
+
+/// The built-in head after one frame of the pipeline (shadows and shading
+/// on): guides, interpolation, render vertices, colours and camera.
+struct FrameScene {
+    pipeline: coif::frame::FramePipeline,
+    interp: coif::lod::Interpolation,
+}
+
+fn frame_scene(strand_count: usize) -> FrameScene {
+    use coif::frame::{FramePipeline, FrameSettings, HairScene};
+    let scene = HairScene::procedural(&GrowOptions {
+        strand_count,
+        curl: 0.15,
+        ..GrowOptions::default()
+    })
+    .expect("built-in head");
+    let settings = FrameSettings::default();
+    let roots: Vec<Vec3> = scene.roots().collect();
+    let interp = coif::lod::Interpolation::new(
+        &roots,
+        &scene.triangles,
+        settings.render_hairs_per_cm2,
+        settings.seed,
+    )
+    .expect("default interpolation");
+    let mut pipeline = FramePipeline::new(&scene, settings, 0.0).expect("default pipeline");
+    pipeline.frame(0.0, glam::Affine3A::IDENTITY);
+    FrameScene { pipeline, interp }
+}
+
+/// Guides of the built-in head, every render hair at the default density:
+/// 16 guides in cache (about 200 hairs, 200 KiB of output), the demo's 2048
+/// streaming (about 27,000 hairs, 27 MiB of output).
+fn lod_case(size: Size) -> Case {
+    use coif::lod::{self, RefinedGuides, RenderHairs};
+    let guides = match size {
+        Size::Cache => 16,
+        Size::Stream => 2048,
+        Size::Quick => 512,
+    };
+    let FrameScene { pipeline, interp } = frame_scene(guides);
+    let strands = pipeline.strands().clone();
+    let segments = pipeline.settings().max_segments_per_span;
+    let mut refined = RefinedGuides::new(strands.blocks(), segments).expect("refinable guides");
+    lod::refine_strands(strands.blocks(), None, &mut refined);
+    let mut hairs = RenderHairs::new(&interp, &refined);
+    let verts = refined.verts_per_strand();
+    let groups = interp.group_count();
+    let written = lod::interpolate(&interp, &refined, None, groups, &mut hairs);
+    let out_verts = written.max(1) * LANES * verts;
+    Case {
+        elements: out_verts,
+        run: Box::new(move || {
+            lod::refine_strands(strands.blocks(), None, &mut refined);
+            lod::interpolate(&interp, &refined, None, groups, &mut hairs);
+            black_box(&hairs);
+        }),
+    }
+}
+
+/// `draw_strands` over the render hairs of the built-in head at 512 x 512:
+/// 512 hairs in cache, every hair (about 27,000) streaming.
+fn raster_case(size: Size) -> Case {
+    use coif::render::{hair, sort::DepthOrder, Framebuffer};
+    let guides = if size == Size::Quick { 512 } else { 2048 };
+    let FrameScene { pipeline, .. } = frame_scene(guides);
+    let (all, verts) = pipeline.render_vertices();
+    let hairs = match size {
+        Size::Cache => 512.min(all.len() / verts),
+        _ => all.len() / verts,
+    };
+    let vertices = all[..hairs * verts].to_vec();
+    let colors = pipeline.vertex_colors().clone();
+    let camera = pipeline
+        .camera()
+        .shifted(pipeline.strands().origin().as_vec3());
+    let mut order = DepthOrder::with_capacity(hairs);
+    order.sort(&camera, &vertices, verts);
+    let settings = pipeline.settings();
+    let mut fb = Framebuffer::new(settings.width, settings.height);
+    let opacity = settings.hair_opacity;
+    Case {
+        elements: hairs * (verts - 1),
+        run: Box::new(move || {
+            fb.clear_gradient(Vec3::ZERO, Vec3::ONE);
+            black_box(hair::draw_strands(
+                &mut fb, &camera, &vertices, &colors, verts, &order, opacity,
+            ));
+        }),
+    }
+}
+
 /// Every hot kernel of a frame that the roofline times.
 pub const KERNELS: &[Kernel] = &[
     Kernel {
@@ -488,6 +607,22 @@ pub const KERNELS: &[Kernel] = &[
         instructions: 207.0,
         note: "",
         make: step_case,
+    },
+    Kernel {
+        name: "patch step (16 x 32, defaults)",
+        element: "particle-step",
+        bytes: 100.0,
+        instructions: 154.4,
+        note: "",
+        make: patch_case,
+    },
+    Kernel {
+        name: "lod refine + interpolate",
+        element: "output vertex",
+        bytes: 64.0,
+        instructions: 9.2,
+        note: "",
+        make: lod_case,
     },
     Kernel {
         name: "Kajiya-Kay",
@@ -517,7 +652,7 @@ pub const KERNELS: &[Kernel] = &[
         name: "shadow build (deep 3, 128^2)",
         element: "segment",
         bytes: 24.0,
-        instructions: 796.0,
+        instructions: 416.0,
         note: "",
         make: shadow_build_case,
     },
@@ -528,6 +663,14 @@ pub const KERNELS: &[Kernel] = &[
         instructions: 324.0,
         note: "",
         make: shadow_lookup_case,
+    },
+    Kernel {
+        name: "hair raster (draw_strands, 512^2)",
+        element: "segment",
+        bytes: 64.0,
+        instructions: 1151.0,
+        note: "",
+        make: raster_case,
     },
 ];
 

@@ -14,7 +14,7 @@ use super::map::OpacityShadowMap;
 use super::settings::ShadowMode;
 use coif_base::{Vec3x8, LANES};
 use glam::Vec3;
-use wide::f32x8;
+use wide::{f32x8, i32x8};
 
 impl OpacityShadowMap {
     /// SIMD batch: transmittance of every point of `points` into `out`
@@ -75,21 +75,15 @@ impl OpacityShadowMap {
         // really are inside it; the others contribute 0, as in the scalar.
         let last = f32x8::splat((self.settings.resolution - 1) as f32);
         let inside = |a: f32x8| a.simd_ge(f32x8::ZERO) & a.simd_le(last);
-        let clamp = |a: f32x8| a.max(f32x8::ZERO).min(last).to_array();
+        // Clamped into [0, n - 1] (NaN-free: finite lanes only), so the
+        // truncation is exact; corner indices below n^2 <= 2^26 in i32.
+        let clamp = |a: f32x8| a.max(f32x8::ZERO).min(last).fast_trunc_int();
         let (fu1, fv1) = (fu + one, fv + one);
         let (in_x, in_x1, in_y, in_y1) = (inside(fu), inside(fu1), inside(fv), inside(fv1));
         let valid = [in_x & in_y, in_x1 & in_y, in_x & in_y1, in_x1 & in_y1];
-        let (cx, cx1, cy, cy1) = (clamp(fu), clamp(fu1), clamp(fv), clamp(fv1));
-        let n = self.settings.resolution;
-        let mut corner = [[0usize; LANES]; 4];
-        for l in 0..LANES {
-            let (i0, i1) = (cx[l] as usize, cx1[l] as usize);
-            let (j0, j1) = (cy[l] as usize * n, cy1[l] as usize * n);
-            corner[0][l] = j0 + i0;
-            corner[1][l] = j0 + i1;
-            corner[2][l] = j1 + i0;
-            corner[3][l] = j1 + i1;
-        }
+        let row = i32x8::splat(self.settings.resolution as i32);
+        let (cx, cx1, cy, cy1) = (clamp(fu), clamp(fu1), clamp(fv) * row, clamp(fv1) * row);
+        let corner = [cy + cx, cy + cx1, cy1 + cx, cy1 + cx1].map(|c| c.to_array());
 
         // 2. Opacity in front of the depth in each corner.
         let mut sigma = [f32x8::ZERO; 4];
@@ -102,10 +96,8 @@ impl OpacityShadowMap {
             }
             ShadowMode::Deep => {
                 for (c, out) in sigma.iter_mut().enumerate() {
-                    let mut base = [0.0f32; LANES];
-                    for l in 0..LANES {
-                        base[l] = self.first_depth[corner[c][l]];
-                    }
+                    let base: [f32; LANES] =
+                        std::array::from_fn(|l| self.first_depth[corner[c][l] as usize]);
                     let (s, frac) = self.locate_x8(lz - f32x8::new(base));
                     *out = valid[c].select(self.corner_sigma_x8(&corner[c], &s, frac), f32x8::ZERO);
                 }
@@ -121,7 +113,7 @@ impl OpacityShadowMap {
     /// [`super::layers::Layering::locate`] on eight depths: interval indices
     /// and fractions.
     #[inline(always)]
-    fn locate_x8(&self, x: f32x8) -> ([usize; LANES], f32x8) {
+    fn locate_x8(&self, x: f32x8) -> ([i32; LANES], f32x8) {
         let ly = &self.layering;
         let last = f32x8::splat((ly.count - 1) as f32);
         let one = f32x8::ONE;
@@ -134,26 +126,22 @@ impl OpacityShadowMap {
             let i = q.floor().min(last);
             (i, (q - i).min(one))
         };
-        let i = i.to_array();
-        let mut s = [0usize; LANES];
-        for l in 0..LANES {
-            s[l] = i[l] as usize;
-        }
-        (s, f)
+        // In [0, L - 1]: exact in i32.
+        (i.fast_trunc_int().to_array(), f)
     }
 
     /// Opacity in front of each lane's depth in one corner texel per lane:
     /// gathers `S[s - 1], S[s]` (`S[-1] = 0`) and interpolates with `frac`.
     #[inline(always)]
-    fn corner_sigma_x8(&self, texel: &[usize; LANES], s: &[usize; LANES], frac: f32x8) -> f32x8 {
+    fn corner_sigma_x8(&self, texel: &[i32; LANES], s: &[i32; LANES], frac: f32x8) -> f32x8 {
         let nn = self.settings.resolution * self.settings.resolution;
         let mut prev = [0.0f32; LANES];
         let mut next = [0.0f32; LANES];
         for l in 0..LANES {
-            let (t, s) = (texel[l], s[l]);
-            next[l] = self.texels[(s / 4) * nn + t][s % 4];
+            let (t, s) = (texel[l] as usize, s[l] as usize);
+            next[l] = self.texels[(s >> 2) * nn + t][s & 3];
             let p = s.saturating_sub(1);
-            let below = self.texels[(p / 4) * nn + t][p % 4];
+            let below = self.texels[(p >> 2) * nn + t][p & 3];
             prev[l] = if s == 0 { 0.0 } else { below };
         }
         let (prev, next) = (f32x8::new(prev), f32x8::new(next));
