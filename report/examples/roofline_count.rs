@@ -4,7 +4,8 @@
 //! `report/roofline_count.sh` drives it. Prints the elements per run.
 //!
 //! `cargo run --release -p coif-report --example roofline_count -- "<kernel>" <reps>`
-//! (`mixed <iterations>` for the mixed loop, `list` for the names).
+//! (`mixed <iterations>` for the mixed loop, `list` for the names, `time
+//! <kernel>` for its in-cache time without callgrind).
 
 use coif_report::roofline;
 
@@ -16,6 +17,17 @@ fn main() {
         "list" => {
             for k in roofline::KERNELS {
                 println!("{}", k.name);
+            }
+        }
+        "time" => {
+            // `time <kernel>`: the in-cache median ns per element (no callgrind).
+            let kernel = args.get(1).map(String::as_str).unwrap_or("");
+            match roofline::time_in_cache(kernel, 60) {
+                Some(t) => println!(
+                    "{kernel}: {:.2} ns per element (min {:.2})",
+                    t.median, t.min
+                ),
+                None => eprintln!("unknown kernel {kernel:?}"),
             }
         }
         "mixed" => {

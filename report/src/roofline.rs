@@ -54,6 +54,7 @@ pub struct Case {
 }
 
 /// One kernel of the roofline.
+#[derive(Clone, Copy, Debug)]
 pub struct Kernel {
     /// The row's name.
     pub name: &'static str,
@@ -605,7 +606,7 @@ pub const KERNELS: &[Kernel] = &[
         element: "vertex-step",
         bytes: 112.0,
         instructions: 207.0,
-        note: "",
+        note: "4 substeps of about 52 instructions per vertex (the tridiagonal solve alone 31, kernels/README.md): compute bound; streaming adds the 112 B of state per vertex-step",
         make: step_case,
     },
     Kernel {
@@ -613,7 +614,7 @@ pub const KERNELS: &[Kernel] = &[
         element: "particle-step",
         bytes: 100.0,
         instructions: 154.4,
-        note: "",
+        note: "one patch is small by nature (a ribbon, 16 KiB); the streaming batch (4,096 patches) only shows what a crowd of patches would cost",
         make: patch_case,
     },
     Kernel {
@@ -621,7 +622,7 @@ pub const KERNELS: &[Kernel] = &[
         element: "output vertex",
         bytes: 64.0,
         instructions: 9.2,
-        note: "",
+        note: "a weighted sum of three refined guide vertices per output vertex: store bound, 32 B written (plus the write-allocate read) per output vertex",
         make: lod_case,
     },
     Kernel {
@@ -629,7 +630,7 @@ pub const KERNELS: &[Kernel] = &[
         element: "sample",
         bytes: 60.0,
         instructions: 60.4,
-        note: "",
+        note: "about 60 instructions per sample, 48 in the eight-lane body (two powers as log2/exp2 series, four square roots, three divisions): the 1 ns goal needs under 15 and is not met with this model",
         make: kajiya_kay_case,
     },
     Kernel {
@@ -637,7 +638,7 @@ pub const KERNELS: &[Kernel] = &[
         element: "sample",
         bytes: 60.0,
         instructions: 169.0,
-        note: "",
+        note: "two asin and one acos, then two bilinear fetches per lane in scalar code (16 texel loads of 16-32 B per sample: no gather instruction used)",
         make: marschner_case,
     },
     Kernel {
@@ -645,7 +646,7 @@ pub const KERNELS: &[Kernel] = &[
         element: "sample",
         bytes: 60.0,
         instructions: 217.0,
-        note: "",
+        note: "three acos, then per-lane bilinear fetches of 4 corners x 3 vectors of 8 channels",
         make: pbrt_case,
     },
     Kernel {
@@ -653,23 +654,23 @@ pub const KERNELS: &[Kernel] = &[
         element: "segment",
         bytes: 24.0,
         instructions: 416.0,
-        note: "",
+        note: "deep maps rasterise twice (first depth, then deposits); each sample's four deposits are scalar read-modify-writes (a scatter: no SIMD store); the map (256 KiB) stays in cache",
         make: shadow_build_case,
     },
     Kernel {
         name: "shadow lookup (deep 3, 128^2)",
         element: "vertex",
         bytes: 20.0,
-        instructions: 324.0,
-        note: "",
+        instructions: 209.0,
+        note: "12 scalar texel gathers per vertex (4 corners x first depth and two planes) and one exp",
         make: shadow_lookup_case,
     },
     Kernel {
         name: "hair raster (draw_strands, 512^2)",
         element: "segment",
-        bytes: 64.0,
+        bytes: 44.0,
         instructions: 1151.0,
-        note: "",
+        note: "the scalar anti-aliased line rasteriser (coverage and blending per pixel, about 10 pixels per segment); its SIMD replacement is under way in render/",
         make: raster_case,
     },
 ];
@@ -683,6 +684,14 @@ pub fn run_for_count(name: &str, reps: usize) -> Option<usize> {
     (c.run)();
     counted_region(&mut c.run, reps);
     Some(c.elements)
+}
+
+/// The in-cache time per element of the kernel named `name` over `reps`
+/// runs, or `None` for an unknown name.
+pub fn time_in_cache(name: &str, reps: usize) -> Option<Timing> {
+    let k = KERNELS.iter().find(|k| k.name == name)?;
+    let mut c = (k.make)(Size::Cache);
+    Some(time_batch(reps, c.elements, &mut c.run))
 }
 
 /// The region callgrind counts (`--toggle-collect=*counted_region*`).
