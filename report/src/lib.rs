@@ -10,6 +10,10 @@
 //! writes all three. [`csv::from_csv`] reads a `results.csv` back, so
 //! [`write_figures`] can redraw the summary and plots without measuring.
 //!
+//! [`roofline`] measures this machine's floors (bandwidth, instruction
+//! throughput) and every per-frame kernel's time per element in cache and
+//! streaming against them ([`roofline_markdown`], `roofline.md`).
+//!
 //! Time is the median over repeated runs of the whole batch, divided by
 //! the number of elements (vertex-steps, output vertices, samples, ...);
 //! the spread is the smallest and largest of those runs. Errors come from
