@@ -350,43 +350,37 @@ fn shading_count(size: Size) -> usize {
     }
 }
 
-fn kajiya_kay_case(size: Size) -> Case {
-    let s = samples(shading_count(size), 1);
-    let kk = KajiyaKay::default();
+/// A shading batch of random samples timed with `shade` into a caller-owned
+/// buffer.
+fn shading_case(
+    size: Size,
+    seed: u64,
+    mut shade: impl FnMut(&ShadingSamples, &mut RgbBuffer) + 'static,
+) -> Case {
+    let s = samples(shading_count(size), seed);
     let mut out = RgbBuffer::zeros(s.len());
     Case {
         elements: s.len(),
         run: Box::new(move || {
-            kk.shade_batch(black_box(&s), &mut out);
+            shade(black_box(&s), &mut out);
             black_box(&out);
         }),
     }
+}
+
+fn kajiya_kay_case(size: Size) -> Case {
+    let kk = KajiyaKay::default();
+    shading_case(size, 1, move |s, out| kk.shade_batch(s, out))
 }
 
 fn marschner_case(size: Size) -> Case {
-    let s = samples(shading_count(size), 2);
     let lut = marschner::Lut::new(&marschner::Params::default(), 128);
-    let mut out = RgbBuffer::zeros(s.len());
-    Case {
-        elements: s.len(),
-        run: Box::new(move || {
-            lut.scattering_batch(black_box(&s), &mut out);
-            black_box(&out);
-        }),
-    }
+    shading_case(size, 2, move |s, out| lut.scattering_batch(s, out))
 }
 
 fn pbrt_case(size: Size) -> Case {
-    let s = samples(shading_count(size), 3);
     let table = pbrt::Table::new(&pbrt::Params::default(), 64).expect("default table");
-    let mut out = RgbBuffer::zeros(s.len());
-    Case {
-        elements: s.len(),
-        run: Box::new(move || {
-            table.scattering_batch(black_box(&s), &mut out);
-            black_box(&out);
-        }),
-    }
+    shading_case(size, 3, move |s, out| table.scattering_batch(s, out))
 }
 
 /// Draped-like hair on a sphere head (grown, curled), `copies` copies side
