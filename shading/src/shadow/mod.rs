@@ -28,6 +28,7 @@
 //! figures.
 
 mod build;
+pub use build::BuildScratch;
 mod exact;
 pub mod layers;
 pub mod light_frame;
