@@ -647,7 +647,7 @@ pub const KERNELS: &[Kernel] = &[
         name: "shadow build (deep 3, 128^2)",
         element: "segment",
         bytes: 24.0,
-        instructions: 416.0,
+        instructions: 420.0,
         note: "deep maps rasterise twice (first depth, then deposits); each sample's four deposits are scalar read-modify-writes (a scatter: no SIMD store); the map (256 KiB) stays in cache",
         make: shadow_build_case,
     },
