@@ -2,7 +2,9 @@
 //! offset h, the far field (integrated over h) at several quadrature orders,
 //! and the lookup tables (scalar and SIMD) at several resolutions; each
 //! quality setting's error against the reference far field is printed once
-//! (time against error). Run:
+//! (time against error); `pbrt/cache_stream/table64/{cache,stream}`: the
+//! default 64^2 table (SIMD batch) on 2,048 samples (in cache) and on
+//! 1,048,576 (past the last-level cache), the roofline's two columns. Run:
 //! `cargo bench --bench pbrt -- --warm-up-time 0.5 --measurement-time 2`
 
 use coif::kernels::rng::SplitMix64;
@@ -107,5 +109,24 @@ fn build(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, exact, far_field, table, build);
+fn cache_and_stream(c: &mut Criterion) {
+    let table = Table::new(&Params::default(), 64).expect("default table");
+    let mut g = c.benchmark_group("pbrt/cache_stream");
+    g.sample_size(10);
+    for (size, n) in [("cache", 2048), ("stream", 1 << 20)] {
+        let mut rng = SplitMix64::new(43);
+        let mut s = ShadingSamples::with_capacity(n);
+        for _ in 0..n {
+            s.push(rng.unit_vector(), rng.unit_vector(), rng.unit_vector());
+        }
+        let mut out = RgbBuffer::zeros(n);
+        g.throughput(Throughput::Elements(n as u64));
+        g.bench_function(BenchmarkId::new("table64", size), |b| {
+            b.iter(|| table.scattering_batch(black_box(&s), &mut out))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, exact, far_field, table, build, cache_and_stream);
 criterion_main!(benches);

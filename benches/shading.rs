@@ -7,6 +7,10 @@
 //! - `marschner/{direct_scalar, lut128_simd, lut128_scalar}`: the direct model
 //!   (scalar only: its root finding branches per sample) and the default
 //!   (angular) 128 x 128 tables.
+//! - `shading_cache_stream/<model>/{cache,stream}`: Kajiya-Kay and the
+//!   Marschner table 128 (SIMD batch) on 2,048 samples (in cache) and on
+//!   1,048,576 samples (60 MiB in and out, past the last-level cache):
+//!   the in-cache and streaming columns of the report's roofline.
 //! - `marschner_lut_time_vs_error/<layout>/res<N>_err<relative RMS>`: SIMD
 //!   lookup time for every layout and resolution 32..256, with the relative
 //!   RMS error against the direct model in the benchmark id (also printed).
@@ -92,6 +96,29 @@ fn marschner_direct_and_lut(c: &mut Criterion) {
     g.finish();
 }
 
+/// Samples of the in-cache and the streaming batches.
+const CACHE: usize = 2048;
+const STREAM: usize = 1 << 20;
+
+fn cache_and_stream(c: &mut Criterion) {
+    let kk = KajiyaKay::default();
+    let lut = Lut::new(&Params::default(), 128);
+    let mut g = c.benchmark_group("shading_cache_stream");
+    g.sample_size(10);
+    for (size, n) in [("cache", CACHE), ("stream", STREAM)] {
+        let samples = random_samples(n, 4);
+        let mut out = RgbBuffer::zeros(n);
+        g.throughput(Throughput::Elements(n as u64));
+        g.bench_function(BenchmarkId::new("kajiya_kay", size), |b| {
+            b.iter(|| kk.shade_batch(black_box(&samples), &mut out))
+        });
+        g.bench_function(BenchmarkId::new("marschner_lut128", size), |b| {
+            b.iter(|| lut.scattering_batch(black_box(&samples), &mut out))
+        });
+    }
+    g.finish();
+}
+
 fn marschner_lut_time_vs_error(c: &mut Criterion) {
     let params = Params::default();
     let samples = random_samples(N, 3);
@@ -140,6 +167,7 @@ criterion_group!(
     baseline,
     kajiya_kay,
     marschner_direct_and_lut,
+    cache_and_stream,
     marschner_lut_time_vs_error,
     error_against_pbrt
 );

@@ -14,6 +14,11 @@
 //!   deep layers 2..16, with the mean |T error| against the footprint
 //!   reference (16 rays over 2 mm, every 8th strand's vertices) in the id;
 //!   the full error table (mean, RMS, max, bias) is printed first.
+//! - `shadow_cache_stream/{build,lookup}/{cache,stream}`: the frame's map
+//!   (deep, 3 layers, 128^2) built from and looked up at 256 draped strands
+//!   x 32 (in cache) and the same head repeated 64 times side by side
+//!   (16,384 strands, 6 MiB of points and 2 MiB of output per pass; the
+//!   map itself stays in cache, which is the point of the build's layout).
 
 use coif::frame::drape::draped_on_sphere;
 use coif::shading::shadow::quality::{error_of_map, reference_transmittance, Footprint};
@@ -149,5 +154,37 @@ fn time_vs_error(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, build_and_lookup, time_vs_error);
+fn cache_and_stream(c: &mut Criterion) {
+    let (one, verts) = draped_head(256, 32);
+    let settings = ShadowSettings {
+        resolution: 128,
+        ..ShadowSettings::deep()
+    };
+    let mut g = c.benchmark_group("shadow_cache_stream");
+    g.sample_size(10);
+    for (size, copies) in [("cache", 1), ("stream", 64)] {
+        let pts: Vec<Vec3> = (0..copies)
+            .flat_map(|k| {
+                let shift = Vec3::new(0.4 * k as f32, 0.0, 0.0);
+                one.iter().map(move |p| *p + shift)
+            })
+            .collect();
+        let mut map = OpacityShadowMap::new(settings.clone()).unwrap();
+        g.throughput(Throughput::Elements(
+            (pts.len() / verts * (verts - 1)) as u64,
+        ));
+        g.bench_function(BenchmarkId::new("build", size), |b| {
+            b.iter(|| map.build(black_box(light()), black_box(&pts), verts))
+        });
+        map.build(light(), &pts, verts);
+        let mut out = vec![0.0; pts.len()];
+        g.throughput(Throughput::Elements(pts.len() as u64));
+        g.bench_function(BenchmarkId::new("lookup", size), |b| {
+            b.iter(|| map.transmittance_batch(black_box(&pts), &mut out))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, build_and_lookup, time_vs_error, cache_and_stream);
 criterion_main!(benches);

@@ -10,6 +10,10 @@
 //! writes all three. [`csv::from_csv`] reads a `results.csv` back, so
 //! [`write_figures`] can redraw the summary and plots without measuring.
 //!
+//! [`roofline`] measures this machine's floors (bandwidth, instruction
+//! throughput) and every per-frame kernel's time per element in cache and
+//! streaming against them ([`roofline_markdown`], `roofline.md`).
+//!
 //! Time is the median over repeated runs of the whole batch, divided by
 //! the number of elements (vertex-steps, output vertices, samples, ...);
 //! the spread is the smallest and largest of those runs. Errors come from
@@ -25,6 +29,7 @@ pub mod physics;
 pub mod plot;
 pub mod quality;
 pub mod refinement;
+pub mod roofline;
 pub mod shading;
 pub mod shadow;
 pub mod simulation;
@@ -131,6 +136,34 @@ pub fn run(options: Options) -> Vec<Row> {
         );
     }
     rows
+}
+
+/// The roofline section ([`roofline`]): floors and kernels measured now,
+/// as Markdown headed by the machine line.
+pub fn roofline_markdown(options: Options, machine: &str) -> String {
+    let t0 = std::time::Instant::now();
+    let floors = roofline::measure_floors(options);
+    let rows = roofline::measure(options, &floors, roofline::KERNELS);
+    eprintln!(
+        "report: roofline measured in {:.1} s",
+        t0.elapsed().as_secs_f64()
+    );
+    format!(
+        "# coif roofline\n\nMeasured on {machine}.\n\n{}",
+        roofline::to_markdown(&floors, &rows)
+    )
+}
+
+/// Writes the roofline Markdown as `roofline.md` into `dir` (created if
+/// missing). Returns the path.
+pub fn write_roofline(
+    markdown: &str,
+    dir: &std::path::Path,
+) -> std::io::Result<std::path::PathBuf> {
+    std::fs::create_dir_all(dir)?;
+    let path = dir.join("roofline.md");
+    std::fs::write(&path, markdown)?;
+    Ok(path)
 }
 
 /// Writes `results.csv`, `summary.md` and one SVG plot per kernel into `dir`

@@ -8,7 +8,7 @@
 use coif_report::{self as report, Options};
 use std::path::PathBuf;
 
-const USAGE: &str = "usage: report [--quick] [--out DIR] [--from-csv FILE]";
+const USAGE: &str = "usage: report [--quick] [--out DIR] [--from-csv FILE] [--roofline-only]";
 
 /// The machine line when `/proc/cpuinfo` cannot say (and for redraws from a
 /// CSV, whose run this process did not see).
@@ -43,12 +43,14 @@ fn machine(load_before: Option<String>) -> String {
 
 fn main() {
     let mut quick = false;
+    let mut roofline_only = false;
     let mut from_csv: Option<PathBuf> = None;
     let mut out = PathBuf::from("target/report");
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         match a.as_str() {
             "--quick" => quick = true,
+            "--roofline-only" => roofline_only = true,
             "--out" => match args.next() {
                 Some(d) => out = PathBuf::from(d),
                 None => {
@@ -74,6 +76,22 @@ fn main() {
         }
     }
     let t0 = std::time::Instant::now();
+    if roofline_only {
+        let load_before = load_average();
+        let md = report::roofline_markdown(Options { quick }, &machine(load_before));
+        match report::write_roofline(&md, &out) {
+            Ok(path) => println!(
+                "wrote {} in {:.1} s",
+                path.display(),
+                t0.elapsed().as_secs_f64()
+            ),
+            Err(e) => {
+                eprintln!("cannot write the roofline into {}: {e}", out.display());
+                std::process::exit(1);
+            }
+        }
+        return;
+    }
     let (rows, written) = match from_csv {
         Some(file) => {
             let rows = match std::fs::read_to_string(&file)
@@ -94,7 +112,12 @@ fn main() {
         None => {
             let load_before = load_average();
             let rows = report::run(Options { quick });
-            let written = report::write(&rows, &out, &machine(load_before));
+            let roofline =
+                report::roofline_markdown(Options { quick }, &machine(load_before.clone()));
+            let written = report::write(&rows, &out, &machine(load_before)).and_then(|mut w| {
+                w.push(report::write_roofline(&roofline, &out)?);
+                Ok(w)
+            });
             (rows, written)
         }
     };

@@ -4,13 +4,16 @@
 //! order), the prefix sum sixteen texels at a time. Scalar twin:
 //! `shadow/scalar/build.rs`, bit for bit the same map.
 
-use super::light_frame::LightFrame;
+use super::layers::Layering;
+use super::light_frame::{LightFrame, MapPlacement};
 use super::map::OpacityShadowMap;
 use super::raster::for_each_sample;
-use super::settings::ShadowMode;
+use super::settings::{ShadowMode, ShadowSettings};
+use crate::Error;
+use coif_base::tasks::{for_each_chunk_mut, Executor};
 use coif_base::{Vec3x8, LANES};
 use glam::Vec3;
-use wide::f32x8;
+use wide::{f32x8, i32x8};
 
 impl OpacityShadowMap {
     /// Rebuilds the map for a directional light shining along `light_dir`
@@ -35,19 +38,205 @@ impl OpacityShadowMap {
         let Some(points) = self.prepare(light_dir, points, verts_per_strand, light_bounds) else {
             return;
         };
-        let (frame, placement, layering) = (self.frame, self.placement, self.layering);
-        let (n, r) = (self.settings.resolution, self.settings.hair_radius);
-        let nn = n * n;
-        let offsets = [0, 1, n, n + 1];
-        match self.settings.mode {
+        let pass = Pass::of(self, verts_per_strand);
+        if self.settings.mode == ShadowMode::Deep {
+            // 2. The depth map z0: the nearest sample per texel.
+            self.first_depth.fill(f32::INFINITY);
+            pass.depth(&mut self.first_depth, points);
+            pass.finish_depth(&mut self.first_depth);
+        }
+        // 3. Deposit every sample into its plane interval.
+        pass.deposit(&mut self.texels, &self.first_depth, points);
+        // 4. Prefix sum along depth.
+        prefix_sum(&mut self.texels, pass.nn, self.settings.layers);
+        self.ready = true;
+    }
+
+    /// [`OpacityShadowMap::build`] as independent tasks on `executor`, so
+    /// that it can run on threads with the same bytes at any thread count:
+    /// the strands are split into `scratch.tasks()` contiguous ranges
+    /// (a count fixed by the caller, never by the executor); 2. each task
+    /// splats its range's depth map into its own partial map, reduced by
+    /// `min` (exact in any order); 3. each task deposits its range into its
+    /// own partial map, and the partial maps are summed texel by texel in
+    /// task order; 4. the prefix sum. With one task the map is bit for bit
+    /// [`OpacityShadowMap::build`]'s; with more, each texel sums the same
+    /// deposits grouped by task (float rounding apart, the same map:
+    /// tested). No allocation: `scratch` holds the partial maps.
+    pub fn build_tasks(
+        &mut self,
+        executor: &dyn Executor,
+        scratch: &mut BuildScratch,
+        light_dir: Vec3,
+        points: &[Vec3],
+        verts_per_strand: usize,
+    ) {
+        let texels_len = self.texels.len();
+        let depth_len = self.first_depth.len();
+        let tasks = scratch.tasks;
+        if scratch.texels.len() != tasks * texels_len || scratch.depth.len() != tasks * depth_len {
+            // Scratch made for other settings: no map (and no panic).
+            self.ready = false;
+            return;
+        }
+        let Some(points) = self.prepare(light_dir, points, verts_per_strand, light_bounds) else {
+            return;
+        };
+        let pass = Pass::of(self, verts_per_strand);
+        let strands = points.len() / verts_per_strand;
+        let range = |i: usize| {
+            let (a, b) = (i * strands / tasks, (i + 1) * strands / tasks);
+            &points[a * verts_per_strand..b * verts_per_strand]
+        };
+        if self.settings.mode == ShadowMode::Deep {
+            // 2. Partial depth maps, reduced by min.
+            for_each_chunk_mut(executor, &mut scratch.depth, depth_len, &|i, z0| {
+                z0.fill(f32::INFINITY);
+                pass.depth(z0, range(i));
+            });
+            self.first_depth.fill(f32::INFINITY);
+            for part in scratch.depth.chunks_exact(depth_len) {
+                for (z, p) in self.first_depth.iter_mut().zip(part) {
+                    *z = z.min(*p);
+                }
+            }
+            pass.finish_depth(&mut self.first_depth);
+        }
+        // 3. Partial deposits, summed in task order.
+        let z0 = &self.first_depth;
+        for_each_chunk_mut(executor, &mut scratch.texels, texels_len, &|i, part| {
+            part.fill([0.0; 4]);
+            pass.deposit(part, z0, range(i));
+        });
+        let mut parts = scratch.texels.chunks_exact(texels_len);
+        if let Some(first) = parts.next() {
+            self.texels.copy_from_slice(first);
+        }
+        for part in parts {
+            for (t, p) in self.texels.iter_mut().zip(part) {
+                for k in 0..4 {
+                    t[k] += p[k];
+                }
+            }
+        }
+        // 4. Prefix sum along depth.
+        prefix_sum(&mut self.texels, pass.nn, self.settings.layers);
+        self.ready = true;
+    }
+}
+
+/// Caller-owned partial maps for [`OpacityShadowMap::build_tasks`]: one
+/// map's texels (and depth map, in deep mode) per task, allocated once.
+#[derive(Clone, Debug)]
+pub struct BuildScratch {
+    tasks: usize,
+    texels: Vec<[f32; 4]>,
+    depth: Vec<f32>,
+}
+
+impl BuildScratch {
+    /// Partial maps for `tasks` tasks (at least 1) of maps made with
+    /// `settings`. Fails when [`ShadowSettings::validate`] does.
+    pub fn new(settings: &ShadowSettings, tasks: usize) -> Result<BuildScratch, Error> {
+        settings.validate()?;
+        let tasks = tasks.max(1);
+        let nn = settings.resolution * settings.resolution;
+        Ok(BuildScratch {
+            tasks,
+            texels: vec![[0.0; 4]; tasks * nn * settings.groups()],
+            depth: match settings.mode {
+                ShadowMode::Slices => Vec::new(),
+                ShadowMode::Deep => vec![0.0; tasks * nn],
+            },
+        })
+    }
+
+    /// The number of tasks (and partial maps).
+    pub fn tasks(&self) -> usize {
+        self.tasks
+    }
+}
+
+/// What the rasterising passes of one build share: the light frame and
+/// placement of `prepare`, the layering, resolution and hair radius.
+#[derive(Clone, Copy)]
+struct Pass {
+    frame: LightFrame,
+    placement: MapPlacement,
+    layering: Layering,
+    mode: ShadowMode,
+    n: usize,
+    nn: usize,
+    radius: f32,
+    verts: usize,
+    /// Float indices into the flat map fit in i32 lanes (every map up to
+    /// 2^29 texels; larger ones index lane by lane).
+    flat_fits: bool,
+}
+
+impl Pass {
+    fn of(map: &OpacityShadowMap, verts: usize) -> Pass {
+        let n = map.settings.resolution;
+        Pass {
+            frame: map.frame,
+            placement: map.placement,
+            layering: map.layering,
+            mode: map.settings.mode,
+            n,
+            nn: n * n,
+            radius: map.settings.hair_radius,
+            verts,
+            flat_fits: map.texels.len() <= (i32::MAX as usize) / 4,
+        }
+    }
+
+    /// The four texels of a splat, relative to its lower-left one.
+    fn offsets(&self) -> [usize; 4] {
+        [0, 1, self.n, self.n + 1]
+    }
+
+    /// Step 2 into `z0` (filled with infinity by the caller): the nearest
+    /// sample of `points` per texel.
+    fn depth(&self, z0: &mut [f32], points: &[Vec3]) {
+        let (n, offsets) = (self.n, self.offsets());
+        for_each_sample(
+            &self.frame,
+            &self.placement,
+            n,
+            self.radius,
+            points,
+            self.verts,
+            |sp| {
+                let z = sp.z.to_array();
+                for l in sp.lanes() {
+                    let quad = &mut z0[sp.t0[l]..sp.t0[l] + n + 2];
+                    for o in offsets {
+                        quad[o] = quad[o].min(z[l]);
+                    }
+                }
+            },
+        );
+    }
+
+    /// Texels no sample reached start their layers at the near plane.
+    fn finish_depth(&self, z0: &mut [f32]) {
+        for z in z0.iter_mut().filter(|z| **z == f32::INFINITY) {
+            *z = self.placement.near;
+        }
+    }
+
+    /// Step 3 into `texels`: every sample of `points` into its plane
+    /// interval (from `near`, or in deep mode from each corner's `z0`).
+    fn deposit(&self, texels: &mut [[f32; 4]], z0: &[f32], points: &[Vec3]) {
+        let (n, nn, offsets, layering) = (self.n, self.nn, self.offsets(), self.layering);
+        let (frame, placement) = (&self.frame, &self.placement);
+        match self.mode {
             ShadowMode::Slices => {
-                // 3. Deposit every sample into its plane interval.
-                let texels = &mut self.texels;
                 let near = f32x8::splat(placement.near);
-                for_each_sample(&frame, &placement, n, r, points, verts_per_strand, |sp| {
+                for_each_sample(frame, placement, n, self.radius, points, self.verts, |sp| {
                     let slices = layering.interval_x8(sp.z - near);
                     let w = sp.weights.map(|w| w.to_array());
-                    for l in 0..sp.count {
+                    for l in sp.lanes() {
                         let slice = slices[l];
                         let start = (slice / 4) * nn + sp.t0[l];
                         // One bounds check for the four texels.
@@ -59,28 +248,12 @@ impl OpacityShadowMap {
                 });
             }
             ShadowMode::Deep => {
-                // 2. The depth map z0: the nearest sample per texel.
-                let z0 = &mut self.first_depth;
-                z0.fill(f32::INFINITY);
-                for_each_sample(&frame, &placement, n, r, points, verts_per_strand, |sp| {
-                    let z = sp.z.to_array();
-                    for l in 0..sp.count {
-                        let quad = &mut z0[sp.t0[l]..sp.t0[l] + n + 2];
-                        for o in offsets {
-                            quad[o] = quad[o].min(z[l]);
-                        }
-                    }
-                });
-                for z in z0.iter_mut().filter(|z| **z == f32::INFINITY) {
-                    *z = placement.near;
-                }
-                // 3. Deposit every sample into its plane interval from z0.
-                let z0 = &self.first_depth;
-                let texels = &mut self.texels;
-                for_each_sample(&frame, &placement, n, r, points, verts_per_strand, |sp| {
+                let nn4 = i32x8::splat((4 * nn).min(i32::MAX as usize) as i32);
+                let flat_fits = self.flat_fits;
+                for_each_sample(frame, placement, n, self.radius, points, self.verts, |sp| {
                     // Each corner's plane interval, relative to its own z0,
                     // gathered lane by lane (every lane's `t0` is clamped
-                    // into the map, also past `count`).
+                    // into the map, also the inactive lanes').
                     let mut base = [[0.0f32; LANES]; 4];
                     for l in 0..LANES {
                         let quad = &z0[sp.t0[l]..sp.t0[l] + n + 2];
@@ -88,20 +261,36 @@ impl OpacityShadowMap {
                             base[c][l] = quad[*o];
                         }
                     }
-                    let slices = base.map(|b| layering.interval_x8(sp.z - f32x8::new(b)));
                     let w = sp.weights.map(|w| w.to_array());
-                    for l in 0..sp.count {
-                        for (c, o) in offsets.iter().enumerate() {
-                            let slice = slices[c][l];
-                            texels[(slice / 4) * nn + sp.t0[l] + o][slice % 4] += w[c][l];
+                    if flat_fits {
+                        // Each corner's float index into the flat map,
+                        // (slice / 4) 4 n^2 + 4 (t0 + o) + slice % 4, in
+                        // i32 lanes; the same deposits in the same order.
+                        let index: [[i32; LANES]; 4] = std::array::from_fn(|c| {
+                            let s = layering.interval_i32x8(sp.z - f32x8::new(base[c]));
+                            let t = sp.t0_x8 + i32x8::splat(offsets[c] as i32);
+                            let group: i32x8 = s >> 2;
+                            let texel: i32x8 = t << 2;
+                            (group * nn4 + texel + (s & i32x8::splat(3))).to_array()
+                        });
+                        let flat = texels.as_flattened_mut();
+                        for l in sp.lanes() {
+                            for c in 0..4 {
+                                flat[index[c][l] as usize] += w[c][l];
+                            }
+                        }
+                    } else {
+                        let slices = base.map(|b| layering.interval_x8(sp.z - f32x8::new(b)));
+                        for l in sp.lanes() {
+                            for (c, o) in offsets.iter().enumerate() {
+                                let slice = slices[c][l];
+                                texels[(slice / 4) * nn + sp.t0[l] + o][slice % 4] += w[c][l];
+                            }
                         }
                     }
                 });
             }
         }
-        // 4. Prefix sum along depth.
-        prefix_sum(&mut self.texels, nn, self.settings.layers);
-        self.ready = true;
     }
 }
 

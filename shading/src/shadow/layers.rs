@@ -25,7 +25,7 @@
 //! small layer counts deep maps are for.
 
 use coif_base::LANES;
-use wide::f32x8;
+use wide::{f32x8, i32x8};
 
 /// The share of the hair's depth range that deep mode's layers span.
 pub const DEEP_SPAN: f32 = 0.5;
@@ -88,10 +88,16 @@ impl Layering {
     /// `x` must not be NaN.
     #[inline(always)]
     pub fn interval_x8(&self, x: f32x8) -> [usize; LANES] {
+        self.interval_i32x8(x).to_array().map(|i| i as usize)
+    }
+
+    /// [`Layering::interval_x8`] as `i32` lanes (for index arithmetic in
+    /// SIMD registers).
+    #[inline(always)]
+    pub fn interval_i32x8(&self, x: f32x8) -> i32x8 {
         let last = f32x8::splat((self.count - 1) as f32);
         let q = x.max(f32x8::ZERO) * f32x8::splat(self.scale);
         let i = if self.quadratic { q.sqrt() } else { q };
-        let i = i.floor().min(last).fast_trunc_int().to_array();
-        i.map(|i| i as usize)
+        i.floor().min(last).fast_trunc_int()
     }
 }

@@ -14,7 +14,7 @@ use super::map::OpacityShadowMap;
 use super::settings::ShadowMode;
 use coif_base::{Vec3x8, LANES};
 use glam::Vec3;
-use wide::f32x8;
+use wide::{f32x8, i32x8};
 
 impl OpacityShadowMap {
     /// SIMD batch: transmittance of every point of `points` into `out`
@@ -31,23 +31,32 @@ impl OpacityShadowMap {
             .chunks(LANES)
             .zip(out[..len].chunks_mut(LANES))
         {
-            let t = self.transmittance_x8(chunk);
+            let mut p = Vec3x8::ZERO;
+            for (l, q) in chunk.iter().enumerate() {
+                p.set_lane(l, *q);
+            }
+            let t = self.transmittance_x8(p);
             o.copy_from_slice(&t.as_array()[..chunk.len()]);
         }
     }
 
-    /// Transmittance of up to 8 points (lanes past `points.len()` and
-    /// non-finite points give 1).
+    /// Transmittance toward the light of eight points, one per lane: the
+    /// eight-lane twin of [`OpacityShadowMap::transmittance`], the same
+    /// steps in the same order (`T = exp(-alpha sigma)`, sigma bilinear
+    /// over the four texels around the point, linear in depth between each
+    /// texel's planes). A lane whose point is not finite gives 1 and never
+    /// disturbs the other lanes; before a build found hair every lane is 1.
+    /// Agrees with [`OpacityShadowMap::transmittance`] to the rounding of
+    /// the exponential (below 1e-6, tested). For a fused per-vertex pass:
+    /// no frame-sized buffer, no allocation.
     #[inline]
-    fn transmittance_x8(&self, points: &[Vec3]) -> f32x8 {
-        let mut p = Vec3x8::ZERO;
-        let mut finite = [0.0f32; LANES];
-        for (l, q) in points.iter().enumerate() {
-            if q.is_finite() {
-                p.set_lane(l, *q);
-                finite[l] = 1.0;
-            }
+    pub fn transmittance_x8(&self, p: Vec3x8) -> f32x8 {
+        let one = f32x8::ONE;
+        if !self.ready {
+            return one;
         }
+        let finite = p.finite();
+        let p = Vec3x8::select(finite, p, Vec3x8::ZERO);
         // 1. Light space, texel coordinates, corners and fractions.
         let f = &self.frame;
         let lx = p.dot(Vec3x8::splat(f.x_axis));
@@ -65,23 +74,16 @@ impl OpacityShadowMap {
         // (so the gathers need no branches) and a mask of the corners that
         // really are inside it; the others contribute 0, as in the scalar.
         let last = f32x8::splat((self.settings.resolution - 1) as f32);
-        let one = f32x8::ONE;
         let inside = |a: f32x8| a.simd_ge(f32x8::ZERO) & a.simd_le(last);
-        let clamp = |a: f32x8| a.max(f32x8::ZERO).min(last).to_array();
+        // Clamped into [0, n - 1] (NaN-free: finite lanes only), so the
+        // truncation is exact; corner indices below n^2 <= 2^26 in i32.
+        let clamp = |a: f32x8| a.max(f32x8::ZERO).min(last).fast_trunc_int();
         let (fu1, fv1) = (fu + one, fv + one);
         let (in_x, in_x1, in_y, in_y1) = (inside(fu), inside(fu1), inside(fv), inside(fv1));
         let valid = [in_x & in_y, in_x1 & in_y, in_x & in_y1, in_x1 & in_y1];
-        let (cx, cx1, cy, cy1) = (clamp(fu), clamp(fu1), clamp(fv), clamp(fv1));
-        let n = self.settings.resolution;
-        let mut corner = [[0usize; LANES]; 4];
-        for l in 0..LANES {
-            let (i0, i1) = (cx[l] as usize, cx1[l] as usize);
-            let (j0, j1) = (cy[l] as usize * n, cy1[l] as usize * n);
-            corner[0][l] = j0 + i0;
-            corner[1][l] = j0 + i1;
-            corner[2][l] = j1 + i0;
-            corner[3][l] = j1 + i1;
-        }
+        let row = i32x8::splat(self.settings.resolution as i32);
+        let (cx, cx1, cy, cy1) = (clamp(fu), clamp(fu1), clamp(fv) * row, clamp(fv1) * row);
+        let corner = [cy + cx, cy + cx1, cy1 + cx, cy1 + cx1].map(|c| c.to_array());
 
         // 2. Opacity in front of the depth in each corner.
         let mut sigma = [f32x8::ZERO; 4];
@@ -94,10 +96,8 @@ impl OpacityShadowMap {
             }
             ShadowMode::Deep => {
                 for (c, out) in sigma.iter_mut().enumerate() {
-                    let mut base = [0.0f32; LANES];
-                    for l in 0..LANES {
-                        base[l] = self.first_depth[corner[c][l]];
-                    }
+                    let base: [f32; LANES] =
+                        std::array::from_fn(|l| self.first_depth[corner[c][l] as usize]);
                     let (s, frac) = self.locate_x8(lz - f32x8::new(base));
                     *out = valid[c].select(self.corner_sigma_x8(&corner[c], &s, frac), f32x8::ZERO);
                 }
@@ -107,13 +107,13 @@ impl OpacityShadowMap {
         let s = (sigma[0] * (one - fx) + sigma[1] * fx) * (one - fy)
             + (sigma[2] * (one - fx) + sigma[3] * fx) * fy;
         let t = (f32x8::splat(-self.hair_opacity) * s).exp();
-        f32x8::new(finite).simd_gt(f32x8::ZERO).select(t, one)
+        finite.select(t, one)
     }
 
     /// [`super::layers::Layering::locate`] on eight depths: interval indices
     /// and fractions.
     #[inline(always)]
-    fn locate_x8(&self, x: f32x8) -> ([usize; LANES], f32x8) {
+    fn locate_x8(&self, x: f32x8) -> ([i32; LANES], f32x8) {
         let ly = &self.layering;
         let last = f32x8::splat((ly.count - 1) as f32);
         let one = f32x8::ONE;
@@ -126,26 +126,22 @@ impl OpacityShadowMap {
             let i = q.floor().min(last);
             (i, (q - i).min(one))
         };
-        let i = i.to_array();
-        let mut s = [0usize; LANES];
-        for l in 0..LANES {
-            s[l] = i[l] as usize;
-        }
-        (s, f)
+        // In [0, L - 1]: exact in i32.
+        (i.fast_trunc_int().to_array(), f)
     }
 
     /// Opacity in front of each lane's depth in one corner texel per lane:
     /// gathers `S[s - 1], S[s]` (`S[-1] = 0`) and interpolates with `frac`.
     #[inline(always)]
-    fn corner_sigma_x8(&self, texel: &[usize; LANES], s: &[usize; LANES], frac: f32x8) -> f32x8 {
+    fn corner_sigma_x8(&self, texel: &[i32; LANES], s: &[i32; LANES], frac: f32x8) -> f32x8 {
         let nn = self.settings.resolution * self.settings.resolution;
         let mut prev = [0.0f32; LANES];
         let mut next = [0.0f32; LANES];
         for l in 0..LANES {
-            let (t, s) = (texel[l], s[l]);
-            next[l] = self.texels[(s / 4) * nn + t][s % 4];
+            let (t, s) = (texel[l] as usize, s[l] as usize);
+            next[l] = self.texels[(s >> 2) * nn + t][s & 3];
             let p = s.saturating_sub(1);
-            let below = self.texels[(p / 4) * nn + t][p % 4];
+            let below = self.texels[(p >> 2) * nn + t][p & 3];
             prev[l] = if s == 0 { 0.0 } else { below };
         }
         let (prev, next) = (f32x8::new(prev), f32x8::new(next));

@@ -10,11 +10,14 @@
 //! * [`ShadowMode::Deep`]: deep opacity maps (Yuksel & Keyser 2008), the
 //!   layers start at a depth map of the first hair per texel, which removes
 //!   OSM's layering artefacts with few (3) layers.
-//! * Builds: [`OpacityShadowMap::build`] (SIMD, eight samples per `f32x8`,
-//!   deposits in the scalar order) and [`scalar::build`] (the reference)
-//!   make the same map bit for bit; likewise the batch lookups
+//! * Builds: [`OpacityShadowMap::build`] (SIMD, eight segments' samples
+//!   per `f32x8`, deposits in the scalar order) and [`scalar::build`] (the
+//!   reference) make the same map bit for bit; likewise the batch lookups
 //!   [`OpacityShadowMap::transmittance_batch`] and
-//!   [`scalar::transmittance_batch`] agree to float rounding. Files mirror:
+//!   [`scalar::transmittance_batch`] agree to float rounding, and so do the
+//!   per-point [`OpacityShadowMap::transmittance_x8`] (eight points in
+//!   lanes, for a fused per-vertex pass) and
+//!   [`OpacityShadowMap::transmittance`]. Files mirror:
 //!   `build.rs`, `raster.rs`, `lookup.rs` (SIMD) and `scalar/build.rs`,
 //!   `scalar/raster.rs`, `scalar/lookup.rs`.
 //! * [`exact_transmittance`]: the reference, `exp(-k n)` with `n` the number
@@ -25,6 +28,7 @@
 //! figures.
 
 mod build;
+pub use build::BuildScratch;
 mod exact;
 pub mod layers;
 pub mod light_frame;

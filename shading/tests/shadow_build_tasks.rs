@@ -1,0 +1,142 @@
+//! The shadow map build as independent tasks (`build_tasks`): the same
+//! bytes whatever runs the tasks (in order, in reverse, on three threads),
+//! bit for bit `build` with one task, and with several tasks the same map
+//! up to the grouping of the float sums; scratch for other settings gives
+//! no map instead of a panic.
+
+use coif_base::tasks::{Executor, Serial};
+use coif_base::SplitMix64;
+use coif_shading::shadow::{BuildScratch, OpacityShadowMap, ShadowMode, ShadowSettings};
+use glam::Vec3;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// Runs the tasks last to first.
+struct Reverse;
+
+// SAFETY: each index runs once, before `run` returns.
+unsafe impl Executor for Reverse {
+    fn threads(&self) -> usize {
+        1
+    }
+    fn run(&self, count: usize, task: &(dyn Fn(usize) + Sync)) {
+        for i in (0..count).rev() {
+            task(i);
+        }
+    }
+}
+
+/// Three scoped threads taking indices from a shared counter.
+struct Threads;
+
+// SAFETY: the counter hands each index to exactly one thread, and the scope
+// joins every thread before `run` returns.
+unsafe impl Executor for Threads {
+    fn threads(&self) -> usize {
+        3
+    }
+    fn run(&self, count: usize, task: &(dyn Fn(usize) + Sync)) {
+        let next = AtomicUsize::new(0);
+        std::thread::scope(|s| {
+            for _ in 0..3 {
+                s.spawn(|| loop {
+                    let i = next.fetch_add(1, Ordering::Relaxed);
+                    if i >= count {
+                        break;
+                    }
+                    task(i);
+                });
+            }
+        });
+    }
+}
+
+fn hair(strands: usize, verts: usize) -> Vec<Vec3> {
+    let mut rng = SplitMix64::new(11);
+    let mut pts = Vec::with_capacity(strands * verts);
+    for _ in 0..strands {
+        let mut p = rng.unit_vector() * 0.1;
+        let d = rng.unit_vector();
+        for _ in 0..verts {
+            pts.push(p);
+            p += (d + rng.unit_vector() * 0.5).normalize() * 0.01;
+        }
+    }
+    pts
+}
+
+fn stored(map: &OpacityShadowMap) -> Vec<u32> {
+    let s = map.settings();
+    let mut out = Vec::new();
+    for y in 0..s.resolution {
+        for x in 0..s.resolution {
+            for l in 0..s.layers {
+                out.push(map.stored_opacity(x, y, l).to_bits());
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn task_builds_have_the_same_bytes_on_any_executor() {
+    let (verts, light) = (16, Vec3::new(1.0, -0.5, 0.3));
+    let mut pts = hair(301, verts);
+    pts[40] = Vec3::NAN;
+    for settings in [
+        ShadowSettings {
+            resolution: 64,
+            ..Default::default()
+        },
+        ShadowSettings {
+            resolution: 64,
+            layers: 5,
+            mode: ShadowMode::Deep,
+            ..Default::default()
+        },
+    ] {
+        let mut single = OpacityShadowMap::new(settings.clone()).unwrap();
+        single.build(light, &pts, verts);
+        let reference = stored(&single);
+        assert!(reference.iter().filter(|b| **b != 0).count() > 1000);
+
+        let mut one = BuildScratch::new(&settings, 1).unwrap();
+        let mut map = OpacityShadowMap::new(settings.clone()).unwrap();
+        map.build_tasks(&Serial, &mut one, light, &pts, verts);
+        assert_eq!(stored(&map), reference, "one task is build, bit for bit");
+
+        let mut scratch = BuildScratch::new(&settings, 7).unwrap();
+        let executors: [&dyn Executor; 3] = [&Serial, &Reverse, &Threads];
+        let mut maps = Vec::new();
+        for e in executors {
+            let mut m = OpacityShadowMap::new(settings.clone()).unwrap();
+            m.build_tasks(e, &mut scratch, light, &pts, verts);
+            maps.push(stored(&m));
+            let p = pts[200];
+            assert!((m.transmittance(p) - single.transmittance(p)).abs() < 1e-5);
+        }
+        assert_eq!(maps[0], maps[1], "reverse order: same bytes");
+        assert_eq!(maps[0], maps[2], "three threads: same bytes");
+        for (a, b) in maps[0].iter().zip(&reference) {
+            let (a, b) = (f32::from_bits(*a), f32::from_bits(*b));
+            assert!((a - b).abs() <= 1e-5 * b.abs().max(1.0), "{a} vs {b}");
+        }
+    }
+}
+
+#[test]
+fn scratch_for_other_settings_gives_no_map() {
+    let settings = ShadowSettings {
+        resolution: 32,
+        ..Default::default()
+    };
+    let other = ShadowSettings {
+        resolution: 16,
+        ..Default::default()
+    };
+    let mut scratch = BuildScratch::new(&other, 2).unwrap();
+    let mut map = OpacityShadowMap::new(settings).unwrap();
+    map.build_tasks(&Serial, &mut scratch, Vec3::NEG_Z, &hair(20, 8), 8);
+    assert!(!map.is_ready());
+    assert_eq!(map.transmittance(Vec3::ZERO), 1.0);
+    assert!(BuildScratch::new(&ShadowSettings { layers: 0, ..other }, 2).is_err());
+}
