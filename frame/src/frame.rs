@@ -389,15 +389,9 @@ impl FramePipeline {
     /// [`FramePipeline::render`] with the prepare pass's tasks run by
     /// `executor` (the same bytes with any executor).
     pub fn render_with(&mut self, executor: &dyn Executor) {
+        self.prepare_with(executor);
         let origin = self.strands.origin().as_vec3();
         let camera = self.camera.shifted(origin);
-        self.place_head_spheres(origin);
-        let start = Instant::now();
-        match self.settings.prepare {
-            PrepareMode::Fused => self.prepare_fused(camera.eye(), executor),
-            PrepareMode::Reference => self.prepare_reference(camera.eye()),
-        }
-        self.timings.record(Stage::Prepare, start.elapsed());
         let start = Instant::now();
         self.timed(Stage::Head, |p| p.draw_head(&camera));
         if !self.ribbons.is_empty() {
@@ -409,6 +403,59 @@ impl FramePipeline {
         self.timed(Stage::Sort, |p| p.sort_hair(&camera));
         self.timed(Stage::Hair, |p| p.draw_hair(&camera));
         self.timings.record(Stage::Raster, start.elapsed());
+    }
+
+    /// The prepare part of [`FramePipeline::render_with`] alone (LOD, shadow
+    /// map, shading into [`FramePipeline::shaded_vertices`]), timed as
+    /// [`Stage::Prepare`]: for benchmarks and engines that rasterise
+    /// elsewhere.
+    pub fn prepare_with(&mut self, executor: &dyn Executor) {
+        let origin = self.strands.origin().as_vec3();
+        let eye = self.camera.shifted(origin).eye();
+        self.place_head_spheres(origin);
+        let start = Instant::now();
+        match self.settings.prepare {
+            PrepareMode::Fused => self.prepare_fused(eye, executor),
+            PrepareMode::Reference => self.prepare_reference(eye),
+        }
+        self.timings.record(Stage::Prepare, start.elapsed());
+    }
+
+    /// Runs the fused pass's task `i` again (the `i`-th drawn group of the
+    /// last frame: interpolate, shade, shadow, colour, write), with the last
+    /// frame's LOD and shadow map; returns the vertices it wrote (0 if there
+    /// is no such group or the pipeline is the reference). One cache-sized
+    /// chunk of the prepare pass, for benchmarks.
+    pub fn shade_drawn_group(&mut self, i: usize) -> usize {
+        if self.settings.prepare != PrepareMode::Fused {
+            return 0;
+        }
+        let Some(&(g, first)) = self.drawn.get(i) else {
+            return 0;
+        };
+        let Some(blend) = self.interpolation.group_blend(&self.guides, g as usize) else {
+            return 0;
+        };
+        let eye = self.camera.shifted(self.strands.origin().as_vec3()).eye();
+        let ctx = GroupShading {
+            shader: &self.shader,
+            shadow: self.shadow.map(),
+            head: &self.head_local,
+            light: self.settings.light,
+            eye,
+            width: self.render_width,
+            width_factor: self.width_factor,
+        };
+        let r_len = blend.verts();
+        let (start, n) = (
+            first as usize * r_len,
+            blend.hairs().min(coif_base::LANES) * r_len,
+        );
+        let Some(out) = self.shaded.get_mut(start..start + n) else {
+            return 0;
+        };
+        shade_group(&ctx, &blend, first as usize, out);
+        n
     }
 
     /// The reference prepare: [`FramePipeline::level_of_detail`], the
@@ -877,6 +924,11 @@ impl FramePipeline {
     /// Number of render hairs the interpolation places.
     pub fn render_hair_count(&self) -> usize {
         self.interpolation.hair_count()
+    }
+
+    /// The hair shadow map of the last frame (`None` with shadows off).
+    pub fn shadow_map(&self) -> Option<&coif_shading::shadow::OpacityShadowMap> {
+        self.shadow.map()
     }
 
     /// Whether hair self-shadowing (the deep opacity map) is on.
