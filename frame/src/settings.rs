@@ -6,9 +6,9 @@ use coif_lod::HairWidth;
 use glam::Vec3;
 
 /// Default [`FrameSettings::shadow_thinning`]: the fused pass builds the
-/// shadow map from every 8th drawn group of render hairs (measured in
+/// shadow map from every 4th drawn group of render hairs (measured in
 /// `frame/README.md`).
-pub const DEFAULT_SHADOW_THINNING: usize = 8;
+pub const DEFAULT_SHADOW_THINNING: usize = 4;
 
 /// A directional light plus ambient light.
 #[derive(Clone, Copy, Debug, PartialEq)]
