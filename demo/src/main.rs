@@ -266,7 +266,7 @@ impl Animation {
 
     /// Whether motion frame `f` goes into the animation.
     fn wants(&self, f: usize) -> bool {
-        f % self.every == 0
+        f.is_multiple_of(self.every)
     }
 
     /// Appends the pipeline's last frame.

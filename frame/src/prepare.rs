@@ -151,9 +151,9 @@ impl SharedOut {
     /// `len` vertices from `start`.
     ///
     /// # Safety
-    /// `start + len` is within the slice the pointer came from, and no other
-    /// live reference covers the range.
-    pub(crate) unsafe fn range(&self, start: usize, len: usize) -> &mut [ShadedVertex] {
+    /// `start + len` is within the slice the pointer came from, that slice
+    /// outlives `'a`, and no other live reference covers the range.
+    pub(crate) unsafe fn range<'a>(&self, start: usize, len: usize) -> &'a mut [ShadedVertex] {
         // SAFETY: the caller's promise.
         unsafe { std::slice::from_raw_parts_mut(self.0.add(start), len) }
     }
