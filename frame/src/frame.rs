@@ -430,13 +430,37 @@ impl FramePipeline {
         if self.settings.prepare != PrepareMode::Fused {
             return 0;
         }
+        let eye = self.camera.shifted(self.strands.origin().as_vec3()).eye();
+        let len = self.shaded_count.min(self.shaded.len());
+        let shared = SharedOut(self.shaded.as_mut_ptr());
+        // SAFETY: `shared` points to `self.shaded` (at least `len` long),
+        // and this is the only task running.
+        unsafe { self.shade_task(&shared, len, i, eye) }
+    }
+
+    /// Task `i` of the fused pass: the `i`-th drawn group interpolated,
+    /// shaded and written into its range of the shaded vertices. Returns the
+    /// vertices written.
+    ///
+    /// # Safety
+    /// `shared` points to `self.shaded`, at least `len` vertices long, and
+    /// no other task with the same `i` runs at the same time (the groups'
+    /// ranges, from the prefix sum of `list_drawn_groups`, are disjoint).
+    unsafe fn shade_task(&self, shared: &SharedOut, len: usize, i: usize, eye: Vec3) -> usize {
         let Some(&(g, first)) = self.drawn.get(i) else {
             return 0;
         };
         let Some(blend) = self.interpolation.group_blend(&self.guides, g as usize) else {
             return 0;
         };
-        let eye = self.camera.shifted(self.strands.origin().as_vec3()).eye();
+        let r_len = blend.verts();
+        let (start, n) = (
+            first as usize * r_len,
+            blend.hairs().min(coif_base::LANES) * r_len,
+        );
+        if start + n > len {
+            return 0;
+        }
         let ctx = GroupShading {
             shader: &self.shader,
             shadow: self.shadow.map(),
@@ -446,14 +470,9 @@ impl FramePipeline {
             width: self.render_width,
             width_factor: self.width_factor,
         };
-        let r_len = blend.verts();
-        let (start, n) = (
-            first as usize * r_len,
-            blend.hairs().min(coif_base::LANES) * r_len,
-        );
-        let Some(out) = self.shaded.get_mut(start..start + n) else {
-            return 0;
-        };
+        // SAFETY: within the first `len` vertices of `self.shaded` and
+        // disjoint from every other task's range (the caller's promise).
+        let out = unsafe { shared.range(start, n) };
         shade_group(&ctx, &blend, first as usize, out);
         n
     }
@@ -634,41 +653,16 @@ impl FramePipeline {
     /// (interpolate, shade, shadow, head shadow, colour; `prepare.rs`),
     /// each writing its own range of [`FramePipeline::shaded_vertices`].
     fn shade_fused(&mut self, eye: Vec3, executor: &dyn Executor) {
-        let r_len = self.guides.verts_per_strand();
-        let ctx = GroupShading {
-            shader: &self.shader,
-            shadow: self.shadow.map(),
-            head: &self.head_local,
-            light: self.settings.light,
-            eye,
-            width: self.render_width,
-            width_factor: self.width_factor,
-        };
-        let (interpolation, guides, drawn) = (&self.interpolation, &self.guides, &self.drawn);
         // Every group's range [first R, (first + hairs) R) lies within the
         // first `shaded_count` vertices (list_drawn_groups stopped before
         // overflowing them), and the ranges are disjoint (a prefix sum).
-        let out = &mut self.shaded[..self.shaded_count];
-        let len = out.len();
-        let shared = SharedOut(out.as_mut_ptr());
-        executor.run(drawn.len(), &|i| {
-            let Some(&(g, first)) = drawn.get(i) else {
-                return;
-            };
-            let Some(blend) = interpolation.group_blend(guides, g as usize) else {
-                return;
-            };
-            let (start, n) = (
-                first as usize * r_len,
-                blend.hairs().min(coif_base::LANES) * r_len,
-            );
-            if start + n > len {
-                return;
-            }
-            // SAFETY: within `out` and disjoint from every other task's
-            // range (above); `out` is borrowed for the whole `run`.
-            let range = unsafe { shared.range(start, n) };
-            shade_group(&ctx, &blend, first as usize, range);
+        let len = self.shaded_count.min(self.shaded.len());
+        let shared = SharedOut(self.shaded.as_mut_ptr());
+        let this = &*self;
+        executor.run(this.drawn.len(), &|i| {
+            // SAFETY: `shared` points to `self.shaded`; the executor runs
+            // each `i` once (its contract), so no two tasks share a range.
+            unsafe { this.shade_task(&shared, len, i, eye) };
         });
     }
 
