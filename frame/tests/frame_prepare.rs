@@ -95,6 +95,7 @@ fn fused_with_the_thinned_shadow_map_stays_close_to_the_reference() {
         let settings = |prepare| FrameSettings {
             shading: model,
             prepare,
+            shadow_thinning: 2,
             render_hairs_per_cm2: FrameSettings::default().render_hairs_per_cm2,
             ..FrameSettings::small(96)
         };
