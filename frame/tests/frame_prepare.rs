@@ -7,10 +7,10 @@
 //!   (the same blend), colours agree to 2e-5 relative (the eye direction
 //!   and the head's shadow are computed in lanes, `1 / sqrt` vs glam's
 //!   `normalize`), and no pixel differs by more than 1 of 255.
-//! * With the default thinned map (every 4th group, the default density)
-//!   the picture differs where the thinned map's transmittance does (see
-//!   `frame/README.md`, "The thinned shadow map"): bounds and why in the
-//!   test.
+//! * With the map thinned to every 2nd group (`shadow_thinning = 2`, the
+//!   default density) the picture differs where the thinned map's
+//!   transmittance does (see `frame/README.md`, "The thinned shadow
+//!   map"): bounds and why in the test.
 //! * Any executor gives the same bytes as the serial one.
 
 mod common;
@@ -118,22 +118,21 @@ fn fused_with_the_thinned_shadow_map_stays_close_to_the_reference() {
         eprintln!(
             "{model}: vertex colours {rel:.4} mean relative, brightness ratio {brightness:.4}; image max {max}, mean {mean:.3}, {over:.4} of pixels over 8"
         );
-        // Bounds (measured at k = 4, every model: 16 % mean relative
-        // difference per vertex, 3 % brighter in all, mean pixel 1.1
-        // levels, 5 % of the pixels more than 8 levels apart): a thinned
-        // map keeps the mean opacity per texel but not where in the texel
-        // each hair falls, so single vertices move by a few tenths of
-        // their shadow while the whole stays within a few per cent
-        // (sparser hair is also slightly brighter on average: the
-        // exponential is convex).
-        assert!(rel < 0.25, "{model}: mean colour difference {rel}");
+        // Bounds (measured at k = 2: 8.9 / 6.0 / 3.7 % mean relative
+        // difference per vertex for Kajiya-Kay / Marschner / pbrt,
+        // brightness within 0.13 %, mean pixel 0.56 / 0.36 / 0.25 levels,
+        // 1.4 / 0.4 / 0.1 % of the pixels more than 8 levels apart): a
+        // thinned map keeps the mean opacity per texel but not where in the
+        // texel each hair falls, so single vertices move by a part of their
+        // shadow while the whole stays within a per cent.
+        assert!(rel < 0.15, "{model}: mean colour difference {rel}");
         assert!(
-            (brightness - 1.0).abs() < 0.05,
+            (brightness - 1.0).abs() < 0.02,
             "{model}: brightness ratio {brightness}"
         );
-        assert!(mean < 2.0, "{model}: mean pixel difference {mean}");
+        assert!(mean < 1.0, "{model}: mean pixel difference {mean}");
         assert!(
-            over < 0.08,
+            over < 0.03,
             "{model}: {over} of the pixels differ by more than 8"
         );
     }
