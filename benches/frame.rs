@@ -14,10 +14,19 @@
 //!   size (random, edges 4-14 px, about 30 px^2) into a 512 x 512 frame,
 //!   every pixel passing the depth test (each iteration is nearer than the
 //!   last), elements = triangles.
+//! - `prepare/{fused,fused_k4,reference}`: the prepare pass (LOD, shadow
+//!   map, shading) of the default head streaming over the whole frame,
+//!   fused (every hair in the shadow map / every 4th group) and the reference;
+//!   `prepare/fused_group`: one task of the fused pass (one group of
+//!   eight hairs) in cache; elements = render vertices.
 //! - `shade/{kajiya-kay,marschner,pbrt}`: per-vertex shading batch of 65,536
 //!   samples.
 
-use coif::frame::{motion, FramePipeline, FrameSettings, HairScene, Shader, ShadingModel};
+use coif::base::tasks::Serial;
+use coif::frame::{
+    motion, FramePipeline, FrameSettings, HairScene, PrepareMode, Shader, ShadingModel,
+    DEFAULT_SHADOW_THINNING,
+};
 use coif::geometry::scene::GrowOptions;
 use coif::groom;
 use coif::kernels::rng::SplitMix64;
@@ -166,5 +175,45 @@ fn shade(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, frames, raster, shade);
+/// The prepare pass (LOD, shadow map, shading) of the default head,
+/// fused (the default map of every hair, and the map of every 4th group)
+/// against the stage-by-stage reference: `prepare/{fused,fused_k4,reference}` streams
+/// the whole frame (elements = render vertices); `prepare/fused_group`
+/// repeats one task of the fused pass, one interpolation group of eight
+/// hairs, in cache (elements = its vertices).
+fn prepare(c: &mut Criterion) {
+    let scene = HairScene::procedural(&GrowOptions {
+        strand_count: 2048,
+        curl: 0.15,
+        ..GrowOptions::default()
+    })
+    .unwrap();
+    let mut g = c.benchmark_group("prepare");
+    g.sample_size(10);
+    for (name, prepare, k) in [
+        ("fused", PrepareMode::Fused, DEFAULT_SHADOW_THINNING),
+        ("fused_k4", PrepareMode::Fused, 4),
+        ("reference", PrepareMode::Reference, 1),
+    ] {
+        let settings = FrameSettings {
+            prepare,
+            shadow_thinning: k,
+            ..FrameSettings::default()
+        };
+        let mut p = FramePipeline::new(&scene, settings, 1.0).unwrap();
+        p.frame(1.0 / 30.0, motion::turn_and_nod(0.5, p.pivot()));
+        g.throughput(Throughput::Elements(p.stats().vertices as u64));
+        p.reset_timings();
+        g.bench_function(name, |b| b.iter(|| p.prepare_with(&Serial)));
+        eprintln!("\nprepare/{name}: per-stage means:\n{}\n", p.timings());
+        if name == "fused" {
+            let n = p.shade_drawn_group(0);
+            g.throughput(Throughput::Elements(n as u64));
+            g.bench_function("fused_group", |b| b.iter(|| p.shade_drawn_group(0)));
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, frames, prepare, raster, shade);
 criterion_main!(benches);

@@ -10,6 +10,9 @@
 //!   and one-shot `fit`).
 //! - `fit_quality/controls=../lambda=../rms=..`: time of the batch fit and
 //!   the fit error against the noise-free helix.
+//! - `refine_interpolate/{simd,scalar}`: refinement plus the row-by-row
+//!   group interpolation of the fused prepare pass, in cache, per render
+//!   vertex (the whole-groups head).
 //! - `cull`: frustum culling of the head.
 
 use coif::kernels::rng::SplitMix64;
@@ -166,6 +169,53 @@ fn interpolate(c: &mut Criterion) {
     g.finish();
 }
 
+/// Refine + interpolate as the fused prepare pass runs them, per render
+/// vertex: `refine_strands` of the head's guides, then every group's rows
+/// (`GroupBlend::position_x8` and `tangent_x8`) consumed at once instead of
+/// stored (a running sum stands in for the shading), so everything stays
+/// in cache; the scalar twin refines with `scalar::refine_strands` and
+/// blends one lane at a time. Elements = render vertices.
+fn refine_and_interpolate(c: &mut Criterion) {
+    let mut g = c.benchmark_group("refine_interpolate");
+    let (strands, interp, mut guides) = head(true);
+    let groups = interp.group_count();
+    let verts = interp.hair_count() * guides.verts_per_strand();
+    g.throughput(Throughput::Elements(verts as u64));
+    g.bench_function("simd", |b| {
+        b.iter(|| {
+            lod::refine_strands(strands.blocks(), None, &mut guides);
+            let mut acc = coif::base::Vec3x8::ZERO;
+            for k in 0..groups {
+                let Some(blend) = interp.group_blend(&guides, k) else {
+                    continue;
+                };
+                for r in 0..blend.verts() {
+                    acc = acc + blend.position_x8(r) + blend.tangent_x8(r);
+                }
+            }
+            black_box(acc)
+        })
+    });
+    g.bench_function("scalar", |b| {
+        b.iter(|| {
+            lod::scalar::refine_strands(strands.blocks(), None, &mut guides);
+            let mut acc = Vec3::ZERO;
+            for k in 0..groups {
+                let Some(blend) = interp.group_blend(&guides, k) else {
+                    continue;
+                };
+                for l in 0..blend.hairs() {
+                    for r in 0..blend.verts() {
+                        acc += blend.position(l, r) + blend.tangent(l, r);
+                    }
+                }
+            }
+            black_box(acc)
+        })
+    });
+    g.finish();
+}
+
 fn cull(c: &mut Criterion) {
     let (strands, interp, _) = head(false);
     let mut vis = Visibility::new(strands.strand_count(), interp.group_count());
@@ -234,6 +284,6 @@ fn fitter(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20);
-    targets = refine, interpolate, cull, fitter
+    targets = refine, interpolate, refine_and_interpolate, cull, fitter
 }
 criterion_main!(benches);

@@ -132,18 +132,8 @@ fn frame_scene() -> Scene {
     };
     run(&mut p);
     let camera = p.camera().shifted(p.strands().origin().as_vec3());
-    let (vertices, vps) = p.render_vertices();
-    let colors = p.vertex_colors();
-    let shaded = vertices
-        .iter()
-        .enumerate()
-        .map(|(k, v)| ShadedVertex {
-            position: v.position,
-            width: v.width,
-            color: colors.get(k).into(),
-            strand_parameter: v.strand_parameter,
-        })
-        .collect();
+    let (_, vps) = p.render_vertices();
+    let shaded = p.shaded_vertices().to_vec();
     // The head and ribbons alone: the same frame with invisible hair.
     let settings = FrameSettings {
         hair_opacity: 0.0,

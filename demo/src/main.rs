@@ -7,7 +7,10 @@
 //! `--help`.
 
 use clap::Parser;
-use coif::frame::{motion, FramePipeline, FrameSettings, FrameStats, HairScene, ShadingModel};
+use coif::frame::{
+    motion, FramePipeline, FrameSettings, FrameStats, HairScene, PrepareMode, ShadingModel,
+    DEFAULT_SHADOW_THINNING,
+};
 use coif::geometry::scene::GrowOptions;
 use coif::kernels::SimParams;
 use coif::render::RgbImage;
@@ -81,6 +84,32 @@ struct Cli {
     /// Render hairs per cm^2 (each widened to keep a real scalp's coverage).
     #[arg(long, default_value_t = 40.0)]
     density: f32,
+    /// Prepare pass: fused (one pass per group of hairs) or reference
+    /// (stage by stage, the shadow map from every hair).
+    #[arg(long, default_value = "fused", value_parser = parse_prepare)]
+    prepare: PrepareMode,
+    /// The fused pass builds the shadow map from every K-th group of render
+    /// hairs (1 = all of them).
+    #[arg(long, default_value_t = DEFAULT_SHADOW_THINNING, value_name = "K")]
+    shadow_thinning: usize,
+    /// Also write the per-stage times as CSV (`stage,runs,mean_ms,last_ms`).
+    #[arg(long, value_name = "PATH")]
+    timings_csv: Option<PathBuf>,
+    /// Also write the whole motion as an animated PNG (every
+    /// --animation-every-th frame, played at the motion's speed, looping).
+    #[arg(long, value_name = "PATH")]
+    animation: Option<PathBuf>,
+    /// Frames of the motion per frame of the animation.
+    #[arg(long, default_value_t = 1, value_name = "N")]
+    animation_every: usize,
+}
+
+fn parse_prepare(s: &str) -> Result<PrepareMode, String> {
+    match s {
+        "fused" => Ok(PrepareMode::Fused),
+        "reference" => Ok(PrepareMode::Reference),
+        _ => Err(format!("unknown prepare pass {s:?} (fused, reference)")),
+    }
 }
 
 fn parse_model(s: &str) -> Result<ShadingModel, String> {
@@ -192,12 +221,71 @@ struct Motion {
     dt: f32,
     /// Wall-clock time of the loop.
     total: std::time::Duration,
+    /// Frames written to the animation.
+    animation_frames: usize,
+}
+
+/// The animated PNG of `--animation`, written frame by frame as the
+/// motion runs (APNG, looping forever; 8-bit RGB like the stills).
+struct Animation {
+    writer: png::Writer<std::io::BufWriter<std::fs::File>>,
+    image: RgbImage,
+    every: usize,
+    frames: usize,
+}
+
+impl Animation {
+    /// The frames of a `frames`-frame motion at `fps` kept: every
+    /// `every`-th, each shown `every / fps` seconds.
+    fn create(
+        path: &Path,
+        size: (usize, usize),
+        frames: usize,
+        every: usize,
+        fps: f32,
+    ) -> Result<Animation, Box<dyn std::error::Error>> {
+        let every = every.max(1);
+        let count = frames.div_ceil(every);
+        let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let mut encoder =
+            png::Encoder::new(std::io::BufWriter::new(file), size.0 as u32, size.1 as u32);
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(png::BitDepth::Eight);
+        encoder.set_animated(count as u32, 0)?;
+        // Delay every / fps seconds as a fraction with a 1/100 s grain.
+        let den = (fps * 100.0).round().clamp(1.0, u16::MAX as f32) as u16;
+        let num = (every * 100).min(u16::MAX as usize) as u16;
+        encoder.set_frame_delay(num, den)?;
+        Ok(Animation {
+            writer: encoder.write_header()?,
+            image: RgbImage::new(size.0, size.1),
+            every,
+            frames: 0,
+        })
+    }
+
+    /// Whether motion frame `f` goes into the animation.
+    fn wants(&self, f: usize) -> bool {
+        f.is_multiple_of(self.every)
+    }
+
+    /// Appends the pipeline's last frame.
+    fn push(&mut self, pipeline: &FramePipeline) -> Result<(), png::EncodingError> {
+        pipeline.encode_into(&mut self.image);
+        self.writer.write_image_data(&self.image.data)?;
+        self.frames += 1;
+        Ok(())
+    }
 }
 
 /// Runs `--frames` frames of the built-in head motion: frames that are
 /// written (the last, the sheet's) or timed (every `--render-every`-th)
 /// render, the others only simulate.
-fn run_motion(cli: &Cli, pipeline: &mut FramePipeline) -> Motion {
+fn run_motion(
+    cli: &Cli,
+    pipeline: &mut FramePipeline,
+    mut animation: Option<&mut Animation>,
+) -> Result<Motion, Box<dyn std::error::Error>> {
     let frames = cli.frames.max(1);
     let dt = 1.0 / cli.fps.max(1.0);
     let sheet_frames: Vec<usize> = (0..6).map(|k| (k * (frames - 1)) / 5).collect();
@@ -207,24 +295,30 @@ fn run_motion(cli: &Cli, pipeline: &mut FramePipeline) -> Motion {
     let mut last = Default::default();
     for f in 0..frames {
         let pose = motion::turn_and_nod(f as f32 * dt, pivot);
-        let wanted = f + 1 == frames || (cli.sheet.is_some() && sheet_frames.contains(&f));
+        let animated = animation.as_ref().is_some_and(|a| a.wants(f));
+        let wanted =
+            animated || f + 1 == frames || (cli.sheet.is_some() && sheet_frames.contains(&f));
         if wanted || (cli.render_every > 0 && f % cli.render_every == 0) {
             last = pipeline.frame(dt, pose);
             if cli.sheet.is_some() && sheet_frames.contains(&f) {
                 tiles.push(pipeline.image());
             }
+            if let Some(a) = animation.as_mut().filter(|_| animated) {
+                a.push(pipeline)?;
+            }
         } else {
             pipeline.simulate(dt, pose);
         }
     }
-    Motion {
+    Ok(Motion {
         last,
         tiles,
         sheet_frames,
         frames,
         dt,
         total: run_start.elapsed(),
-    }
+        animation_frames: animation.map_or(0, |a| a.frames),
+    })
 }
 
 fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
@@ -238,6 +332,8 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         render_hairs_per_cm2: cli.density,
         view_direction: cli.view,
         shadows: !cli.no_shadows,
+        prepare: cli.prepare,
+        shadow_thinning: cli.shadow_thinning.max(1),
         ..FrameSettings::default()
     };
     let local_shape = cli
@@ -270,6 +366,16 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         start.elapsed().as_secs_f64() * 1e3
     );
 
+    let mut animation = match &cli.animation {
+        Some(path) => Some(Animation::create(
+            path,
+            (width, height),
+            cli.frames.max(1),
+            cli.animation_every,
+            cli.fps.max(1.0),
+        )?),
+        None => None,
+    };
     let Motion {
         last,
         tiles,
@@ -277,7 +383,18 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         frames,
         dt,
         total,
-    } = run_motion(&cli, &mut pipeline);
+        animation_frames,
+    } = run_motion(&cli, &mut pipeline, animation.as_mut())?;
+    if let (Some(a), Some(path)) = (animation, &cli.animation) {
+        a.writer
+            .finish()
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        println!(
+            "wrote {} ({animation_frames} frames, every {} of the motion)",
+            path.display(),
+            cli.animation_every.max(1)
+        );
+    }
     pipeline
         .image()
         .save_png(&cli.output)
@@ -295,6 +412,14 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     );
     println!("\nper-stage time (mean over the frames that ran each stage):");
     println!("{}", pipeline.timings());
+    if let Some(path) = &cli.timings_csv {
+        let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        pipeline
+            .timings()
+            .write_csv(std::io::BufWriter::new(file))
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        println!("wrote {}", path.display());
+    }
     println!("\nwrote {}", cli.output.display());
     if let Some(path) = &cli.sheet {
         RgbImage::contact_sheet(&tiles, 3, 4, [16, 16, 16])

@@ -116,3 +116,111 @@ fn bad_options_and_files_fail_with_a_message() {
         assert!(!image.exists(), "{args:?}: no picture");
     }
 }
+
+/// `--timings-csv` writes the per-stage table as CSV with the four totals
+/// and the finer rows; `--animation` writes an APNG of every
+/// `--animation-every`-th frame (decoded here: frame count, size, delay,
+/// every frame's pixels), the same bytes on a second run.
+#[test]
+fn timings_csv_and_the_animation() {
+    let dir = out_dir();
+    let (csv, anim, anim2, image) = (
+        dir.join("timings.csv"),
+        dir.join("motion.png"),
+        dir.join("motion2.png"),
+        dir.join("animated_last.png"),
+    );
+    let run = |anim: &PathBuf| {
+        let _ = std::fs::remove_file(anim);
+        let out = Command::new(env!("CARGO_BIN_EXE_coif"))
+            .args(["--size", "64x48", "--frames", "7", "--density", "8"])
+            .args([
+                "--fps",
+                "25",
+                "--animation-every",
+                "2",
+                "--render-every",
+                "3",
+            ])
+            .arg("--animation")
+            .arg(anim)
+            .arg("--timings-csv")
+            .arg(&csv)
+            .arg("--output")
+            .arg(&image)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}\n{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+    };
+    run(&anim);
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("stage,runs,mean_ms,last_ms"));
+    let rows: Vec<(String, u32, f64, f64)> = lines
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            assert_eq!(f.len(), 4, "{l}");
+            (
+                f[0].to_string(),
+                f[1].parse().unwrap(),
+                f[2].parse().unwrap(),
+                f[3].parse().unwrap(),
+            )
+        })
+        .collect();
+    let row = |name: &str| {
+        rows.iter()
+            .find(|r| r.0 == name)
+            .unwrap_or_else(|| panic!("no row {name}:\n{text}"))
+            .clone()
+    };
+    // 7 frames simulate; frames 0, 2, 4, 6 (animation), 3 (render-every)
+    // render: 5 frames.
+    assert_eq!(row("simulate").1, 7);
+    for name in [
+        "prepare",
+        "raster",
+        "frame",
+        "lod",
+        "shade",
+        "rasterise hair",
+    ] {
+        assert_eq!(row(name).1, 5, "{name}");
+    }
+    for r in &rows {
+        assert!(r.2 >= 0.0 && r.3 >= 0.0 && r.2.is_finite(), "{r:?}");
+    }
+    let (prepare, raster, frame) = (row("prepare").2, row("raster").2, row("frame").2);
+    assert!(
+        prepare + raster <= frame * 1.01 + 0.01,
+        "prepare {prepare} + raster {raster} within frame {frame}"
+    );
+
+    // The animation: 4 frames (0, 2, 4, 6) of 64 x 48, 2 / 25 s each.
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&anim).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let actl = reader.info().animation_control.expect("an animated PNG");
+    assert_eq!(actl.num_frames, 4);
+    assert_eq!((reader.info().width, reader.info().height), (64, 48));
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let mut frames = Vec::new();
+    for _ in 0..4 {
+        reader.next_frame(&mut buf).unwrap();
+        let fc = reader.info().frame_control.expect("a frame control");
+        assert_eq!((fc.width, fc.height), (64, 48));
+        let delay = fc.delay_num as f32 / fc.delay_den as f32;
+        assert!((delay - 2.0 / 25.0).abs() < 1e-6, "delay {delay}");
+        frames.push(buf.clone());
+    }
+    assert!(frames.windows(2).all(|w| w[0] != w[1]), "the head moves");
+    run(&anim2);
+    assert_eq!(
+        std::fs::read(&anim).unwrap(),
+        std::fs::read(&anim2).unwrap()
+    );
+}

@@ -1,10 +1,12 @@
 //! The frame pipeline: one struct owning every buffer, one call per frame.
 
 use super::motion::blend_poses;
+use super::prepare::{shade_group, GroupShading, SharedOut};
 use super::ribbon::RibbonStage;
 use super::shadow::ShadowStage;
 use super::timings::{Stage, StageTimings};
-use super::{Error, FrameSettings, HairScene, Shader};
+use super::{Error, FrameSettings, HairScene, PrepareMode, Shader};
+use coif_base::tasks::{Executor, Serial};
 use coif_kernels::{self as kernels, FixedStep, SimParams, Sphere, Strands};
 use coif_lod::{
     self as lod, level, HairWidth, Interpolation, RefinedGuides, RenderHairs, RenderVertex,
@@ -164,8 +166,9 @@ pub struct FrameStats {
 
 /// One hair frame, end to end, into buffers sized once at construction:
 /// move the head (rig and roots follow a rigid pose), step the simulation
-/// with a fixed-step accumulator, LOD (distance LOD, cull, level, refine,
-/// interpolate, render vertices), shadow map, per-vertex shading,
+/// with a fixed-step accumulator, prepare (LOD, shadow map, per-vertex
+/// shading, fused per interpolation group or stage by stage as the
+/// reference, [`PrepareMode`]) into one buffer of [`ShadedVertex`]es,
 /// rasterisation. [`FramePipeline::frame`] allocates nothing.
 pub struct FramePipeline {
     settings: FrameSettings,
@@ -198,13 +201,19 @@ pub struct FramePipeline {
     colors: RgbBuffer,
     transmittance: Vec<f32>,
     shadow: ShadowStage,
+    /// Drawn groups of this frame and the index of each one's first hair
+    /// (a prefix sum, so every group knows where its vertices go).
+    drawn: Vec<(u32, u32)>,
+    /// The one place the prepare pass writes: every drawn render vertex,
+    /// shaded, hair after hair (the rasteriser's input).
+    shaded: Vec<ShadedVertex>,
+    shaded_count: usize,
+    groups_drawn: usize,
+    width_factor: f32,
     // Rasterisation.
     camera: Camera,
     framebuffer: Framebuffer,
     order: DepthOrder,
-    /// The render vertices with their final colours, as the rasteriser
-    /// reads them (filled by `sort_hair` until the prepare pass writes them).
-    shaded: Vec<ShadedVertex>,
     raster: HairRaster,
     timings: StageTimings,
     stats: FrameStats,
@@ -247,13 +256,18 @@ impl FramePipeline {
             );
         let render_width = render_width(&settings);
         let shader = Shader::new(settings.shading)?;
-        let shadow = ShadowStage::new(&settings, capacity)?;
         let raster = HairRaster::new(settings.width, settings.height, capacity).map_err(|_| {
             Error::Setting {
                 name: "width x height",
                 expected: "at most 2,097,120 pixels per side",
             }
         })?;
+        let group_count = interpolation.group_count();
+        let thinning = match settings.prepare {
+            PrepareMode::Fused => settings.shadow_thinning.max(1),
+            PrepareMode::Reference => 1,
+        };
+        let shadow = ShadowStage::new(&settings, capacity, thinning)?;
         Ok(FramePipeline {
             rest_rig: scene.rig.clone(),
             rest_head: scene.head.clone(),
@@ -281,9 +295,13 @@ impl FramePipeline {
             colors: RgbBuffer::zeros(capacity),
             transmittance: vec![1.0; capacity],
             shadow,
+            drawn: Vec::with_capacity(group_count),
+            shaded: vec![ShadedVertex::default(); capacity],
+            shaded_count: 0,
+            groups_drawn: 0,
+            width_factor: 1.0,
             camera,
             framebuffer: Framebuffer::new(settings.width, settings.height),
-            shaded: vec![ShadedVertex::default(); capacity],
             raster,
             settings,
             timings: StageTimings::default(),
@@ -291,10 +309,25 @@ impl FramePipeline {
         })
     }
 
-    /// One frame: [`FramePipeline::simulate`], then [`FramePipeline::render`].
+    /// One frame: [`FramePipeline::simulate`], then [`FramePipeline::render`]
+    /// (tasks on the calling thread).
     pub fn frame(&mut self, frame_time: f32, head_pose: Affine3A) -> FrameStats {
+        self.frame_with(frame_time, head_pose, &Serial)
+    }
+
+    /// [`FramePipeline::frame`] with the prepare pass's independent tasks
+    /// (one per interpolation group) run by `executor`: the same bytes with
+    /// any executor.
+    pub fn frame_with(
+        &mut self,
+        frame_time: f32,
+        head_pose: Affine3A,
+        executor: &dyn Executor,
+    ) -> FrameStats {
+        let start = Instant::now();
         self.simulate(frame_time, head_pose);
-        self.render();
+        self.render_with(executor);
+        self.timings.record(Stage::Frame, start.elapsed());
         self.stats
     }
 
@@ -334,8 +367,7 @@ impl FramePipeline {
         ribbon_time += ribbon_start.elapsed();
         self.pose = head_pose;
         self.stats.substeps = steps;
-        self.timings
-            .record(Stage::Simulate, start.elapsed().saturating_sub(ribbon_time));
+        self.timings.record(Stage::Simulate, start.elapsed());
         if !self.ribbons.is_empty() {
             self.timings.record(Stage::Ribbon, ribbon_time);
         }
@@ -354,25 +386,128 @@ impl FramePipeline {
         let _ = self.strands.set_rest_rotation(rotation);
     }
 
-    /// LOD, shadow map, shading and rasterisation of the current hair, each
-    /// stage timed ([`Stage`]). Everything is drawn in render space: world
-    /// space shifted by the simulation's origin (`Strands::origin`), so
-    /// that hair far from the world origin keeps its precision.
+    /// Prepare (LOD, shadow map, shading) and rasterisation of the current
+    /// hair, each stage timed ([`Stage`]), tasks on the calling thread.
+    /// Everything is drawn in render space: world space shifted by the
+    /// simulation's origin (`Strands::origin`), so that hair far from the
+    /// world origin keeps its precision.
     pub fn render(&mut self) {
+        self.render_with(&Serial);
+    }
+
+    /// [`FramePipeline::render`] with the prepare pass's tasks run by
+    /// `executor` (the same bytes with any executor).
+    pub fn render_with(&mut self, executor: &dyn Executor) {
+        self.prepare_with(executor);
         let origin = self.strands.origin().as_vec3();
         let camera = self.camera.shifted(origin);
-        self.place_head_spheres(origin);
-        self.timed(Stage::Lod, |p| p.level_of_detail());
-        if self.shadow.enabled() {
-            self.timed(Stage::Shadow, |p| p.build_shadow_map());
-        }
-        self.shade(camera.eye());
+        let start = Instant::now();
         self.timed(Stage::Head, |p| p.draw_head(&camera));
         if !self.ribbons.is_empty() {
             self.timed(Stage::RibbonDraw, |p| p.draw_ribbons(origin, &camera));
         }
         self.timed(Stage::Sort, |p| p.sort_hair(&camera));
         self.timed(Stage::Hair, |p| p.draw_hair(&camera));
+        self.timings.record(Stage::Raster, start.elapsed());
+    }
+
+    /// The prepare part of [`FramePipeline::render_with`] alone (LOD, shadow
+    /// map, shading into [`FramePipeline::shaded_vertices`]), timed as
+    /// [`Stage::Prepare`]: for benchmarks and engines that rasterise
+    /// elsewhere.
+    pub fn prepare_with(&mut self, executor: &dyn Executor) {
+        let origin = self.strands.origin().as_vec3();
+        let eye = self.camera.shifted(origin).eye();
+        self.place_head_spheres(origin);
+        let start = Instant::now();
+        match self.settings.prepare {
+            PrepareMode::Fused => self.prepare_fused(eye, executor),
+            PrepareMode::Reference => self.prepare_reference(eye),
+        }
+        self.timings.record(Stage::Prepare, start.elapsed());
+    }
+
+    /// Runs the fused pass's task `i` again (the `i`-th drawn group of the
+    /// last frame: interpolate, shade, shadow, colour, write), with the last
+    /// frame's LOD and shadow map; returns the vertices it wrote (0 if there
+    /// is no such group or the pipeline is the reference). One cache-sized
+    /// chunk of the prepare pass, for benchmarks.
+    pub fn shade_drawn_group(&mut self, i: usize) -> usize {
+        if self.settings.prepare != PrepareMode::Fused {
+            return 0;
+        }
+        let eye = self.camera.shifted(self.strands.origin().as_vec3()).eye();
+        let len = self.shaded_count.min(self.shaded.len());
+        let shared = SharedOut(self.shaded.as_mut_ptr());
+        // SAFETY: `shared` points to `self.shaded` (at least `len` long),
+        // and this is the only task running.
+        unsafe { self.shade_task(&shared, len, i, eye) }
+    }
+
+    /// Task `i` of the fused pass: the `i`-th drawn group interpolated,
+    /// shaded and written into its range of the shaded vertices. Returns the
+    /// vertices written.
+    ///
+    /// # Safety
+    /// `shared` points to `self.shaded`, at least `len` vertices long, and
+    /// no other task with the same `i` runs at the same time (the groups'
+    /// ranges, from the prefix sum of `list_drawn_groups`, are disjoint).
+    unsafe fn shade_task(&self, shared: &SharedOut, len: usize, i: usize, eye: Vec3) -> usize {
+        let Some(&(g, first)) = self.drawn.get(i) else {
+            return 0;
+        };
+        let Some(blend) = self.interpolation.group_blend(&self.guides, g as usize) else {
+            return 0;
+        };
+        let r_len = blend.verts();
+        let (start, n) = (
+            first as usize * r_len,
+            blend.hairs().min(coif_base::LANES) * r_len,
+        );
+        if start + n > len {
+            return 0;
+        }
+        let ctx = GroupShading {
+            shader: &self.shader,
+            shadow: self.shadow.map(),
+            head: &self.head_local,
+            light: self.settings.light,
+            eye,
+            width: self.render_width,
+            width_factor: self.width_factor,
+        };
+        // SAFETY: within the first `len` vertices of `self.shaded` and
+        // disjoint from every other task's range (the caller's promise).
+        let out = unsafe { shared.range(start, n) };
+        shade_group(&ctx, &blend, first as usize, out);
+        n
+    }
+
+    /// The reference prepare: [`FramePipeline::level_of_detail`], the
+    /// shadow map of every render vertex, the batch shading, then the
+    /// shaded vertices.
+    fn prepare_reference(&mut self, eye: Vec3) {
+        self.timed(Stage::Lod, |p| p.level_of_detail());
+        if self.shadow.enabled() {
+            self.timed(Stage::Shadow, |p| p.build_shadow_map());
+        }
+        self.shade(eye);
+    }
+
+    /// The fused prepare: [`FramePipeline::lod_setup`], the shadow map of
+    /// every `shadow_thinning`-th drawn group, then one task per drawn
+    /// group that interpolates, shades and writes its vertices once.
+    fn prepare_fused(&mut self, eye: Vec3, executor: &dyn Executor) {
+        // The reference's per-vertex colours are not kept (keeps capacity).
+        self.colors.resize(0);
+        self.timed(Stage::Lod, |p| {
+            let width_factor = p.lod_setup();
+            p.list_drawn_groups(width_factor);
+        });
+        if self.shadow.enabled() {
+            self.timed(Stage::Shadow, |p| p.build_thinned_shadow_map());
+        }
+        self.timed(Stage::Shade, |p| p.shade_fused(eye, executor));
     }
 
     /// Runs `stage` and records its wall-clock time.
@@ -391,7 +526,7 @@ impl FramePipeline {
 
     /// Vertices per render hair at the current LOD level (at least 1).
     fn verts_per_hair(&self) -> usize {
-        self.hairs.verts_per_hair().max(1)
+        self.guides.verts_per_strand().max(1)
     }
 
     /// Stage [`Stage::Lod`]: distance LOD (fewer, wider hairs far away),
@@ -400,6 +535,31 @@ impl FramePipeline {
     /// visible guides, interpolation of the render hairs and their render
     /// vertices (`coif_lod`).
     fn level_of_detail(&mut self) {
+        let width_factor = self.lod_setup();
+        let groups_drawn = self.groups_drawn;
+        lod::interpolate(
+            &self.interpolation,
+            &self.guides,
+            Some(&self.visibility),
+            groups_drawn,
+            &mut self.hairs,
+        );
+        self.vertex_count = lod::write_render_vertices(
+            &self.interpolation,
+            &self.hairs,
+            groups_drawn,
+            self.render_width,
+            width_factor,
+            &mut self.vertices,
+        );
+        self.stats.vertices = self.vertex_count;
+        self.stats.hairs = self.vertex_count / self.verts_per_hair();
+    }
+
+    /// The part of the LOD both prepare passes share: distance LOD, culling
+    /// of guides and groups, the level, refinement of the visible guides.
+    /// Returns the distance-LOD width factor.
+    fn lod_setup(&mut self) -> f32 {
         let distance = (self.camera.target() - self.camera.eye()).length();
         let px_per_m =
             level::pixels_per_metre(distance, self.camera.fov_y(), self.settings.height as f32);
@@ -430,25 +590,88 @@ impl FramePipeline {
             Some(&self.visibility),
             &mut self.guides,
         );
-        lod::interpolate(
-            &self.interpolation,
-            &self.guides,
-            Some(&self.visibility),
-            d.groups_drawn,
-            &mut self.hairs,
-        );
-        self.vertex_count = lod::write_render_vertices(
-            &self.interpolation,
-            &self.hairs,
-            d.groups_drawn,
-            self.render_width,
-            d.width_factor,
-            &mut self.vertices,
-        );
+        self.groups_drawn = d.groups_drawn;
         self.stats.segments_per_span = n;
         self.stats.width_factor = d.width_factor;
-        self.stats.vertices = self.vertex_count;
-        self.stats.hairs = self.vertex_count / self.verts_per_hair();
+        d.width_factor
+    }
+
+    /// The drawn groups in draw order with each one's first hair (a prefix
+    /// sum over their real hairs), as many as fit the shaded buffer.
+    fn list_drawn_groups(&mut self, width_factor: f32) {
+        let r_len = self.guides.verts_per_strand().max(1);
+        let room = self.shaded.len() / r_len;
+        self.drawn.clear();
+        let mut hairs = 0usize;
+        for g in 0..self.groups_drawn.min(self.interpolation.group_count()) {
+            if !self.interpolation.is_group_drawn(
+                g,
+                self.groups_drawn,
+                Some(&self.visibility),
+                &self.guides,
+            ) {
+                continue;
+            }
+            let n = self.interpolation.groups()[g].hairs as usize;
+            if hairs + n > room {
+                break;
+            }
+            self.drawn.push((g as u32, hairs as u32));
+            hairs += n;
+        }
+        self.width_factor = width_factor;
+        self.shaded_count = hairs * r_len;
+        self.vertex_count = self.shaded_count;
+        self.stats.vertices = self.shaded_count;
+        self.stats.hairs = hairs;
+    }
+
+    /// Stage [`Stage::Shadow`] of the fused pass: the positions of every
+    /// `shadow_thinning`-th drawn group's hairs (hair after hair, root
+    /// first), then the map; its hair radius was widened as many times at
+    /// construction.
+    fn build_thinned_shadow_map(&mut self) {
+        let k = self.settings.shadow_thinning.max(1);
+        let r_len = self.guides.verts_per_strand();
+        let points = self.shadow.points_mut();
+        let room = points.capacity();
+        for &(g, _) in self.drawn.iter().step_by(k) {
+            let Some(blend) = self.interpolation.group_blend(&self.guides, g as usize) else {
+                continue;
+            };
+            let hairs = blend.hairs().min(coif_base::LANES);
+            if points.len() + hairs * r_len > room {
+                break;
+            }
+            let start = points.len();
+            points.resize(start + hairs * r_len, Vec3::ZERO);
+            let out = &mut points[start..];
+            for r in 0..r_len {
+                let p = blend.position_x8(r);
+                for l in 0..hairs {
+                    out[l * r_len + r] = p.lane(l);
+                }
+            }
+        }
+        self.shadow
+            .build_from_points(self.settings.light.to_light, r_len);
+    }
+
+    /// Stage [`Stage::Shade`] of the fused pass: one task per drawn group
+    /// (interpolate, shade, shadow, head shadow, colour; `prepare.rs`),
+    /// each writing its own range of [`FramePipeline::shaded_vertices`].
+    fn shade_fused(&mut self, eye: Vec3, executor: &dyn Executor) {
+        // Every group's range [first R, (first + hairs) R) lies within the
+        // first `shaded_count` vertices (list_drawn_groups stopped before
+        // overflowing them), and the ranges are disjoint (a prefix sum).
+        let len = self.shaded_count.min(self.shaded.len());
+        let shared = SharedOut(self.shaded.as_mut_ptr());
+        let this = &*self;
+        executor.run(this.drawn.len(), &|i| {
+            // SAFETY: `shared` points to `self.shaded`; the executor runs
+            // each `i` once (its contract), so no two tasks share a range.
+            unsafe { this.shade_task(&shared, len, i, eye) };
+        });
     }
 
     /// Stage [`Stage::Shadow`]: the opacity shadow map of the render hair
@@ -522,6 +745,19 @@ impl FramePipeline {
                 self.colors.set(k, if c.is_finite() { c } else { ambient });
             }
         }
+        self.shaded_count = self.vertex_count.min(self.shaded.len());
+        for (k, (s, v)) in self.shaded[..self.shaded_count]
+            .iter_mut()
+            .zip(vertices)
+            .enumerate()
+        {
+            *s = ShadedVertex {
+                position: v.position,
+                width: v.width,
+                color: self.colors.get(k).to_array(),
+                strand_parameter: v.strand_parameter,
+            };
+        }
     }
 
     /// Stage [`Stage::Head`]: the background gradient and the ray-cast head,
@@ -555,24 +791,11 @@ impl FramePipeline {
         self.stats.ribbon_pixels = self.ribbons.draw(&mut self.framebuffer, camera);
     }
 
-    /// Stage [`Stage::Sort`]: the render vertices and their colours as
-    /// [`ShadedVertex`]es (a copy into a buffer sized once, until the
-    /// prepare pass writes them directly), then render hairs back to front.
+    /// Stage [`Stage::Sort`]: render hairs back to front, by the shaded
+    /// vertices the prepare pass wrote.
     fn sort_hair(&mut self, camera: &Camera) {
         let verts_per_hair = self.verts_per_hair();
-        let n = self.vertex_count;
-        for (k, (dst, v)) in self.shaded[..n]
-            .iter_mut()
-            .zip(&self.vertices[..n])
-            .enumerate()
-        {
-            *dst = ShadedVertex {
-                position: v.position,
-                width: v.width,
-                color: self.colors.get(k).into(),
-                strand_parameter: v.strand_parameter,
-            };
-        }
+        let n = self.shaded_count.min(self.shaded.len());
         self.order.sort(camera, &self.shaded[..n], verts_per_hair);
     }
 
@@ -583,7 +806,7 @@ impl FramePipeline {
         self.stats.segments = self.raster.draw(
             &mut self.framebuffer,
             camera,
-            &self.shaded[..self.vertex_count],
+            &self.shaded[..self.shaded_count.min(self.shaded.len())],
             verts_per_hair,
             &self.order,
             self.settings.hair_opacity,
@@ -646,22 +869,39 @@ impl FramePipeline {
         &self.strands
     }
 
+    /// The shaded vertices of the last frame (positions relative to
+    /// `strands().origin()`, final colours): what the prepare pass hands
+    /// the rasteriser, hair after hair, [`FramePipeline::render_vertices`]'s
+    /// vertices per hair each.
+    pub fn shaded_vertices(&self) -> &[ShadedVertex] {
+        &self.shaded[..self.shaded_count]
+    }
+
     /// Render vertices of the last frame (positions relative to
-    /// `strands().origin()`), and vertices per hair.
+    /// `strands().origin()`, with tangents), and vertices per hair. Only
+    /// [`PrepareMode::Reference`] keeps them: the fused pass writes
+    /// [`FramePipeline::shaded_vertices`] alone (an empty slice then).
     pub fn render_vertices(&self) -> (&[RenderVertex], usize) {
-        (
-            &self.vertices[..self.vertex_count],
-            self.hairs.verts_per_hair(),
-        )
+        let vertices = match self.settings.prepare {
+            PrepareMode::Reference => &self.vertices[..self.vertex_count],
+            PrepareMode::Fused => &[],
+        };
+        (vertices, self.verts_per_hair())
     }
 
     /// Shadow-map transmittance toward the light of each render vertex of
-    /// the last frame (1 everywhere without a shadow map).
+    /// the last frame (1 everywhere without a shadow map); only
+    /// [`PrepareMode::Reference`] keeps it (empty with the fused pass).
     pub fn vertex_transmittance(&self) -> &[f32] {
-        &self.transmittance[..self.vertex_count]
+        match self.settings.prepare {
+            PrepareMode::Reference => &self.transmittance[..self.vertex_count],
+            PrepareMode::Fused => &[],
+        }
     }
 
-    /// Final linear-RGB colour of each render vertex of the last frame.
+    /// Final linear-RGB colour of each render vertex of the last frame;
+    /// only [`PrepareMode::Reference`] keeps them (the fused pass writes
+    /// the colours into [`FramePipeline::shaded_vertices`] alone).
     pub fn vertex_colors(&self) -> &RgbBuffer {
         &self.colors
     }
@@ -675,6 +915,11 @@ impl FramePipeline {
     /// Number of render hairs the interpolation places.
     pub fn render_hair_count(&self) -> usize {
         self.interpolation.hair_count()
+    }
+
+    /// The hair shadow map of the last frame (`None` with shadows off).
+    pub fn shadow_map(&self) -> Option<&coif_shading::shadow::OpacityShadowMap> {
+        self.shadow.map()
     }
 
     /// Whether hair self-shadowing (the deep opacity map) is on.

@@ -30,6 +30,7 @@ mod error;
 mod frame;
 mod hair_scene;
 pub mod motion;
+mod prepare;
 pub mod ribbon;
 mod settings;
 mod shading_model;
@@ -42,6 +43,6 @@ pub use frame::{
     strand_tint, FramePipeline, FrameStats, BACKGROUND, HAIR_AMBIENT_ALBEDO, SKIN_ALBEDO,
 };
 pub use hair_scene::{HairScene, GROOM_RIBBON_ATTACH, PROCEDURAL_RIBBON_ATTACH};
-pub use settings::{FrameSettings, Light};
+pub use settings::{FrameSettings, Light, PrepareMode, DEFAULT_SHADOW_THINNING};
 pub use shading_model::{demo_sigma_a, Shader, ShadingModel, PHYSICAL_LIGHT_SCALE};
 pub use timings::{Stage, StageTimings};

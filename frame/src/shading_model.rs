@@ -1,6 +1,7 @@
 //! Which hair shading model a frame uses, with its prepared tables.
 
 use super::Error;
+use coif_base::Vec3x8;
 use coif_shading::kajiya_kay::KajiyaKay;
 use coif_shading::{marschner, pbrt, RgbBuffer, ShadingSamples};
 use std::fmt;
@@ -109,6 +110,19 @@ impl Shader {
             Shader::KajiyaKay(k) => k.shade_batch(samples, out),
             Shader::Marschner(l) => l.scattering_batch(samples, out),
             Shader::Pbrt(t) => t.scattering_batch(samples, out),
+        }
+    }
+
+    /// Scattering of eight samples (the per-element `_x8` function of the
+    /// model: `KajiyaKay::shade_x8`, `marschner::Lut::scattering_x8`,
+    /// `pbrt::Table::scattering_x8`), the same numbers as
+    /// [`Shader::shade_batch`] gives for those samples.
+    #[inline(always)]
+    pub fn scattering_x8(&self, t: Vec3x8, wi: Vec3x8, wo: Vec3x8) -> Vec3x8 {
+        match self {
+            Shader::KajiyaKay(k) => k.shade_x8(t, wi, wo),
+            Shader::Marschner(l) => l.scattering_x8(t, wi, wo),
+            Shader::Pbrt(p) => p.scattering_x8(t, wi, wo),
         }
     }
 

@@ -38,8 +38,15 @@ impl ShadowStage {
     /// The map for `settings.shadows` (none if off), with a point buffer for
     /// `capacity` render vertices. The capsule radius of a render hair is
     /// half its width at the root (`hair_width.root` times the
-    /// real-to-render density ratio).
-    pub fn new(settings: &FrameSettings, capacity: usize) -> Result<ShadowStage, Error> {
+    /// real-to-render density ratio), times `thinning` when the map is
+    /// built from every `thinning`-th hair only (each stands for that many:
+    /// the shadow area a segment deposits, `2 r |d_xy|`, grows by the same
+    /// factor, so the expected opacity per texel is kept).
+    pub fn new(
+        settings: &FrameSettings,
+        capacity: usize,
+        thinning: usize,
+    ) -> Result<ShadowStage, Error> {
         if !settings.shadows {
             return Ok(ShadowStage {
                 map: None,
@@ -49,7 +56,8 @@ impl ShadowStage {
         let ratio = settings.real_hairs_per_cm2 / settings.render_hairs_per_cm2;
         let map = OpacityShadowMap::new(ShadowSettings {
             density: SHADOW_DENSITY,
-            hair_radius: (0.5 * settings.hair_width.root * ratio).max(1e-6),
+            hair_radius: (0.5 * settings.hair_width.root * ratio * thinning.max(1) as f32)
+                .max(1e-6),
             resolution: SHADOW_RESOLUTION,
             ..ShadowSettings::deep()
         })?;
@@ -59,6 +67,7 @@ impl ShadowStage {
         })
     }
 
+    /// Whether there is a map (self-shadowing on).
     pub fn enabled(&self) -> bool {
         self.map.is_some()
     }
@@ -72,6 +81,26 @@ impl ShadowStage {
         self.points
             .extend(vertices.iter().take(room).map(|v| Vec3::from(v.position)));
         map.build(-to_light, &self.points, verts_per_strand);
+    }
+
+    /// The point buffer, for callers that fill it themselves before
+    /// [`ShadowStage::build_from_points`] (cleared; its capacity is the one
+    /// given to [`ShadowStage::new`]).
+    pub fn points_mut(&mut self) -> &mut Vec<Vec3> {
+        self.points.clear();
+        &mut self.points
+    }
+
+    /// Rebuilds the map from the point buffer (`verts_per_strand` each).
+    pub fn build_from_points(&mut self, to_light: Vec3, verts_per_strand: usize) {
+        if let Some(map) = &mut self.map {
+            map.build(-to_light, &self.points, verts_per_strand);
+        }
+    }
+
+    /// The map, if self-shadowing is on.
+    pub fn map(&self) -> Option<&OpacityShadowMap> {
+        self.map.as_ref()
     }
 
     /// Transmittance toward the light of every vertex of the last build

@@ -3,69 +3,98 @@
 use std::fmt;
 use std::time::Duration;
 
-/// The stages of a frame, in order.
+/// The stages of a frame, in order: four totals (`simulate`, `prepare`,
+/// `raster`, `frame`) and the finer rows inside them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Stage {
-    /// Head pose, roots and rig, fixed simulation steps of the hair.
+    /// Everything a frame simulates: head pose, roots and rig, the hair's
+    /// fixed steps and the ribbons'.
     Simulate,
-    /// Ribbons: skin, fixed cloth steps, blend and normals.
+    /// Inside `simulate`: the ribbons (skin, fixed cloth steps, blend, normals).
     Ribbon,
-    /// Distance LOD, cull, level, refine, interpolate, render vertices.
+    /// Everything between simulation and pixels: LOD, shadow map, shading.
+    Prepare,
+    /// Inside `prepare`: distance LOD, cull, level, refine (the reference
+    /// pipeline also interpolates and writes render vertices here).
     Lod,
-    /// Opacity shadow map build.
+    /// Inside `prepare`: the opacity shadow map (the fused pipeline
+    /// includes interpolating the thinned hairs it is built from).
     Shadow,
-    /// Shadow map lookups at every render vertex (SIMD batch).
+    /// Inside `prepare`, reference pipeline only: shadow map lookups at
+    /// every render vertex (SIMD batch).
     ShadowLookup,
-    /// Per-vertex shading (samples, model, head shadow, colour).
+    /// Inside `prepare`: per-vertex shading (the fused pipeline:
+    /// interpolation, model, shadow lookup, head shadow and colour per group).
     Shade,
-    /// Background and ray-cast head.
+    /// Everything that writes pixels: head, ribbons, hair.
+    Raster,
+    /// Inside `raster`: background and ray-cast head.
     Head,
-    /// Ribbons shaded per vertex and rasterised as opaque triangles.
+    /// Inside `raster`: ribbons shaded per vertex and rasterised as opaque triangles.
     RibbonDraw,
-    /// Back-to-front strand sort.
+    /// Inside `raster`: back-to-front strand sort.
     Sort,
-    /// Hair segments rasterised and blended.
+    /// Inside `raster`: hair segments rasterised and blended.
     Hair,
+    /// The whole frame ([`crate::FramePipeline::frame`]).
+    Frame,
 }
+
+/// Number of [`Stage`]s.
+const STAGES: usize = Stage::ALL.len();
 
 impl Stage {
     /// Every stage, in frame order.
-    pub const ALL: [Stage; 10] = [
+    pub const ALL: [Stage; 13] = [
         Stage::Simulate,
         Stage::Ribbon,
+        Stage::Prepare,
         Stage::Lod,
         Stage::Shadow,
         Stage::ShadowLookup,
         Stage::Shade,
+        Stage::Raster,
         Stage::Head,
         Stage::RibbonDraw,
         Stage::Sort,
         Stage::Hair,
+        Stage::Frame,
     ];
 
-    /// The stage's name in the timing table.
+    /// The stage's name in the timing table and the CSV.
     pub fn name(self) -> &'static str {
         match self {
             Stage::Simulate => "simulate",
             Stage::Ribbon => "ribbon",
+            Stage::Prepare => "prepare",
             Stage::Lod => "lod",
             Stage::Shadow => "shadow map build",
             Stage::ShadowLookup => "shadow lookups",
             Stage::Shade => "shade",
+            Stage::Raster => "raster",
             Stage::Head => "head + background",
             Stage::RibbonDraw => "rasterise ribbon",
             Stage::Sort => "sort strands",
             Stage::Hair => "rasterise hair",
+            Stage::Frame => "frame",
         }
+    }
+
+    /// Whether the stage is one of the four totals (not inside another).
+    pub fn is_total(self) -> bool {
+        matches!(
+            self,
+            Stage::Simulate | Stage::Prepare | Stage::Raster | Stage::Frame
+        )
     }
 }
 
 /// Last and accumulated time of each stage.
 #[derive(Clone, Debug, Default)]
 pub struct StageTimings {
-    last: [Duration; 10],
-    total: [Duration; 10],
-    count: [u32; 10],
+    last: [Duration; STAGES],
+    total: [Duration; STAGES],
+    count: [u32; STAGES],
 }
 
 impl StageTimings {
@@ -97,32 +126,72 @@ impl StageTimings {
     pub fn reset(&mut self) {
         *self = StageTimings::default();
     }
-}
 
-impl fmt::Display for StageTimings {
-    /// A table: stage, runs, mean ms, last ms; and the sum of the means.
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        writeln!(
-            f,
-            "{:<20} {:>6} {:>10} {:>10}",
-            "stage", "runs", "mean ms", "last ms"
-        )?;
-        let mut sum = 0.0;
+    /// The stages that ran, as CSV: the header `stage,runs,mean_ms,last_ms`
+    /// and one row per stage in frame order (means over the frames that
+    /// ran the stage, milliseconds with three decimals).
+    pub fn write_csv(&self, mut out: impl std::io::Write) -> std::io::Result<()> {
+        writeln!(out, "stage,runs,mean_ms,last_ms")?;
         for s in Stage::ALL {
             if self.runs(s) == 0 {
                 continue;
             }
-            let mean = self.mean(s).as_secs_f64() * 1e3;
-            sum += mean;
             writeln!(
-                f,
-                "{:<20} {:>6} {:>10.3} {:>10.3}",
+                out,
+                "{},{},{:.3},{:.3}",
                 s.name(),
                 self.runs(s),
-                mean,
+                self.mean(s).as_secs_f64() * 1e3,
                 self.last(s).as_secs_f64() * 1e3
             )?;
         }
-        write!(f, "{:<20} {:>6} {:>10.3}", "sum of means", "", sum)
+        Ok(())
+    }
+}
+
+impl fmt::Display for StageTimings {
+    /// A table: stage, runs, mean ms, last ms; the rows inside a total
+    /// indented under it.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{:<22} {:>6} {:>10} {:>10}",
+            "stage", "runs", "mean ms", "last ms"
+        )?;
+        for s in Stage::ALL {
+            if self.runs(s) == 0 {
+                continue;
+            }
+            let indent = if s.is_total() { "" } else { "  " };
+            write!(
+                f,
+                "\n{:<22} {:>6} {:>10.3} {:>10.3}",
+                format!("{indent}{}", s.name()),
+                self.runs(s),
+                self.mean(s).as_secs_f64() * 1e3,
+                self.last(s).as_secs_f64() * 1e3
+            )?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn csv_has_the_header_and_a_row_per_stage_that_ran() {
+        let mut t = StageTimings::default();
+        t.record(Stage::Frame, Duration::from_millis(4));
+        t.record(Stage::Frame, Duration::from_millis(2));
+        t.record(Stage::Prepare, Duration::from_micros(1500));
+        let mut out = Vec::new();
+        t.write_csv(&mut out).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        assert_eq!(
+            text,
+            "stage,runs,mean_ms,last_ms\nprepare,1,1.500,1.500\nframe,2,3.000,2.000\n"
+        );
     }
 }

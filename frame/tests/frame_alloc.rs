@@ -5,7 +5,7 @@
 
 mod common;
 
-use coif_frame::{motion, FramePipeline, FrameSettings, HairScene, ShadingModel};
+use coif_frame::{motion, FramePipeline, FrameSettings, HairScene, PrepareMode, ShadingModel};
 use coif_geometry::scene::GrowOptions;
 use coif_testkit::counting::allocations;
 
@@ -20,9 +20,14 @@ fn frames_allocate_nothing_for_every_shading_model() {
         ..GrowOptions::default()
     })
     .unwrap();
-    for model in ShadingModel::ALL {
+    let modes = [PrepareMode::Fused, PrepareMode::Reference];
+    for (model, prepare) in ShadingModel::ALL
+        .into_iter()
+        .flat_map(|m| modes.map(|p| (m, p)))
+    {
         let settings = FrameSettings {
             shading: model,
+            prepare,
             ..FrameSettings::small(64)
         };
         let mut p = FramePipeline::new(&scene, settings, 0.1).unwrap();
@@ -46,7 +51,7 @@ fn frames_allocate_nothing_for_every_shading_model() {
         assert_eq!(
             allocations() - before,
             0,
-            "{model}: allocations during frames"
+            "{model} {prepare:?}: allocations during frames"
         );
         assert!(levels.iter().all(|&l| l >= 1), "{model}: levels {levels:?}");
         assert!(

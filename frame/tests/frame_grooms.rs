@@ -62,7 +62,10 @@ fn both_shared_grooms_render_a_frame_with_hair() {
             changed > 96 * 96 / 20,
             "{name}: hair covers {changed} pixels"
         );
-        assert!(p.vertex_colors().r.iter().all(|c| c.is_finite()));
+        assert!(p
+            .shaded_vertices()
+            .iter()
+            .all(|v| v.color.iter().all(|c| c.is_finite())));
         // A loaded groom gets the bow too, drawn in the picture, and every
         // ribbon point stays out of the drawn head.
         assert_eq!(scene.ribbons.len(), 2, "{name}");

@@ -74,8 +74,7 @@ fn the_default_render_is_deterministic_and_shows_brown_hair_on_a_head() {
 /// head's shadow (the ray toward the light meets the head sphere) and of
 /// the other hair, and the share of vertices in the shadow.
 fn shadowed_and_lit(p: &FramePipeline) -> (f32, f32, f32) {
-    let (vertices, _) = p.render_vertices();
-    let colors = p.vertex_colors();
+    let vertices = p.shaded_vertices();
     let to_light = p.settings().light.to_light;
     let head = &p.head_spheres()[0];
     let ambient = HAIR_AMBIENT_ALBEDO * p.settings().light.ambient;
@@ -89,7 +88,7 @@ fn shadowed_and_lit(p: &FramePipeline) -> (f32, f32, f32) {
         );
         let in_shadow = c > 0.0 && b < 0.0 && b * b > c;
         // The direct light's share: the colour minus the constant ambient term.
-        let y = (colors.get(k) - ambient).dot(Vec3::new(0.2126, 0.7152, 0.0722));
+        let y = (Vec3::from(v.color) - ambient).dot(Vec3::new(0.2126, 0.7152, 0.0722));
         if in_shadow {
             shadowed = (shadowed.0 + y, shadowed.1 + 1);
         } else {
@@ -186,8 +185,8 @@ fn bad_frame_times_and_poses_are_ignored_not_propagated() {
         let stats = p.frame(dt, pose);
         assert_eq!(stats.substeps, steps, "dt {dt}");
         assert!(stats.hairs > 0);
-        assert!(p.vertex_colors().r.iter().all(|c| c.is_finite()));
-        let (v, _) = p.render_vertices();
+        let v = p.shaded_vertices();
+        assert!(v.iter().all(|v| v.color.iter().all(|c| c.is_finite())));
         assert!(v.iter().all(|v| v.position.iter().all(|c| c.is_finite())));
         assert!(p.strands().restored_strands() == 0, "no strand blew up");
     }

@@ -486,3 +486,115 @@ pub(crate) fn blend<L: Lane>(w: [L; 3], a: L, b: L, c: L) -> L {
     let [wa, wb, wc] = w;
     wc.mul_add(c, wb.mul_add(b, wa * a))
 }
+
+impl Interpolation {
+    /// Whether group `g` is drawn this frame: inside the distance-LOD prefix
+    /// of `groups_drawn` groups, visible in `visibility` (if given), and its
+    /// three guides' blocks refined in `guides` (step 1 of [`interpolate`]).
+    pub fn is_group_drawn(
+        &self,
+        g: usize,
+        groups_drawn: usize,
+        visibility: Option<&Visibility>,
+        guides: &RefinedGuides,
+    ) -> bool {
+        self.groups
+            .get(g)
+            .is_some_and(|group| group_drawn(g, group, groups_drawn, visibility, guides))
+    }
+
+    /// The blend of group `g` over `guides`, for passes that interpolate one
+    /// group at a time and use its vertices at once (a fused prepare pass:
+    /// the group's hairs stay in registers and L1 instead of a frame-sized
+    /// [`RenderHairs`]). `None` if `g` is out of range or a guide does not
+    /// fit `guides`. The rows are the same numbers [`interpolate`] writes.
+    pub fn group_blend<'a>(&self, guides: &'a RefinedGuides, g: usize) -> Option<GroupBlend<'a>> {
+        let group = self.groups.get(g)?;
+        if self.guide_count != guides.strand_count() {
+            return None;
+        }
+        let blocks = group.guides.map(|s| s as usize / LANES);
+        let lanes = group.guides.map(|s| s as usize % LANES);
+        if blocks.iter().any(|&b| b >= guides.block_count()) {
+            return None;
+        }
+        Some(GroupBlend {
+            weights: self.weights[g],
+            lanes,
+            positions: blocks.map(|b| guides.block_positions(b)),
+            tangents: blocks.map(|b| guides.block_tangents(b)),
+            hairs: group.hairs as usize,
+        })
+    }
+}
+
+/// One hair group's interpolation, row by row (see
+/// [`Interpolation::group_blend`]): `position_x8(r)` is vertex `r` of the
+/// group's eight lanes, `P = b_A A + b_B B + b_C C` (step 2 of
+/// [`interpolate`]), `tangent_x8(r)` the normalised blend of the guides'
+/// tangents (step 3). The scalar twins `position(lane, r)` and
+/// `tangent(lane, r)` run the same blend on one hair (the scalar
+/// interpolation's arithmetic): positions agree bit for bit, tangents to
+/// a few ulp (rsqrt + Newton against `1 / sqrt`).
+#[derive(Clone, Copy, Debug)]
+pub struct GroupBlend<'a> {
+    weights: [f32x8; 3],
+    lanes: [usize; 3],
+    positions: [&'a [Vec3x8]; 3],
+    tangents: [&'a [Vec3x8]; 3],
+    hairs: usize,
+}
+
+impl GroupBlend<'_> {
+    /// Vertices per hair (the refined guides' `R`).
+    pub fn verts(&self) -> usize {
+        self.positions[0].len()
+    }
+
+    /// Real hairs in the group (the other lanes repeat the last one).
+    pub fn hairs(&self) -> usize {
+        self.hairs
+    }
+
+    /// Vertex `r` of the eight lanes (`r < verts()`).
+    #[inline(always)]
+    pub fn position_x8(&self, r: usize) -> Vec3x8 {
+        let [wa, wb, wc] = self.weights;
+        let [la, lb, lc] = self.lanes;
+        let [a, b, c] = self.positions;
+        blend_x8(wa, wb, wc, &a[r], la, &b[r], lb, &c[r], lc)
+    }
+
+    /// Unit tangent at vertex `r` of the eight lanes (or `+Y`).
+    #[inline(always)]
+    pub fn tangent_x8(&self, r: usize) -> Vec3x8 {
+        let [wa, wb, wc] = self.weights;
+        let [la, lb, lc] = self.lanes;
+        let [a, b, c] = self.tangents;
+        unit_or_y_x8(blend_x8(wa, wb, wc, &a[r], la, &b[r], lb, &c[r], lc))
+    }
+
+    /// Scalar twin of [`GroupBlend::position_x8`] for one lane.
+    pub fn position(&self, lane: usize, r: usize) -> Vec3 {
+        let w = self.weights.map(|w| w.as_array()[lane % LANES]);
+        let v = self.positions.map(|p| p[r]);
+        blend_lanes(w, v, self.lanes)
+    }
+
+    /// Scalar twin of [`GroupBlend::tangent_x8`] for one lane.
+    pub fn tangent(&self, lane: usize, r: usize) -> Vec3 {
+        let w = self.weights.map(|w| w.as_array()[lane % LANES]);
+        let v = self.tangents.map(|t| t[r]);
+        crate::scalar::unit_or_y(blend_lanes(w, v, self.lanes))
+    }
+}
+
+/// [`blend`] per coordinate of lane `lanes[i]` of `v[i]`, one hair.
+fn blend_lanes(w: [f32; 3], v: [Vec3x8; 3], lanes: [usize; 3]) -> Vec3 {
+    let [a, b, c] = [0, 1, 2].map(|i| v[i].lane(lanes[i]));
+    Vec3::new(
+        blend(w, a.x, b.x, c.x),
+        blend(w, a.y, b.y, c.y),
+        blend(w, a.z, b.z, c.z),
+    )
+}

@@ -70,8 +70,8 @@ pub use culling::{cull, distance_lod, DistanceLod, Frustum, Visibility};
 pub use error::Error;
 pub use fit::{arc_length_samples, fit, Fitter, Resampler};
 pub use interpolation::{
-    barycentric, interpolate, interpolate_positions, HairGroup, Interpolation, RenderHairs,
-    M2_PER_CM2, MAX_RENDER_HAIRS,
+    barycentric, interpolate, interpolate_positions, GroupBlend, HairGroup, Interpolation,
+    RenderHairs, M2_PER_CM2, MAX_RENDER_HAIRS,
 };
 pub use refine_batch::{
     refine_strands, refine_strands_positions, RefinedGuides, DEFAULT_MAX_SEGMENTS_PER_SPAN,

@@ -446,3 +446,38 @@ fn whole_groups_keep_the_density_and_fill_every_lane() {
     let density = interp.hair_count() as f64 / (interp.scalp_area_m2() / 1e-4);
     assert!((density / 150.0 - 1.0).abs() < 0.05, "{density}");
 }
+
+/// `Interpolation::group_blend`, the row-by-row interpolation of one group
+/// that fused passes use: its `_x8` rows are the numbers `interpolate`
+/// writes, bit for bit (the same blend), and its scalar twins agree with
+/// them (positions bit for bit: the same fused multiply-adds; tangents
+/// within 1e-6, rsqrt + Newton against `1 / sqrt`).
+#[test]
+fn group_blend_rows_equal_interpolate_and_the_scalar_twin() {
+    let mut s = scene(150.0, 3);
+    lod::refine_strands(s.strands.blocks(), None, &mut s.guides);
+    let groups = s.interp.group_count();
+    lod::interpolate(&s.interp, &s.guides, None, groups, &mut s.hairs);
+    assert!(groups > 10);
+    for g in 0..groups {
+        assert!(s.interp.is_group_drawn(g, groups, None, &s.guides));
+        assert!(
+            !s.interp.is_group_drawn(g, g, None, &s.guides),
+            "past the prefix"
+        );
+        let blend = s.interp.group_blend(&s.guides, g).unwrap();
+        assert_eq!(blend.verts(), s.hairs.verts_per_hair());
+        assert_eq!(blend.hairs(), s.interp.groups()[g].hairs as usize);
+        for r in 0..blend.verts() {
+            let (p, t) = (blend.position_x8(r), blend.tangent_x8(r));
+            let i = r;
+            assert_eq!(p, s.hairs.group_positions(g)[i], "group {g} row {r}");
+            assert_eq!(t, s.hairs.group_tangents(g)[i], "group {g} row {r}");
+            for l in 0..8 {
+                assert_eq!(blend.position(l, r), p.lane(l));
+                assert!((blend.tangent(l, r) - t.lane(l)).length() < 1e-6);
+            }
+        }
+    }
+    assert!(s.interp.group_blend(&s.guides, groups).is_none());
+}

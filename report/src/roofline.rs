@@ -567,13 +567,13 @@ fn raster_case(size: Size) -> Case {
     use coif::render::{hair, sort::DepthOrder, Framebuffer};
     let guides = if size == Size::Quick { 512 } else { 2048 };
     let FrameScene { pipeline, .. } = frame_scene(guides);
-    let (all, verts) = pipeline.render_vertices();
+    let (_, verts) = pipeline.render_vertices();
+    let all = pipeline.shaded_vertices();
     let hairs = match size {
         Size::Cache => 512.min(all.len() / verts),
         _ => all.len() / verts,
     };
     let vertices = all[..hairs * verts].to_vec();
-    let colors = pipeline.vertex_colors().clone();
     let camera = pipeline
         .camera()
         .shifted(pipeline.strands().origin().as_vec3());
@@ -586,8 +586,8 @@ fn raster_case(size: Size) -> Case {
         elements: hairs * (verts - 1),
         run: Box::new(move || {
             fb.clear_gradient(Vec3::ZERO, Vec3::ONE);
-            black_box(hair::draw_strands(
-                &mut fb, &camera, &vertices, &colors, verts, &order, opacity,
+            black_box(hair::draw_shaded(
+                &mut fb, &camera, &vertices, verts, &order, opacity,
             ));
         }),
     }

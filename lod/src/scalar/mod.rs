@@ -9,4 +9,5 @@ mod interpolation;
 mod refine_batch;
 
 pub use interpolation::{interpolate, interpolate_positions};
+pub(crate) use refine_batch::unit_or_y;
 pub use refine_batch::{refine_strands, refine_strands_positions};

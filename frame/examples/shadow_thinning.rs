@@ -1,0 +1,100 @@
+//! The error of the fused pass's thinned shadow map against the exact
+//! reference, for thinning k = 1 (every hair, the reference pipeline's
+//! map) to 32: `cargo run --release -p coif-frame --example shadow_thinning`.
+//!
+//! The default scene (built-in head, 512 x 512, 40 render hairs per cm^2)
+//! after 30 frames of the motion; the reference is the exact
+//! transmittance (`coif_shading::shadow::quality`) of every drawn render
+//! hair at its real shadow radius, averaged over 16 rays on a 2 mm disk
+//! (the footprint reference of `shading/SHADOWS.md`), at every vertex of
+//! a few hundred evenly spaced hairs; the maps are compared there.
+
+use coif_frame::{motion, FramePipeline, FrameSettings, HairScene};
+use coif_geometry::scene::GrowOptions;
+use coif_shading::shadow::quality::{error_of_map, reference_transmittance, Footprint};
+use glam::Vec3;
+use std::time::Instant;
+
+fn main() {
+    let hairs_sampled: usize = std::env::args()
+        .nth(1)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(6);
+    let scene = HairScene::procedural(&GrowOptions {
+        strand_count: 2048,
+        curl: 0.15,
+        ..GrowOptions::default()
+    })
+    .unwrap();
+    let frames = 30;
+    let run = |k: usize| {
+        let settings = FrameSettings {
+            shadow_thinning: k,
+            ..FrameSettings::default()
+        };
+        let mut p = FramePipeline::new(&scene, settings, 1.5).unwrap();
+        let pivot = p.pivot();
+        for f in 0..frames {
+            p.simulate(1.0 / 30.0, motion::turn_and_nod(f as f32 / 30.0, pivot));
+        }
+        p.render();
+        p
+    };
+    let full = run(1);
+    let points: Vec<Vec3> = full
+        .shaded_vertices()
+        .iter()
+        .map(|v| Vec3::from(v.position))
+        .collect();
+    let (_, verts) = full.render_vertices();
+    let strands = points.len() / verts;
+    let stride = (strands / hairs_sampled).max(1);
+    let map = full.shadow_map().unwrap();
+    let settings = map.settings().clone();
+    let light = -full.settings().light.to_light;
+    let start = Instant::now();
+    let reference = reference_transmittance(
+        &settings,
+        light,
+        &points,
+        verts,
+        stride,
+        Footprint {
+            rays: 16,
+            radius: 2e-3,
+        },
+    );
+    println!(
+        "{strands} hairs x {verts} vertices; reference at {} vertices of every {stride}-th hair ({:.1} s)",
+        reference.len(),
+        start.elapsed().as_secs_f64()
+    );
+    println!("| k | hairs in the map | mean abs error | RMS | max | bias | mean |T_k - T_1| |");
+    println!("|---|---|---|---|---|---|---|");
+    let base = error_of_map(map, &points, verts, stride, &reference);
+    for k in [1usize, 2, 4, 8, 16, 32] {
+        let p = run(k);
+        assert_eq!(p.shaded_vertices().len(), points.len(), "same hair");
+        let m = p.shadow_map().unwrap();
+        let e = error_of_map(m, &points, verts, stride, &reference);
+        // Difference from the full map at every drawn vertex.
+        let diff: f64 = points
+            .iter()
+            .map(|&q| (m.transmittance(q) - map.transmittance(q)).abs() as f64)
+            .sum::<f64>()
+            / points.len() as f64;
+        println!(
+            "| {k} | {} | {:.4} | {:.4} | {:.3} | {:+.4} | {:.4} |",
+            strands.div_ceil(k),
+            e.mean_abs,
+            e.rms,
+            e.max_abs,
+            e.bias,
+            diff
+        );
+    }
+    println!(
+        "(k = 1 is the reference pipeline's map: mean abs {:.4}; mean reference T {:.3})",
+        base.mean_abs, base.mean_reference
+    );
+}

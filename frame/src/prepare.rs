@@ -1,0 +1,160 @@
+//! The fused prepare pass: everything between the simulation and the
+//! pixels, one interpolation group (up to eight render hairs of one scalp
+//! triangle, `LANES` lanes, `R` vertices each) at a time, written once as
+//! [`ShadedVertex`]es.
+//!
+//! Per group, per vertex row `r` (eight hairs in the lanes of `f32x8`):
+//!
+//! 1. interpolate: `P = b_A A + b_B B + b_C C` of the refined guides and
+//!    the normalised blend of their tangents `t` (`coif_lod::GroupBlend`);
+//! 2. shade: `S = model_x8(t, wi, wo)` with `wi` toward the light (one
+//!    vector per frame) and `wo = unit(eye - P)` (`+Z` where `P` is the eye);
+//! 3. visibility: the shadow map's transmittance at `P` times 0 where the
+//!    ray toward the light meets a head sphere ([`occluded_x8`]);
+//! 4. colour: `c = (S E V [sin theta_i] + ambient) tint`, `ambient` alone
+//!    where that is not finite (the reference's `write_colors` formula);
+//! 5. width `lerp(root, tip, s) x width_factor`, written with `P`, `c`
+//!    and `s = r / (R - 1)` for the group's real hairs.
+//!
+//! Nothing frame-sized is read or written besides the refined guides (a
+//! few hundred kilobytes), the shadow map and the output: the group's
+//! vertices live in registers from interpolation to the one store.
+
+use super::{Light, Shader, HAIR_AMBIENT_ALBEDO};
+use coif_base::{Vec3x8, LANES};
+use coif_kernels::Sphere;
+use coif_lod::{GroupBlend, HairWidth};
+use coif_render::ShadedVertex;
+use coif_shading::shadow::OpacityShadowMap;
+use glam::Vec3;
+use wide::f32x8;
+
+/// What every group of one frame's prepare pass reads.
+pub(crate) struct GroupShading<'a> {
+    pub shader: &'a Shader,
+    pub shadow: Option<&'a OpacityShadowMap>,
+    pub head: &'a [Sphere],
+    pub light: Light,
+    pub eye: Vec3,
+    /// Widths of a render hair at root and tip.
+    pub width: HairWidth,
+    /// The distance-LOD width multiplier.
+    pub width_factor: f32,
+}
+
+/// Whether the ray from each lane's point toward the light (`to_light`,
+/// unit) meets one of `spheres` ahead of it, the point being outside the
+/// sphere by more than `epsilon r` in `|m|^2 - r^2`: the lane-wise twin of
+/// `coif_render::head::occluded` (same expressions in the same order).
+#[inline(always)]
+pub(crate) fn occluded_x8(p: Vec3x8, to_light: Vec3, spheres: &[Sphere], epsilon: f32) -> f32x8 {
+    let l = Vec3x8::splat(to_light);
+    let mut hit = f32x8::ZERO;
+    for s in spheres {
+        let m = p - Vec3x8::splat(s.center);
+        let b = m.dot(l);
+        let c = m.length_squared() - f32x8::splat(s.radius * s.radius);
+        let disc = b * b - c;
+        hit |= c.simd_gt(f32x8::splat(epsilon * s.radius))
+            & b.simd_lt(f32x8::ZERO)
+            & disc.simd_gt(f32x8::ZERO);
+    }
+    hit
+}
+
+/// Steps 1-5 for one group: writes its `blend.hairs()` real hairs, hair
+/// after hair, root first, into `out` (`hairs x R` vertices; a shorter
+/// `out` leaves the group out). `first_hair` is the index of the group's
+/// first hair in the frame's order (for [`super::strand_tint`]).
+pub(crate) fn shade_group(
+    ctx: &GroupShading<'_>,
+    blend: &GroupBlend<'_>,
+    first_hair: usize,
+    out: &mut [ShadedVertex],
+) {
+    let r_len = blend.verts();
+    let hairs = blend.hairs().min(LANES);
+    if r_len == 0 || out.len() < hairs * r_len {
+        return;
+    }
+    let light = ctx.light;
+    let wi = Vec3x8::splat(light.to_light);
+    let eye = Vec3x8::splat(ctx.eye);
+    let irradiance = light.irradiance * ctx.shader.light_scale();
+    let ambient = HAIR_AMBIENT_ALBEDO * light.ambient;
+    let cosine = ctx.shader.needs_cosine();
+    let mut tint = [0.0f32; LANES];
+    for (l, t) in tint.iter_mut().enumerate() {
+        *t = super::strand_tint(first_hair + l.min(hairs - 1));
+    }
+    let tint = f32x8::new(tint);
+    let inv = if r_len > 1 {
+        1.0 / (r_len - 1) as f32
+    } else {
+        0.0
+    };
+    let mut points = [Vec3::ZERO; LANES];
+    let mut transmittance = [1.0f32; LANES];
+    for r in 0..r_len {
+        // 1. Interpolate.
+        let p = blend.position_x8(r);
+        let t = blend.tangent_x8(r);
+        // 2. Shade.
+        let wo = (eye - p).normalize_or(Vec3x8::splat(Vec3::Z));
+        let s = ctx.shader.scattering_x8(t, wi, wo);
+        // 3. Visibility: shadow map, head.
+        if let Some(map) = ctx.shadow {
+            for (l, q) in points.iter_mut().enumerate() {
+                *q = p.lane(l);
+            }
+            map.transmittance_batch(&points, &mut transmittance);
+        }
+        let head = occluded_x8(p, light.to_light, ctx.head, 1e-3);
+        let visible = head.select(f32x8::ZERO, f32x8::new(transmittance));
+        // 4. Colour.
+        let mut direct = Vec3x8::new(
+            s.x * f32x8::splat(irradiance.x) * visible,
+            s.y * f32x8::splat(irradiance.y) * visible,
+            s.z * f32x8::splat(irradiance.z) * visible,
+        );
+        if cosine {
+            let c = t.dot(wi);
+            direct = direct * (f32x8::ONE - c * c).max(f32x8::ZERO).sqrt();
+        }
+        let c = (direct + Vec3x8::splat(ambient)) * tint;
+        let c = Vec3x8::select(c.finite(), c, Vec3x8::splat(ambient));
+        // 5. Write.
+        let sp = r as f32 * inv;
+        let width = (ctx.width.root + (ctx.width.tip - ctx.width.root) * sp) * ctx.width_factor;
+        for l in 0..hairs {
+            out[l * r_len + r] = ShadedVertex {
+                position: p.lane(l).to_array(),
+                width,
+                color: c.lane(l).to_array(),
+                strand_parameter: sp,
+            };
+        }
+    }
+}
+
+/// The output pointer shared by the tasks of one prepare pass; each task
+/// writes only its group's range (offsets from a prefix sum, checked
+/// before the tasks start).
+pub(crate) struct SharedOut(pub *mut ShadedVertex);
+// SAFETY: the tasks write disjoint ranges of one `&mut [ShadedVertex]`
+// that outlives the executor's `run` (see `FramePipeline::shade_fused`).
+unsafe impl Send for SharedOut {}
+// SAFETY: as above.
+unsafe impl Sync for SharedOut {}
+
+impl SharedOut {
+    /// `len` vertices from `start`.
+    ///
+    /// # Safety
+    /// `start + len` is within the slice the pointer came from, that slice
+    /// outlives `'a`, and no other live reference covers the range.
+    pub(crate) unsafe fn range<'a>(&self, start: usize, len: usize) -> &'a mut [ShadedVertex] {
+        // SAFETY: the caller's promise.
+        unsafe { std::slice::from_raw_parts_mut(self.0.add(start), len) }
+    }
+}
