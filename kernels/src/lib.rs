@@ -38,7 +38,7 @@ pub use coif_base::{lanes, rng, Sphere, StrandBlocks, Vec3x8, LANES};
 pub use error::Error;
 pub use fixed_step::FixedStep;
 pub use measure::{measure, Measures};
-pub use params::{SimParams, MAX_PEARLS_PER_SEGMENT, MAX_SUBSTEPS};
+pub use params::{SimParams, MAX_PEARLS_PER_SEGMENT, MAX_SUBSTEPS, SLEEP_AFTER};
 pub use patch::{Patch, Ribbon};
 pub use step::step;
 pub use strands::Strands;
