@@ -549,6 +549,20 @@ impl Strands {
         Ok(())
     }
 
+    /// Sizes the step's rig buffers for rigs of up to `spheres` spheres, so
+    /// that not even the first step allocates (a step otherwise sizes them
+    /// itself, once, when the rig grows).
+    pub fn reserve_rig(&mut self, spheres: usize) {
+        let sc = &mut self.scratch;
+        sc.spheres_local
+            .reserve(spheres.saturating_sub(sc.spheres_local.len()));
+        sc.rig_prev
+            .reserve(spheres.saturating_sub(sc.rig_prev.len()));
+        sc.candidates
+            .reserve(spheres.saturating_sub(sc.candidates.len()));
+        sc.movers.reserve(spheres.saturating_sub(sc.movers.len()));
+    }
+
     /// Strands that the last step advanced (awake); all of them before the
     /// first step. Strands skipped because they sleep are not counted
     /// (sleeping goes by blocks of [`LANES`] strands: see
