@@ -6,6 +6,8 @@
 //! patches), `hair.png` (512 x 512) and a per-stage timing table. See
 //! `--help`.
 
+mod crowd;
+
 use clap::Parser;
 use coif::frame::{motion, FramePipeline, FrameSettings, FrameStats, HairScene, ShadingModel};
 use coif::geometry::scene::GrowOptions;
@@ -81,6 +83,11 @@ struct Cli {
     /// Render hairs per cm^2 (each widened to keep a real scalp's coverage).
     #[arg(long, default_value_t = 40.0)]
     density: f32,
+    /// Simulate a crowd of N characters instead (no picture): the
+    /// simulation cost with and without simulation LOD, off-screen
+    /// following and sleeping, and the error per level.
+    #[arg(long, value_name = "N")]
+    crowd: Option<usize>,
 }
 
 fn parse_model(s: &str) -> Result<ShadingModel, String> {
@@ -228,6 +235,9 @@ fn run_motion(cli: &Cli, pipeline: &mut FramePipeline) -> Motion {
 }
 
 fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
+    if let Some(n) = cli.crowd {
+        return crowd::run(n, cli.frames);
+    }
     let (width, height) = cli.size.unwrap_or((cli.width, cli.height));
     let start = Instant::now();
     let (scene, what) = load_scene(&cli)?;

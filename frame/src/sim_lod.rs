@@ -66,6 +66,8 @@ struct Level {
     simulated: Vec<u32>,
     strands: Strands,
     followers: Vec<Follower>,
+    /// Per follower and vertex: `r_j - sum_i w_i r_i` (reference pose).
+    offsets: Vec<Vec3>,
     /// The subset's world positions (written each step), its roots and a
     /// second buffer for `set_state`.
     buf: Vec<Vec3>,
@@ -295,17 +297,21 @@ impl SimLod {
             let (src, dst) = (k * verts, g as usize * verts);
             self.out[dst..dst + verts].copy_from_slice(&level.buf[src..src + verts]);
         }
-        let reference = &self.reference;
-        for f in &level.followers {
+        // x_j = M (r_j - sum_i w_i r_i) + sum_i w_i x_i (the weights sum to 1,
+        // so the pose's translation cancels).
+        let m = Mat3::from(pose.matrix3);
+        for (f, off) in level
+            .followers
+            .iter()
+            .zip(level.offsets.chunks_exact(verts))
+        {
             let j = f.guide as usize * verts;
+            let from = f.from.map(|i| i as usize * verts);
             for v in 0..verts {
-                let mut x = pose.transform_point3(reference[j + v]);
-                for (&i, &w) in f.from.iter().zip(&f.weight) {
-                    let g = level.simulated[i as usize] as usize * verts + v;
-                    let sim = level.buf[i as usize * verts + v];
-                    x += (sim - pose.transform_point3(reference[g])) * w;
-                }
-                self.out[j + v] = x;
+                self.out[j + v] = m * off[v]
+                    + level.buf[from[0] + v] * f.weight[0]
+                    + level.buf[from[1] + v] * f.weight[1]
+                    + level.buf[from[2] + v] * f.weight[2];
             }
         }
     }
@@ -345,10 +351,20 @@ impl Level {
         for &g in &simulated {
             is_sim[g as usize] = true;
         }
-        let followers = (0..guides)
+        let followers: Vec<Follower> = (0..guides)
             .filter(|&g| !is_sim[g])
             .map(|g| follower(g, roots, &simulated))
             .collect();
+        let mut offsets = Vec::with_capacity(followers.len() * verts);
+        for f in &followers {
+            for v in 0..verts {
+                let mut o = reference[f.guide as usize * verts + v];
+                for (&i, &w) in f.from.iter().zip(&f.weight) {
+                    o -= reference[simulated[i as usize] as usize * verts + v] * w;
+                }
+                offsets.push(o);
+            }
+        }
         let rest_len = picked_rest
             .chunks_exact(verts)
             .flat_map(|g| {
@@ -362,6 +378,7 @@ impl Level {
             })
             .collect();
         Ok(Level {
+            offsets,
             rest_len,
             stride,
             roots: vec![Vec3::ZERO; simulated.len()],

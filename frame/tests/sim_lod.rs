@@ -27,7 +27,7 @@ fn scene() -> (HairScene, Vec<Vec3>) {
     })
     .unwrap()
     .without_ribbons();
-    let settled = drape(&scene.guides, scene.verts_per_strand, &scene.rig, 180).unwrap();
+    let settled = drape(&scene.guides, scene.verts_per_strand, &scene.rig, 420).unwrap();
     (scene, settled)
 }
 

@@ -59,7 +59,7 @@
 
 use crate::broad_phase::{block_sweep_aabb, select_candidates, spheres_to_local, Aabb, Candidate};
 use crate::constraints::{BLOWN_UP, MIN_LENGTH};
-use crate::lanes::{Lane, LANES, V3};
+use crate::lanes::{Lane, Vec3x8, LANES, V3};
 use crate::strands::Scratch;
 use crate::{SimParams, Sphere, Strands};
 use glam::{DVec3, Mat3, Vec3};
@@ -683,11 +683,22 @@ pub(crate) fn drive(
                 continue;
             }
             let moved = roots_moved(strands, b);
+            let r = b * strands.verts..(b + 1) * strands.verts;
+            if k.sleep {
+                scratch.start.copy_from_slice(&strands.pos[r.clone()]);
+            }
             let bad = block(strands, &mut scratch, &k, b, g);
             restore_lanes(strands, b, bad);
             // 8. Stillness: a block still for `still_steps` steps in a row
             // (roots included) falls asleep at rest.
-            let still = k.sleep && !moved && block_is_still(strands, b, k.still_move2);
+            let still = k.sleep
+                && !moved
+                && block_is_still(
+                    &strands.pos[r],
+                    &scratch.start,
+                    strands.active[b],
+                    k.still_move2,
+                );
             let st = &mut strands.sleep[b];
             st.stepped = true;
             st.still = if still { st.still.saturating_add(1) } else { 0 };
@@ -726,17 +737,18 @@ fn roots_moved(s: &Strands, b: usize) -> bool {
     (moved & s.active[b]).any()
 }
 
-/// True if every vertex of the active lanes of block `b` moved at most
-/// `sqrt(still_move2)` over the last step (`|x - x_prev|^2 <= still_move2`);
-/// a NaN is never still. The same code for both paths (like the guard's
-/// restore), so their sleep decisions agree by construction.
-fn block_is_still(s: &Strands, b: usize, still_move2: f32) -> bool {
-    let r = b * s.verts..(b + 1) * s.verts;
+/// True if every vertex of the active lanes of a block moved at most
+/// `sqrt(still_move2)` over the step (`|x_end - x_start|^2 <= still_move2`;
+/// the displacement, not the last substep's velocity, which a vertex
+/// resting on a sphere keeps at a few cm/s while it does not move); a NaN
+/// is never still. The same code for both paths (like the guard's restore),
+/// so their sleep decisions agree by construction.
+fn block_is_still(pos: &[Vec3x8], start: &[Vec3x8], active: f32x8, still_move2: f32) -> bool {
     let limit = f32x8::splat(still_move2);
-    let mut still = s.active[b] | !s.active[b];
-    for (x, p) in s.pos[r.clone()].iter().zip(&s.prev[r]) {
+    let mut still = active | !active;
+    for (x, p) in pos.iter().zip(start) {
         let d = *x - *p;
-        still &= d.dot(d).simd_le(limit) | !s.active[b];
+        still &= d.dot(d).simd_le(limit) | !active;
     }
     still.all()
 }

@@ -87,6 +87,8 @@ pub(crate) struct Scratch {
     pub(crate) rig_prev: Vec<[f32; 4]>,
     /// This step's moving spheres: the local box each swept since the last step.
     pub(crate) movers: Vec<crate::broad_phase::Aabb>,
+    /// A block's positions at the start of its step (sleeping on).
+    pub(crate) start: Vec<Vec3x8>,
 }
 
 /// One block's sleep state. Written only by the step of its own block (and
@@ -123,6 +125,7 @@ impl Scratch {
             lane: crate::scalar::LaneBuffers::new(verts),
             rig_prev: Vec::new(),
             movers: Vec::new(),
+            start: vec![Vec3x8::ZERO; verts],
         }
     }
 }
