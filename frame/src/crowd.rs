@@ -246,9 +246,13 @@ impl Crowd {
         self.characters.get(i).map(|c| c.last)
     }
 
-    /// Character `i`'s guides, world space, strand after strand.
-    pub fn positions(&self, i: usize) -> Option<&[Vec3]> {
-        self.characters.get(i).map(|c| c.lod.positions())
+    /// Character `i`'s guides, world space, strand after strand, as of
+    /// its last step on screen, and the rigid motion its head has carried
+    /// them by since ([`SimLod::carried`]; identity on screen).
+    pub fn positions(&self, i: usize) -> Option<(&[Vec3], Affine3A)> {
+        self.characters
+            .get(i)
+            .map(|c| (c.lod.positions(), c.lod.carried()))
     }
 
     /// Strands advanced by the last step, summed over characters in order.
@@ -332,6 +336,8 @@ pub fn add_distances(a: &Crowd, b: &Crowd, acc: &mut [(f64, usize)]) {
         if pa.len() != pb.len() {
             continue;
         }
+        // Off screen, `a`'s hair is where its head carried it.
+        let (ma, mb) = (ca.lod.carried(), cb.lod.carried());
         let group = if ca.last.visible {
             ca.last.level.min(off.saturating_sub(1))
         } else {
@@ -340,7 +346,10 @@ pub fn add_distances(a: &Crowd, b: &Crowd, acc: &mut [(f64, usize)]) {
         let sum: f64 = pa
             .iter()
             .zip(pb)
-            .map(|(x, y)| x.distance_squared(*y) as f64)
+            .map(|(x, y)| {
+                ma.transform_point3(*x)
+                    .distance_squared(mb.transform_point3(*y)) as f64
+            })
             .sum();
         acc[group].0 += sum;
         acc[group].1 += pa.len();

@@ -26,9 +26,10 @@
 //! faded out linearly over [`BLEND_STEPS`] steps.
 //!
 //! **Off screen** ([`SimLod::follow_rigidly`]): the hair is carried
-//! rigidly by the head's motion since the last step ([`Strands::teleport`]:
-//! no velocity injected), nothing is stepped; back on screen the simulation
-//! resumes from that state (a settle-in, as after a teleport).
+//! rigidly by the head, nothing is stepped; the motion is kept as one rigid
+//! transform and applied once when the simulation resumes
+//! ([`SimLod::catch_up`], a [`Strands::teleport`]: no velocity injected),
+//! which then goes on from that state (a settle-in, as after a teleport).
 //!
 //! Nothing allocates per step (every buffer is sized at construction).
 
@@ -93,8 +94,10 @@ pub struct SimLod {
     /// Old output minus new output at the last switch, head-local.
     blend: Vec<Vec3>,
     blend_left: u32,
-    /// The head pose of the last step (or of the construction).
+    /// The head pose `out` and the strands are at.
     pose: Affine3A,
+    /// The head pose the hair is carried to off screen (`pose` when on).
+    carried: Affine3A,
 }
 
 impl SimLod {
@@ -143,6 +146,7 @@ impl SimLod {
             blend: vec![Vec3::ZERO; reference.len()],
             blend_left: 0,
             pose: Affine3A::IDENTITY,
+            carried: Affine3A::IDENTITY,
         })
     }
 
@@ -199,9 +203,34 @@ impl SimLod {
         &self.levels[self.current].strands
     }
 
-    /// Every guide's positions, world space, strand after strand.
+    /// Every guide's positions, world space, strand after strand, as of the
+    /// last step: while the hair follows the head rigidly off screen, move
+    /// them by [`SimLod::carried`] (or call [`SimLod::catch_up`] first).
     pub fn positions(&self) -> &[Vec3] {
         &self.out
+    }
+
+    /// The rigid motion from the pose of [`SimLod::positions`] to where the
+    /// head has carried the hair since (identity on screen).
+    pub fn carried(&self) -> Affine3A {
+        self.carried * self.pose.inverse()
+    }
+
+    /// Applies the rigid motion of the steps spent off screen to the
+    /// strands and the output ([`Strands::teleport`]: no velocity). `step`
+    /// and `set_level` call it; it costs one pass over the vertices, once,
+    /// however long the hair was off screen.
+    pub fn catch_up(&mut self) {
+        if self.carried == self.pose {
+            return;
+        }
+        let delta = self.carried();
+        let level = &mut self.levels[self.current];
+        let _ = level.strands.teleport(delta);
+        for p in self.out.iter_mut().chain(self.out_prev.iter_mut()) {
+            *p = delta.transform_point3(*p);
+        }
+        self.pose = self.carried;
     }
 
     /// Switches to `level` (clamped to the last) without a pop: the new
@@ -215,6 +244,7 @@ impl SimLod {
         if level == self.current {
             return;
         }
+        self.catch_up();
         let verts = self.verts;
         // What is shown now, head-local, before the switch.
         let rot_inv = Mat3::from(self.pose.matrix3).transpose();
@@ -255,6 +285,7 @@ impl SimLod {
     /// and the rig `spheres` (world space), then the followers and the
     /// blend of a recent switch.
     pub fn step(&mut self, params: &SimParams, pose: Affine3A, spheres: &[Sphere]) {
+        self.catch_up();
         let verts = self.verts;
         let level = &mut self.levels[self.current];
         for (r, &g) in level.roots.iter_mut().zip(&level.simulated) {
@@ -266,6 +297,7 @@ impl SimLod {
             .set_rest_rotation(Quat::from_mat3(&Mat3::from(pose.matrix3)));
         kernels::step(&mut level.strands, params, spheres);
         self.pose = pose;
+        self.carried = pose;
         std::mem::swap(&mut self.out, &mut self.out_prev);
         self.write_output();
         if self.blend_left > 0 {
@@ -274,16 +306,14 @@ impl SimLod {
         }
     }
 
-    /// Off screen: carries the hair rigidly from the last pose to `pose`
-    /// (positions and previous positions alike: no velocity), steps nothing.
+    /// Off screen: the hair follows the head rigidly to `pose`, nothing is
+    /// stepped. Costs nothing per step: the motion is kept as one rigid
+    /// transform ([`SimLod::carried`]) and applied once when the
+    /// simulation resumes ([`SimLod::catch_up`]), which then starts from
+    /// the carried state with the velocity it had (a settle-in, as after a
+    /// teleport).
     pub fn follow_rigidly(&mut self, pose: Affine3A) {
-        let delta = pose * self.pose.inverse();
-        let level = &mut self.levels[self.current];
-        let _ = level.strands.teleport(delta);
-        for p in self.out.iter_mut().chain(self.out_prev.iter_mut()) {
-            *p = delta.transform_point3(*p);
-        }
-        self.pose = pose;
+        self.carried = pose;
     }
 
     /// The current level's simulated guides to the output, then the
