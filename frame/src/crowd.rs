@@ -111,7 +111,7 @@ pub fn standard_layout(n: usize, focus: Vec3) -> Vec<Placement> {
                 Vec3::new(-0.9 + 0.6 * k, 0.0, -2.5 - 0.5 * k)
             } else if i < near + off {
                 let k = (i - near) as f32;
-                if (i - near) % 2 == 0 {
+                if (i - near).is_multiple_of(2) {
                     Vec3::new(2.0 * k - 3.0, 0.0, 6.0 + k)
                 } else {
                     Vec3::new(60.0 + 5.0 * k, 0.0, -5.0)

@@ -337,8 +337,8 @@ impl SimLod {
         {
             let j = f.guide as usize * verts;
             let from = f.from.map(|i| i as usize * verts);
-            for v in 0..verts {
-                self.out[j + v] = m * off[v]
+            for (v, o) in off.iter().enumerate() {
+                self.out[j + v] = m * *o
                     + level.buf[from[0] + v] * f.weight[0]
                     + level.buf[from[1] + v] * f.weight[1]
                     + level.buf[from[2] + v] * f.weight[2];

@@ -676,9 +676,9 @@ pub(crate) fn drive(
                 &mut scratch.candidates,
             );
         }
-        for g in 0..n {
+        for (g, &run) in runs.iter().enumerate().take(n) {
             let b = first + g;
-            if !runs[g] {
+            if !run {
                 strands.sleep[b].stepped = false;
                 continue;
             }

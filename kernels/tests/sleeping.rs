@@ -162,6 +162,9 @@ fn a_sphere_jumping_past_sleeping_hair_in_one_step_wakes_it() {
     assert!(s.awake_strands() <= 48, "{} woke", s.awake_strands());
 }
 
+/// A state change applied to sleeping strands.
+type Change<'a> = Box<dyn Fn(&mut Strands) + 'a>;
+
 #[test]
 fn every_state_change_wakes_every_block() {
     let (pts, verts) = hanging();
@@ -172,7 +175,7 @@ fn every_state_change_wakes_every_block() {
         assert!(s.awake_strands() <= 25);
         s
     };
-    let changes: Vec<(&str, Box<dyn Fn(&mut Strands)>)> = vec![
+    let changes: Vec<(&str, Change)> = vec![
         (
             "teleport",
             Box::new(|s| {
