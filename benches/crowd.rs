@@ -13,27 +13,18 @@
 //! `cargo bench --bench crowd` (add `-- --quick` for a fast pass).
 
 use coif::base::tasks::Serial;
-use coif::frame::crowd::{standard_layout, Crowd, CrowdCamera};
-use coif::frame::drape::drape;
-use coif::frame::sim_lod::STRIDES;
-use coif::frame::HairScene;
-use coif::geometry::scene::GrowOptions;
+use coif::frame::crowd::{settled_head, Crowd};
 use coif::kernels::{self, SimParams, Strands};
 use criterion::{criterion_group, criterion_main, Criterion};
 use glam::Vec3;
 use std::hint::black_box;
 use std::time::Duration;
 
+#[path = "../kernels/tests/common/mod.rs"]
+mod kernels_fixtures;
+
 fn hanging() -> (Vec<Vec3>, usize) {
-    let verts = 16;
-    let mut pts = Vec::new();
-    for row in 0..16 {
-        for col in 0..16 {
-            let root = Vec3::new(0.03 * col as f32, 0.0, 0.03 * row as f32);
-            pts.extend((0..verts).map(|v| root - Vec3::Y * (0.02 * v as f32)));
-        }
-    }
-    (pts, verts)
+    (kernels_fixtures::hanging_grid(16, 0.03, 16, 0.02), 16)
 }
 
 fn sleep(c: &mut Criterion) {
@@ -61,15 +52,7 @@ fn sleep(c: &mut Criterion) {
 }
 
 fn crowd(c: &mut Criterion) {
-    let scene = HairScene::procedural(&GrowOptions {
-        strand_count: 512,
-        curl: 0.15,
-        ..GrowOptions::default()
-    })
-    .unwrap()
-    .without_ribbons();
-    let settled = drape(&scene.guides, scene.verts_per_strand, &scene.rig, 420).unwrap();
-    let layout = standard_layout(16, scene.focus);
+    let (scene, settled) = settled_head(512, 32).unwrap();
     let params = SimParams::default();
     let mut group = c.benchmark_group("crowd/16");
     group
@@ -77,16 +60,7 @@ fn crowd(c: &mut Criterion) {
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(3));
     for (name, skip) in [("skip", true), ("full", false)] {
-        let mut crowd = Crowd::new(
-            &scene,
-            &settled,
-            &layout,
-            CrowdCamera::default(),
-            &params,
-            &STRIDES,
-            skip,
-        )
-        .unwrap();
+        let mut crowd = Crowd::standard(&scene, &settled, 16, &params, skip).unwrap();
         let mut frame = 0usize;
         for _ in 0..120 {
             crowd.step(frame as f32 / 60.0, &Serial);

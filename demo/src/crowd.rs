@@ -9,30 +9,19 @@
 //! only: nothing is drawn.
 
 use coif::base::tasks::Serial;
-use coif::frame::crowd::{add_distances, standard_layout, Crowd, CrowdCamera};
-use coif::frame::drape::drape;
+use coif::frame::crowd::{add_distances, settled_head, Crowd};
 use coif::frame::sim_lod::STRIDES;
-use coif::frame::HairScene;
-use coif::geometry::scene::GrowOptions;
 use coif::kernels::SimParams;
 use std::time::{Duration, Instant};
 
 /// Runs the crowd of `n` for `frames` frames of 1/60 s; one thread.
 pub fn run(n: usize, frames: usize) -> Result<(), Box<dyn std::error::Error>> {
     let start = Instant::now();
-    let scene = HairScene::procedural(&GrowOptions {
-        strand_count: 2048,
-        curl: 0.15,
-        ..GrowOptions::default()
-    })?
-    .without_ribbons();
-    let params = SimParams::default();
     // Settled for 7 s: the pose the characters start from and followers
     // keep their shape relative to.
-    let settled = drape(&scene.guides, scene.verts_per_strand, &scene.rig, 420)?;
-    let layout = standard_layout(n, scene.focus);
-    let camera = CrowdCamera::default();
-    let build = |skip| Crowd::new(&scene, &settled, &layout, camera, &params, &STRIDES, skip);
+    let (scene, settled) = settled_head(2048, 32)?;
+    let params = SimParams::default();
+    let build = |skip| Crowd::standard(&scene, &settled, n, &params, skip);
     let (mut lean, mut full) = (build(true)?, build(false)?);
     println!(
         "coif --crowd {n}: {} guides x {} points per character, {} characters ({} near, {} off screen, the rest far; every other one moving); setup {:.0} ms",

@@ -129,6 +129,26 @@ pub fn standard_layout(n: usize, focus: Vec3) -> Vec<Placement> {
         .collect()
 }
 
+/// Steps a crowd's groom is draped for before it starts (7 s of 1/60 s:
+/// grown hair falls from straight out and comes to rest on the head).
+pub const SETTLE_STEPS: usize = 420;
+
+/// The built-in head for a crowd: `strand_count` roots grown
+/// ([`HairScene::procedural`], curl 0.15, `verts` points each, the face
+/// left bare, no ribbons) and the guides draped for [`SETTLE_STEPS`]
+/// steps: the rest shape and the settled pose a crowd starts from.
+pub fn settled_head(strand_count: usize, verts: usize) -> Result<(HairScene, Vec<Vec3>), Error> {
+    let scene = HairScene::procedural(&coif_geometry::scene::GrowOptions {
+        strand_count,
+        verts_per_strand: verts,
+        curl: 0.15,
+        ..Default::default()
+    })?
+    .without_ribbons();
+    let settled = crate::drape::drape(&scene.guides, verts, &scene.rig, SETTLE_STEPS)?;
+    Ok((scene, settled))
+}
+
 /// What one character did in the last step.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct CharacterStep {
@@ -217,6 +237,28 @@ impl Crowd {
             focus: scene.focus,
             extent: scene.extent,
         })
+    }
+
+    /// The standard crowd of `n` ([`standard_layout`]) before
+    /// [`CrowdCamera::default`], levels of [`crate::sim_lod::STRIDES`].
+    pub fn standard(
+        scene: &HairScene,
+        settled: &[Vec3],
+        n: usize,
+        params: &SimParams,
+        skip: bool,
+    ) -> Result<Crowd, Error> {
+        let layout = standard_layout(n, scene.focus);
+        let strides = crate::sim_lod::STRIDES;
+        Crowd::new(
+            scene,
+            settled,
+            &layout,
+            CrowdCamera::default(),
+            params,
+            &strides,
+            skip,
+        )
     }
 
     /// One step of every character at time `t` (seconds), as independent

@@ -5,30 +5,19 @@
 //! everyone fully; any thread count gives the same bytes; stepping
 //! allocates nothing.
 
-use coif_frame::crowd::{add_distances, standard_layout, Crowd, CrowdCamera};
-use coif_frame::drape::drape;
+use coif_frame::crowd::{add_distances, settled_head, Crowd};
 use coif_frame::motion::turn_and_nod;
 use coif_frame::sim_lod::{SimLod, STRIDES};
 use coif_frame::HairScene;
-use coif_geometry::scene::GrowOptions;
 use coif_kernels::{self as kernels, SimParams, Strands};
 use glam::{Affine3A, Vec3};
 
 #[global_allocator]
 static GLOBAL: coif_testkit::counting::Counting = coif_testkit::counting::Counting;
 
-/// A small built-in head (guides combed back and draped for 1 s).
+/// A small built-in head (guides combed back and draped for 7 s).
 fn scene() -> (HairScene, Vec<Vec3>) {
-    let scene = HairScene::procedural(&GrowOptions {
-        strand_count: 384,
-        verts_per_strand: 16,
-        curl: 0.15,
-        ..GrowOptions::default()
-    })
-    .unwrap()
-    .without_ribbons();
-    let settled = drape(&scene.guides, scene.verts_per_strand, &scene.rig, 420).unwrap();
-    (scene, settled)
+    settled_head(384, 16).unwrap()
 }
 
 fn largest_move(a: &[Vec3], b: &[Vec3]) -> f32 {
@@ -163,9 +152,7 @@ fn switching_levels_and_coming_back_on_screen_do_not_pop() {
 fn the_crowd_of_16_advances_at_most_35_percent_and_any_thread_count_agrees() {
     let (scene, settled) = scene();
     let params = SimParams::default();
-    let layout = standard_layout(16, scene.focus);
-    let camera = CrowdCamera::default();
-    let build = |skip| Crowd::new(&scene, &settled, &layout, camera, &params, &STRIDES, skip);
+    let build = |skip| Crowd::standard(&scene, &settled, 16, &params, skip);
     let (mut lean, mut full) = (build(true).unwrap(), build(false).unwrap());
     let (mut advanced, mut everyone) = (0usize, 0usize);
     let mut errors = vec![(0.0f64, 0usize); STRIDES.len() + 1];
@@ -211,17 +198,7 @@ fn the_crowd_of_16_advances_at_most_35_percent_and_any_thread_count_agrees() {
 fn stepping_switching_and_following_allocate_nothing() {
     let (scene, settled) = scene();
     let params = SimParams::default();
-    let layout = standard_layout(6, scene.focus);
-    let mut crowd = Crowd::new(
-        &scene,
-        &settled,
-        &layout,
-        CrowdCamera::default(),
-        &params,
-        &STRIDES,
-        true,
-    )
-    .unwrap();
+    let mut crowd = Crowd::standard(&scene, &settled, 6, &params, true).unwrap();
     let mut lod = SimLod::new(&scene.guides, &settled, scene.verts_per_strand, &STRIDES).unwrap();
     lod.reserve_rig(scene.rig.len());
     let serial = coif_base::tasks::Serial;

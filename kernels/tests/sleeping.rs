@@ -18,15 +18,7 @@ static GLOBAL: coif_testkit::counting::Counting = coif_testkit::counting::Counti
 /// 16 x 16 grid of roots 3 cm apart (strand `row * 16 + col`: a block is
 /// half a row).
 fn hanging() -> (Vec<Vec3>, usize) {
-    let verts = 16;
-    let mut pts = Vec::new();
-    for row in 0..16 {
-        for col in 0..16 {
-            let root = Vec3::new(0.03 * col as f32, 0.0, 0.03 * row as f32);
-            pts.extend((0..verts).map(|v| root - Vec3::Y * (0.02 * v as f32)));
-        }
-    }
-    (pts, verts)
+    (common::hanging_grid(16, 0.03, 16, 0.02), 16)
 }
 
 fn params(sleep_speed: f32) -> SimParams {

@@ -18,11 +18,10 @@
 //! Time is the median over repeated runs of the whole sequence.
 
 use super::{Options, Path, Row, Timing};
-use coif::frame::drape::drape;
+use coif::frame::crowd::settled_head;
 use coif::frame::motion::turn_and_nod;
 use coif::frame::sim_lod::{SimLod, STRIDES};
 use coif::frame::HairScene;
-use coif::geometry::scene::GrowOptions;
 use coif::kernels::{self as kernels, SimParams, Sphere, Strands};
 use glam::{Affine3A, Mat3, Quat, Vec3};
 use std::time::Instant;
@@ -38,15 +37,8 @@ struct Scene {
 }
 
 fn scene(options: Options) -> Scene {
-    let hair = HairScene::procedural(&GrowOptions {
-        strand_count: if options.quick { 256 } else { 1024 },
-        curl: 0.15,
-        ..GrowOptions::default()
-    })
-    .expect("the built-in head grows")
-    .without_ribbons();
-    let settled =
-        drape(&hair.guides, hair.verts_per_strand, &hair.rig, 420).expect("grown guides are valid");
+    let (hair, settled) = settled_head(if options.quick { 256 } else { 1024 }, 32)
+        .expect("the built-in head grows and drapes");
     Scene {
         hair,
         settled,
