@@ -127,8 +127,8 @@ impl From<&CoifSimParams> for SimParams {
             local_shape_stiffness: p.local_shape_stiffness,
             max_substep: p.max_substep,
             stiff_mode_damping: p.stiff_mode_damping,
-            // Not in the C struct yet: C callers never sleep.
-            sleep_speed: 0.0,
+            // Not in the C struct yet: C callers get the Rust default.
+            sleep_speed: SimParams::default().sleep_speed,
         }
     }
 }

@@ -285,6 +285,18 @@ impl SimLod {
     /// and the rig `spheres` (world space), then the followers and the
     /// blend of a recent switch.
     pub fn step(&mut self, params: &SimParams, pose: Affine3A, spheres: &[Sphere]) {
+        self.step_with(kernels::step, params, pose, spheres);
+    }
+
+    /// [`SimLod::step`] with another strand step, e.g. the scalar reference
+    /// `coif_kernels::scalar::step` (the report times both).
+    pub fn step_with(
+        &mut self,
+        stepper: fn(&mut Strands, &SimParams, &[Sphere]),
+        params: &SimParams,
+        pose: Affine3A,
+        spheres: &[Sphere],
+    ) {
         self.catch_up();
         let verts = self.verts;
         let level = &mut self.levels[self.current];
@@ -295,7 +307,7 @@ impl SimLod {
         let _ = level
             .strands
             .set_rest_rotation(Quat::from_mat3(&Mat3::from(pose.matrix3)));
-        kernels::step(&mut level.strands, params, spheres);
+        stepper(&mut level.strands, params, spheres);
         self.pose = pose;
         self.carried = pose;
         std::mem::swap(&mut self.out, &mut self.out_prev);

@@ -22,7 +22,7 @@ use coif::frame::crowd::settled_head;
 use coif::frame::motion::turn_and_nod;
 use coif::frame::sim_lod::{SimLod, STRIDES};
 use coif::frame::HairScene;
-use coif::kernels::{self as kernels, SimParams, Sphere, Strands};
+use coif::kernels::{self as kernels, scalar, SimParams, Sphere, Strands};
 use glam::{Affine3A, Mat3, Quat, Vec3};
 use std::time::Instant;
 
@@ -64,7 +64,8 @@ fn pose(s: &Scene, f: usize) -> (Affine3A, Vec<Sphere>) {
 
 /// One run of plain strands at `sleep_speed`: (ns per vertex-step, the
 /// positions of every frame, strand-steps advanced).
-fn run_sleep(s: &Scene, sleep_speed: f32) -> (f64, Vec<Vec<Vec3>>, usize) {
+fn run_sleep(s: &Scene, sleep_speed: f32, path: Path) -> (f64, Vec<Vec<Vec3>>, usize) {
+    let stepper = stepper(path);
     let verts = s.hair.verts_per_strand;
     let params = SimParams {
         sleep_speed,
@@ -84,7 +85,7 @@ fn run_sleep(s: &Scene, sleep_speed: f32) -> (f64, Vec<Vec<Vec3>>, usize) {
         let t0 = Instant::now();
         let _ = strands.set_roots(&roots);
         let _ = strands.set_rest_rotation(Quat::from_mat3(&Mat3::from(pose.matrix3)));
-        kernels::step(&mut strands, &params, &rig);
+        stepper(&mut strands, &params, &rig);
         ns += t0.elapsed().as_nanos() as f64;
         advanced += strands.awake_strands();
         frames.push(strands.positions());
@@ -93,7 +94,8 @@ fn run_sleep(s: &Scene, sleep_speed: f32) -> (f64, Vec<Vec<Vec3>>, usize) {
 }
 
 /// One run of the simulation LOD at `level`, sleeping off.
-fn run_level(s: &Scene, level: usize) -> (f64, Vec<Vec<Vec3>>) {
+fn run_level(s: &Scene, level: usize, path: Path) -> (f64, Vec<Vec<Vec3>>) {
+    let stepper = stepper(path);
     let params = SimParams {
         sleep_speed: 0.0,
         ..Default::default()
@@ -110,11 +112,19 @@ fn run_level(s: &Scene, level: usize) -> (f64, Vec<Vec<Vec3>>) {
     for f in 0..s.frames {
         let (pose, rig) = pose(s, f);
         let t0 = Instant::now();
-        lod.step(&params, pose, &rig);
+        lod.step_with(stepper, &params, pose, &rig);
         ns += t0.elapsed().as_nanos() as f64;
         frames.push(lod.positions().to_vec());
     }
     (ns / (s.frames * s.settled.len()) as f64, frames)
+}
+
+/// The strand step of `path`.
+fn stepper(path: Path) -> fn(&mut Strands, &SimParams, &[Sphere]) {
+    match path {
+        Path::Simd => kernels::step,
+        Path::Scalar => scalar::step,
+    }
 }
 
 /// RMS vertex distance over every frame.
@@ -129,7 +139,9 @@ fn rms(a: &[Vec<Vec3>], b: &[Vec<Vec3>]) -> f64 {
     (sum / n.max(1) as f64).sqrt()
 }
 
-/// The `simulation LOD sleeping` and `simulation LOD guides` rows (SIMD).
+/// The `simulation LOD sleeping` and `simulation LOD guides` rows, SIMD
+/// and scalar (the error is the SIMD run's; the scalar step agrees with it
+/// bit for bit).
 pub fn rows(options: Options) -> Vec<Row> {
     let reps = if options.quick { 1 } else { 3 };
     let s = scene(options);
@@ -138,38 +150,60 @@ pub fn rows(options: Options) -> Vec<Row> {
     let mut reference = Vec::new();
     let default_sleep = SimParams::default().sleep_speed;
     for &speed in &SLEEP_SPEEDS {
-        let runs: Vec<_> = (0..reps).map(|_| run_sleep(&s, speed)).collect();
+        let runs: Vec<_> = (0..reps)
+            .map(|_| run_sleep(&s, speed, Path::Simd))
+            .collect();
         if speed == 0.0 {
             reference = runs[0].1.clone();
         }
         let advanced = runs[0].2 as f64 / strand_steps as f64;
-        rows.push(Row {
-            kernel: "simulation LOD sleeping".into(),
-            setting: format!("sleep_speed={speed} ({:.0} % stepped)", 100.0 * advanced),
-            path: Path::Simd,
-            element: "vertex-step",
-            time: Timing::from_samples(runs.iter().map(|r| r.0).collect()),
-            error_metric: "RMS distance to never sleeping over all frames (m)",
-            error: rms(&runs[0].1, &reference),
-            is_default: speed == default_sleep,
-        });
+        let error = rms(&runs[0].1, &reference);
+        let scalar: Vec<f64> = (0..reps)
+            .map(|_| run_sleep(&s, speed, Path::Scalar).0)
+            .collect();
+        for (path, ns) in [
+            (Path::Simd, runs.iter().map(|r| r.0).collect()),
+            (Path::Scalar, scalar),
+        ] {
+            rows.push(Row {
+                kernel: "simulation LOD sleeping".into(),
+                setting: format!("sleep_speed={speed} ({:.0} % stepped)", 100.0 * advanced),
+                path,
+                element: "vertex-step",
+                time: Timing::from_samples(ns),
+                error_metric: "RMS distance to never sleeping over all frames (m)",
+                error,
+                is_default: speed == default_sleep,
+            });
+        }
     }
     let mut full = Vec::new();
     for (level, &stride) in STRIDES.iter().enumerate() {
-        let runs: Vec<_> = (0..reps).map(|_| run_level(&s, level)).collect();
+        let runs: Vec<_> = (0..reps)
+            .map(|_| run_level(&s, level, Path::Simd))
+            .collect();
         if level == 0 {
             full = runs[0].1.clone();
         }
-        rows.push(Row {
-            kernel: "simulation LOD guides".into(),
-            setting: format!("stride={stride}"),
-            path: Path::Simd,
-            element: "vertex-step",
-            time: Timing::from_samples(runs.iter().map(|r| r.0).collect()),
-            error_metric: "RMS distance to every guide simulated over all frames (m)",
-            error: rms(&runs[0].1, &full),
-            is_default: level == 0,
-        });
+        let error = rms(&runs[0].1, &full);
+        let scalar: Vec<f64> = (0..reps)
+            .map(|_| run_level(&s, level, Path::Scalar).0)
+            .collect();
+        for (path, ns) in [
+            (Path::Simd, runs.iter().map(|r| r.0).collect()),
+            (Path::Scalar, scalar),
+        ] {
+            rows.push(Row {
+                kernel: "simulation LOD guides".into(),
+                setting: format!("stride={stride}"),
+                path,
+                element: "vertex-step",
+                time: Timing::from_samples(ns),
+                error_metric: "RMS distance to every guide simulated over all frames (m)",
+                error,
+                is_default: level == 0,
+            });
+        }
     }
     rows
 }
