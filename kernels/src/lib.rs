@@ -16,7 +16,10 @@
 //! Follow-The-Leader order, Muller et al. 2012) alternated with the sphere
 //! push-out -> 7 velocity over the step and a guard that restores a lane
 //! gone non-finite. One generic body over [`lanes::Lane`] serves the SIMD
-//! path and its scalar twin.
+//! path and its scalar twin. Blocks of eight strands that stay still for
+//! [`SLEEP_AFTER`] seconds sleep and are skipped until their roots, a moving
+//! sphere or a state change wake them ([`SimParams::sleep_speed`],
+//! [`Strands::awake_strands`]).
 //!
 //! The lane math (`Vec3x8`, `LANES`, `inv_sqrt_x8`), the RNG, [`Sphere`] and
 //! [`StrandBlocks`] come from `coif-base` and are re-exported here.

@@ -51,6 +51,11 @@
 //!    and `measure::max_speed` read); a lane with a non-finite coordinate or
 //!    one beyond 10^6 m is restored to its rest pose at its root and counted.
 //!    Lanes never exchange data, so no other strand is touched.
+//! 8. **Sleep** (`sleep_speed > 0`, in the driver [`drive`]): a sleeping
+//!    block whose roots did not move and which no moving sphere's sweep
+//!    reaches is skipped before 1.; after 7., a block whose vertices all
+//!    moved at most `sleep_speed dt` per step for `SLEEP_AFTER` seconds
+//!    falls asleep at rest.
 //!
 //! No division and no square root in the body: `1/sqrt` and `1/x` are the
 //! hardware estimates plus one Newton step ([`Lane::inv_sqrt`],

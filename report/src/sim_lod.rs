@@ -119,6 +119,29 @@ fn run_level(s: &Scene, level: usize, path: Path) -> (f64, Vec<Vec<Vec3>>) {
     (ns / (s.frames * s.settled.len()) as f64, frames)
 }
 
+/// A SIMD and a scalar row of one setting: `times` per path (ns per
+/// vertex-step of each run), the same error.
+fn push_both(
+    rows: &mut Vec<Row>,
+    (kernel, setting): (&str, String),
+    times: [Vec<f64>; 2],
+    (error_metric, error): (&'static str, f64),
+    is_default: bool,
+) {
+    for (path, ns) in [Path::Simd, Path::Scalar].into_iter().zip(times) {
+        rows.push(Row {
+            kernel: kernel.into(),
+            setting: setting.clone(),
+            path,
+            element: "vertex-step",
+            time: Timing::from_samples(ns),
+            error_metric,
+            error,
+            is_default,
+        });
+    }
+}
+
 /// The strand step of `path`.
 fn stepper(path: Path) -> fn(&mut Strands, &SimParams, &[Sphere]) {
     match path {
@@ -161,21 +184,16 @@ pub fn rows(options: Options) -> Vec<Row> {
         let scalar: Vec<f64> = (0..reps)
             .map(|_| run_sleep(&s, speed, Path::Scalar).0)
             .collect();
-        for (path, ns) in [
-            (Path::Simd, runs.iter().map(|r| r.0).collect()),
-            (Path::Scalar, scalar),
-        ] {
-            rows.push(Row {
-                kernel: "simulation LOD sleeping".into(),
-                setting: format!("sleep_speed={speed} ({:.0} % stepped)", 100.0 * advanced),
-                path,
-                element: "vertex-step",
-                time: Timing::from_samples(ns),
-                error_metric: "RMS distance to never sleeping over all frames (m)",
-                error,
-                is_default: speed == default_sleep,
-            });
-        }
+        push_both(
+            &mut rows,
+            (
+                "simulation LOD sleeping",
+                format!("sleep_speed={speed} ({:.0} % stepped)", 100.0 * advanced),
+            ),
+            [runs.iter().map(|r| r.0).collect(), scalar],
+            ("RMS distance to never sleeping over all frames (m)", error),
+            speed == default_sleep,
+        );
     }
     let mut full = Vec::new();
     for (level, &stride) in STRIDES.iter().enumerate() {
@@ -189,21 +207,16 @@ pub fn rows(options: Options) -> Vec<Row> {
         let scalar: Vec<f64> = (0..reps)
             .map(|_| run_level(&s, level, Path::Scalar).0)
             .collect();
-        for (path, ns) in [
-            (Path::Simd, runs.iter().map(|r| r.0).collect()),
-            (Path::Scalar, scalar),
-        ] {
-            rows.push(Row {
-                kernel: "simulation LOD guides".into(),
-                setting: format!("stride={stride}"),
-                path,
-                element: "vertex-step",
-                time: Timing::from_samples(ns),
-                error_metric: "RMS distance to every guide simulated over all frames (m)",
+        push_both(
+            &mut rows,
+            ("simulation LOD guides", format!("stride={stride}")),
+            [runs.iter().map(|r| r.0).collect(), scalar],
+            (
+                "RMS distance to every guide simulated over all frames (m)",
                 error,
-                is_default: level == 0,
-            });
-        }
+            ),
+            level == 0,
+        );
     }
     rows
 }
