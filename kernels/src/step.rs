@@ -51,7 +51,7 @@
 //!    and `measure::max_speed` read); a lane with a non-finite coordinate or
 //!    one beyond 10^6 m is restored to its rest pose at its root and counted.
 //!    Lanes never exchange data, so no other strand is touched.
-//! 8. **Sleep** (`sleep_speed > 0`, in the driver [`drive`]): a sleeping
+//! 8. **Sleep** (`sleep_speed > 0`, in the driver `drive`): a sleeping
 //!    block whose roots did not move and which no moving sphere's sweep
 //!    reaches is skipped before 1.; after 7., a block whose vertices all
 //!    moved at most `sleep_speed dt` per step for `SLEEP_AFTER` seconds
