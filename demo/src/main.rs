@@ -6,6 +6,8 @@
 //! patches), `hair.png` (512 x 512) and a per-stage timing table. See
 //! `--help`.
 
+mod crowd;
+
 use clap::Parser;
 use coif::frame::{
     motion, FramePipeline, FrameSettings, FrameStats, HairScene, PrepareMode, ShadingModel,
@@ -102,6 +104,11 @@ struct Cli {
     /// Frames of the motion per frame of the animation.
     #[arg(long, default_value_t = 1, value_name = "N")]
     animation_every: usize,
+    /// Simulate a crowd of N characters instead (no picture): the
+    /// simulation cost with and without simulation LOD, off-screen
+    /// following and sleeping, and the error per level.
+    #[arg(long, value_name = "N")]
+    crowd: Option<usize>,
 }
 
 fn parse_prepare(s: &str) -> Result<PrepareMode, String> {
@@ -322,6 +329,9 @@ fn run_motion(
 }
 
 fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
+    if let Some(n) = cli.crowd {
+        return crowd::run(n, cli.frames);
+    }
     let (width, height) = cli.size.unwrap_or((cli.width, cli.height));
     let start = Instant::now();
     let (scene, what) = load_scene(&cli)?;

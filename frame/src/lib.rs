@@ -25,6 +25,7 @@
 //! at the repository root.
 #![warn(missing_docs)]
 
+pub mod crowd;
 pub mod drape;
 mod error;
 mod frame;
@@ -35,6 +36,7 @@ pub mod ribbon;
 mod settings;
 mod shading_model;
 mod shadow;
+pub mod sim_lod;
 pub mod timings;
 pub mod triangulate;
 
@@ -45,4 +47,5 @@ pub use frame::{
 pub use hair_scene::{HairScene, GROOM_RIBBON_ATTACH, PROCEDURAL_RIBBON_ATTACH};
 pub use settings::{FrameSettings, Light, PrepareMode, DEFAULT_SHADOW_THINNING};
 pub use shading_model::{demo_sigma_a, Shader, ShadingModel, PHYSICAL_LIGHT_SCALE};
+pub use sim_lod::SimLod;
 pub use timings::{Stage, StageTimings};

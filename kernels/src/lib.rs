@@ -16,7 +16,10 @@
 //! Follow-The-Leader order, Muller et al. 2012) alternated with the sphere
 //! push-out -> 7 velocity over the step and a guard that restores a lane
 //! gone non-finite. One generic body over [`lanes::Lane`] serves the SIMD
-//! path and its scalar twin.
+//! path and its scalar twin. Blocks of eight strands that stay still for
+//! [`SLEEP_AFTER`] seconds sleep and are skipped until their roots, a moving
+//! sphere or a state change wake them ([`SimParams::sleep_speed`],
+//! [`Strands::awake_strands`]).
 //!
 //! The lane math (`Vec3x8`, `LANES`, `inv_sqrt_x8`), the RNG, [`Sphere`] and
 //! [`StrandBlocks`] come from `coif-base` and are re-exported here.
@@ -38,7 +41,7 @@ pub use coif_base::{lanes, rng, Sphere, StrandBlocks, Vec3x8, LANES};
 pub use error::Error;
 pub use fixed_step::FixedStep;
 pub use measure::{measure, Measures};
-pub use params::{SimParams, MAX_PEARLS_PER_SEGMENT, MAX_SUBSTEPS};
+pub use params::{SimParams, MAX_PEARLS_PER_SEGMENT, MAX_SUBSTEPS, SLEEP_AFTER};
 pub use patch::{Patch, Ribbon};
 pub use step::step;
 pub use strands::Strands;

@@ -51,6 +51,11 @@
 //!    and `measure::max_speed` read); a lane with a non-finite coordinate or
 //!    one beyond 10^6 m is restored to its rest pose at its root and counted.
 //!    Lanes never exchange data, so no other strand is touched.
+//! 8. **Sleep** (`sleep_speed > 0`, in the driver `drive`): a sleeping
+//!    block whose roots did not move and which no moving sphere's sweep
+//!    reaches is skipped before 1.; after 7., a block whose vertices all
+//!    moved at most `sleep_speed dt` per step for `SLEEP_AFTER` seconds
+//!    falls asleep at rest.
 //!
 //! No division and no square root in the body: `1/sqrt` and `1/x` are the
 //! hardware estimates plus one Newton step ([`Lane::inv_sqrt`],
@@ -59,10 +64,10 @@
 
 use crate::broad_phase::{block_sweep_aabb, select_candidates, spheres_to_local, Aabb, Candidate};
 use crate::constraints::{BLOWN_UP, MIN_LENGTH};
-use crate::lanes::{Lane, LANES, V3};
+use crate::lanes::{Lane, Vec3x8, LANES, V3};
 use crate::strands::Scratch;
 use crate::{SimParams, Sphere, Strands};
-use glam::{Mat3, Vec3};
+use glam::{DVec3, Mat3, Vec3};
 use wide::f32x8;
 
 /// Constraint directions whose cosine with the current segment falls below
@@ -98,6 +103,13 @@ pub(crate) struct Setup {
     pub rotation: Mat3,
     /// Broad-phase margin: pearl radius plus one longest rest segment.
     pub margin: f32,
+    /// Sleeping on (`sleep_speed > 0`).
+    pub sleep: bool,
+    /// `(sleep_speed dt)^2`: a vertex moved less than this (squared) over
+    /// the step is still.
+    pub still_move2: f32,
+    /// Still steps in a row before a block sleeps, `ceil(SLEEP_AFTER / dt)`.
+    pub still_steps: u32,
 }
 
 /// The local shape correction per substep of length `h` for the user's
@@ -148,6 +160,9 @@ impl Setup {
             bend: per_substep(p.bend_stiffness, n),
             rotation: s.rest_rotation,
             margin: p.pearl_radius.max(0.0) + s.max_rest_segment,
+            sleep: p.sleep_speed > 0.0 && p.dt > 0.0,
+            still_move2: (p.sleep_speed * p.dt) * (p.sleep_speed * p.dt),
+            still_steps: ((crate::SLEEP_AFTER / p.dt).ceil() as u32).max(1),
         }
     }
 }
@@ -598,10 +613,17 @@ pub fn step(strands: &mut Strands, params: &SimParams, spheres: &[Sphere]) {
 }
 
 /// The step's driver, shared by the SIMD path and its scalar twin: the rig
-/// to local coordinates, then per group of [`GROUP`] blocks 1. the broad
-/// phase (`block_box` gives block `b`'s swept box) and steps 2.-7. of each
-/// block of the group (`block(strands, scratch, setup, b, g)`, which returns
-/// the lanes that went bad); those lanes are restored.
+/// to local coordinates, then per group of [`GROUP`] blocks 0. the sleep
+/// decision of each block (awake, or asleep and woken by its roots or a
+/// moving sphere, or asleep and skipped), 1. the broad phase (`block_box`
+/// gives block `b`'s swept box; a sleeping block's is the one kept when it
+/// fell asleep) and steps 2.-7. of each block of the group that runs
+/// (`block(strands, scratch, setup, b, g)`, which returns the lanes that
+/// went bad); those lanes are restored; 8. the block's stillness.
+///
+/// Everything a block's sleep decision reads is its own state and the
+/// step's read-only rig (this step's and the last one's); the awake count
+/// is summed afterwards in block order.
 pub(crate) fn drive(
     strands: &mut Strands,
     params: &SimParams,
@@ -610,29 +632,165 @@ pub(crate) fn drive(
     mut block: impl FnMut(&mut Strands, &mut Scratch, &Setup, usize, usize) -> u32,
 ) {
     let k = Setup::new(strands, params);
+    if strands.params_seen.as_ref() != Some(params) {
+        // Other parameters: what was still may not be any more.
+        strands.wake();
+        strands.params_seen = Some(params.clone());
+    }
     let mut scratch = std::mem::take(&mut strands.scratch);
     spheres_to_local(spheres, strands.origin, &mut scratch.spheres_local);
+    // Sized for the whole rig once, so that no later step allocates
+    // (allocates only when the rig grows).
+    scratch.candidates.clear();
+    scratch.candidates.reserve(spheres.len());
+    scratch.movers.clear();
+    scratch.movers.reserve(spheres.len());
+    moving_spheres(
+        spheres,
+        &scratch.rig_prev,
+        strands.origin,
+        &mut scratch.movers,
+    );
     let mut first = 0;
     while first < strands.blocks {
         let n = GROUP.min(strands.blocks - first);
-        // 1. Broad phase: the group's swept block boxes against the rig.
+        // 0. Sleep: a sleeping block runs only if its roots moved or a
+        // moving sphere's sweep reaches its box.
         let mut boxes = [EMPTY_BOX; GROUP];
-        for (g, bx) in boxes.iter_mut().enumerate().take(n) {
-            *bx = block_box(strands, first + g, &k);
-        }
-        select_candidates(
-            &boxes[..n],
-            k.margin,
-            &scratch.spheres_local,
-            &mut scratch.candidates,
-        );
+        let mut runs = [true; GROUP];
         for g in 0..n {
-            let bad = block(strands, &mut scratch, &k, first + g, g);
-            restore_lanes(strands, first + g, bad);
+            let b = first + g;
+            let st = strands.sleep[b];
+            if k.sleep && st.asleep && !roots_moved(strands, b) {
+                boxes[g] = st.bounds;
+                runs[g] = scratch
+                    .movers
+                    .iter()
+                    .any(|m| boxes_near(m, &st.bounds, k.margin));
+            } else {
+                // 1. (box) The block's swept box.
+                boxes[g] = block_box(strands, b, &k);
+            }
+        }
+        // 1. Broad phase: the group's swept block boxes against the rig.
+        if runs[..n].iter().any(|&r| r) {
+            select_candidates(
+                &boxes[..n],
+                k.margin,
+                &scratch.spheres_local,
+                &mut scratch.candidates,
+            );
+        }
+        for (g, &run) in runs.iter().enumerate().take(n) {
+            let b = first + g;
+            if !run {
+                strands.sleep[b].stepped = false;
+                continue;
+            }
+            let moved = roots_moved(strands, b);
+            let r = b * strands.verts..(b + 1) * strands.verts;
+            if k.sleep {
+                scratch.start.copy_from_slice(&strands.pos[r.clone()]);
+            }
+            let bad = block(strands, &mut scratch, &k, b, g);
+            restore_lanes(strands, b, bad);
+            // 8. Stillness: a block still for `still_steps` steps in a row
+            // (roots included) falls asleep at rest.
+            let still = k.sleep
+                && !moved
+                && block_is_still(
+                    &strands.pos[r],
+                    &scratch.start,
+                    strands.active[b],
+                    k.still_move2,
+                );
+            let st = &mut strands.sleep[b];
+            st.stepped = true;
+            st.still = if still { st.still.saturating_add(1) } else { 0 };
+            st.asleep = false;
+            if st.still >= k.still_steps {
+                fall_asleep(strands, b);
+                let bounds = block_box(strands, b, &k);
+                let st = &mut strands.sleep[b];
+                st.asleep = true;
+                st.bounds = bounds;
+            }
         }
         first += n;
     }
+    strands.awake = (0..strands.blocks)
+        .filter(|&b| strands.sleep[b].stepped)
+        .map(|b| strands.lanes_in_block(b))
+        .sum();
+    scratch.rig_prev.clear();
+    scratch.rig_prev.extend(
+        spheres
+            .iter()
+            .map(|s| [s.center.x, s.center.y, s.center.z, s.radius]),
+    );
     strands.scratch = scratch;
+}
+
+/// True if a root of block `b` (an active lane) was moved since the last
+/// step: `set_roots` changed its target (`pos[0]`) away from where the step
+/// left it (`prev[0]`). Any change counts, however small: a sleeping strand
+/// stays attached to its root.
+fn roots_moved(s: &Strands, b: usize) -> bool {
+    let i = b * s.verts;
+    let d = s.pos[i] - s.prev[i];
+    let moved = d.x.simd_ne(f32x8::ZERO) | d.y.simd_ne(f32x8::ZERO) | d.z.simd_ne(f32x8::ZERO);
+    (moved & s.active[b]).any()
+}
+
+/// True if every vertex of the active lanes of a block moved at most
+/// `sqrt(still_move2)` over the step (`|x_end - x_start|^2 <= still_move2`;
+/// the displacement, not the last substep's velocity, which a vertex
+/// resting on a sphere keeps at a few cm/s while it does not move); a NaN
+/// is never still. The same code for both paths (like the guard's restore),
+/// so their sleep decisions agree by construction.
+fn block_is_still(pos: &[Vec3x8], start: &[Vec3x8], active: f32x8, still_move2: f32) -> bool {
+    let limit = f32x8::splat(still_move2);
+    let mut still = active | !active;
+    for (x, p) in pos.iter().zip(start) {
+        let d = *x - *p;
+        still &= d.dot(d).simd_le(limit) | !active;
+    }
+    still.all()
+}
+
+/// Block `b` falls asleep at rest: previous positions = current ones.
+fn fall_asleep(s: &mut Strands, b: usize) {
+    let r = b * s.verts..(b + 1) * s.verts;
+    s.prev[r.clone()].copy_from_slice(&s.pos[r]);
+}
+
+/// The local boxes swept since the last step by the spheres that moved
+/// (centre or radius changed; every sphere when the rig's length changed),
+/// each the box of the sphere where it was and where it is.
+fn moving_spheres(spheres: &[Sphere], prev: &[[f32; 4]], origin: DVec3, out: &mut Vec<Aabb>) {
+    out.clear();
+    let same_rig = prev.len() == spheres.len();
+    for (i, s) in spheres.iter().enumerate() {
+        let now = [s.center.x, s.center.y, s.center.z, s.radius];
+        let was = if same_rig { prev[i] } else { now };
+        if same_rig && now == was {
+            continue;
+        }
+        let local =
+            |c: [f32; 4]| (DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64) - origin).as_vec3();
+        let r = now[3].max(was[3]);
+        let (a, c) = (local(now), local(was));
+        out.push(Aabb {
+            min: a.min(c) - Vec3::splat(r),
+            max: a.max(c) + Vec3::splat(r),
+        });
+    }
+}
+
+/// True if the boxes are at most `margin` apart; false for a non-finite box.
+fn boxes_near(a: &Aabb, b: &Aabb, margin: f32) -> bool {
+    let gap = (a.min - b.max).max(b.min - a.max).max(Vec3::ZERO);
+    a.min.is_finite() && a.max.is_finite() && gap.length_squared() <= margin * margin
 }
 
 /// Blocks whose boxes are tested against the rig together (the union first,

@@ -62,6 +62,12 @@ pub struct Strands {
     pub(crate) rest_rotation: Mat3,
     /// Strands restored to rest after going non-finite, since creation.
     pub(crate) restored: u64,
+    /// Per block: whether it sleeps, how long it has been still.
+    pub(crate) sleep: Vec<BlockSleep>,
+    /// Strands the last step advanced (all of them before the first step).
+    pub(crate) awake: usize,
+    /// The parameters of the last step (different ones wake every block).
+    pub(crate) params_seen: Option<crate::SimParams>,
     /// Scratch for the broad phase, grown only when the rig grows.
     pub(crate) scratch: Scratch,
 }
@@ -77,6 +83,37 @@ pub(crate) struct Scratch {
     pub(crate) chain: crate::step::ChainScratch<f32x8>,
     /// The scalar step's copy of one lane.
     pub(crate) lane: crate::scalar::LaneBuffers,
+    /// The rig of the last step, world space: centre and radius.
+    pub(crate) rig_prev: Vec<[f32; 4]>,
+    /// This step's moving spheres: the local box each swept since the last step.
+    pub(crate) movers: Vec<crate::broad_phase::Aabb>,
+    /// A block's positions at the start of its step (sleeping on).
+    pub(crate) start: Vec<Vec3x8>,
+}
+
+/// One block's sleep state. Written only by the step of its own block (and
+/// by the state-changing methods, which wake every block).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BlockSleep {
+    /// Steps in a row that ended with every vertex slower than `sleep_speed`.
+    pub(crate) still: u32,
+    /// Not stepped until something wakes it.
+    pub(crate) asleep: bool,
+    /// Advanced by the last step.
+    pub(crate) stepped: bool,
+    /// The block's swept box when it fell asleep: while it sleeps (roots
+    /// still, zero velocity) this is what `block_sweep_aabb` would give.
+    pub(crate) bounds: crate::broad_phase::Aabb,
+}
+
+impl BlockSleep {
+    /// Awake, never still.
+    pub(crate) const AWAKE: BlockSleep = BlockSleep {
+        still: 0,
+        asleep: false,
+        stepped: true,
+        bounds: crate::step::EMPTY_BOX,
+    };
 }
 
 impl Scratch {
@@ -86,6 +123,9 @@ impl Scratch {
             candidates: Vec::new(),
             chain: crate::step::ChainScratch::new(verts),
             lane: crate::scalar::LaneBuffers::new(verts),
+            rig_prev: Vec::new(),
+            movers: Vec::new(),
+            start: vec![Vec3x8::ZERO; verts],
         }
     }
 }
@@ -138,6 +178,9 @@ impl Strands {
             max_rest_segment: 0.0,
             rest_rotation: Mat3::IDENTITY,
             restored: 0,
+            sleep: vec![BlockSleep::AWAKE; blocks],
+            awake: strand_count,
+            params_seen: None,
             scratch: Scratch::new(verts),
         }
     }
@@ -383,6 +426,8 @@ impl Strands {
             *p = *p - shift;
         }
         self.origin = new_origin;
+        // The sleeping blocks' boxes are in the old local frame.
+        self.wake();
     }
 
     /// Moves the whole set rigidly by `xform` (world space), positions and
@@ -409,6 +454,7 @@ impl Strands {
             }
         }
         self.rest_rotation = m * self.rest_rotation;
+        self.wake();
         self.rebase_if_far();
         Ok(())
     }
@@ -420,7 +466,11 @@ impl Strands {
         if !rotation.is_finite() {
             return Err(Error::NonFinite { index: 0 });
         }
-        self.rest_rotation = Mat3::from_quat(rotation.normalize());
+        let m = Mat3::from_quat(rotation.normalize());
+        if m != self.rest_rotation {
+            self.rest_rotation = m;
+            self.wake();
+        }
         Ok(())
     }
 
@@ -430,6 +480,7 @@ impl Strands {
         for i in 0..self.strand_count {
             self.reset_strand(i / LANES, i % LANES);
         }
+        self.wake();
     }
 
     /// Rest pose of one lane at its current root, zero velocity.
@@ -452,6 +503,94 @@ impl Strands {
                 self.inv_mass[i].simd_lt(f32x8::ZERO) | f32x8::ZERO.simd_lt(self.inv_mass[i]);
             let moved = self.pos[i] - Vec3x8::splat(d);
             self.prev[i] = Vec3x8::select(free, moved, self.pos[i]);
+        }
+        self.wake();
+    }
+
+    /// Sets every vertex's position and previous position (world space,
+    /// strand after strand, root first, `strand_count * V` of each): the
+    /// state of another simulation of the same strands (a level switch of a
+    /// simulation LOD, a saved state). Vertex 0 becomes the root (pinned;
+    /// its previous position is taken equal to it). Rest lengths and shape
+    /// are unchanged. Wakes every block. Errors, changing nothing, on a
+    /// wrong count or a non-finite point.
+    pub fn set_state(&mut self, positions: &[Vec3], previous: &[Vec3]) -> Result<(), Error> {
+        let n = self.strand_count * self.verts;
+        for pts in [positions, previous] {
+            if pts.len() != n {
+                return Err(Error::CountMismatch {
+                    expected: n,
+                    got: pts.len(),
+                });
+            }
+            if let Some(index) = pts.iter().position(|p| !p.is_finite()) {
+                return Err(Error::NonFinite { index });
+            }
+        }
+        let o = self.origin;
+        let local = |p: Vec3| (p.as_dvec3() - o).as_vec3();
+        for b in 0..self.blocks {
+            let lanes = self.lanes_in_block(b);
+            for l in 0..LANES {
+                // Padding lanes copy the block's last strand.
+                let strand = b * LANES + l.min(lanes - 1);
+                for v in 0..self.verts {
+                    let k = strand * self.verts + v;
+                    let i = b * self.verts + v;
+                    let x = local(positions[k]);
+                    let xp = if v == 0 { x } else { local(previous[k]) };
+                    self.pos[i].set_lane(l, x);
+                    self.prev[i].set_lane(l, xp);
+                    if v == 0 {
+                        self.roots[b].set_lane(l, x);
+                    }
+                }
+            }
+        }
+        self.wake();
+        self.rebase_if_far();
+        Ok(())
+    }
+
+    /// Sizes the step's rig buffers for rigs of up to `spheres` spheres, so
+    /// that not even the first step allocates (a step otherwise sizes them
+    /// itself, once, when the rig grows).
+    pub fn reserve_rig(&mut self, spheres: usize) {
+        let sc = &mut self.scratch;
+        sc.spheres_local
+            .reserve(spheres.saturating_sub(sc.spheres_local.len()));
+        sc.rig_prev
+            .reserve(spheres.saturating_sub(sc.rig_prev.len()));
+        sc.candidates
+            .reserve(spheres.saturating_sub(sc.candidates.len()));
+        sc.movers.reserve(spheres.saturating_sub(sc.movers.len()));
+    }
+
+    /// Strands that the last step advanced (awake); all of them before the
+    /// first step. Strands skipped because they sleep are not counted
+    /// (sleeping goes by blocks of [`LANES`] strands: see
+    /// [`crate::SimParams::sleep_speed`]).
+    pub fn awake_strands(&self) -> usize {
+        self.awake
+    }
+
+    /// Strands in blocks that sleep now (the next step skips them unless
+    /// something wakes them).
+    pub fn sleeping_strands(&self) -> usize {
+        (0..self.blocks)
+            .filter(|&b| self.sleep[b].asleep)
+            .map(|b| self.lanes_in_block(b))
+            .sum()
+    }
+
+    /// Wakes every block: its next step advances it, and it must be still
+    /// for `SLEEP_AFTER` seconds again before it sleeps.
+    pub fn wake(&mut self) {
+        for s in &mut self.sleep {
+            *s = BlockSleep {
+                stepped: s.stepped,
+                ..BlockSleep::AWAKE
+            };
         }
     }
 

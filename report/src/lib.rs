@@ -32,6 +32,7 @@ pub mod refinement;
 pub mod roofline;
 pub mod shading;
 pub mod shadow;
+pub mod sim_lod;
 pub mod simulation;
 pub mod summary;
 pub mod timing;
@@ -112,13 +113,15 @@ impl Row {
 /// A kernel family's measurement.
 type Family = fn(Options) -> Vec<Row>;
 
-/// Measures every kernel family, in order: simulation, physics (the strand
+/// Measures every kernel family, in order: simulation, simulation LOD
+/// (sleeping and guide levels against their error), physics (the strand
 /// step against the analytic hanging chain), refinement, fits,
 /// interpolation, shading, shadow maps, cloth patches.
 pub fn run(options: Options) -> Vec<Row> {
     let mut rows = Vec::new();
-    let families: [(&str, Family); 8] = [
+    let families: [(&str, Family); 9] = [
         ("simulation", simulation::rows),
+        ("simulation LOD", sim_lod::rows),
         ("physics", physics::rows),
         ("refinement", refinement::rows),
         ("fits", fits::rows),

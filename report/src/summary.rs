@@ -69,6 +69,7 @@ is itself resolved to about 5 mm (settling) and 10 cm (whipping, whose flailing 
 chaotic) against 64 substeps (`cargo run --release -p coif-report --example \
 substeps_reference`): smaller differences are noise. The step spreads its damping over its substeps, so every setting keeps \
 the same velocity per step.
+- **simulation LOD** (`simulation LOD sleeping`, `simulation LOD guides`): the built-in head, 1 s still, 3 s of turn and nod, 6 s still; `sleep_speed` 0-0.05 m/s (the setting names the share of strand-steps advanced) and the simulation level simulating every k-th guide (k = 1, 2, 4, 8, the others following, sleeping off); ns per vertex-step of every guide; RMS distance over all frames to never sleeping and to every guide simulated.
 - **physics** (`physics chain mode 1 period`, `... mode 1 amplitude`, `... mode 2 period`): \
 the strand step against the analytic hanging chain, which a converged run of the step cannot \
 judge: 31 links of 1 cm pinned at the top, g = 9.81, started at rest in mode 1 or 2 of its \

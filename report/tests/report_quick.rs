@@ -47,6 +47,8 @@ fn quick_report_rows_are_finite_and_files_are_written() {
         "simulation whipping substeps",
         "simulation whipping substeps stretch",
         "simulation settling substeps penetration",
+        "simulation LOD sleeping",
+        "simulation LOD guides",
         "physics chain mode 1 period",
         "physics chain mode 1 amplitude",
         "physics chain mode 2 period",
@@ -101,6 +103,18 @@ fn quick_report_rows_are_finite_and_files_are_written() {
             );
         }
     }
+    // Simulation LOD: the references measure 0 against themselves, and
+    // simulating every 8th guide is farther from all guides than every 2nd.
+    let lod = |kernel: &str, prefix: &str| {
+        rows.iter()
+            .find(|r| r.kernel == kernel && r.setting.starts_with(prefix))
+            .unwrap_or_else(|| panic!("no {kernel} row at {prefix}"))
+            .error
+    };
+    assert_eq!(lod("simulation LOD sleeping", "sleep_speed=0 "), 0.0);
+    assert_eq!(lod("simulation LOD guides", "stride=1"), 0.0);
+    assert!(lod("simulation LOD guides", "stride=8") > lod("simulation LOD guides", "stride=2"));
+    assert!(lod("simulation LOD sleeping", "sleep_speed=0.05") > 0.0);
     // The physics family: the default swings the chain's mode 1 at K's
     // period (the kernels' analytic test holds it within 2 %, measured
     // +0.005 %) and keeps at least half of it; every setting has a row.

@@ -52,6 +52,21 @@ pub fn curly_strands(count: usize, verts: usize, seed: u64) -> (Vec<Vec3>, Vec<S
     (pts, rig)
 }
 
+/// `side * side` strands of `verts` vertices, `segment` apart, hanging
+/// straight down from a square grid of roots `spacing` apart in the x-z
+/// plane (strand `row * side + col`: with 16 a block is half a row). Also
+/// the crowd bench's hanging set (`benches/crowd.rs` includes this file).
+pub fn hanging_grid(side: usize, spacing: f32, verts: usize, segment: f32) -> Vec<Vec3> {
+    let mut pts = Vec::with_capacity(side * side * verts);
+    for row in 0..side {
+        for col in 0..side {
+            let root = Vec3::new(spacing * col as f32, 0.0, spacing * row as f32);
+            pts.extend((0..verts).map(|v| root - Vec3::Y * (segment * v as f32)));
+        }
+    }
+    pts
+}
+
 /// Roots of a grown set moved by `offset`.
 pub fn shifted_roots(points: &[Vec3], verts: usize, offset: Vec3) -> Vec<Vec3> {
     points.iter().step_by(verts).map(|p| *p + offset).collect()
