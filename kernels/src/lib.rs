@@ -34,11 +34,11 @@ pub mod scalar;
 mod step;
 mod strands;
 
-pub use coif_base::{lanes, rng, Sphere, StrandBlocks, Vec3x8, LANES};
+pub use coif_base::{lanes, rng, tasks, Sphere, StrandBlocks, Vec3x8, LANES};
 pub use error::Error;
 pub use fixed_step::FixedStep;
 pub use measure::{measure, Measures};
 pub use params::{SimParams, MAX_PEARLS_PER_SEGMENT, MAX_SUBSTEPS};
 pub use patch::{Patch, Ribbon};
-pub use step::step;
+pub use step::{step, step_with, MAX_STEP_TASKS};
 pub use strands::Strands;

@@ -59,9 +59,10 @@
 
 use crate::broad_phase::{block_sweep_aabb, select_candidates, spheres_to_local, Aabb, Candidate};
 use crate::constraints::{BLOWN_UP, MIN_LENGTH};
-use crate::lanes::{Lane, LANES, V3};
-use crate::strands::Scratch;
+use crate::lanes::{Lane, Vec3x8, LANES, V3};
+use crate::strands::{rest_pose, Scratch};
 use crate::{SimParams, Sphere, Strands};
+use coif_base::tasks::{for_each_chunk_mut, Executor, Serial};
 use glam::{Mat3, Vec3};
 use wide::f32x8;
 
@@ -561,27 +562,43 @@ fn outward<T: Lane>(d: V3<T>, d2: T) -> (T, V3<T>) {
     (T::select(on, d2c * r, T::splat(0.0)), nrm)
 }
 
-/// Advances every strand by one fixed step of `params.dt` (SIMD path).
+/// Advances every strand by one fixed step of `params.dt` (SIMD path), on
+/// the calling thread: [`step_with`] on [`Serial`]. A library call never
+/// starts threads of its own; pass an executor to [`step_with`] to use
+/// more (the result is the same bytes).
 ///
 /// Never panics; `params` should pass [`SimParams::validate`], and strands
 /// that bad values drive non-finite are restored and counted
 /// ([`Strands::restored_strands`]). Allocates only when the rig has more
 /// spheres than any earlier step.
 pub fn step(strands: &mut Strands, params: &SimParams, spheres: &[Sphere]) {
+    step_with(strands, params, spheres, &Serial);
+}
+
+/// [`step`] with its blocks handed out as tasks to `executor`: at most
+/// [`MAX_STEP_TASKS`] tasks of whole groups of blocks, split by the block
+/// count alone. Blocks never exchange data within a step, each task has its
+/// own buffers (sized when the set is built) and the restored count is
+/// summed after the tasks, so the result is the same bytes with any
+/// executor and any number of threads. Allocates nothing more than [`step`].
+pub fn step_with(
+    strands: &mut Strands,
+    params: &SimParams,
+    spheres: &[Sphere],
+    executor: &dyn Executor,
+) {
     drive(
         strands,
         params,
         spheres,
-        |s, b, k| {
-            let r = b * s.verts..(b + 1) * s.verts;
-            block_sweep_aabb(&s.pos[r.clone()], &s.prev[r], k.gravity_dt2, s.active[b])
-        },
-        |strands, scratch, k, b, g| {
+        executor,
+        |s, st, b, k| block_sweep_aabb(st.pos, st.prev, k.gravity_dt2, s.active[b]),
+        |strands, st, scratch, k, b, g| {
             let r = b * strands.verts..(b + 1) * strands.verts;
             // 2.-7.
             let mut c = Chain {
-                pos: &mut strands.pos[r.clone()],
-                prev: &mut strands.prev[r.clone()],
+                pos: st.pos,
+                prev: st.prev,
                 w: &strands.inv_mass[r.clone()],
                 rest_len: &strands.rest_len[r.clone()],
                 rest_vec: &strands.rest_vec[r.clone()],
@@ -597,41 +614,120 @@ pub fn step(strands: &mut Strands, params: &SimParams, spheres: &[Sphere]) {
     );
 }
 
+/// What a step writes in one block: its `V` positions and previous
+/// positions. The rest of the set is shared read-only by every task.
+pub(crate) struct BlockState<'a> {
+    pub pos: &'a mut [Vec3x8],
+    pub prev: &'a mut [Vec3x8],
+}
+
+/// One task's share of a step: the positions of its blocks and its buffers.
+struct TaskParts<'a> {
+    pos: &'a mut [Vec3x8],
+    prev: &'a mut [Vec3x8],
+    scratch: &'a mut Scratch,
+}
+
+/// The most tasks one step makes, whatever the set's size (an engine's
+/// fixed-size job pool never runs dry; 64 keeps 16 cores busy with four
+/// tasks each).
+pub const MAX_STEP_TASKS: usize = 64;
+
+/// The fewest blocks a task takes (128 strands): measured on 10,000 x 32
+/// (`benches/simulation.rs`, `threads` group), finer tasks gain nothing.
+const MIN_TASK_BLOCKS: usize = 16;
+
+/// Blocks per task for a set of `blocks`: at least [`MIN_TASK_BLOCKS`],
+/// at most [`MAX_STEP_TASKS`] tasks, a whole number of [`GROUP`]s (so the
+/// broad phase's groups, and with them every result, do not depend on the
+/// split).
+pub(crate) fn task_blocks(blocks: usize) -> usize {
+    let per = blocks.div_ceil(MAX_STEP_TASKS).max(MIN_TASK_BLOCKS);
+    per.div_ceil(GROUP) * GROUP
+}
+
+/// Tasks per step for a set of `blocks`.
+pub(crate) fn task_count(blocks: usize) -> usize {
+    blocks.div_ceil(task_blocks(blocks))
+}
+
 /// The step's driver, shared by the SIMD path and its scalar twin: the rig
-/// to local coordinates, then per group of [`GROUP`] blocks 1. the broad
-/// phase (`block_box` gives block `b`'s swept box) and steps 2.-7. of each
-/// block of the group (`block(strands, scratch, setup, b, g)`, which returns
-/// the lanes that went bad); those lanes are restored.
+/// to local coordinates, then per task (a run of whole groups, see
+/// [`task_blocks`]) and per group of [`GROUP`] blocks 1. the broad phase
+/// (`block_box` gives block `b`'s swept box) and steps 2.-7. of each block
+/// of the group (`block(strands, state, scratch, setup, b, g)`, which
+/// returns the lanes that went bad); those lanes are restored. The moving
+/// state (`pos`, `prev`) leaves the set for the step, so the tasks share
+/// the rest of it read-only and each writes only its own blocks.
 pub(crate) fn drive(
     strands: &mut Strands,
     params: &SimParams,
     spheres: &[Sphere],
-    block_box: impl Fn(&Strands, usize, &Setup) -> Aabb,
-    mut block: impl FnMut(&mut Strands, &mut Scratch, &Setup, usize, usize) -> u32,
+    executor: &dyn Executor,
+    block_box: impl Fn(&Strands, &BlockState<'_>, usize, &Setup) -> Aabb + Sync,
+    block: impl Fn(&Strands, &mut BlockState<'_>, &mut Scratch, &Setup, usize, usize) -> u32 + Sync,
 ) {
     let k = Setup::new(strands, params);
     let mut scratch = std::mem::take(&mut strands.scratch);
     spheres_to_local(spheres, strands.origin, &mut scratch.spheres_local);
-    let mut first = 0;
-    while first < strands.blocks {
-        let n = GROUP.min(strands.blocks - first);
-        // 1. Broad phase: the group's swept block boxes against the rig.
-        let mut boxes = [EMPTY_BOX; GROUP];
-        for (g, bx) in boxes.iter_mut().enumerate().take(n) {
-            *bx = block_box(strands, first + g, &k);
+    let mut pos = std::mem::take(&mut strands.pos);
+    let mut prev = std::mem::take(&mut strands.prev);
+    {
+        let s: &Strands = strands;
+        let verts = s.verts;
+        let per_task = task_blocks(s.blocks);
+        let span = per_task * verts;
+        let mut parts: [Option<TaskParts<'_>>; MAX_STEP_TASKS] = std::array::from_fn(|_| None);
+        let chunks = pos.chunks_mut(span).zip(prev.chunks_mut(span));
+        let mut tasks = 0;
+        for (slot, ((pos, prev), scratch)) in parts.iter_mut().zip(chunks.zip(&mut scratch.tasks)) {
+            *slot = Some(TaskParts { pos, prev, scratch });
+            tasks += 1;
         }
-        select_candidates(
-            &boxes[..n],
-            k.margin,
-            &scratch.spheres_local,
-            &mut scratch.candidates,
-        );
-        for g in 0..n {
-            let bad = block(strands, &mut scratch, &k, first + g, g);
-            restore_lanes(strands, first + g, bad);
-        }
-        first += n;
+        let spheres_local = &scratch.spheres_local;
+        for_each_chunk_mut(executor, &mut parts[..tasks], 1, &|t, part| {
+            let Some(TaskParts { pos, prev, scratch }) = part.first_mut().and_then(Option::as_mut)
+            else {
+                return;
+            };
+            scratch.restored = 0;
+            let blocks = pos.len() / verts;
+            let mut first = 0;
+            while first < blocks {
+                let n = GROUP.min(blocks - first);
+                // 1. Broad phase: the group's swept block boxes against the rig.
+                let mut boxes = [EMPTY_BOX; GROUP];
+                for (g, bx) in boxes.iter_mut().enumerate().take(n) {
+                    let r = (first + g) * verts..(first + g + 1) * verts;
+                    let st = BlockState {
+                        pos: &mut pos[r.clone()],
+                        prev: &mut prev[r],
+                    };
+                    *bx = block_box(s, &st, t * per_task + first + g, &k);
+                }
+                select_candidates(
+                    &boxes[..n],
+                    k.margin,
+                    spheres_local,
+                    &mut scratch.candidates,
+                );
+                for g in 0..n {
+                    let b = t * per_task + first + g;
+                    let r = (first + g) * verts..(first + g + 1) * verts;
+                    let mut st = BlockState {
+                        pos: &mut pos[r.clone()],
+                        prev: &mut prev[r],
+                    };
+                    let bad = block(s, &mut st, scratch, &k, b, g);
+                    scratch.restored += restore_lanes(s, &mut st, b, bad);
+                }
+                first += n;
+            }
+        });
     }
+    strands.pos = pos;
+    strands.prev = prev;
+    strands.restored += scratch.tasks.iter().map(|t| t.restored).sum::<u64>();
     strands.scratch = scratch;
 }
 
@@ -646,25 +742,76 @@ pub(crate) const EMPTY_BOX: Aabb = Aabb {
     max: Vec3::ZERO,
 };
 
-/// Restores the lanes of block `b` flagged in `bad`; counts those that hold
-/// real strands (padding lanes are restored silently).
-pub(crate) fn restore_lanes(s: &mut Strands, b: usize, bad: u32) {
+/// Restores the lanes of block `b` (its state `st`) flagged in `bad`;
+/// returns how many hold real strands (padding lanes are restored
+/// silently).
+pub(crate) fn restore_lanes(s: &Strands, st: &mut BlockState<'_>, b: usize, bad: u32) -> u64 {
+    let mut restored = 0;
     if bad == 0 {
-        return;
+        return restored;
     }
+    let rest_offset = &s.rest_offset[b * s.verts..(b + 1) * s.verts];
     for l in 0..LANES {
         if bad & (1 << l) != 0 {
-            s.reset_strand(b, l);
+            rest_pose(s.roots[b], s.rest_rotation, rest_offset, l, st.pos, st.prev);
             if l < s.lanes_in_block(b) {
-                s.restored += 1;
+                restored += 1;
             }
         }
     }
+    restored
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Runs the tasks last first.
+    struct Reverse;
+    // SAFETY: every index once, before `run` returns.
+    unsafe impl Executor for Reverse {
+        fn threads(&self) -> usize {
+            2
+        }
+        fn run(&self, count: usize, task: &(dyn Fn(usize) + Sync)) {
+            (0..count).rev().for_each(task);
+        }
+    }
+
+    #[test]
+    fn tasks_are_whole_groups_and_at_most_max_step_tasks() {
+        for blocks in [0, 1, 5, 16, 17, 100, 1024, 1250, 5000, 100_000] {
+            let per = task_blocks(blocks);
+            assert_eq!(per % GROUP, 0, "{blocks}: whole groups");
+            assert!(per >= MIN_TASK_BLOCKS);
+            assert!(task_count(blocks) <= MAX_STEP_TASKS, "{blocks}");
+            assert!(task_count(blocks) * per >= blocks, "{blocks}: covered");
+        }
+    }
+
+    #[test]
+    fn a_lane_restored_inside_a_later_task_is_counted_once() {
+        // 200 strands: 25 blocks, two tasks; strand 163 is block 20, lane 3.
+        let rig = [Sphere {
+            center: Vec3::ZERO,
+            radius: 0.12,
+        }];
+        let params = SimParams::default();
+        let mut runs = vec![];
+        for exec in [&Serial as &dyn Executor, &Reverse] {
+            let mut s = strands(200);
+            assert_eq!(s.scratch.tasks.len(), 2);
+            step_with(&mut s, &params, &rig, exec);
+            s.pos[20 * 12 + 7].set_lane(3, Vec3::NAN);
+            step_with(&mut s, &params, &rig, exec);
+            step_with(&mut s, &params, &rig, exec);
+            assert_eq!(s.restored_strands(), 1);
+            let p = s.positions_local();
+            assert!(p.iter().all(|x| x.is_finite()));
+            runs.push(p);
+        }
+        assert_eq!(runs[0], runs[1]);
+    }
 
     fn strands(count: usize) -> Strands {
         let pts: Vec<Vec3> = (0..count)
