@@ -185,6 +185,38 @@ fn amdahl(s: &Strands, params: &SimParams, rig: &[Sphere]) {
     }
 }
 
+/// On-CPU time of every thread of this process so far, in ns (Linux:
+/// `/proc/self/task/*/schedstat`; None elsewhere). Unlike wall time, the
+/// load of other processes hardly changes it.
+fn cpu_ns() -> Option<u64> {
+    let mut total = 0;
+    for task in std::fs::read_dir("/proc/self/task").ok()? {
+        let stat = std::fs::read_to_string(task.ok()?.path().join("schedstat")).ok()?;
+        total += stat.split_whitespace().next()?.parse::<u64>().ok()?;
+    }
+    Some(total)
+}
+
+/// CPU time per step summed over every thread, per executor: what running
+/// on more threads adds to the work (handing out tasks, waking and
+/// stealing, caches), measurable on a loaded machine where the wall-clock
+/// speed-up is not.
+fn cpu_per_step(s: &Strands, params: &SimParams, rig: &[Sphere], executors: &[common::Named]) {
+    for (name, exec) in executors {
+        let mut s = s.clone();
+        kernels::step_with(&mut s, params, rig, exec.as_ref());
+        let Some(c0) = cpu_ns() else { return };
+        for _ in 0..20 {
+            kernels::step_with(&mut s, params, rig, exec.as_ref());
+        }
+        let Some(c1) = cpu_ns() else { return };
+        println!(
+            "step/threads/cpu: {name}: {:.2} ms of CPU per step, all threads (20 steps)",
+            (c1 - c0) as f64 / 20e6
+        );
+    }
+}
+
 /// `step_with` on 10,000 x 32 at 1 and 2 threads (rayon; rayon off: the
 /// serial executor only).
 fn threads(c: &mut Criterion) {
@@ -207,6 +239,7 @@ fn threads(c: &mut Criterion) {
         .measurement_time(Duration::from_secs(3));
     group.throughput(Throughput::Elements(pts.len() as u64));
     let executors = common::executors();
+    cpu_per_step(&settled, &params, &rig, &executors);
     for (name, exec) in &executors {
         let mut s = settled.clone();
         group.bench_function(BenchmarkId::new("synthetic_10000x32", name), |b| {
