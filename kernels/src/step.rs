@@ -794,11 +794,7 @@ mod tests {
     #[test]
     fn a_lane_restored_inside_a_later_task_is_counted_once() {
         // 200 strands: 25 blocks, two tasks; strand 163 is block 20, lane 3.
-        let rig = [Sphere {
-            center: Vec3::ZERO,
-            radius: 0.12,
-        }];
-        let params = SimParams::default();
+        let (rig, params) = (head(), SimParams::default());
         let mut runs = vec![];
         for exec in [&Serial as &dyn Executor, &Reverse] {
             let mut s = strands(200);
@@ -815,6 +811,14 @@ mod tests {
         assert_eq!(runs[0], runs[1]);
     }
 
+    /// The rig of the tests: one head sphere at the origin.
+    fn head() -> [Sphere; 1] {
+        [Sphere {
+            center: Vec3::ZERO,
+            radius: 0.12,
+        }]
+    }
+
     fn strands(count: usize) -> Strands {
         let pts: Vec<Vec3> = (0..count)
             .flat_map(|s| (0..12).map(move |v| Vec3::new(0.01 * s as f32, 0.1, 0.01 * v as f32)))
@@ -824,11 +828,7 @@ mod tests {
 
     #[test]
     fn a_poisoned_strand_is_restored_and_no_other_strand_notices() {
-        let rig = [Sphere {
-            center: Vec3::ZERO,
-            radius: 0.12,
-        }];
-        let params = SimParams::default();
+        let (rig, params) = (head(), SimParams::default());
         for stepper in [
             step as fn(&mut Strands, &SimParams, &[Sphere]),
             crate::scalar::step,
