@@ -15,6 +15,7 @@ use glam::Vec3;
 
 /// Executors under test, with a name for messages.
 fn executors() -> Vec<(String, Box<dyn Executor>)> {
+    #[cfg_attr(not(feature = "rayon"), allow(unused_mut))]
     let mut v: Vec<(String, Box<dyn Executor>)> = vec![
         ("serial".into(), Box::new(Serial)),
         ("reverse".into(), Box::new(Reverse)),
