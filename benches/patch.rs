@@ -5,9 +5,14 @@
 //! error over iterations (the error table is printed first, from
 //! `coif::kernels::patch::quality::convergence`).
 //!
+//! `patch/threads`: 64 demo-sized ribbons (18 x 8) stepped together by
+//! `patch::step_all` on `Serial` and on rayon pools of 1 and 2 threads.
+//!
 //! `cargo bench --bench patch -- --warm-up-time 0.5 --measurement-time 2`
 
 use coif::kernels::patch::{self, quality, ribbon_on_sphere};
+mod common;
+
 use coif::kernels::{Patch, SimParams, Sphere};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use glam::Vec3;
@@ -155,5 +160,34 @@ fn iterations(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, step_sizes, constraint_kinds, layout, iterations);
+/// 64 ribbons of 18 x 8 particles (the demo's bow tails), 4 iterations,
+/// stepped as tasks.
+fn threads(c: &mut Criterion) {
+    let params = SimParams {
+        iterations: 4,
+        ..Default::default()
+    };
+    let settled = vec![settled_ribbon(18, 8, &params, 0.0); 64];
+    let rig = [head()];
+    let mut group = c.benchmark_group("patch/threads");
+    configure(&mut group);
+    group.throughput(Throughput::Elements(64 * 18 * 8));
+    let executors = common::executors();
+    for (name, exec) in &executors {
+        let mut ps = settled.clone();
+        group.bench_function(BenchmarkId::new("64x18x8/it4", name), |b| {
+            b.iter(|| patch::step_all(black_box(&mut ps), &params, &rig, exec.as_ref()))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(
+    benches,
+    step_sizes,
+    constraint_kinds,
+    layout,
+    iterations,
+    threads
+);
 criterion_main!(benches);

@@ -6,17 +6,27 @@
 //! narrow phase), plus the default with local shape constraints on
 //! (`shape1`). Throughput is in vertex-steps per second.
 //!
-//! `cargo bench --bench simulation` (add `-- --quick` for a fast pass).
+//! The `step/threads` group runs the 10,000 x 32 head (16 spheres, one
+//! pearl, local shape on) on `Serial` and on rayon pools of 1 and 2
+//! threads (`step_with`), after printing Amdahl's serial fraction of the
+//! step measured on one thread (the speed-up and the projections in the
+//! README's Threads section).
+//!
+//! `cargo bench --bench simulation` (add `-- --quick` for a fast pass;
+//! `cargo bench --bench simulation -- step/threads` for the threads group).
 
 use coif::geometry::scene::{
     body_rig, grow_on_sphere, rig_with_distractors, scalp_spheres, GrowOptions,
 };
 use coif::groom::tfx;
+mod common;
+
+use coif::kernels::tasks::Executor;
 use coif::kernels::{self, scalar, SimParams, Sphere, Strands};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use glam::Vec3;
 use std::hint::black_box;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// The mohawk in metres with a rig builder: two 8 cm spheres tangent under
 /// its scalp, then distractors; None when the shared grooms are absent.
@@ -100,6 +110,145 @@ fn bench_set(c: &mut Criterion, name: &str, pts: &[Vec3], verts: usize, make_rig
     group.finish();
 }
 
+/// Runs the tasks on the calling thread in order, timing each one.
+struct Timed {
+    tasks: std::sync::Mutex<Vec<f64>>,
+}
+
+// SAFETY: every index once, in order, before `run` returns.
+unsafe impl Executor for Timed {
+    fn threads(&self) -> usize {
+        1
+    }
+    fn run(&self, count: usize, task: &(dyn Fn(usize) + Sync)) {
+        let mut times = self.tasks.lock().unwrap();
+        times.clear();
+        for i in 0..count {
+            let t0 = Instant::now();
+            task(i);
+            times.push(t0.elapsed().as_secs_f64());
+        }
+    }
+}
+
+/// Amdahl's serial fraction of one step, measured on one thread: per
+/// repetition the step's time, each task's time, and the rest (set-up,
+/// rig to local, handing out the tasks, the sums) as the serial part; the
+/// least over 40 repetitions of each (the load only adds). Prints the
+/// fraction and the speed-ups it allows on p threads: Amdahl's
+/// `1 / (f + (1 - f) / p)` and a greedy schedule of the measured tasks in
+/// index order (what a work-stealing pool does), which adds the imbalance
+/// of whole tasks.
+fn amdahl(s: &Strands, params: &SimParams, rig: &[Sphere]) {
+    let timed = Timed {
+        tasks: Default::default(),
+    };
+    let (mut serial, mut tasks) = (f64::INFINITY, Vec::<f64>::new());
+    let mut total = f64::INFINITY;
+    for _ in 0..40 {
+        let mut s = s.clone();
+        let t0 = Instant::now();
+        kernels::step_with(&mut s, params, rig, &timed);
+        let t = t0.elapsed().as_secs_f64();
+        let times = timed.tasks.lock().unwrap();
+        serial = serial.min(t - times.iter().sum::<f64>());
+        total = total.min(t);
+        if tasks.is_empty() {
+            tasks = times.clone();
+        }
+        for (m, x) in tasks.iter_mut().zip(times.iter()) {
+            *m = m.min(*x);
+        }
+    }
+    let work: f64 = tasks.iter().sum();
+    let f = serial / (serial + work);
+    println!(
+        "step/threads/amdahl: 10,000 x 32, {} tasks, step {:.2} ms (least of 40), tasks {:.2} ms, serial part {:.1} us: f = {:.2e}",
+        tasks.len(),
+        total * 1e3,
+        work * 1e3,
+        serial * 1e6,
+        f
+    );
+    for p in [2usize, 4, 8, 16] {
+        let mut free = vec![0.0f64; p];
+        for t in &tasks {
+            let w = free.iter_mut().min_by(|a, b| a.total_cmp(b)).unwrap();
+            *w += t;
+        }
+        let makespan = free.iter().copied().fold(0.0, f64::max);
+        println!(
+            "step/threads/amdahl: p = {p:2}: Amdahl {:.2}x, greedy schedule of the measured tasks {:.2}x",
+            1.0 / (f + (1.0 - f) / p as f64),
+            (serial + work) / (serial + makespan)
+        );
+    }
+}
+
+/// On-CPU time of every thread of this process so far, in ns (Linux:
+/// `/proc/self/task/*/schedstat`; None elsewhere). Unlike wall time, the
+/// load of other processes hardly changes it.
+fn cpu_ns() -> Option<u64> {
+    let mut total = 0;
+    for task in std::fs::read_dir("/proc/self/task").ok()? {
+        let stat = std::fs::read_to_string(task.ok()?.path().join("schedstat")).ok()?;
+        total += stat.split_whitespace().next()?.parse::<u64>().ok()?;
+    }
+    Some(total)
+}
+
+/// CPU time per step summed over every thread, per executor: what running
+/// on more threads adds to the work (handing out tasks, waking and
+/// stealing, caches), measurable on a loaded machine where the wall-clock
+/// speed-up is not.
+fn cpu_per_step(s: &Strands, params: &SimParams, rig: &[Sphere], executors: &[common::Named]) {
+    for (name, exec) in executors {
+        let mut s = s.clone();
+        kernels::step_with(&mut s, params, rig, exec.as_ref());
+        let Some(c0) = cpu_ns() else { return };
+        for _ in 0..20 {
+            kernels::step_with(&mut s, params, rig, exec.as_ref());
+        }
+        let Some(c1) = cpu_ns() else { return };
+        println!(
+            "step/threads/cpu: {name}: {:.2} ms of CPU per step, all threads (20 steps)",
+            (c1 - c0) as f64 / 20e6
+        );
+    }
+}
+
+/// `step_with` on 10,000 x 32 at 1 and 2 threads (rayon; rayon off: the
+/// serial executor only).
+fn threads(c: &mut Criterion) {
+    let (pts, verts, make_rig) = synthetic();
+    let rig = make_rig(16);
+    let params = SimParams {
+        pearls_per_segment: 1,
+        local_shape_stiffness: 1.0,
+        ..Default::default()
+    };
+    let mut settled = Strands::from_polylines(&pts, verts).unwrap();
+    for _ in 0..30 {
+        kernels::step(&mut settled, &params, &rig);
+    }
+    amdahl(&settled, &params, &rig);
+    let mut group = c.benchmark_group("step/threads");
+    group
+        .sample_size(20)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(3));
+    group.throughput(Throughput::Elements(pts.len() as u64));
+    let executors = common::executors();
+    cpu_per_step(&settled, &params, &rig, &executors);
+    for (name, exec) in &executors {
+        let mut s = settled.clone();
+        group.bench_function(BenchmarkId::new("synthetic_10000x32", name), |b| {
+            b.iter(|| kernels::step_with(black_box(&mut s), &params, &rig, exec.as_ref()))
+        });
+    }
+    group.finish();
+}
+
 fn simulation(c: &mut Criterion) {
     match mohawk() {
         Some((pts, v, rig)) => bench_set(c, "mohawk_2226x32", &pts, v, &rig),
@@ -109,5 +258,5 @@ fn simulation(c: &mut Criterion) {
     bench_set(c, "synthetic_10000x32", &pts, v, &rig);
 }
 
-criterion_group!(benches, simulation);
+criterion_group!(benches, threads, simulation);
 criterion_main!(benches);

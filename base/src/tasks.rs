@@ -12,12 +12,40 @@
 //! - [`Serial`]: on the calling thread, in index order (no threads at all);
 //! - `Rayon` (Cargo feature `rayon`, on by default): a rayon thread pool;
 //! - the engine's own job system: implement [`Executor`] with a
-//!   parallel-for that hands the indices to its workers and waits for them
-//!   (the shape of PhysX's `CpuDispatcher` and Jolt's `JobSystem`, reduced to
-//!   what a stage of independent tasks needs: no task here waits on another).
+//!   parallel-for that hands the indices to its workers and waits for them,
+//!   or wrap a C callback of that shape in [`Callback`].
+//!
+//! # Mapping onto an engine's job system
+//!
+//! PhysX asks the engine for a `PxCpuDispatcher` (`submitTask(task)`, which
+//! queues one task and returns, and `getWorkerCount()`); its tasks signal
+//! completion through continuation tasks. Jolt asks for a `JobSystem`
+//! (`GetMaxConcurrency()`, `CreateJob(name, colour, function,
+//! dependencies)` from a fixed-size job pool, and `WaitForJobs(barrier)`, on
+//! whose calling thread queued jobs may run while it waits). coif's stages
+//! need less than either: no task waits on another and no task creates
+//! tasks, so one blocking parallel-for per stage is the whole interface:
+//!
+//! - [`Executor::threads`] is `getWorkerCount` / `GetMaxConcurrency` (a
+//!   hint for how finely to split; never part of any result);
+//! - [`Executor::run`] is "create `count` jobs (or fewer jobs that each take
+//!   a range of indices), add them to a barrier, wait for it". The calling
+//!   thread may run tasks itself while it waits, as Jolt's does;
+//! - coif never calls `run` from inside one of its own tasks (no nesting),
+//!   so an engine whose wait may only happen outside its jobs (Jolt's one
+//!   waiter per barrier) is fine as long as it calls coif from outside them;
+//! - stages keep `count` small (the strand step makes at most 64 tasks
+//!   however many strands there are), so a
+//!   fixed-size job pool never runs dry;
+//! - a task never panics on bad data (coif's rule); [`Callback`] still
+//!   catches a panic at the C boundary and re-raises it after the wait.
 //!
 //! Stages that need an order (build, then read) are run one after another
 //! by the caller; an executor never sees a dependency.
+
+use std::ffi::c_void;
+use std::panic::{catch_unwind, resume_unwind, AssertUnwindSafe};
+use std::sync::Mutex;
 
 /// Runs a stage's tasks.
 ///
@@ -96,6 +124,98 @@ pub fn for_each_chunk_mut<T: Send>(
         let chunk = unsafe { std::slice::from_raw_parts_mut(base.get().add(start), n) };
         f(i, chunk);
     });
+}
+
+/// A C task: runs task `index` of the stage whose context is `task_ctx`.
+pub type CTask = unsafe extern "C" fn(task_ctx: *mut c_void, index: usize);
+
+/// A C parallel-for: must call `task(task_ctx, i)` once for every `i` in
+/// `0..count`, on any threads, and return after the last call returned.
+/// `ctx` is the engine's own pointer given to [`Callback::new`].
+pub type CRun =
+    unsafe extern "C" fn(ctx: *mut c_void, count: usize, task: CTask, task_ctx: *mut c_void);
+
+/// An engine's job system seen through one C function,
+/// `void (*run)(void *ctx, size_t count, void (*task)(void *, size_t), void *task_ctx)`
+/// (the form the C interface takes). Each [`Executor::run`] becomes one call
+/// of `run` with a task function that calls the stage's task `i`; a panic
+/// inside a task (coif's tasks do not panic, by rule) is caught before it
+/// reaches C and raised again once `run` has returned.
+#[derive(Debug)]
+pub struct Callback {
+    run: CRun,
+    ctx: *mut c_void,
+    threads: usize,
+}
+
+// SAFETY: `Callback::new`'s caller promises that `run` may be called with
+// `ctx` from any thread, concurrently.
+unsafe impl Send for Callback {}
+// SAFETY: as above.
+unsafe impl Sync for Callback {}
+
+impl Callback {
+    /// Wraps `run` and its context; `threads` is the job system's worker
+    /// count (a splitting hint; 0 counts as 1).
+    ///
+    /// # Safety
+    ///
+    /// `run` must keep [`CRun`]'s promise (each index exactly once, none
+    /// after it returns, no unwinding out of it), and `run` with `ctx` must
+    /// be callable from any thread for as long as the `Callback` lives.
+    pub unsafe fn new(run: CRun, ctx: *mut c_void, threads: usize) -> Callback {
+        Callback { run, ctx, threads }
+    }
+}
+
+/// What [`Callback::run`] hands C as `task_ctx`.
+struct Trampoline<'a> {
+    task: &'a (dyn Fn(usize) + Sync),
+    count: usize,
+    panic: Mutex<Option<Box<dyn std::any::Any + Send>>>,
+}
+
+/// The [`CTask`] behind every [`Callback`]: task `index` of the
+/// [`Trampoline`] at `task_ctx`, with any panic kept for the caller.
+unsafe extern "C" fn trampoline(task_ctx: *mut c_void, index: usize) {
+    // SAFETY: `Callback::run` passes a pointer to a live `Trampoline` and
+    // `run` calls this only before it returns.
+    let t = unsafe { &*(task_ctx as *const Trampoline<'_>) };
+    if index >= t.count {
+        return;
+    }
+    if let Err(payload) = catch_unwind(AssertUnwindSafe(|| (t.task)(index))) {
+        if let Ok(mut slot) = t.panic.lock() {
+            slot.get_or_insert(payload);
+        }
+    }
+}
+
+// SAFETY: `Callback::new`'s caller promised that `run` calls each index
+// once and returns after the last call; the trampoline forwards each call
+// to `task` once.
+unsafe impl Executor for Callback {
+    fn threads(&self) -> usize {
+        self.threads.max(1)
+    }
+
+    fn run(&self, count: usize, task: &(dyn Fn(usize) + Sync)) {
+        if count == 0 {
+            return;
+        }
+        let t = Trampoline {
+            task,
+            count,
+            panic: Mutex::new(None),
+        };
+        let task_ctx = &t as *const Trampoline<'_> as *mut c_void;
+        // SAFETY: the engine's `run` as promised to `Callback::new`; `t`
+        // outlives the call.
+        unsafe { (self.run)(self.ctx, count, trampoline, task_ctx) };
+        if let Ok(Some(payload)) = t.panic.into_inner() {
+            resume_unwind(payload);
+        }
+    }
 }
 
 #[cfg(feature = "rayon")]
@@ -179,6 +299,62 @@ mod tests {
     #[test]
     fn serial_runs_every_chunk_once() {
         run_all(&Serial);
+    }
+
+    /// A C-style parallel-for: runs the indices backwards on two scoped
+    /// threads (odd and even), as an engine's workers might.
+    unsafe extern "C" fn two_threads_backwards(
+        ctx: *mut c_void,
+        count: usize,
+        task: CTask,
+        task_ctx: *mut c_void,
+    ) {
+        // SAFETY (test): ctx points at the test's call counter.
+        let calls = unsafe { &*(ctx as *const AtomicUsize) };
+        calls.fetch_add(1, Ordering::Relaxed);
+        let task_ctx = task_ctx as usize;
+        std::thread::scope(|s| {
+            for parity in 0..2 {
+                s.spawn(move || {
+                    for i in (0..count).rev().filter(|i| i % 2 == parity) {
+                        // SAFETY: each index once, before this returns.
+                        unsafe { task(task_ctx as *mut c_void, i) };
+                    }
+                });
+            }
+        });
+    }
+
+    #[test]
+    fn a_c_callback_runs_every_chunk_once() {
+        let runs = AtomicUsize::new(0);
+        let ctx = &runs as *const AtomicUsize as *mut c_void;
+        // SAFETY: the callback keeps the promise; `runs` outlives `exec`.
+        let exec = unsafe { Callback::new(two_threads_backwards, ctx, 2) };
+        run_all(&exec);
+        assert_eq!(runs.load(Ordering::Relaxed), 2, "one C call per run");
+        assert_eq!(exec.threads(), 2);
+    }
+
+    #[test]
+    fn a_panicking_task_reaches_the_caller_not_c() {
+        let runs = AtomicUsize::new(0);
+        let ctx = &runs as *const AtomicUsize as *mut c_void;
+        // SAFETY: as above.
+        let exec = unsafe { Callback::new(two_threads_backwards, ctx, 0) };
+        assert_eq!(exec.threads(), 1, "0 workers counts as 1");
+        let done = AtomicUsize::new(0);
+        let caught = catch_unwind(AssertUnwindSafe(|| {
+            exec.run(10, &|i| {
+                if i == 3 {
+                    panic!("task 3");
+                }
+                done.fetch_add(1, Ordering::Relaxed);
+            })
+        }));
+        let msg = caught.expect_err("the panic is raised again after the wait");
+        assert_eq!(msg.downcast_ref::<&str>(), Some(&"task 3"));
+        assert_eq!(done.load(Ordering::Relaxed), 9, "the other tasks still ran");
     }
 
     #[cfg(feature = "rayon")]

@@ -1,7 +1,8 @@
 //! coif-kernels: the hair simulation. [`Strands`] holds equal-length strands
 //! in SIMD lanes (vertex `v` of block `b` at index `b * V + v`, lane `l` =
 //! strand `b * 8 + l`); [`step`] advances them by one fixed step and
-//! [`scalar::step`] is its scalar twin. [`patch`] simulates small cloth grids
+//! [`scalar::step`] is its scalar twin; [`step_with`] hands the blocks to a
+//! [`tasks::Executor`] as tasks (the same bytes on any number of threads). [`patch`] simulates small cloth grids
 //! (fins, ribbons) with the same code, columns in lanes.
 //!
 //! One strand step ([`step`]; `README.md` beside this crate gives every
@@ -37,11 +38,11 @@ pub mod scalar;
 mod step;
 mod strands;
 
-pub use coif_base::{lanes, rng, Sphere, StrandBlocks, Vec3x8, LANES};
+pub use coif_base::{lanes, rng, tasks, Sphere, StrandBlocks, Vec3x8, LANES};
 pub use error::Error;
 pub use fixed_step::FixedStep;
 pub use measure::{measure, Measures};
 pub use params::{SimParams, MAX_PEARLS_PER_SEGMENT, MAX_SUBSTEPS, SLEEP_AFTER};
 pub use patch::{Patch, Ribbon};
-pub use step::step;
+pub use step::{step, step_with, MAX_STEP_TASKS};
 pub use strands::Strands;

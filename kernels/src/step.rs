@@ -65,8 +65,9 @@
 use crate::broad_phase::{block_sweep_aabb, select_candidates, spheres_to_local, Aabb, Candidate};
 use crate::constraints::{BLOWN_UP, MIN_LENGTH};
 use crate::lanes::{Lane, Vec3x8, LANES, V3};
-use crate::strands::Scratch;
+use crate::strands::{rest_pose, BlockSleep, Scratch};
 use crate::{SimParams, Sphere, Strands};
+use coif_base::tasks::{for_each_chunk_mut, Executor, Serial};
 use glam::{DVec3, Mat3, Vec3};
 use wide::f32x8;
 
@@ -576,27 +577,43 @@ fn outward<T: Lane>(d: V3<T>, d2: T) -> (T, V3<T>) {
     (T::select(on, d2c * r, T::splat(0.0)), nrm)
 }
 
-/// Advances every strand by one fixed step of `params.dt` (SIMD path).
+/// Advances every strand by one fixed step of `params.dt` (SIMD path), on
+/// the calling thread: [`step_with`] on [`Serial`]. A library call never
+/// starts threads of its own; pass an executor to [`step_with`] to use
+/// more (the result is the same bytes).
 ///
 /// Never panics; `params` should pass [`SimParams::validate`], and strands
 /// that bad values drive non-finite are restored and counted
 /// ([`Strands::restored_strands`]). Allocates only when the rig has more
 /// spheres than any earlier step.
 pub fn step(strands: &mut Strands, params: &SimParams, spheres: &[Sphere]) {
+    step_with(strands, params, spheres, &Serial);
+}
+
+/// [`step`] with its blocks handed out as tasks to `executor`: at most
+/// [`MAX_STEP_TASKS`] tasks of whole groups of blocks, split by the block
+/// count alone. Blocks never exchange data within a step, each task has its
+/// own buffers (sized when the set is built) and the restored count is
+/// summed after the tasks, so the result is the same bytes with any
+/// executor and any number of threads. Allocates nothing more than [`step`].
+pub fn step_with(
+    strands: &mut Strands,
+    params: &SimParams,
+    spheres: &[Sphere],
+    executor: &dyn Executor,
+) {
     drive(
         strands,
         params,
         spheres,
-        |s, b, k| {
-            let r = b * s.verts..(b + 1) * s.verts;
-            block_sweep_aabb(&s.pos[r.clone()], &s.prev[r], k.gravity_dt2, s.active[b])
-        },
-        |strands, scratch, k, b, g| {
+        executor,
+        |s, st, b, k| block_sweep_aabb(st.pos, st.prev, k.gravity_dt2, s.active[b]),
+        |strands, st, scratch, k, b, g| {
             let r = b * strands.verts..(b + 1) * strands.verts;
             // 2.-7.
             let mut c = Chain {
-                pos: &mut strands.pos[r.clone()],
-                prev: &mut strands.prev[r.clone()],
+                pos: st.pos,
+                prev: st.prev,
                 w: &strands.inv_mass[r.clone()],
                 rest_len: &strands.rest_len[r.clone()],
                 rest_vec: &strands.rest_vec[r.clone()],
@@ -612,24 +629,70 @@ pub fn step(strands: &mut Strands, params: &SimParams, spheres: &[Sphere]) {
     );
 }
 
+/// What a step writes in one block: its `V` positions and previous
+/// positions. The rest of the set is shared read-only by every task.
+pub(crate) struct BlockState<'a> {
+    pub pos: &'a mut [Vec3x8],
+    pub prev: &'a mut [Vec3x8],
+}
+
+/// One task's share of a step: the positions of its blocks and its buffers.
+struct TaskParts<'a> {
+    pos: &'a mut [Vec3x8],
+    prev: &'a mut [Vec3x8],
+    sleep: &'a mut [BlockSleep],
+    scratch: &'a mut Scratch,
+}
+
+/// The most tasks one step makes, whatever the set's size (an engine's
+/// fixed-size job pool never runs dry; 64 keeps 16 cores busy with four
+/// tasks each).
+pub const MAX_STEP_TASKS: usize = 64;
+
+/// The fewest blocks a task takes (128 strands): about 0.1 ms of work at
+/// 32 vertices (about 30 ns per vertex-step), so a job system's cost per
+/// job (about a microsecond) stays near 1 %; a 2,048-guide head makes 16
+/// tasks.
+const MIN_TASK_BLOCKS: usize = 16;
+
+/// Blocks per task for a set of `blocks`: at least [`MIN_TASK_BLOCKS`],
+/// at most [`MAX_STEP_TASKS`] tasks, a whole number of [`GROUP`]s (so the
+/// broad phase's groups, and with them every result, do not depend on the
+/// split).
+pub(crate) fn task_blocks(blocks: usize) -> usize {
+    let per = blocks.div_ceil(MAX_STEP_TASKS).max(MIN_TASK_BLOCKS);
+    per.div_ceil(GROUP) * GROUP
+}
+
+/// Tasks per step for a set of `blocks`.
+pub(crate) fn task_count(blocks: usize) -> usize {
+    blocks.div_ceil(task_blocks(blocks))
+}
+
 /// The step's driver, shared by the SIMD path and its scalar twin: the rig
-/// to local coordinates, then per group of [`GROUP`] blocks 0. the sleep
-/// decision of each block (awake, or asleep and woken by its roots or a
-/// moving sphere, or asleep and skipped), 1. the broad phase (`block_box`
-/// gives block `b`'s swept box; a sleeping block's is the one kept when it
-/// fell asleep) and steps 2.-7. of each block of the group that runs
-/// (`block(strands, scratch, setup, b, g)`, which returns the lanes that
-/// went bad); those lanes are restored; 8. the block's stillness.
+/// to local coordinates and the spheres that moved since the last step,
+/// then per task (a run of whole groups, see [`task_blocks`]) and per group
+/// of [`GROUP`] blocks: 0. the sleep decision of each block (awake, or
+/// asleep and woken by its roots or a moving sphere, or asleep and
+/// skipped), 1. the broad phase (`block_box` gives block `b`'s swept box; a
+/// sleeping block's is the one kept when it fell asleep) and steps 2.-7. of
+/// each block of the group that runs (`block(strands, state, scratch,
+/// setup, b, g)`, which returns the lanes that went bad); those lanes are
+/// restored; 8. the block's stillness.
 ///
-/// Everything a block's sleep decision reads is its own state and the
-/// step's read-only rig (this step's and the last one's); the awake count
-/// is summed afterwards in block order.
+/// The moving state (`pos`, `prev`, the blocks' sleep) leaves the set for
+/// the step, so the tasks share the rest of it read-only and each writes
+/// only its own blocks; everything a block's sleep decision reads is its
+/// own state and the step's read-only rig (this step's and the last one's).
+/// The awake and restored counts are summed afterwards in block and task
+/// order.
 pub(crate) fn drive(
     strands: &mut Strands,
     params: &SimParams,
     spheres: &[Sphere],
-    block_box: impl Fn(&Strands, usize, &Setup) -> Aabb,
-    mut block: impl FnMut(&mut Strands, &mut Scratch, &Setup, usize, usize) -> u32,
+    executor: &dyn Executor,
+    block_box: impl Fn(&Strands, &BlockState<'_>, usize, &Setup) -> Aabb + Sync,
+    block: impl Fn(&Strands, &mut BlockState<'_>, &mut Scratch, &Setup, usize, usize) -> u32 + Sync,
 ) {
     let k = Setup::new(strands, params);
     if strands.params_seen.as_ref() != Some(params) {
@@ -641,8 +704,10 @@ pub(crate) fn drive(
     spheres_to_local(spheres, strands.origin, &mut scratch.spheres_local);
     // Sized for the whole rig once, so that no later step allocates
     // (allocates only when the rig grows).
-    scratch.candidates.clear();
-    scratch.candidates.reserve(spheres.len());
+    for t in &mut scratch.tasks {
+        t.candidates.clear();
+        t.candidates.reserve(spheres.len());
+    }
     scratch.movers.clear();
     scratch.movers.reserve(spheres.len());
     moving_spheres(
@@ -651,73 +716,115 @@ pub(crate) fn drive(
         strands.origin,
         &mut scratch.movers,
     );
-    let mut first = 0;
-    while first < strands.blocks {
-        let n = GROUP.min(strands.blocks - first);
-        // 0. Sleep: a sleeping block runs only if its roots moved or a
-        // moving sphere's sweep reaches its box.
-        let mut boxes = [EMPTY_BOX; GROUP];
-        let mut runs = [true; GROUP];
-        for g in 0..n {
-            let b = first + g;
-            let st = strands.sleep[b];
-            if k.sleep && st.asleep && !roots_moved(strands, b) {
-                boxes[g] = st.bounds;
-                runs[g] = scratch
-                    .movers
-                    .iter()
-                    .any(|m| boxes_near(m, &st.bounds, k.margin));
-            } else {
-                // 1. (box) The block's swept box.
-                boxes[g] = block_box(strands, b, &k);
-            }
+    let mut pos = std::mem::take(&mut strands.pos);
+    let mut prev = std::mem::take(&mut strands.prev);
+    let mut sleep = std::mem::take(&mut strands.sleep);
+    {
+        let s: &Strands = strands;
+        let verts = s.verts;
+        let per_task = task_blocks(s.blocks);
+        let span = per_task * verts;
+        let mut parts: [Option<TaskParts<'_>>; MAX_STEP_TASKS] = std::array::from_fn(|_| None);
+        let chunks = pos
+            .chunks_mut(span)
+            .zip(prev.chunks_mut(span))
+            .zip(sleep.chunks_mut(per_task));
+        let mut tasks = 0;
+        for (slot, (((pos, prev), sleep), scratch)) in
+            parts.iter_mut().zip(chunks.zip(&mut scratch.tasks))
+        {
+            *slot = Some(TaskParts {
+                pos,
+                prev,
+                sleep,
+                scratch,
+            });
+            tasks += 1;
         }
-        // 1. Broad phase: the group's swept block boxes against the rig.
-        if runs[..n].iter().any(|&r| r) {
-            select_candidates(
-                &boxes[..n],
-                k.margin,
-                &scratch.spheres_local,
-                &mut scratch.candidates,
-            );
-        }
-        for (g, &run) in runs.iter().enumerate().take(n) {
-            let b = first + g;
-            if !run {
-                strands.sleep[b].stepped = false;
-                continue;
+        let spheres_local = &scratch.spheres_local;
+        let movers = &scratch.movers;
+        for_each_chunk_mut(executor, &mut parts[..tasks], 1, &|t, part| {
+            let Some(TaskParts {
+                pos,
+                prev,
+                sleep,
+                scratch,
+            }) = part.first_mut().and_then(Option::as_mut)
+            else {
+                return;
+            };
+            scratch.restored = 0;
+            let blocks = pos.len() / verts;
+            let mut first = 0;
+            while first < blocks {
+                let n = GROUP.min(blocks - first);
+                // 0. Sleep: a sleeping block runs only if its roots moved or a
+                // moving sphere's sweep reaches its box.
+                let mut boxes = [EMPTY_BOX; GROUP];
+                let mut runs = [true; GROUP];
+                for g in 0..n {
+                    let (b, r) = (t * per_task + first + g, (first + g) * verts);
+                    let st = BlockState {
+                        pos: &mut pos[r..r + verts],
+                        prev: &mut prev[r..r + verts],
+                    };
+                    let sl = sleep[first + g];
+                    if k.sleep && sl.asleep && !roots_moved(&st, s.active[b]) {
+                        boxes[g] = sl.bounds;
+                        runs[g] = movers.iter().any(|m| boxes_near(m, &sl.bounds, k.margin));
+                    } else {
+                        // 1. (box) The block's swept box.
+                        boxes[g] = block_box(s, &st, b, &k);
+                    }
+                }
+                // 1. Broad phase: the group's swept block boxes against the rig.
+                if runs[..n].iter().any(|&r| r) {
+                    select_candidates(
+                        &boxes[..n],
+                        k.margin,
+                        spheres_local,
+                        &mut scratch.candidates,
+                    );
+                }
+                for (g, &run) in runs.iter().enumerate().take(n) {
+                    let (b, r) = (t * per_task + first + g, (first + g) * verts);
+                    if !run {
+                        sleep[first + g].stepped = false;
+                        continue;
+                    }
+                    let mut st = BlockState {
+                        pos: &mut pos[r..r + verts],
+                        prev: &mut prev[r..r + verts],
+                    };
+                    let moved = roots_moved(&st, s.active[b]);
+                    if k.sleep {
+                        scratch.start.copy_from_slice(st.pos);
+                    }
+                    let bad = block(s, &mut st, scratch, &k, b, g);
+                    scratch.restored += restore_lanes(s, &mut st, b, bad);
+                    // 8. Stillness: a block still for `still_steps` steps in a
+                    // row (roots included) falls asleep at rest.
+                    let still = k.sleep
+                        && !moved
+                        && block_is_still(st.pos, &scratch.start, s.active[b], k.still_move2);
+                    let sl = &mut sleep[first + g];
+                    sl.stepped = true;
+                    sl.still = if still { sl.still.saturating_add(1) } else { 0 };
+                    sl.asleep = false;
+                    if sl.still >= k.still_steps {
+                        fall_asleep(&mut st);
+                        sl.asleep = true;
+                        sl.bounds = block_box(s, &st, b, &k);
+                    }
+                }
+                first += n;
             }
-            let moved = roots_moved(strands, b);
-            let r = b * strands.verts..(b + 1) * strands.verts;
-            if k.sleep {
-                scratch.start.copy_from_slice(&strands.pos[r.clone()]);
-            }
-            let bad = block(strands, &mut scratch, &k, b, g);
-            restore_lanes(strands, b, bad);
-            // 8. Stillness: a block still for `still_steps` steps in a row
-            // (roots included) falls asleep at rest.
-            let still = k.sleep
-                && !moved
-                && block_is_still(
-                    &strands.pos[r],
-                    &scratch.start,
-                    strands.active[b],
-                    k.still_move2,
-                );
-            let st = &mut strands.sleep[b];
-            st.stepped = true;
-            st.still = if still { st.still.saturating_add(1) } else { 0 };
-            st.asleep = false;
-            if st.still >= k.still_steps {
-                fall_asleep(strands, b);
-                let bounds = block_box(strands, b, &k);
-                let st = &mut strands.sleep[b];
-                st.asleep = true;
-                st.bounds = bounds;
-            }
-        }
-        first += n;
+        });
     }
+    strands.pos = pos;
+    strands.prev = prev;
+    strands.sleep = sleep;
+    strands.restored += scratch.tasks.iter().map(|t| t.restored).sum::<u64>();
     strands.awake = (0..strands.blocks)
         .filter(|&b| strands.sleep[b].stepped)
         .map(|b| strands.lanes_in_block(b))
@@ -735,11 +842,10 @@ pub(crate) fn drive(
 /// step: `set_roots` changed its target (`pos[0]`) away from where the step
 /// left it (`prev[0]`). Any change counts, however small: a sleeping strand
 /// stays attached to its root.
-fn roots_moved(s: &Strands, b: usize) -> bool {
-    let i = b * s.verts;
-    let d = s.pos[i] - s.prev[i];
+fn roots_moved(st: &BlockState<'_>, active: f32x8) -> bool {
+    let d = st.pos[0] - st.prev[0];
     let moved = d.x.simd_ne(f32x8::ZERO) | d.y.simd_ne(f32x8::ZERO) | d.z.simd_ne(f32x8::ZERO);
-    (moved & s.active[b]).any()
+    (moved & active).any()
 }
 
 /// True if every vertex of the active lanes of a block moved at most
@@ -758,10 +864,9 @@ fn block_is_still(pos: &[Vec3x8], start: &[Vec3x8], active: f32x8, still_move2: 
     still.all()
 }
 
-/// Block `b` falls asleep at rest: previous positions = current ones.
-fn fall_asleep(s: &mut Strands, b: usize) {
-    let r = b * s.verts..(b + 1) * s.verts;
-    s.prev[r.clone()].copy_from_slice(&s.pos[r]);
+/// A block falls asleep at rest: previous positions = current ones.
+fn fall_asleep(st: &mut BlockState<'_>) {
+    st.prev.copy_from_slice(st.pos);
 }
 
 /// The local boxes swept since the last step by the spheres that moved
@@ -804,25 +909,80 @@ pub(crate) const EMPTY_BOX: Aabb = Aabb {
     max: Vec3::ZERO,
 };
 
-/// Restores the lanes of block `b` flagged in `bad`; counts those that hold
-/// real strands (padding lanes are restored silently).
-pub(crate) fn restore_lanes(s: &mut Strands, b: usize, bad: u32) {
+/// Restores the lanes of block `b` (its state `st`) flagged in `bad`;
+/// returns how many hold real strands (padding lanes are restored
+/// silently).
+pub(crate) fn restore_lanes(s: &Strands, st: &mut BlockState<'_>, b: usize, bad: u32) -> u64 {
+    let mut restored = 0;
     if bad == 0 {
-        return;
+        return restored;
     }
+    let rest_offset = &s.rest_offset[b * s.verts..(b + 1) * s.verts];
     for l in 0..LANES {
         if bad & (1 << l) != 0 {
-            s.reset_strand(b, l);
+            rest_pose(s.roots[b], s.rest_rotation, rest_offset, l, st.pos, st.prev);
             if l < s.lanes_in_block(b) {
-                s.restored += 1;
+                restored += 1;
             }
         }
     }
+    restored
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Runs the tasks last first.
+    struct Reverse;
+    // SAFETY: every index once, before `run` returns.
+    unsafe impl Executor for Reverse {
+        fn threads(&self) -> usize {
+            2
+        }
+        fn run(&self, count: usize, task: &(dyn Fn(usize) + Sync)) {
+            (0..count).rev().for_each(task);
+        }
+    }
+
+    #[test]
+    fn tasks_are_whole_groups_and_at_most_max_step_tasks() {
+        for blocks in [0, 1, 5, 16, 17, 100, 1024, 1250, 5000, 100_000] {
+            let per = task_blocks(blocks);
+            assert_eq!(per % GROUP, 0, "{blocks}: whole groups");
+            assert!(per >= MIN_TASK_BLOCKS);
+            assert!(task_count(blocks) <= MAX_STEP_TASKS, "{blocks}");
+            assert!(task_count(blocks) * per >= blocks, "{blocks}: covered");
+        }
+    }
+
+    #[test]
+    fn a_lane_restored_inside_a_later_task_is_counted_once() {
+        // 200 strands: 25 blocks, two tasks; strand 163 is block 20, lane 3.
+        let (rig, params) = (head(), SimParams::default());
+        let mut runs = vec![];
+        for exec in [&Serial as &dyn Executor, &Reverse] {
+            let mut s = strands(200);
+            assert_eq!(s.scratch.tasks.len(), 2);
+            step_with(&mut s, &params, &rig, exec);
+            s.pos[20 * 12 + 7].set_lane(3, Vec3::NAN);
+            step_with(&mut s, &params, &rig, exec);
+            step_with(&mut s, &params, &rig, exec);
+            assert_eq!(s.restored_strands(), 1);
+            let p = s.positions_local();
+            assert!(p.iter().all(|x| x.is_finite()));
+            runs.push(p);
+        }
+        assert_eq!(runs[0], runs[1]);
+    }
+
+    /// The rig of the tests: one head sphere at the origin.
+    fn head() -> [Sphere; 1] {
+        [Sphere {
+            center: Vec3::ZERO,
+            radius: 0.12,
+        }]
+    }
 
     fn strands(count: usize) -> Strands {
         let pts: Vec<Vec3> = (0..count)
@@ -833,11 +993,7 @@ mod tests {
 
     #[test]
     fn a_poisoned_strand_is_restored_and_no_other_strand_notices() {
-        let rig = [Sphere {
-            center: Vec3::ZERO,
-            radius: 0.12,
-        }];
-        let params = SimParams::default();
+        let (rig, params) = (head(), SimParams::default());
         for stepper in [
             step as fn(&mut Strands, &SimParams, &[Sphere]),
             crate::scalar::step,

@@ -68,27 +68,38 @@ pub struct Strands {
     pub(crate) awake: usize,
     /// The parameters of the last step (different ones wake every block).
     pub(crate) params_seen: Option<crate::SimParams>,
-    /// Scratch for the broad phase, grown only when the rig grows.
-    pub(crate) scratch: Scratch,
+    /// The step's buffers, one set per task, grown only when the rig grows.
+    pub(crate) scratch: StepScratch,
 }
 
-/// Reusable per-step buffers (no per-frame allocation once sized).
+/// The step's reusable buffers (no per-frame allocation once sized): the
+/// rig in local coordinates, shared, and one [`Scratch`] per task of the
+/// step (`crate::step::task_count`), sized when the set is built.
 #[derive(Clone, Debug, Default)]
-pub(crate) struct Scratch {
+pub(crate) struct StepScratch {
     /// Rig spheres in local coordinates: centre and radius.
     pub(crate) spheres_local: Vec<[f32; 4]>,
-    /// Spheres that may touch the current block.
+    /// The rig of the last step, world space: centre and radius.
+    pub(crate) rig_prev: Vec<[f32; 4]>,
+    /// This step's moving spheres: the local box each swept since the last step.
+    pub(crate) movers: Vec<crate::broad_phase::Aabb>,
+    /// Task `t`'s buffers.
+    pub(crate) tasks: Vec<Scratch>,
+}
+
+/// One task's buffers (no per-frame allocation once sized).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Scratch {
+    /// Spheres that may touch the current group of blocks.
     pub(crate) candidates: Vec<crate::broad_phase::Candidate>,
     /// The SIMD step's per-chain scratch.
     pub(crate) chain: crate::step::ChainScratch<f32x8>,
     /// The scalar step's copy of one lane.
     pub(crate) lane: crate::scalar::LaneBuffers,
-    /// The rig of the last step, world space: centre and radius.
-    pub(crate) rig_prev: Vec<[f32; 4]>,
-    /// This step's moving spheres: the local box each swept since the last step.
-    pub(crate) movers: Vec<crate::broad_phase::Aabb>,
     /// A block's positions at the start of its step (sleeping on).
     pub(crate) start: Vec<Vec3x8>,
+    /// Strands this task restored in the last step.
+    pub(crate) restored: u64,
 }
 
 /// One block's sleep state. Written only by the step of its own block (and
@@ -119,13 +130,22 @@ impl BlockSleep {
 impl Scratch {
     fn new(verts: usize) -> Scratch {
         Scratch {
-            spheres_local: Vec::new(),
             candidates: Vec::new(),
             chain: crate::step::ChainScratch::new(verts),
             lane: crate::scalar::LaneBuffers::new(verts),
+            start: vec![Vec3x8::ZERO; verts],
+            restored: 0,
+        }
+    }
+}
+
+impl StepScratch {
+    fn new(blocks: usize, verts: usize) -> StepScratch {
+        StepScratch {
+            spheres_local: Vec::new(),
             rig_prev: Vec::new(),
             movers: Vec::new(),
-            start: vec![Vec3x8::ZERO; verts],
+            tasks: vec![Scratch::new(verts); crate::step::task_count(blocks)],
         }
     }
 }
@@ -181,7 +201,7 @@ impl Strands {
             sleep: vec![BlockSleep::AWAKE; blocks],
             awake: strand_count,
             params_seen: None,
-            scratch: Scratch::new(verts),
+            scratch: StepScratch::new(blocks, verts),
         }
     }
 
@@ -485,13 +505,16 @@ impl Strands {
 
     /// Rest pose of one lane at its current root, zero velocity.
     pub(crate) fn reset_strand(&mut self, b: usize, l: usize) {
-        let base = b * self.verts;
-        let root = self.roots[b].lane(l);
-        for v in 0..self.verts {
-            let p = root + self.rest_rotation * self.rest_offset[base + v].lane(l);
-            self.pos[base + v].set_lane(l, p);
-            self.prev[base + v].set_lane(l, p);
-        }
+        let r = b * self.verts..(b + 1) * self.verts;
+        let (pos, prev) = (&mut self.pos[r.clone()], &mut self.prev[r.clone()]);
+        rest_pose(
+            self.roots[b],
+            self.rest_rotation,
+            &self.rest_offset[r],
+            l,
+            pos,
+            prev,
+        );
     }
 
     /// Gives every free vertex the velocity `v` (m/s) for a step of `dt`
@@ -561,9 +584,11 @@ impl Strands {
             .reserve(spheres.saturating_sub(sc.spheres_local.len()));
         sc.rig_prev
             .reserve(spheres.saturating_sub(sc.rig_prev.len()));
-        sc.candidates
-            .reserve(spheres.saturating_sub(sc.candidates.len()));
         sc.movers.reserve(spheres.saturating_sub(sc.movers.len()));
+        for t in &mut sc.tasks {
+            t.candidates
+                .reserve(spheres.saturating_sub(t.candidates.len()));
+        }
     }
 
     /// Strands that the last step advanced (awake); all of them before the
@@ -647,4 +672,22 @@ fn mass_shares(wi: f32x8, wj: f32x8) -> [f32x8; 2] {
         f32x8::new(std::array::from_fn(|l| part(wi[l], wj[l]))),
         f32x8::new(std::array::from_fn(|l| part(wj[l], wi[l]))),
     ]
+}
+
+/// Writes lane `l` of one block's `pos` and `prev` (its `V` entries): the
+/// rest pose `root + R rest_offset_v` at the block's `roots`, zero velocity.
+pub(crate) fn rest_pose(
+    roots: Vec3x8,
+    rotation: Mat3,
+    rest_offset: &[Vec3x8],
+    l: usize,
+    pos: &mut [Vec3x8],
+    prev: &mut [Vec3x8],
+) {
+    let root = roots.lane(l);
+    for ((x, xp), off) in pos.iter_mut().zip(prev.iter_mut()).zip(rest_offset) {
+        let p = root + rotation * off.lane(l);
+        x.set_lane(l, p);
+        xp.set_lane(l, p);
+    }
 }

@@ -7,14 +7,20 @@
 //! ```
 //!
 //! The count is per thread (tests run on parallel threads) and includes
-//! reallocations.
+//! reallocations; [`allocations_all_threads`] counts every thread (for a
+//! test binary that holds that one test, so that stages run on worker
+//! threads are counted too).
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// The counting allocator: forwards to the system allocator and counts
 /// allocations and reallocations per thread.
 pub struct Counting;
+
+/// Allocations on every thread of the process.
+static ALL_THREADS: AtomicUsize = AtomicUsize::new(0);
 
 thread_local! {
     static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
@@ -26,6 +32,7 @@ thread_local! {
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
         ALLOCATIONS.with(|a| a.set(a.get() + 1));
+        ALL_THREADS.fetch_add(1, Ordering::Relaxed);
         // SAFETY: forwards the caller's layout to the system allocator.
         unsafe { System.alloc(layout) }
     }
@@ -35,6 +42,7 @@ unsafe impl GlobalAlloc for Counting {
     }
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
         ALLOCATIONS.with(|a| a.set(a.get() + 1));
+        ALL_THREADS.fetch_add(1, Ordering::Relaxed);
         // SAFETY: as for `System.realloc`, with the caller's arguments.
         unsafe { System.realloc(ptr, layout, new_size) }
     }
@@ -43,4 +51,10 @@ unsafe impl GlobalAlloc for Counting {
 /// Allocations (and reallocations) made on this thread so far.
 pub fn allocations() -> usize {
     ALLOCATIONS.with(|a| a.get())
+}
+
+/// Allocations (and reallocations) made on every thread so far. Only
+/// meaningful in a test binary whose other tests cannot run meanwhile.
+pub fn allocations_all_threads() -> usize {
+    ALL_THREADS.load(Ordering::Relaxed)
 }

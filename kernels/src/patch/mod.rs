@@ -22,6 +22,9 @@
 //!   max-distance clamp around
 //!   the skinned positions, sphere and pearl collisions after a broad phase,
 //!   and a guard that restores a blown-up patch to its skin.
+//! - **Many patches** ([`step_all`], [`scalar::step_all`]): each patch
+//!   whole as (part of) one task of a `coif_base::tasks::Executor`; the
+//!   same bytes as stepping them one by one.
 //! - **Output** (`blend.rs`): `lerp(skinned, simulated, weight)` per
 //!   particle, and area-weighted vertex normals of the blended grid.
 //!
@@ -40,4 +43,4 @@ mod step;
 pub use blend::grid_normals;
 pub use grid::{Patch, MAX_PATCH_COLUMNS};
 pub use ribbon::{ribbon_on_sphere, Ribbon};
-pub use step::step;
+pub use step::{step, step_all};

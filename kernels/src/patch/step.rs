@@ -64,6 +64,7 @@ use crate::constraints::{
 };
 use crate::lanes::{inv_sqrt_x8, Vec3x8, LANES};
 use crate::{SimParams, Sphere, MAX_PEARLS_PER_SEGMENT};
+use coif_base::tasks::{for_each_chunk_mut, Executor};
 use glam::Vec3;
 use wide::f32x8;
 
@@ -122,6 +123,35 @@ pub fn step(patch: &mut Patch, params: &SimParams, spheres: &[Sphere]) {
         patch.restored += 1;
     }
     patch.scratch = scratch;
+}
+
+/// Advances every patch of `patches` by one fixed step ([`step`] each,
+/// against the same rig), the patches handed out as tasks to `executor`.
+/// A patch is never split (its rows couple its column blocks); a task takes
+/// a run of consecutive patches, about four tasks per thread. Patches share
+/// nothing, so the result is the same bytes as stepping them one after
+/// another, with any executor and any number of threads; nothing is
+/// allocated beyond what [`step`] allocates.
+pub fn step_all(
+    patches: &mut [Patch],
+    params: &SimParams,
+    spheres: &[Sphere],
+    executor: &dyn Executor,
+) {
+    step_each(patches, executor, &|p| step(p, params, spheres));
+}
+
+/// Runs `f` on every patch, runs of consecutive patches as tasks (the
+/// split of [`step_all`] and of its scalar twin).
+pub(crate) fn step_each(
+    patches: &mut [Patch],
+    executor: &dyn Executor,
+    f: &(dyn Fn(&mut Patch) + Sync),
+) {
+    let per_task = patches.len().div_ceil(4 * executor.threads().max(1)).max(1);
+    for_each_chunk_mut(executor, patches, per_task, &|_, run| {
+        run.iter_mut().for_each(f)
+    });
 }
 
 fn integrate(p: &mut Patch, k: &StepSetup) {

@@ -10,5 +10,5 @@ mod constraints;
 mod step;
 
 pub(crate) use constraints::{dot, inv_len, outward, push_out};
-pub use step::step;
 pub(crate) use step::LaneBuffers;
+pub use step::{step, step_with};

@@ -20,6 +20,7 @@ use super::broad_phase::block_sweep_aabb;
 use crate::lanes::{Vec3x8, V3};
 use crate::step::{drive, step_chain, Chain, ChainScratch};
 use crate::{SimParams, Sphere, Strands};
+use coif_base::tasks::{Executor, Serial};
 use wide::f32x8;
 
 /// One lane's copy of a block's per-vertex data, sized when the strands are
@@ -65,30 +66,35 @@ fn lane1(a: &f32x8, l: usize) -> f32 {
     a.as_array()[l]
 }
 
-/// Advances every strand by one fixed step of `params.dt`, one lane at a time.
+/// Advances every strand by one fixed step of `params.dt`, one lane at a
+/// time, on the calling thread ([`step_with`] on [`Serial`]).
 pub fn step(strands: &mut Strands, params: &SimParams, spheres: &[Sphere]) {
+    step_with(strands, params, spheres, &Serial);
+}
+
+/// [`step`] with its blocks handed out as tasks to `executor`, as
+/// [`crate::step_with`] does: the same bytes with any executor.
+pub fn step_with(
+    strands: &mut Strands,
+    params: &SimParams,
+    spheres: &[Sphere],
+    executor: &dyn Executor,
+) {
     drive(
         strands,
         params,
         spheres,
-        |s, b, k| {
-            let r = b * s.verts..(b + 1) * s.verts;
-            block_sweep_aabb(
-                &s.pos[r.clone()],
-                &s.prev[r],
-                k.gravity_dt2,
-                s.lanes_in_block(b),
-            )
-        },
-        |strands, scratch, k, b, g| {
+        executor,
+        |s, st, b, k| block_sweep_aabb(st.pos, st.prev, k.gravity_dt2, s.lanes_in_block(b)),
+        |strands, st, scratch, k, b, g| {
             let (verts, base) = (strands.verts, b * strands.verts);
             let mut bad = 0u32;
             for l in 0..strands.lanes_in_block(b) {
                 let lb = &mut scratch.lane;
                 for v in 0..verts {
                     let i = base + v;
-                    lb.pos[v] = lane3(&strands.pos[i], l);
-                    lb.prev[v] = lane3(&strands.prev[i], l);
+                    lb.pos[v] = lane3(&st.pos[v], l);
+                    lb.prev[v] = lane3(&st.prev[v], l);
                     lb.w[v] = lane1(&strands.inv_mass[i], l);
                     lb.rest_len[v] = lane1(&strands.rest_len[i], l);
                     lb.rest_vec[v] = lane3(&strands.rest_vec[i], l);
@@ -114,8 +120,8 @@ pub fn step(strands: &mut Strands, params: &SimParams, spheres: &[Sphere]) {
                 };
                 let ok: bool = step_chain(&mut c, &mut lb.chain, k, &scratch.candidates, g);
                 for v in 0..verts {
-                    strands.pos[base + v].set_lane(l, lb.pos[v].to_vec3());
-                    strands.prev[base + v].set_lane(l, lb.prev[v].to_vec3());
+                    st.pos[v].set_lane(l, lb.pos[v].to_vec3());
+                    st.prev[v].set_lane(l, lb.prev[v].to_vec3());
                 }
                 if !ok {
                     bad |= 1 << l;

@@ -3,6 +3,8 @@
 //! on a sphere head comes from coif_geometry::scene).
 #![allow(dead_code)]
 
+pub mod executors;
+
 use coif_kernels::rng::SplitMix64;
 use coif_kernels::Sphere;
 use glam::Vec3;

@@ -5,4 +5,4 @@
 
 mod step;
 
-pub use step::step;
+pub use step::{step, step_all};

@@ -15,10 +15,11 @@ use crate::lanes::{inv_sqrt, LANES};
 use crate::patch::grid::Patch;
 use crate::patch::pairs::{partner, PairSet};
 use crate::patch::row_limit::limit_row;
-use crate::patch::step::{padded_lanes, setup};
+use crate::patch::step::{padded_lanes, setup, step_each};
 use crate::scalar::broad_phase::block_aabb;
 use crate::scalar::{dot, inv_len, outward, push_out};
 use crate::{SimParams, Sphere};
+use coif_base::tasks::Executor;
 use glam::Vec3;
 
 /// Advances `patch` by one fixed step of `params.dt`, one particle at a time.
@@ -60,6 +61,18 @@ pub fn step(patch: &mut Patch, params: &SimParams, spheres: &[Sphere]) {
         patch.restored += 1;
     }
     patch.scratch = scratch;
+}
+
+/// [`step`] for every patch of `patches`, handed out as tasks to
+/// `executor` as [`crate::patch::step_all`] does: the same bytes as
+/// stepping them one after another.
+pub fn step_all(
+    patches: &mut [Patch],
+    params: &SimParams,
+    spheres: &[Sphere],
+    executor: &dyn Executor,
+) {
+    step_each(patches, executor, &|p| step(p, params, spheres));
 }
 
 /// Row-major particle access through the lane layout.
