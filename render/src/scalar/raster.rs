@@ -4,7 +4,7 @@
 //! bit for bit.
 
 use crate::line::{blend, ScreenVertex, Segment};
-use crate::raster::{HairRaster, Job, TileArea, TileBuffer, TILE};
+use crate::raster::{HairRaster, Job, Path, TileArea, TileBuffer, TILE};
 use crate::sort::DepthOrder;
 use crate::{Camera, Framebuffer, ShadedVertex};
 use coif_base::tasks::Executor;
@@ -29,12 +29,12 @@ pub fn draw(
         order,
         opacity,
     };
-    raster.run(frame, &job, executor, draw_tile)
+    raster.run(frame, &job, executor, Path::Scalar)
 }
 
 /// Step 5 for one tile, one pixel at a time: every segment of `list` in
 /// order, each row of it pixel by pixel over the row's span.
-fn draw_tile(
+pub(crate) fn draw_tile(
     tile: &mut TileBuffer,
     area: &TileArea,
     list: &[u32],
