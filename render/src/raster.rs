@@ -9,13 +9,15 @@
 //! parallel rendering"; the binning of software rasterisers such as
 //! Laine & Karras 2011, "High-performance software rasterization on GPUs"):
 //!
-//! 1. **Project** every vertex once ([`project`]): pixel position, view
+//! 1. **Project** every vertex once ([`project_x8`], eight per register;
+//!    [`project`] in the scalar twin, the same bits): pixel position, view
 //!    depth, width in pixels, colour; a vertex behind the near plane or
 //!    with a non-finite position, width or colour is marked invalid (its
 //!    two segments are skipped, nothing else is touched).
 //! 2. **Count**: in back-to-front strand order, each segment's pixel bounds
 //!    (the strip's reach around its ends, [`Segment::new`]) give the range
-//!    of [`TILE`] x [`TILE`] tiles it touches; every tile counts it.
+//!    of [`TILE`] x [`TILE`] tiles it touches (eight consecutive segments
+//!    of a strand at once in the SIMD path); every tile counts it.
 //! 3. **Prefix sum** of the counts: where each tile's list starts.
 //! 4. **Fill**: the same segments in the same order append their index to
 //!    every tile they touch, so each tile's list is in back-to-front order
