@@ -1,7 +1,8 @@
-//! The scalar twin of [`crate::raster`]: the same projection, binning and
-//! tile order, and the same per-pixel step ([`Segment::pixel`] on `f32`),
-//! one pixel at a time instead of eight. Its frames equal the SIMD path's
-//! bit for bit.
+//! The scalar twin of [`crate::raster`]: the same projection
+//! ([`crate::raster::project`], one vertex at a time), binning (one
+//! segment's tile range at a time), tile order and per-pixel step
+//! ([`Segment::pixel`] on `f32`), one pixel at a time instead of eight.
+//! Its frames equal the SIMD path's bit for bit.
 
 use crate::line::{blend, ScreenVertex, Segment};
 use crate::raster::{HairRaster, Job, Path, TileArea, TileBuffer, TILE};
