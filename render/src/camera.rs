@@ -109,6 +109,12 @@ impl Camera {
         self.height
     }
 
+    /// `(eye, forward, right, down, focal_px)`: what [`Camera::project`]
+    /// reads (for the eight-lane projection of the rasteriser).
+    pub(crate) fn basis(&self) -> (Vec3, Vec3, Vec3, Vec3, f32) {
+        (self.eye, self.forward, self.right, self.down, self.focal_px)
+    }
+
     /// Pixels per metre at view depth `depth`: `focal_px / depth`.
     pub fn pixels_per_metre(&self, depth: f32) -> f32 {
         self.focal_px / depth

@@ -9,13 +9,15 @@
 //! parallel rendering"; the binning of software rasterisers such as
 //! Laine & Karras 2011, "High-performance software rasterization on GPUs"):
 //!
-//! 1. **Project** every vertex once ([`project`]): pixel position, view
+//! 1. **Project** every vertex once ([`project_x8`], eight per register;
+//!    [`project`] in the scalar twin, the same bits): pixel position, view
 //!    depth, width in pixels, colour; a vertex behind the near plane or
 //!    with a non-finite position, width or colour is marked invalid (its
 //!    two segments are skipped, nothing else is touched).
 //! 2. **Count**: in back-to-front strand order, each segment's pixel bounds
 //!    (the strip's reach around its ends, [`Segment::new`]) give the range
-//!    of [`TILE`] x [`TILE`] tiles it touches; every tile counts it.
+//!    of [`TILE`] x [`TILE`] tiles it touches (eight consecutive segments
+//!    of a strand at once in the SIMD path); every tile counts it.
 //! 3. **Prefix sum** of the counts: where each tile's list starts.
 //! 4. **Fill**: the same segments in the same order append their index to
 //!    every tile they touch, so each tile's list is in back-to-front order
@@ -106,6 +108,9 @@ pub struct HairRaster {
     tiles_y: usize,
     /// Projected vertices; invalid ones have a NaN depth.
     pub(crate) screen: Vec<ScreenVertex>,
+    /// The projected `x`, `y`, depth and width as planes (eight entries of
+    /// padding), for the eight-segment tile ranges of step 2.
+    planes: [Vec<f32>; 4],
     /// Per segment (indexed by its first vertex): tiles `[x0, x1) x [y0, y1)`.
     rects: Vec<[u16; 4]>,
     /// Per tile: the start of its list in `bins` (tiles + 1 entries).
@@ -146,6 +151,7 @@ impl HairRaster {
             tiles_x,
             tiles_y,
             screen: vec![ScreenVertex::default(); vertex_capacity],
+            planes: std::array::from_fn(|_| vec![0.0; vertex_capacity + 8]),
             rects: vec![[0; 4]; vertex_capacity],
             starts: vec![0; tiles + 1],
             cursor: vec![0; tiles],
@@ -198,18 +204,24 @@ impl HairRaster {
             order,
             opacity,
         };
-        self.run(frame, &job, executor, draw_tile)
+        self.run(frame, &job, executor, Path::Simd)
     }
 
-    /// Steps 1 to 5 of the module doc, with `tile` drawing one tile's list
-    /// (the SIMD or the scalar body).
+    /// Steps 1 to 5 of the module doc, eight lanes at a time
+    /// ([`Path::Simd`]) or one at a time ([`Path::Scalar`], the twin).
     pub(crate) fn run(
         &mut self,
         frame: &mut Framebuffer,
         job: &Job<'_>,
         executor: &dyn Executor,
-        tile: TileFn,
+        path: Path,
     ) -> usize {
+        let simd = matches!(path, Path::Simd);
+        let tile: TileFn = if simd {
+            draw_tile
+        } else {
+            crate::scalar::raster::draw_tile
+        };
         self.stats = RasterStats::default();
         let vps = job.verts_per_strand;
         if frame.width() != self.width || frame.height() != self.height || vps < 2 {
@@ -217,13 +229,27 @@ impl HairRaster {
         }
         let n = job.vertices.len().min(self.screen.len());
         // 1. Project every vertex once.
-        for (dst, v) in self.screen[..n].iter_mut().zip(&job.vertices[..n]) {
-            *dst = project(job.camera, v);
+        if simd {
+            let chunks = self.screen[..n]
+                .chunks_mut(8)
+                .zip(job.vertices[..n].chunks(8));
+            for (dst, v) in chunks {
+                let p = project_x8(job.camera, v);
+                dst.copy_from_slice(&p[..dst.len()]);
+            }
+        } else {
+            for (dst, v) in self.screen[..n].iter_mut().zip(&job.vertices[..n]) {
+                *dst = project(job.camera, v);
+            }
+        }
+        let [px, py, pd, pw] = &mut self.planes;
+        for (k, v) in self.screen[..n].iter().enumerate() {
+            (px[k], py[k], pd[k], pw[k]) = (v.x, v.y, v.depth, v.width_px);
         }
         let mut from = (0, 0);
         while from.0 < job.order.len() {
             // 2. Count, in order, until the bins would overflow.
-            let to = self.count(job.order, vps, n, from);
+            let to = self.count(job.order, vps, n, from, simd);
             // 3. Prefix sum.
             let mut sum = 0u32;
             for (start, count) in self.starts.iter_mut().zip(&mut self.cursor) {
@@ -253,20 +279,33 @@ impl HairRaster {
         vps: usize,
         n: usize,
         from: (usize, usize),
+        simd: bool,
     ) -> (usize, usize) {
         self.cursor.fill(0);
         let room = self.bins.len();
         let mut used = 0usize;
         let (mut i, mut j) = from;
+        // The eight segments from `at` on, when `simd`.
+        let (mut at, mut ranges) = (usize::MAX, TileRects::default());
         while i < order.len() {
             let base = order.strand(i) * vps;
             if base + vps <= n {
                 while j + 1 < vps {
                     let k = base + j;
-                    let (a, b) = (&self.screen[k], &self.screen[k + 1]);
-                    let mut rect = [0u16; 4];
-                    if valid(a) && valid(b) {
-                        if let Some(r) = self.tile_rect(a, b) {
+                    let (drawn, rect) = if simd {
+                        if k < at || k >= at + 8 {
+                            at = k;
+                            ranges = self.tile_rects_x8(k);
+                        }
+                        ranges.lane(k - at)
+                    } else {
+                        let (a, b) = (&self.screen[k], &self.screen[k + 1]);
+                        let drawn = valid(a) && valid(b);
+                        (drawn, drawn.then(|| self.tile_rect(a, b)).flatten())
+                    };
+                    let mut kept = [0u16; 4];
+                    if drawn {
+                        if let Some(r) = rect {
                             let area = (r[1] - r[0]) as usize * (r[3] - r[2]) as usize;
                             if used + area > room {
                                 return (i, j);
@@ -278,11 +317,11 @@ impl HairRaster {
                                     *c += 1;
                                 }
                             }
-                            rect = r;
+                            kept = r;
                         }
                         self.stats.segments += 1;
                     }
-                    self.rects[k] = rect;
+                    self.rects[k] = kept;
                     j += 1;
                 }
             }
@@ -290,6 +329,47 @@ impl HairRaster {
             j = 0;
         }
         (i, j)
+    }
+
+    /// [`HairRaster::tile_rect`] of the eight segments from vertex `k` on
+    /// (`k + l -> k + l + 1` in lane `l`; lanes past the strand's end are
+    /// read from the planes' padding and ignored by the caller), computed
+    /// with the same operations in the same order as
+    /// [`Segment::pixel_bounds`].
+    #[inline]
+    fn tile_rects_x8(&self, k: usize) -> TileRects {
+        let load = |p: &Vec<f32>, at: usize| f32x8::new(p[at..at + 8].try_into().unwrap());
+        let [px, py, pd, pw] = &self.planes;
+        let (ax, ay, aw) = (load(px, k), load(py, k), load(pw, k));
+        let (bx, by, bw) = (load(px, k + 1), load(py, k + 1), load(pw, k + 1));
+        let drawn = !(load(pd, k).is_nan() | load(pd, k + 1).is_nan());
+        // 1. Length: not NaN, above 1e-12 and finite.
+        let (ex, ey) = (bx - ax, by - ay);
+        let len2 = ex * ex + ey * ey;
+        let long = len2.simd_gt(f32x8::splat(1e-12)) & len2.is_finite();
+        // 2. The float bounds (`float_bounds`).
+        let reach = f32x8::splat(0.5) * aw.fast_max(bw) + f32x8::splat(0.75);
+        let (w, h) = (self.width as f32, self.height as f32);
+        let x0 = (ax.fast_min(bx) - reach).floor().fast_max(f32x8::ZERO);
+        let x1 = (ax.fast_max(bx) + reach).ceil().fast_min(f32x8::splat(w));
+        let y0 = (ay.fast_min(by) - reach).floor().fast_max(f32x8::ZERO);
+        let y1 = (ay.fast_max(by) + reach).ceil().fast_min(f32x8::splat(h));
+        let some = long & x0.simd_lt(x1) & y0.simd_lt(y1);
+        // 3. Tiles: whole pixel numbers in [0, 2^26] divided by a power of two.
+        let inv = f32x8::splat(1.0 / TILE as f32);
+        let one = f32x8::splat(1.0);
+        let tiles = [
+            (x0 * inv).floor(),
+            ((x1 - one) * inv).floor() + one,
+            (y0 * inv).floor(),
+            ((y1 - one) * inv).floor() + one,
+        ]
+        .map(|v| some.select(v, f32x8::ZERO).trunc_int().to_array());
+        TileRects {
+            drawn: drawn.to_bitmask(),
+            some: some.to_bitmask(),
+            tiles,
+        }
     }
 
     /// The tiles `[x0, x1) x [y0, y1)` segment `a -> b` can touch, or
@@ -372,6 +452,40 @@ impl HairRaster {
             }
         });
         debug_assert_eq!(self.tiles_y, frame.height().div_ceil(TILE));
+    }
+}
+
+/// Which body [`HairRaster::run`] uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Path {
+    /// Eight lanes at a time: [`project_x8`], eight tile ranges at a time,
+    /// [`draw_tile`].
+    Simd,
+    /// One at a time: [`project`], [`HairRaster::tile_rect`], the scalar tile body.
+    Scalar,
+}
+
+/// Eight segments' tile ranges ([`HairRaster::tile_rects_x8`]).
+#[derive(Clone, Copy, Debug, Default)]
+struct TileRects {
+    /// Lanes whose two ends are valid.
+    drawn: u32,
+    /// Lanes with a non-empty range.
+    some: u32,
+    /// `[x0, x1, y0, y1]`, lane by lane.
+    tiles: [[i32; 8]; 4],
+}
+
+impl TileRects {
+    /// Lane `l` as `(both ends valid, tile range)`.
+    #[inline(always)]
+    fn lane(&self, l: usize) -> (bool, Option<[u16; 4]>) {
+        let drawn = self.drawn >> l & 1 != 0;
+        let some = self.some >> l & 1 != 0;
+        let t = &self.tiles;
+        // Tile numbers below 65,536 ([`HairRaster::with_bin_capacity`]).
+        let rect = [t[0][l], t[1][l], t[2][l], t[3][l]].map(|v| v as u16);
+        (drawn, some.then_some(rect))
     }
 }
 
@@ -521,6 +635,64 @@ pub fn project(camera: &Camera, v: &ShadedVertex) -> ScreenVertex {
     }
 }
 
+/// [`project`] of up to eight vertices at once (lanes past
+/// `vertices.len()` come back invalid), with the operations of
+/// [`Camera::project`] in the same order (no fused multiply-add): the
+/// same bits as [`project`] vertex by vertex.
+pub fn project_x8(camera: &Camera, vertices: &[ShadedVertex]) -> [ScreenVertex; 8] {
+    let (eye, forward, right, down, focal) = camera.basis();
+    let mut f = [[0.0f32; 8]; 7];
+    let mut present = [0.0f32; 8];
+    for (l, v) in vertices.iter().take(8).enumerate() {
+        let [x, y, z] = v.position;
+        let [r, g, b] = v.color;
+        for (plane, value) in f.iter_mut().zip([x, y, z, v.width, r, g, b]) {
+            plane[l] = value;
+        }
+        present[l] = 1.0;
+    }
+    let [x, y, z, width, r, g, b] = f.map(f32x8::new);
+    let s = f32x8::splat;
+    // 1. Depth along the view direction, as `Vec3::dot`: (x + y) + z.
+    let (dx, dy, dz) = (x - s(eye.x), y - s(eye.y), z - s(eye.z));
+    let dot = |e: Vec3| (dx * s(e.x) + dy * s(e.y)) + dz * s(e.z);
+    let depth = dot(forward);
+    let front = depth.simd_gt(s(NEAR));
+    // 2. Pixel position.
+    let k = s(focal) / depth;
+    let px = s(0.5 * camera.width() as f32) + k * dot(right);
+    let py = s(0.5 * camera.height() as f32) + k * dot(down);
+    // 3. Width in pixels, `w f / z` (`pixels_per_metre(1.0)` is `f`).
+    let width_px = (width * s(focal)) / depth;
+    let ok = front
+        & px.is_finite()
+        & py.is_finite()
+        & r.is_finite()
+        & g.is_finite()
+        & b.is_finite()
+        & width_px.is_finite()
+        & width_px.simd_ge(f32x8::ZERO)
+        & f32x8::new(present).simd_gt(f32x8::ZERO);
+    let bits = ok.to_bitmask();
+    let planes = [px, py, depth, width_px, r, g, b].map(|v| v.to_array());
+    std::array::from_fn(|l| {
+        if bits >> l & 1 == 0 {
+            return ScreenVertex {
+                depth: f32::NAN,
+                ..ScreenVertex::default()
+            };
+        }
+        let p = |i: usize| planes[i][l];
+        ScreenVertex {
+            x: p(0),
+            y: p(1),
+            depth: p(2),
+            width_px: p(3),
+            color: Vec3::new(p(4), p(5), p(6)),
+        }
+    })
+}
+
 /// Lane `l` holds `l as f32`.
 const LANE_INDEX: f32x8 = f32x8::new([0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
 
@@ -574,7 +746,7 @@ impl Lanes {
 /// (a thin segment has a few pixels per row: rows of eight would leave
 /// most lanes idle), their fragments computed together, the drawn ones
 /// blended.
-fn draw_tile(
+pub(crate) fn draw_tile(
     tile: &mut TileBuffer,
     area: &TileArea,
     list: &[u32],

@@ -315,3 +315,47 @@ fn constructors_refuse_empty_frames_and_draws_leave_other_sizes_alone() {
     assert_eq!(n, 0);
     assert_same(&got, &backdrop(), "untouched");
 }
+
+#[test]
+fn eight_lane_projection_matches_the_scalar_one_bit_for_bit() {
+    use coif_render::raster::{project, project_x8};
+    let cam = camera();
+    let mut vertices = strands(20, 9, 11);
+    // Poison some: behind the camera, on the eye, NaN / infinite positions,
+    // widths and colours, a negative width.
+    let poisons: [fn(&mut ShadedVertex); 8] = [
+        |v| v.position[2] = 2.0,
+        |v| v.position = [0.0, 0.0, 1.0],
+        |v| v.position[0] = f32::NAN,
+        |v| v.position[1] = f32::INFINITY,
+        |v| v.width = f32::NAN,
+        |v| v.width = -1e-3,
+        |v| v.color[1] = f32::NAN,
+        |v| v.width = f32::INFINITY,
+    ];
+    for (k, poison) in poisons.iter().enumerate() {
+        poison(&mut vertices[k * 13 + 1]);
+    }
+    let bits = |v: &coif_render::line::ScreenVertex| {
+        [
+            v.x, v.y, v.depth, v.width_px, v.color.x, v.color.y, v.color.z,
+        ]
+        .map(f32::to_bits)
+    };
+    let mut invalid = 0;
+    // Every length of the last chunk, 1 to 8.
+    for chunk in vertices.chunks(8).chain(vertices[..7].chunks(7)) {
+        let x8 = project_x8(&cam, chunk);
+        for (l, v) in chunk.iter().enumerate() {
+            let one = project(&cam, v);
+            invalid += one.depth.is_nan() as usize;
+            if one.depth.is_nan() {
+                assert!(x8[l].depth.is_nan());
+            } else {
+                assert_eq!(bits(&one), bits(&x8[l]), "lane {l}");
+            }
+        }
+        assert!(x8[chunk.len()..].iter().all(|v| v.depth.is_nan()));
+    }
+    assert!(invalid >= 8, "{invalid}");
+}

@@ -3,6 +3,6 @@
 //! Each file mirrors the SIMD file of the same name (`src/raster.rs` <->
 //! `src/scalar/raster.rs`); the tests hold every pair to agreement.
 
-mod raster;
+pub(crate) mod raster;
 
 pub use raster::draw;

@@ -1,10 +1,11 @@
-//! The scalar twin of [`crate::raster`]: the same projection, binning and
-//! tile order, and the same per-pixel step ([`Segment::pixel`] on `f32`),
-//! one pixel at a time instead of eight. Its frames equal the SIMD path's
-//! bit for bit.
+//! The scalar twin of [`crate::raster`]: the same projection
+//! ([`crate::raster::project`], one vertex at a time), binning (one
+//! segment's tile range at a time), tile order and per-pixel step
+//! ([`Segment::pixel`] on `f32`), one pixel at a time instead of eight.
+//! Its frames equal the SIMD path's bit for bit.
 
 use crate::line::{blend, ScreenVertex, Segment};
-use crate::raster::{HairRaster, Job, TileArea, TileBuffer, TILE};
+use crate::raster::{HairRaster, Job, Path, TileArea, TileBuffer, TILE};
 use crate::sort::DepthOrder;
 use crate::{Camera, Framebuffer, ShadedVertex};
 use coif_base::tasks::Executor;
@@ -29,12 +30,12 @@ pub fn draw(
         order,
         opacity,
     };
-    raster.run(frame, &job, executor, draw_tile)
+    raster.run(frame, &job, executor, Path::Scalar)
 }
 
 /// Step 5 for one tile, one pixel at a time: every segment of `list` in
 /// order, each row of it pixel by pixel over the row's span.
-fn draw_tile(
+pub(crate) fn draw_tile(
     tile: &mut TileBuffer,
     area: &TileArea,
     list: &[u32],
