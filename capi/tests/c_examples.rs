@@ -1,4 +1,5 @@
-//! Builds `examples/hang.c` and `examples/engine.c` (C99) and
+//! Builds `examples/hang.c`, `examples/engine.c` and `examples/jobs.c`
+//! (C99, the last with `-pthread`) and
 //! `examples/hang.cpp` (C++17) against the static library and the committed
 //! header with the system C and C++ compilers (`-Wall -Wextra -Werror
 //! -pedantic`), runs them (with the shared groom `sintel_lite.tfx` as
@@ -130,6 +131,21 @@ fn engine_c_runs_and_passes_its_checks() {
             "{stdout}"
         );
     }
+}
+
+#[test]
+fn jobs_c_steps_on_a_pthread_pool_as_coif_step_does() {
+    let Some(cc) = compiler("CC", "cc") else {
+        return;
+    };
+    let stdout = build_and_run(&cc, &["-std=c99", "-pthread"], "jobs.c", "jobs_c", &[]);
+    assert!(stdout.contains("jobs: all checks passed"), "{stdout}");
+    assert!(
+        stdout.contains("72 strands, 300 steps on the pool = coif_step bit for bit"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("5 patches stepped on the pool"), "{stdout}");
+    assert!(stdout.contains("1003 vertices shaded on the pool"), "{stdout}");
 }
 
 #[test]
