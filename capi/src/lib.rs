@@ -550,13 +550,8 @@ pub unsafe extern "C" fn coif_step_with(
     guard(|| {
         // SAFETY: NULL or a live handle not aliased during the call.
         let h = unsafe { s.as_mut() }.ok_or(CoifStatus::COIF_ERROR_NULL)?;
-        // SAFETY: NULL or readable (the caller's contract).
-        let p = unsafe { params.as_ref() }.ok_or(CoifStatus::COIF_ERROR_NULL)?;
-        let params = validate_params(p)?;
-        // SAFETY: the caller's contract on `executor`.
-        let exec = unsafe { tasks::executor(executor) }?;
-        // SAFETY: the caller's contract on `spheres`.
-        let rig = unsafe { check_rig(spheres, sphere_count) }?;
+        // SAFETY: the caller's contract on the pointers.
+        let (params, exec, rig) = unsafe { step_inputs(params, spheres, sphere_count, executor) }?;
         fill_rig(rig, &mut h.spheres);
         coif_kernels::step_with(&mut h.strands, &params, &h.spheres, exec.get());
         Ok(())
@@ -588,6 +583,28 @@ pub unsafe extern "C" fn coif_strands_sleeping_strands(s: *const CoifStrands) ->
         // SAFETY: NULL or a live handle (the caller's contract).
         unsafe { s.as_ref() }.map_or(0, |h| h.strands.sleeping_strands())
     })
+}
+
+/// The checked inputs of a step, in this order: the parameters
+/// (`validate_params`), the executor and the rig (`check_rig`).
+///
+/// # Safety
+/// `params` is NULL or readable; `spheres` as `check_rig` says; `executor`
+/// as `tasks::executor` says.
+pub(crate) unsafe fn step_inputs<'a>(
+    params: *const CoifSimParams,
+    spheres: *const CoifSphere,
+    sphere_count: usize,
+    executor: *const CoifExecutor,
+) -> Result<(SimParams, tasks::Exec, &'a [CoifSphere]), CoifStatus> {
+    // SAFETY: the caller's contract.
+    let p = unsafe { params.as_ref() }.ok_or(CoifStatus::COIF_ERROR_NULL)?;
+    let params = validate_params(p)?;
+    // SAFETY: the caller's contract.
+    let exec = unsafe { tasks::executor(executor) }?;
+    // SAFETY: the caller's contract.
+    let rig = unsafe { check_rig(spheres, sphere_count) }?;
+    Ok((params, exec, rig))
 }
 
 /// Checks `count` spheres at `spheres` (finite, radius >= 0) and returns

@@ -1,10 +1,10 @@
 //! Cloth patches (`coif_kernels::patch`): a grid of particles following a
 //! skin, stepped against the rig, blended with the skin per particle.
 
-use crate::tasks::{self, per_task};
+use crate::tasks::per_task;
 use crate::{
-    check_points, check_rig, fill_rig, guard, guard_or, handle, handle_mut, input, new_handle,
-    output, points, validate_params, CoifExecutor, CoifSimParams, CoifSphere, CoifStatus,
+    check_points, fill_rig, guard, guard_or, handle, handle_mut, input, new_handle, output, points,
+    step_inputs, CoifExecutor, CoifSimParams, CoifSphere, CoifStatus,
 };
 use coif_kernels::{Patch, Sphere};
 use glam::Vec3;
@@ -192,9 +192,8 @@ pub unsafe extern "C" fn coif_patch_step(
     guard(|| {
         // SAFETY: NULL or live/readable (the caller's contract).
         let h = unsafe { handle_mut(p) }?;
-        let params = validate_params(unsafe { handle(params) }?)?;
-        // SAFETY: the caller's contract on `spheres`.
-        let rig = unsafe { check_rig(spheres, sphere_count) }?;
+        let (params, _, rig) =
+            unsafe { step_inputs(params, spheres, sphere_count, std::ptr::null()) }?;
         fill_rig(rig, &mut h.spheres);
         coif_kernels::patch::step(&mut h.patch, &params, &h.spheres);
         Ok(())
@@ -248,11 +247,8 @@ pub unsafe extern "C" fn coif_patch_step_all(
         if !distinct || !list.iter().all(|p| p.is_aligned()) {
             return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
         }
-        // SAFETY: NULL or readable (the caller's contract).
-        let params = validate_params(unsafe { handle(params) }?)?;
-        // SAFETY: the caller's contract on `executor` and `spheres`.
-        let exec = unsafe { tasks::executor(executor) }?;
-        let rig = unsafe { check_rig(spheres, sphere_count) }?;
+        // SAFETY: the caller's contract on the pointers.
+        let (params, exec, rig) = unsafe { step_inputs(params, spheres, sphere_count, executor) }?;
         let exec = exec.get();
         let per = per_task(list.len(), exec, 1);
         let shared = PatchList(list);
