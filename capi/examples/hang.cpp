@@ -1,23 +1,28 @@
 // hang.cpp: the core of hang.c in C++17, with every handle owned by a
 // std::unique_ptr whose deleter is the matching coif_*_free (RAII); then
 // the engine calls of engine.c (refinement, render hairs, shading, and a
-// groom from the file named by argv[1], if any) in the same style.
+// groom from the file named by argv[1], if any) in the same style, and
+// coif_step_with on a pool of std::thread workers against coif_step.
 //
 // Build (from the workspace root, after cargo build --release -p coif-capi):
-//   c++ -std=c++17 -Wall -Wextra capi/examples/hang.cpp -Icapi/include
+//   c++ -std=c++17 -Wall -Wextra -pthread capi/examples/hang.cpp -Icapi/include
 //       target/release/libcoif_capi.a -lm -lpthread -ldl -o hang_cpp
 //   ./hang_cpp shared/data/grooms/sintel_lite.tfx
 
 #include "coif.h"
 
 #include <cmath>
+#include <condition_variable>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace {
@@ -153,6 +158,104 @@ void groom_calls(const char *path) {
                 coif_groom_strand_count(groom.get()), coif_strands_strand_count(strands.get()));
 }
 
+// A fixed pool of std::thread workers taking indices from a shared counter;
+// the calling thread works too while it waits (jobs.c's pool in C++17).
+class Pool {
+  public:
+    explicit Pool(unsigned workers) {
+        for (unsigned i = 0; i < workers; i++) threads_.emplace_back([this] { work(); });
+    }
+    ~Pool() {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            stop_ = true;
+        }
+        wake_.notify_all();
+        for (std::thread &t : threads_) t.join();
+    }
+    Pool(const Pool &) = delete;
+    Pool &operator=(const Pool &) = delete;
+
+    CoifExecutor executor() { return CoifExecutor{this, threads_.size() + 1, &Pool::run}; }
+
+  private:
+    // CoifExecutor::run: publish the job, work on it, wait for the rest.
+    static void run(void *ctx, std::size_t count, CoifTaskFn task, void *task_ctx) {
+        Pool &p = *static_cast<Pool *>(ctx);
+        std::unique_lock<std::mutex> lock(p.mutex_);
+        p.task_ = task;
+        p.task_ctx_ = task_ctx;
+        p.count_ = count;
+        p.next_ = 0;
+        p.finished_ = 0;
+        p.wake_.notify_all();
+        while (p.next_ < p.count_) {
+            std::size_t i = p.next_++;
+            lock.unlock();
+            task(task_ctx, i);
+            lock.lock();
+            p.finished_++;
+        }
+        p.done_.wait(lock, [&p] { return p.finished_ == p.count_; });
+        p.task_ = nullptr;
+    }
+
+    void work() {
+        std::unique_lock<std::mutex> lock(mutex_);
+        for (;;) {
+            wake_.wait(lock, [this] { return stop_ || (task_ != nullptr && next_ < count_); });
+            if (stop_) return;
+            std::size_t i = next_++;
+            CoifTaskFn task = task_;
+            void *ctx = task_ctx_;
+            lock.unlock();
+            task(ctx, i);
+            lock.lock();
+            if (++finished_ == count_) done_.notify_one();
+        }
+    }
+
+    std::vector<std::thread> threads_;
+    std::mutex mutex_;
+    std::condition_variable wake_, done_;
+    CoifTaskFn task_ = nullptr;
+    void *task_ctx_ = nullptr;
+    std::size_t count_ = 0, next_ = 0, finished_ = 0;
+    bool stop_ = false;
+};
+
+// The same strands stepped by coif_step and by coif_step_with on the pool,
+// with sleeping on and swinging roots: equal bit for bit.
+void job_calls(const std::vector<float> &xyz, std::size_t verts) {
+    Pool pool(3);
+    CoifExecutor exec = pool.executor();
+    StrandsPtr serial = make_strands(xyz, verts), pooled = make_strands(xyz, verts);
+    std::size_t strands = coif_strands_strand_count(serial.get());
+    CoifSimParams params = coif_sim_params_default();
+    std::vector<float> roots(3 * strands);
+    for (int step = 0; step < 120; step++) {
+        float shift = step < 30 ? 0.01f * std::sin(0.2f * static_cast<float>(step)) : 0.0f;
+        for (std::size_t i = 0; i < strands; i++) {
+            roots[3 * i + 0] = xyz[3 * i * verts + 0] + shift;
+            roots[3 * i + 1] = xyz[3 * i * verts + 1];
+            roots[3 * i + 2] = xyz[3 * i * verts + 2];
+        }
+        ok(coif_strands_set_roots(serial.get(), roots.data(), strands), "roots");
+        ok(coif_strands_set_roots(pooled.get(), roots.data(), strands), "roots");
+        ok(coif_step(serial.get(), &params, nullptr, 0), "coif_step");
+        ok(coif_step_with(pooled.get(), &params, nullptr, 0, &exec), "coif_step_with");
+        require(coif_strands_awake_strands(serial.get()) ==
+                    coif_strands_awake_strands(pooled.get()),
+                "awake counts differ");
+    }
+    std::vector<float> a(3 * strands * verts), b(a.size());
+    ok(coif_strands_positions(serial.get(), a.data(), a.size() / 3), "positions");
+    ok(coif_strands_positions(pooled.get(), b.data(), b.size() / 3), "positions");
+    require(std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0,
+            "coif_step_with on std::thread differs from coif_step");
+    std::printf("hang.cpp: %zu strands on std::thread workers = coif_step bit for bit\n", strands);
+}
+
 }  // namespace
 
 int main(int argc, char **argv) {
@@ -187,6 +290,7 @@ int main(int argc, char **argv) {
         }
         engine_calls(hair.get(), 8);
         cloth_calls();
+        job_calls(xyz, verts);
         if (argc > 1) groom_calls(argv[1]);
         std::printf("hang.cpp: 600 steps, tip sideways %.3g m: all checks passed\n",
                     static_cast<double>(worst));

@@ -91,6 +91,12 @@ typedef struct CoifSimParams {
     float shape_stiffness;
     // Contact friction in [0, 1] (default 0.3).
     float friction;
+    // Sleeping in m/s (>= 0): a block of 8 strands whose vertices all moved
+    // slower than this for half a second of steps, with still roots and no
+    // moving sphere near, is skipped until something moves it (its roots,
+    // a sphere sweeping into its box, a teleport, a reset, other
+    // parameters). 0 = never sleep. Default 0.02 (`SimParams::sleep_speed`).
+    float sleep_speed;
 } CoifSimParams;
 
 // A collision sphere of the rig, world coordinates (metres).
@@ -100,6 +106,32 @@ typedef struct CoifSphere {
     // Radius (>= 0).
     float radius;
 } CoifSphere;
+
+// One task of a coif stage: the engine calls it as `task(task_ctx, i)` for
+// every `i` in `0..count` of a `run` call, passing `task_ctx` unchanged.
+typedef void (*CoifTaskFn)(void *task_ctx, size_t index);
+
+// An engine's job system as coif sees it: one blocking parallel-for.
+//
+// The contract of `run` (breaking it is undefined behaviour, as each task
+// writes its own part of the output): call `task(task_ctx, i)` exactly
+// once for every `i` in `0..count`, in any order, on any threads, and
+// return after the last call has returned. `run` may be called from any
+// thread that calls coif, and must return normally (no `longjmp`, no C++
+// exception). coif never calls `run` from inside one of its tasks (no
+// nesting), a task never waits for another, and a stage makes at most 64
+// tasks however large the set, so a fixed pool of jobs does not run dry.
+// `threads` is the number of workers (0 counts as 1); coif uses it only to
+// choose how finely to split, never for a result: the same input gives the
+// same bytes with any executor, any `threads` and any order.
+typedef struct CoifExecutor {
+    // The engine's own pointer, passed to `run` unchanged.
+    void *ctx;
+    // Worker count, a splitting hint (0 counts as 1).
+    size_t threads;
+    // The parallel-for, a `CoifRunFn` (must not be NULL).
+    void (*run)(void *ctx, size_t count, CoifTaskFn task, void *task_ctx);
+} CoifExecutor;
 
 // Settings of the render hairs (`coif_hairs_new`); start from
 // `coif_hair_settings_default()`.
@@ -200,6 +232,12 @@ typedef struct CoifPbrtParams {
     float sigma_a[3];
 } CoifPbrtParams;
 
+// The engine's parallel-for: calls `task(task_ctx, i)` exactly once for
+// every `i` in `0..count`, in any order, on any of its threads (the calling
+// thread included), and returns only after every call has returned. `ctx`
+// is `CoifExecutor::ctx`.
+typedef void (*CoifRunFn)(void *ctx, size_t count, CoifTaskFn task, void *task_ctx);
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -274,9 +312,11 @@ size_t coif_strands_point_count(const struct CoifStrands *s);
 enum CoifStatus coif_strands_set_roots(struct CoifStrands *s, const float *xyz, size_t root_count);
 
 // Advances every strand by one fixed step of `params->dt` against
-// `sphere_count` spheres (`spheres` may be NULL when `sphere_count` is 0).
+// `sphere_count` spheres (`spheres` may be NULL when `sphere_count` is 0),
+// on the calling thread (`coif_step_with` with a NULL executor).
 // Validates the parameters and spheres first; does not allocate unless the
-// rig has more spheres than at any earlier call.
+// rig has more spheres than at any earlier call. Blocks of 8 strands that
+// sleep (`CoifSimParams::sleep_speed`) are skipped.
 //
 // Errors: `COIF_ERROR_NULL`, `COIF_ERROR_NON_FINITE` (a NaN or infinite
 // parameter or sphere), `COIF_ERROR_INVALID_ARGUMENT` (a parameter out of
@@ -289,6 +329,42 @@ enum CoifStatus coif_step(struct CoifStrands *s,
                           const struct CoifSimParams *params,
                           const struct CoifSphere *spheres,
                           size_t sphere_count);
+
+// `coif_step` with the strands' blocks handed out as tasks to `executor`
+// (`coif_kernels::step_with`): at most 64 tasks of whole blocks of 8
+// strands, each writing only its own blocks. The result is the same bytes
+// as `coif_step` with any executor, thread count and task order. NULL
+// `executor` runs the tasks on the calling thread. Nothing is checked
+// inside the tasks: every check runs first, and an error leaves the
+// strands unchanged and `run` uncalled. Allocates nothing more than
+// `coif_step` (nothing at all from coif's side of `run`).
+//
+// Errors: as `coif_step`, and `COIF_ERROR_NULL` for an executor whose
+// `run` is NULL, `COIF_ERROR_INVALID_ARGUMENT` for a misaligned one.
+//
+// # Safety
+// As `coif_step`; `executor` is NULL or points to a readable
+// `CoifExecutor` that keeps its contract during the call.
+enum CoifStatus coif_step_with(struct CoifStrands *s,
+                               const struct CoifSimParams *params,
+                               const struct CoifSphere *spheres,
+                               size_t sphere_count,
+                               const struct CoifExecutor *executor);
+
+// Strands the last step advanced (awake); all of them before the first
+// step, 0 for NULL. Strands skipped because their block sleeps are not
+// counted (`Strands::awake_strands`).
+//
+// # Safety
+// `s` is NULL or a live handle.
+size_t coif_strands_awake_strands(const struct CoifStrands *s);
+
+// Strands in blocks that sleep now, which the next step skips unless
+// something wakes them (`Strands::sleeping_strands`); 0 for NULL.
+//
+// # Safety
+// `s` is NULL or a live handle.
+size_t coif_strands_sleeping_strands(const struct CoifStrands *s);
 
 // Writes every point (strand after strand, root first; 3 floats each,
 // world space) into `out_xyz` when it holds `capacity_points` points and
@@ -648,6 +724,32 @@ enum CoifStatus coif_patch_step(struct CoifPatch *p,
                                 const struct CoifSphere *spheres,
                                 size_t sphere_count);
 
+// Steps `patch_count` patches (`patches`: that many distinct handles)
+// against the same rig, as `coif_patch_step` on each, with runs of
+// consecutive patches handed out as tasks to `executor` (about four per
+// thread, at most 64; a patch is never split). Patches share nothing, so
+// every patch ends in the same bytes as `coif_patch_step` gives it, with
+// any executor and any task order (`coif_kernels::patch::step_all`'s rule).
+// NULL `executor` runs the tasks on the calling thread. Every check runs
+// before any patch moves: the handles (none NULL, none twice, a check of
+// `patch_count^2 / 2` pointer comparisons), the parameters, the executor
+// and the rig. Does not allocate unless the rig has more spheres than at
+// any earlier step of a patch.
+//
+// Errors: as `coif_step_with`, and `COIF_ERROR_NULL` for a NULL handle in
+// the list, `COIF_ERROR_INVALID_ARGUMENT` for a handle listed twice.
+//
+// # Safety
+// `patches` is NULL or points to `patch_count` readable pointers, each
+// NULL or a live handle not used elsewhere during the call; `params`,
+// `spheres` and `executor` as `coif_step_with` says.
+enum CoifStatus coif_patch_step_all(struct CoifPatch *const *patches,
+                                    size_t patch_count,
+                                    const struct CoifSimParams *params,
+                                    const struct CoifSphere *spheres,
+                                    size_t sphere_count,
+                                    const struct CoifExecutor *executor);
+
 // Writes the blended positions, `skinned (1 - weight) + simulated weight`
 // per particle (world metres, row-major, 3 floats each) into `out_xyz`,
 // which holds `capacity_points` points, at least `coif_patch_particle_count`.
@@ -747,6 +849,22 @@ enum CoifStatus coif_shade_pbrt_table(const struct CoifPbrtTable *table,
                                       float *out_rgb,
                                       size_t capacity);
 
+// `coif_shade_pbrt_table` with runs of vertices handed out as tasks to
+// `executor` (as `coif_shade_kajiya_kay_with`). The same bytes.
+//
+// Errors: as `coif_shade_kajiya_kay_with`.
+//
+// # Safety
+// As `coif_shade_pbrt_table`; `executor` as `coif_step_with` says.
+enum CoifStatus coif_shade_pbrt_table_with(const struct CoifPbrtTable *table,
+                                           const struct CoifRenderVertex *vertices,
+                                           size_t count,
+                                           const float *light_dir,
+                                           const float *eye,
+                                           float *out_rgb,
+                                           size_t capacity,
+                                           const struct CoifExecutor *executor);
+
 // Shades `count` vertices with Kajiya-Kay: per vertex, `wi` is
 // `light_dir` normalised (the direction toward a distant light), `wo` is
 // `normalize(eye - position)` (the direction toward the eye, whose
@@ -774,6 +892,27 @@ enum CoifStatus coif_shade_kajiya_kay(const struct CoifKajiyaKay *model,
                                       float *out_rgb,
                                       size_t capacity);
 
+// `coif_shade_kajiya_kay` with runs of vertices (whole groups of 8, at
+// most 64 runs) handed out as tasks to `executor`; each task shades and
+// writes only its own run, so the output is the same bytes as
+// `coif_shade_kajiya_kay` with any executor and task order. NULL
+// `executor` runs them on the calling thread. Every check runs before
+// `run` is called. Allocates nothing.
+//
+// Errors: as `coif_shade_kajiya_kay`, and `COIF_ERROR_NULL` for an
+// executor whose `run` is NULL.
+//
+// # Safety
+// As `coif_shade_kajiya_kay`; `executor` as `coif_step_with` says.
+enum CoifStatus coif_shade_kajiya_kay_with(const struct CoifKajiyaKay *model,
+                                           const struct CoifRenderVertex *vertices,
+                                           size_t count,
+                                           const float *light_dir,
+                                           const float *eye,
+                                           float *out_rgb,
+                                           size_t capacity,
+                                           const struct CoifExecutor *executor);
+
 // As `coif_shade_kajiya_kay`, with Marschner's scattering function from
 // the tables `lut` (`Lut::scattering_x8`, the same numbers as
 // `Lut::scattering_batch`). Allocates nothing.
@@ -789,6 +928,22 @@ enum CoifStatus coif_shade_marschner_lut(const struct CoifMarschnerLut *lut,
                                          const float *eye,
                                          float *out_rgb,
                                          size_t capacity);
+
+// `coif_shade_marschner_lut` with runs of vertices handed out as tasks to
+// `executor` (as `coif_shade_kajiya_kay_with`). The same bytes.
+//
+// Errors: as `coif_shade_kajiya_kay_with`.
+//
+// # Safety
+// As `coif_shade_marschner_lut`; `executor` as `coif_step_with` says.
+enum CoifStatus coif_shade_marschner_lut_with(const struct CoifMarschnerLut *lut,
+                                              const struct CoifRenderVertex *vertices,
+                                              size_t count,
+                                              const float *light_dir,
+                                              const float *eye,
+                                              float *out_rgb,
+                                              size_t capacity,
+                                              const struct CoifExecutor *executor);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -29,11 +29,13 @@ pub mod groom;
 pub mod lod;
 pub mod patch;
 pub mod shading;
+pub mod tasks;
 
 pub use groom::*;
 pub use lod::*;
 pub use patch::*;
 pub use shading::*;
+pub use tasks::*;
 
 use coif_kernels::{SimParams, Sphere, Strands};
 use glam::{Affine3A, Mat3, Vec3};
@@ -101,6 +103,12 @@ pub struct CoifSimParams {
     pub shape_stiffness: f32,
     /// Contact friction in [0, 1] (default 0.3).
     pub friction: f32,
+    /// Sleeping in m/s (>= 0): a block of 8 strands whose vertices all moved
+    /// slower than this for half a second of steps, with still roots and no
+    /// moving sphere near, is skipped until something moves it (its roots,
+    /// a sphere sweeping into its box, a teleport, a reset, other
+    /// parameters). 0 = never sleep. Default 0.02 (`SimParams::sleep_speed`).
+    pub sleep_speed: f32,
 }
 
 /// A collision sphere of the rig, world coordinates (metres).
@@ -155,6 +163,7 @@ impl From<&CoifSimParams> for SimParams {
             local_shape_stiffness: p.local_shape_stiffness,
             max_substep: p.max_substep,
             stiff_mode_damping: p.stiff_mode_damping,
+            sleep_speed: p.sleep_speed,
             // Fields SimParams gains before CoifSimParams carries them keep
             // their Rust defaults (the C layout changes only deliberately).
             ..SimParams::default()
@@ -178,6 +187,7 @@ impl From<&SimParams> for CoifSimParams {
             bend_stiffness: p.bend_stiffness,
             shape_stiffness: p.shape_stiffness,
             friction: p.friction,
+            sleep_speed: p.sleep_speed,
         }
     }
 }
@@ -490,9 +500,11 @@ pub unsafe extern "C" fn coif_strands_set_roots(
 }
 
 /// Advances every strand by one fixed step of `params->dt` against
-/// `sphere_count` spheres (`spheres` may be NULL when `sphere_count` is 0).
+/// `sphere_count` spheres (`spheres` may be NULL when `sphere_count` is 0),
+/// on the calling thread (`coif_step_with` with a NULL executor).
 /// Validates the parameters and spheres first; does not allocate unless the
-/// rig has more spheres than at any earlier call.
+/// rig has more spheres than at any earlier call. Blocks of 8 strands that
+/// sleep (`CoifSimParams::sleep_speed`) are skipped.
 ///
 /// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_NON_FINITE` (a NaN or infinite
 /// parameter or sphere), `COIF_ERROR_INVALID_ARGUMENT` (a parameter out of
@@ -508,29 +520,103 @@ pub unsafe extern "C" fn coif_step(
     spheres: *const CoifSphere,
     sphere_count: usize,
 ) -> CoifStatus {
+    // SAFETY: the caller's contract; a NULL executor is the calling thread.
+    unsafe { coif_step_with(s, params, spheres, sphere_count, std::ptr::null()) }
+}
+
+/// `coif_step` with the strands' blocks handed out as tasks to `executor`
+/// (`coif_kernels::step_with`): at most 64 tasks of whole blocks of 8
+/// strands, each writing only its own blocks. The result is the same bytes
+/// as `coif_step` with any executor, thread count and task order. NULL
+/// `executor` runs the tasks on the calling thread. Nothing is checked
+/// inside the tasks: every check runs first, and an error leaves the
+/// strands unchanged and `run` uncalled. Allocates nothing more than
+/// `coif_step` (nothing at all from coif's side of `run`).
+///
+/// Errors: as `coif_step`, and `COIF_ERROR_NULL` for an executor whose
+/// `run` is NULL, `COIF_ERROR_INVALID_ARGUMENT` for a misaligned one.
+///
+/// # Safety
+/// As `coif_step`; `executor` is NULL or points to a readable
+/// `CoifExecutor` that keeps its contract during the call.
+#[no_mangle]
+pub unsafe extern "C" fn coif_step_with(
+    s: *mut CoifStrands,
+    params: *const CoifSimParams,
+    spheres: *const CoifSphere,
+    sphere_count: usize,
+    executor: *const CoifExecutor,
+) -> CoifStatus {
     guard(|| {
         // SAFETY: NULL or a live handle not aliased during the call.
         let h = unsafe { s.as_mut() }.ok_or(CoifStatus::COIF_ERROR_NULL)?;
-        // SAFETY: NULL or readable (the caller's contract).
-        let p = unsafe { params.as_ref() }.ok_or(CoifStatus::COIF_ERROR_NULL)?;
-        let params = validate_params(p)?;
-        // SAFETY: the caller's contract on `spheres`.
-        unsafe { convert_rig(spheres, sphere_count, &mut h.spheres) }?;
-        coif_kernels::step(&mut h.strands, &params, &h.spheres);
+        // SAFETY: the caller's contract on the pointers.
+        let (params, exec, rig) = unsafe { step_inputs(params, spheres, sphere_count, executor) }?;
+        fill_rig(rig, &mut h.spheres);
+        coif_kernels::step_with(&mut h.strands, &params, &h.spheres, exec.get());
         Ok(())
     })
 }
 
-/// Checks `count` spheres at `spheres` (finite, radius >= 0) and converts
-/// them into `scratch`, which allocates only when it grows.
+/// Strands the last step advanced (awake); all of them before the first
+/// step, 0 for NULL. Strands skipped because their block sleeps are not
+/// counted (`Strands::awake_strands`).
 ///
 /// # Safety
-/// `spheres` is NULL or points to `count` readable spheres.
-pub(crate) unsafe fn convert_rig(
+/// `s` is NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn coif_strands_awake_strands(s: *const CoifStrands) -> usize {
+    guard_or(0, || {
+        // SAFETY: NULL or a live handle (the caller's contract).
+        unsafe { s.as_ref() }.map_or(0, |h| h.strands.awake_strands())
+    })
+}
+
+/// Strands in blocks that sleep now, which the next step skips unless
+/// something wakes them (`Strands::sleeping_strands`); 0 for NULL.
+///
+/// # Safety
+/// `s` is NULL or a live handle.
+#[no_mangle]
+pub unsafe extern "C" fn coif_strands_sleeping_strands(s: *const CoifStrands) -> usize {
+    guard_or(0, || {
+        // SAFETY: NULL or a live handle (the caller's contract).
+        unsafe { s.as_ref() }.map_or(0, |h| h.strands.sleeping_strands())
+    })
+}
+
+/// The checked inputs of a step, in this order: the parameters
+/// (`validate_params`), the executor and the rig (`check_rig`).
+///
+/// # Safety
+/// `params` is NULL or readable; `spheres` as `check_rig` says; `executor`
+/// as `tasks::executor` says.
+pub(crate) unsafe fn step_inputs<'a>(
+    params: *const CoifSimParams,
+    spheres: *const CoifSphere,
+    sphere_count: usize,
+    executor: *const CoifExecutor,
+) -> Result<(SimParams, tasks::Exec, &'a [CoifSphere]), CoifStatus> {
+    // SAFETY: the caller's contract.
+    let p = unsafe { params.as_ref() }.ok_or(CoifStatus::COIF_ERROR_NULL)?;
+    let params = validate_params(p)?;
+    // SAFETY: the caller's contract.
+    let exec = unsafe { tasks::executor(executor) }?;
+    // SAFETY: the caller's contract.
+    let rig = unsafe { check_rig(spheres, sphere_count) }?;
+    Ok((params, exec, rig))
+}
+
+/// Checks `count` spheres at `spheres` (finite, radius >= 0) and returns
+/// them, without converting anything.
+///
+/// # Safety
+/// `spheres` is NULL or points to `count` readable spheres not written
+/// during `'a`.
+pub(crate) unsafe fn check_rig<'a>(
     spheres: *const CoifSphere,
     count: usize,
-    scratch: &mut Vec<Sphere>,
-) -> Result<(), CoifStatus> {
+) -> Result<&'a [CoifSphere], CoifStatus> {
     // SAFETY: the caller's contract.
     let rig = unsafe { input(spheres, count) }?;
     for sphere in rig {
@@ -541,12 +627,17 @@ pub(crate) unsafe fn convert_rig(
             return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
         }
     }
+    Ok(rig)
+}
+
+/// Converts a rig [`check_rig`] passed into `scratch`, which allocates only
+/// when it grows.
+pub(crate) fn fill_rig(rig: &[CoifSphere], scratch: &mut Vec<Sphere>) {
     scratch.clear();
     scratch.extend(rig.iter().map(|c| Sphere {
         center: Vec3::from_array(c.center),
         radius: c.radius,
     }));
-    Ok(())
 }
 
 /// Writes every point (strand after strand, root first; 3 floats each,

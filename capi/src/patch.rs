@@ -1,9 +1,10 @@
 //! Cloth patches (`coif_kernels::patch`): a grid of particles following a
 //! skin, stepped against the rig, blended with the skin per particle.
 
+use crate::tasks::per_task;
 use crate::{
-    check_points, convert_rig, guard, guard_or, handle, handle_mut, input, new_handle, output,
-    points, validate_params, CoifSimParams, CoifSphere, CoifStatus,
+    check_points, fill_rig, guard, guard_or, handle, handle_mut, input, new_handle, output, points,
+    step_inputs, CoifExecutor, CoifSimParams, CoifSphere, CoifStatus,
 };
 use coif_kernels::{Patch, Sphere};
 use glam::Vec3;
@@ -191,10 +192,76 @@ pub unsafe extern "C" fn coif_patch_step(
     guard(|| {
         // SAFETY: NULL or live/readable (the caller's contract).
         let h = unsafe { handle_mut(p) }?;
-        let params = validate_params(unsafe { handle(params) }?)?;
-        // SAFETY: the caller's contract on `spheres`.
-        unsafe { convert_rig(spheres, sphere_count, &mut h.spheres) }?;
+        let (params, _, rig) =
+            unsafe { step_inputs(params, spheres, sphere_count, std::ptr::null()) }?;
+        fill_rig(rig, &mut h.spheres);
         coif_kernels::patch::step(&mut h.patch, &params, &h.spheres);
+        Ok(())
+    })
+}
+
+/// The patch handles of one `coif_patch_step_all` call, shared by its tasks.
+struct PatchList<'a>(&'a [*mut CoifPatch]);
+// SAFETY: the handles are distinct (checked) and each is reached by the one
+// task whose run of indices holds it.
+unsafe impl Sync for PatchList<'_> {}
+
+/// Steps `patch_count` patches (`patches`: that many distinct handles)
+/// against the same rig, as `coif_patch_step` on each, with runs of
+/// consecutive patches handed out as tasks to `executor` (about four per
+/// thread, at most 64; a patch is never split). Patches share nothing, so
+/// every patch ends in the same bytes as `coif_patch_step` gives it, with
+/// any executor and any task order (`coif_kernels::patch::step_all`'s rule).
+/// NULL `executor` runs the tasks on the calling thread. Every check runs
+/// before any patch moves: the handles (none NULL, none twice, a check of
+/// `patch_count^2 / 2` pointer comparisons), the parameters, the executor
+/// and the rig. Does not allocate unless the rig has more spheres than at
+/// any earlier step of a patch.
+///
+/// Errors: as `coif_step_with`, and `COIF_ERROR_NULL` for a NULL handle in
+/// the list, `COIF_ERROR_INVALID_ARGUMENT` for a handle listed twice.
+///
+/// # Safety
+/// `patches` is NULL or points to `patch_count` readable pointers, each
+/// NULL or a live handle not used elsewhere during the call; `params`,
+/// `spheres` and `executor` as `coif_step_with` says.
+#[no_mangle]
+pub unsafe extern "C" fn coif_patch_step_all(
+    patches: *const *mut CoifPatch,
+    patch_count: usize,
+    params: *const CoifSimParams,
+    spheres: *const CoifSphere,
+    sphere_count: usize,
+    executor: *const CoifExecutor,
+) -> CoifStatus {
+    guard(|| {
+        if patches.is_null() && patch_count > 0 {
+            return Err(CoifStatus::COIF_ERROR_NULL);
+        }
+        // SAFETY: the caller's contract on `patches`.
+        let list = unsafe { input(patches, patch_count) }?;
+        if list.iter().any(|p| p.is_null()) {
+            return Err(CoifStatus::COIF_ERROR_NULL);
+        }
+        let distinct = (1..list.len()).all(|i| !list[..i].contains(&list[i]));
+        if !distinct || !list.iter().all(|p| p.is_aligned()) {
+            return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
+        }
+        // SAFETY: the caller's contract on the pointers.
+        let (params, exec, rig) = unsafe { step_inputs(params, spheres, sphere_count, executor) }?;
+        let exec = exec.get();
+        let per = per_task(list.len(), exec, 1);
+        let shared = PatchList(list);
+        exec.run(list.len().div_ceil(per), &|t| {
+            let shared = &shared;
+            for &p in shared.0.iter().skip(t * per).take(per) {
+                // SAFETY: a live handle (the caller's contract), listed once
+                // (checked), so only this task reaches it during the call.
+                let h = unsafe { &mut *p };
+                fill_rig(rig, &mut h.spheres);
+                coif_kernels::patch::step(&mut h.patch, &params, &h.spheres);
+            }
+        });
         Ok(())
     })
 }

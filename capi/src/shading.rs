@@ -6,7 +6,9 @@
 //! Rust batch paths).
 
 use crate::lod::CoifRenderVertex;
-use crate::{guard, handle, input, new_handle, output, vec3_arg, CoifStatus};
+use crate::tasks::{self, per_task};
+use crate::{guard, handle, input, new_handle, output, vec3_arg, CoifExecutor, CoifStatus};
+use coif_base::tasks::{for_each_chunk_mut, Executor};
 use coif_base::{Vec3x8, LANES};
 use coif_shading::kajiya_kay::{Highlight, KajiyaKay};
 use coif_shading::marschner::{self, Lut, RootSolver};
@@ -350,6 +352,39 @@ pub unsafe extern "C" fn coif_shade_pbrt_table(
     out_rgb: *mut f32,
     capacity: usize,
 ) -> CoifStatus {
+    // SAFETY: the caller's contract; a NULL executor is the calling thread.
+    unsafe {
+        coif_shade_pbrt_table_with(
+            table,
+            vertices,
+            count,
+            light_dir,
+            eye,
+            out_rgb,
+            capacity,
+            std::ptr::null(),
+        )
+    }
+}
+
+/// `coif_shade_pbrt_table` with runs of vertices handed out as tasks to
+/// `executor` (as `coif_shade_kajiya_kay_with`). The same bytes.
+///
+/// Errors: as `coif_shade_kajiya_kay_with`.
+///
+/// # Safety
+/// As `coif_shade_pbrt_table`; `executor` as `coif_step_with` says.
+#[no_mangle]
+pub unsafe extern "C" fn coif_shade_pbrt_table_with(
+    table: *const CoifPbrtTable,
+    vertices: *const CoifRenderVertex,
+    count: usize,
+    light_dir: *const f32,
+    eye: *const f32,
+    out_rgb: *mut f32,
+    capacity: usize,
+    executor: *const CoifExecutor,
+) -> CoifStatus {
     guard(|| {
         // SAFETY: NULL or a live handle.
         let table = &unsafe { handle(table) }?.table;
@@ -362,7 +397,8 @@ pub unsafe extern "C" fn coif_shade_pbrt_table(
                 eye,
                 out_rgb,
                 capacity,
-                |t, wi, wo| table.scattering_x8(t, wi, wo),
+                executor,
+                &|t, wi, wo| table.scattering_x8(t, wi, wo),
             )
         }
     })
@@ -397,6 +433,44 @@ pub unsafe extern "C" fn coif_shade_kajiya_kay(
     out_rgb: *mut f32,
     capacity: usize,
 ) -> CoifStatus {
+    // SAFETY: the caller's contract; a NULL executor is the calling thread.
+    unsafe {
+        coif_shade_kajiya_kay_with(
+            model,
+            vertices,
+            count,
+            light_dir,
+            eye,
+            out_rgb,
+            capacity,
+            std::ptr::null(),
+        )
+    }
+}
+
+/// `coif_shade_kajiya_kay` with runs of vertices (whole groups of 8, at
+/// most 64 runs) handed out as tasks to `executor`; each task shades and
+/// writes only its own run, so the output is the same bytes as
+/// `coif_shade_kajiya_kay` with any executor and task order. NULL
+/// `executor` runs them on the calling thread. Every check runs before
+/// `run` is called. Allocates nothing.
+///
+/// Errors: as `coif_shade_kajiya_kay`, and `COIF_ERROR_NULL` for an
+/// executor whose `run` is NULL.
+///
+/// # Safety
+/// As `coif_shade_kajiya_kay`; `executor` as `coif_step_with` says.
+#[no_mangle]
+pub unsafe extern "C" fn coif_shade_kajiya_kay_with(
+    model: *const CoifKajiyaKay,
+    vertices: *const CoifRenderVertex,
+    count: usize,
+    light_dir: *const f32,
+    eye: *const f32,
+    out_rgb: *mut f32,
+    capacity: usize,
+    executor: *const CoifExecutor,
+) -> CoifStatus {
     guard(|| {
         // SAFETY: NULL or readable (the caller's contract).
         let kk = KajiyaKay::try_from(unsafe { handle(model) }?)?;
@@ -409,7 +483,8 @@ pub unsafe extern "C" fn coif_shade_kajiya_kay(
                 eye,
                 out_rgb,
                 capacity,
-                |t, wi, wo| kk.shade_x8(t, wi, wo),
+                executor,
+                &|t, wi, wo| kk.shade_x8(t, wi, wo),
             )
         }
     })
@@ -433,6 +508,39 @@ pub unsafe extern "C" fn coif_shade_marschner_lut(
     out_rgb: *mut f32,
     capacity: usize,
 ) -> CoifStatus {
+    // SAFETY: the caller's contract; a NULL executor is the calling thread.
+    unsafe {
+        coif_shade_marschner_lut_with(
+            lut,
+            vertices,
+            count,
+            light_dir,
+            eye,
+            out_rgb,
+            capacity,
+            std::ptr::null(),
+        )
+    }
+}
+
+/// `coif_shade_marschner_lut` with runs of vertices handed out as tasks to
+/// `executor` (as `coif_shade_kajiya_kay_with`). The same bytes.
+///
+/// Errors: as `coif_shade_kajiya_kay_with`.
+///
+/// # Safety
+/// As `coif_shade_marschner_lut`; `executor` as `coif_step_with` says.
+#[no_mangle]
+pub unsafe extern "C" fn coif_shade_marschner_lut_with(
+    lut: *const CoifMarschnerLut,
+    vertices: *const CoifRenderVertex,
+    count: usize,
+    light_dir: *const f32,
+    eye: *const f32,
+    out_rgb: *mut f32,
+    capacity: usize,
+    executor: *const CoifExecutor,
+) -> CoifStatus {
     guard(|| {
         // SAFETY: NULL or a live handle.
         let lut = &unsafe { handle(lut) }?.lut;
@@ -445,7 +553,8 @@ pub unsafe extern "C" fn coif_shade_marschner_lut(
                 eye,
                 out_rgb,
                 capacity,
-                |t, wi, wo| lut.scattering_x8(t, wi, wo),
+                executor,
+                &|t, wi, wo| lut.scattering_x8(t, wi, wo),
             )
         }
     })
@@ -453,10 +562,12 @@ pub unsafe extern "C" fn coif_shade_marschner_lut(
 
 /// Checks the inputs, then shades eight vertices at a time with `kernel`
 /// (`t`, `wi`, `wo` lanes; lanes past the end padded as
-/// `ShadingSamples::load_block` pads them: t = x, wi = wo = y).
+/// `ShadingSamples::load_block` pads them: t = x, wi = wo = y), runs of
+/// whole groups of eight as tasks on `executor`.
 ///
 /// # Safety
 /// As the public shading calls.
+#[allow(clippy::too_many_arguments)]
 unsafe fn shade(
     vertices: *const CoifRenderVertex,
     count: usize,
@@ -464,7 +575,8 @@ unsafe fn shade(
     eye: *const f32,
     out_rgb: *mut f32,
     capacity: usize,
-    kernel: impl Fn(Vec3x8, Vec3x8, Vec3x8) -> Vec3x8,
+    executor: *const CoifExecutor,
+    kernel: &(dyn Fn(Vec3x8, Vec3x8, Vec3x8) -> Vec3x8 + Sync),
 ) -> Result<(), CoifStatus> {
     // SAFETY: the caller's contract on every pointer.
     let (light, eye) = unsafe { (vec3_arg(light_dir)?, vec3_arg(eye)?) };
@@ -487,6 +599,26 @@ unsafe fn shade(
     if wi == Vec3::ZERO {
         return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
     }
+    // SAFETY: the caller's contract on `executor`.
+    let exec = unsafe { tasks::executor(executor) }?;
+    let exec: &dyn Executor = exec.get();
+    let per = per_task(count, exec, LANES);
+    for_each_chunk_mut(exec, out, per, &|i, run| {
+        let start = i * per;
+        shade_run(&verts[start..start + run.len()], eye, wi, kernel, run);
+    });
+    Ok(())
+}
+
+/// One task of [`shade`]: `verts` into `out`, eight at a time (`verts`
+/// starts at a multiple of eight, so the groups are those of one serial pass).
+fn shade_run(
+    verts: &[CoifRenderVertex],
+    eye: Vec3,
+    wi: Vec3,
+    kernel: &(dyn Fn(Vec3x8, Vec3x8, Vec3x8) -> Vec3x8 + Sync),
+    out: &mut [Vec3],
+) {
     for (block, rgb) in verts.chunks(LANES).zip(out.chunks_mut(LANES)) {
         let (mut t, mut wo) = (Vec3x8::splat(Vec3::X), Vec3x8::splat(Vec3::Y));
         let mut wi_x8 = Vec3x8::splat(Vec3::Y);
@@ -500,7 +632,6 @@ unsafe fn shade(
             *o = c.lane(l);
         }
     }
-    Ok(())
 }
 
 /// `normalize(eye - position)`, zero when the eye is at the vertex.

@@ -1,5 +1,6 @@
-//! Builds `examples/hang.c` and `examples/engine.c` (C99) and
-//! `examples/hang.cpp` (C++17) against the static library and the committed
+//! Builds `examples/hang.c`, `examples/engine.c` and `examples/jobs.c`
+//! (C99, the last with `-pthread`) and
+//! `examples/hang.cpp` (C++17, with `-pthread`) against the static library and the committed
 //! header with the system C and C++ compilers (`-Wall -Wextra -Werror
 //! -pedantic`), runs them (with the shared groom `sintel_lite.tfx` as
 //! argument when it is there), and checks their exit code and output. Also
@@ -100,10 +101,20 @@ fn hang_cpp_runs_and_passes_its_checks() {
     let groom: Vec<PathBuf> = coif_testkit::groom_path("sintel_lite.tfx")
         .into_iter()
         .collect();
-    let stdout = build_and_run(&cxx, &["-std=c++17"], "hang.cpp", "hang_cpp", &groom);
+    let stdout = build_and_run(
+        &cxx,
+        &["-std=c++17", "-pthread"],
+        "hang.cpp",
+        "hang_cpp",
+        &groom,
+    );
     assert!(stdout.contains("all checks passed"), "{stdout}");
     assert!(stdout.contains("render vertices shaded"), "{stdout}");
     assert!(stdout.contains("hang.cpp: cloth blended"), "{stdout}");
+    assert!(
+        stdout.contains("hang.cpp: 64 strands on std::thread workers = coif_step bit for bit"),
+        "{stdout}"
+    );
     if !groom.is_empty() {
         assert!(
             stdout.contains("hang.cpp: groom of 228 strands"),
@@ -130,6 +141,24 @@ fn engine_c_runs_and_passes_its_checks() {
             "{stdout}"
         );
     }
+}
+
+#[test]
+fn jobs_c_steps_on_a_pthread_pool_as_coif_step_does() {
+    let Some(cc) = compiler("CC", "cc") else {
+        return;
+    };
+    let stdout = build_and_run(&cc, &["-std=c99", "-pthread"], "jobs.c", "jobs_c", &[]);
+    assert!(stdout.contains("jobs: all checks passed"), "{stdout}");
+    assert!(
+        stdout.contains("72 strands, 300 steps on the pool = coif_step bit for bit"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("5 patches stepped on the pool"), "{stdout}");
+    assert!(
+        stdout.contains("1003 vertices shaded on the pool"),
+        "{stdout}"
+    );
 }
 
 #[test]

@@ -1,10 +1,13 @@
 //! The per-frame calls do not allocate once the set, its rig and the
-//! refinement level are sized: `coif_step`, `coif_strands_set_roots`,
-//! `coif_strands_positions`, `coif_refine`, `coif_hairs_distance_lod`,
-//! `coif_hairs_write_vertices`, `coif_shade_kajiya_kay`,
-//! `coif_shade_marschner_lut`, `coif_shade_pbrt_table`, and for cloth `coif_patch_set_skinned`,
-//! `coif_patch_step` and `coif_patch_blended`. Counted by a global allocator (this test
-//! binary holds one test, so nothing else allocates meanwhile).
+//! refinement level are sized: `coif_step` (and `coif_step_with` on a C
+//! parallel-for that runs the tasks in order on the calling thread, split
+//! for four workers), `coif_strands_set_roots`, `coif_strands_positions`,
+//! `coif_refine`, `coif_hairs_distance_lod`, `coif_hairs_write_vertices`,
+//! `coif_shade_kajiya_kay`, `coif_shade_marschner_lut`,
+//! `coif_shade_pbrt_table` and their `_with` forms, and for cloth
+//! `coif_patch_set_skinned`, `coif_patch_step`, `coif_patch_step_all` and
+//! `coif_patch_blended`. Counted by a global allocator (this test binary
+//! holds one test, so nothing else allocates meanwhile).
 
 use coif_capi::*;
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -34,6 +37,20 @@ unsafe impl GlobalAlloc for Counting {
 
 #[global_allocator]
 static GLOBAL: Counting = Counting;
+
+/// A C parallel-for in the style of a serial job system: every index in
+/// order on the calling thread (so the count sees every allocation).
+unsafe extern "C" fn in_order(
+    _ctx: *mut std::ffi::c_void,
+    count: usize,
+    task: CoifTaskFn,
+    task_ctx: *mut std::ffi::c_void,
+) {
+    for i in 0..count {
+        // SAFETY: each index once, before returning.
+        unsafe { task(task_ctx, i) };
+    }
+}
 
 #[test]
 fn per_frame_calls_do_not_allocate() {
@@ -93,6 +110,12 @@ fn per_frame_calls_do_not_allocate() {
     let mut patch_out = vec![0.0f32; 3 * patch_n];
     let mut patch: *mut CoifPatch = ptr::null_mut();
     let (light, eye) = ([0.3f32, 1.0, 0.5], [0.0f32, 0.2, 1.0]);
+    // Four workers as far as the split goes: several tasks per stage.
+    let exec = CoifExecutor {
+        ctx: ptr::null_mut(),
+        threads: 4,
+        run: Some(in_order),
+    };
     // SAFETY: every buffer holds what its count says; `c` is live until freed.
     unsafe {
         assert_eq!(
@@ -163,6 +186,10 @@ fn per_frame_calls_do_not_allocate() {
             );
             assert_eq!(coif_step(c, &params, rig.as_ptr(), 1), CoifStatus::COIF_OK);
             assert_eq!(
+                coif_step_with(c, &params, rig.as_ptr(), rig.len(), &exec),
+                CoifStatus::COIF_OK
+            );
+            assert_eq!(
                 coif_strands_positions(c, out.as_mut_ptr(), STRANDS * VERTS),
                 CoifStatus::COIF_OK
             );
@@ -173,6 +200,11 @@ fn per_frame_calls_do_not_allocate() {
             );
             assert_eq!(
                 coif_patch_step(patch, &params, rig.as_ptr(), rig.len()),
+                CoifStatus::COIF_OK
+            );
+            let patches = [patch];
+            assert_eq!(
+                coif_patch_step_all(patches.as_ptr(), 1, &params, rig.as_ptr(), 2, &exec),
                 CoifStatus::COIF_OK
             );
             assert_eq!(
@@ -227,8 +259,11 @@ fn per_frame_calls_do_not_allocate() {
                 coif_shade_kajiya_kay(&kk, v, written, l, e, out, vertex_len),
                 coif_shade_marschner_lut(lut, v, written, l, e, out, vertex_len),
                 coif_shade_pbrt_table(table, v, written, l, e, out, vertex_len),
+                coif_shade_kajiya_kay_with(&kk, v, written, l, e, out, vertex_len, &exec),
+                coif_shade_marschner_lut_with(lut, v, written, l, e, out, vertex_len, &exec),
+                coif_shade_pbrt_table_with(table, v, written, l, e, out, vertex_len, &exec),
             ];
-            assert_eq!(statuses, [CoifStatus::COIF_OK; 3]);
+            assert_eq!(statuses, [CoifStatus::COIF_OK; 6]);
         }
         let allocations = ALLOCATIONS.load(Ordering::Relaxed) - before;
         coif_pbrt_table_free(table);
