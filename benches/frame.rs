@@ -28,7 +28,8 @@
 //!   1 thread (the stages that never run as tasks, over the frame) with the
 //!   Amdahl speed-ups it allows at 2, 8 and 16 cores.
 //! - `characters4/{1,2}/{stages_on_pool,characters_as_tasks}`: four heads
-//!   (four `FramePipeline`s, 256 x 256 each) per frame sharing one pool:
+//!   (four `FramePipeline`s, `FrameSettings::small(256)` each: 256 x 256,
+//!   12 render hairs per cm^2, 2 segments per span) per frame sharing one pool:
 //!   one after another with every stage's tasks on the pool, or the four
 //!   characters' whole frames as four tasks (each on `Serial` inside).
 
@@ -304,11 +305,7 @@ fn threads(c: &mut Criterion) {
     );
 
     // Four characters sharing one pool.
-    let settings = FrameSettings {
-        width: 256,
-        height: 256,
-        ..FrameSettings::default()
-    };
+    let settings = FrameSettings::small(256);
     for n in [1usize, 2] {
         let pool = Rayon::new(n).unwrap();
         let mut heads: Vec<FramePipeline> = (0..4)
