@@ -79,7 +79,7 @@ fn shadowed_and_lit(p: &FramePipeline) -> (f32, f32, f32) {
     let head = &p.head_spheres()[0];
     let ambient = HAIR_AMBIENT_ALBEDO * p.settings().light.ambient;
     let (mut shadowed, mut lit) = ((0.0, 0), (0.0, 0));
-    for (k, v) in vertices.iter().enumerate() {
+    for v in vertices {
         // |p + s l - c| = r for some s > 0, with p outside the sphere.
         let m = Vec3::from(v.position) - head.center;
         let (b, c) = (
