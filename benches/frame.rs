@@ -280,8 +280,15 @@ fn threads(c: &mut Criterion) {
             })
         });
         g.finish();
+        // The split from whole frames alone (the means above mix the
+        // stages' own iterations in).
+        p.reset_timings();
+        for _ in 0..5 {
+            t += 1.0 / 30.0;
+            p.frame_with(1.0 / 30.0, motion::turn_and_nod(t % 3.0, pivot), &pool);
+        }
         eprintln!(
-            "\nthreads/{n}: per-stage means over all iterations ({} shadow tasks):\n{}\n",
+            "\nthreads/{n}: per-stage means over 5 frames after the bench ({} shadow tasks):\n{}\n",
             p.shadow_tasks(),
             p.timings()
         );
@@ -294,7 +301,7 @@ fn threads(c: &mut Criterion) {
     let f = serial.0 / serial.1;
     let amdahl = |cores: f64| 1.0 / (f + (1.0 - f) / cores);
     eprintln!(
-        "serial parts {:.2} ms of a {:.2} ms frame at 1 thread: serial fraction {:.3}; Amdahl: {:.2}x at 2, {:.2}x at 8, {:.2}x at 16 cores; measured frame (stage means) 1 -> 2 threads: {:.2}x\n",
+        "serial parts {:.2} ms of a {:.2} ms frame at 1 thread: serial fraction {:.3}; Amdahl: {:.2}x at 2, {:.2}x at 8, {:.2}x at 16 cores; those 5 frames 1 -> 2 threads: {:.2}x\n",
         serial.0,
         serial.1,
         f,
