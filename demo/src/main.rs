@@ -3,7 +3,8 @@
 //! By default: the built-in sphere head with 2,048 grown guides and
 //! interpolated hair, three seconds of head motion (a turn and a nod),
 //! a bow's two silk ribbons swinging from the back of the head (cloth
-//! patches), `hair.png` (512 x 512) and a per-stage timing table. See
+//! patches), `hair.png` (512 x 512) and a per-stage timing table, the
+//! frame's tasks on one rayon pool of every core (`--threads`). See
 //! `--help`.
 
 mod crowd;
