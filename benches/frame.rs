@@ -52,6 +52,16 @@ use glam::Vec3;
 use std::hint::black_box;
 use std::path::PathBuf;
 
+/// The demo's default head: 2,048 grown guides, light curl.
+fn default_head() -> HairScene {
+    HairScene::procedural(&GrowOptions {
+        strand_count: 2048,
+        curl: 0.15,
+        ..GrowOptions::default()
+    })
+    .unwrap()
+}
+
 fn bench_scene(c: &mut Criterion, name: &str, scene: &HairScene) {
     let mut p = FramePipeline::new(scene, FrameSettings::default(), 1.0).unwrap();
     let pivot = p.pivot();
@@ -84,12 +94,7 @@ fn bench_scene(c: &mut Criterion, name: &str, scene: &HairScene) {
 }
 
 fn frames(c: &mut Criterion) {
-    let default = HairScene::procedural(&GrowOptions {
-        strand_count: 2048,
-        curl: 0.15,
-        ..GrowOptions::default()
-    })
-    .unwrap();
+    let default = default_head();
     bench_scene(c, "default", &default);
     let path =
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/grooms/ratboy_mohawk.tfx");
@@ -194,12 +199,7 @@ fn shade(c: &mut Criterion) {
 /// repeats one task of the fused pass, one interpolation group of eight
 /// hairs, in cache (elements = its vertices).
 fn prepare(c: &mut Criterion) {
-    let scene = HairScene::procedural(&GrowOptions {
-        strand_count: 2048,
-        curl: 0.15,
-        ..GrowOptions::default()
-    })
-    .unwrap();
+    let scene = default_head();
     let mut g = c.benchmark_group("prepare");
     g.sample_size(10);
     for (name, prepare, k) in [
@@ -248,12 +248,7 @@ fn serial_split(p: &FramePipeline) -> (f64, f64) {
 #[cfg(feature = "rayon")]
 fn threads(c: &mut Criterion) {
     use coif::base::tasks::Rayon;
-    let scene = HairScene::procedural(&GrowOptions {
-        strand_count: 2048,
-        curl: 0.15,
-        ..GrowOptions::default()
-    })
-    .unwrap();
+    let scene = default_head();
     let mut frame_ms = Vec::new();
     let mut serial = (0.0, 1.0);
     for n in [1usize, 2] {

@@ -12,14 +12,19 @@ use coif_testkit::counting::allocations;
 #[global_allocator]
 static GLOBAL: coif_testkit::counting::Counting = coif_testkit::counting::Counting;
 
-#[test]
-fn frames_allocate_nothing_for_every_shading_model() {
-    let scene = HairScene::procedural(&GrowOptions {
+/// 256 grown guides of 12 vertices (with the bow's two ribbons).
+fn scene() -> HairScene {
+    HairScene::procedural(&GrowOptions {
         strand_count: 256,
         verts_per_strand: 12,
         ..GrowOptions::default()
     })
-    .unwrap();
+    .unwrap()
+}
+
+#[test]
+fn frames_allocate_nothing_for_every_shading_model() {
+    let scene = scene();
     let modes = [PrepareMode::Fused, PrepareMode::Reference];
     for (model, prepare) in ShadingModel::ALL
         .into_iter()
@@ -96,12 +101,7 @@ unsafe impl coif_base::tasks::Executor for Counted<'_> {
 #[test]
 fn frames_on_a_rayon_pool_allocate_less_than_once_per_stage() {
     use coif_base::tasks::Executor;
-    let scene = HairScene::procedural(&GrowOptions {
-        strand_count: 256,
-        verts_per_strand: 12,
-        ..GrowOptions::default()
-    })
-    .unwrap();
+    let scene = scene();
     let mut p = FramePipeline::new(&scene, FrameSettings::small(64), 0.1).unwrap();
     let pool = coif_base::tasks::Rayon::new(2).unwrap();
     let counted = Counted {
