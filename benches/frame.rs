@@ -21,8 +21,20 @@
 //!   eight hairs) in cache; elements = render vertices.
 //! - `shade/{kajiya-kay,marschner,pbrt}`: per-vertex shading batch of 65,536
 //!   samples.
+//! - `threads/{1,2}/{simulate,prepare,render,frame}`: the default head's
+//!   frame and its parts on a rayon pool of 1 and of 2 threads
+//!   (`FramePipeline::frame_with`); after each thread count the per-stage
+//!   means are printed, and after both the serial fraction of a frame at
+//!   1 thread (the stages that never run as tasks, over the frame) with the
+//!   Amdahl speed-ups it allows at 2, 8 and 16 cores.
+//! - `characters4/{1,2}/{stages_on_pool,characters_as_tasks}`: four heads
+//!   (four `FramePipeline`s, `FrameSettings::small(256)` each: 256 x 256,
+//!   12 render hairs per cm^2, 2 segments per span) per frame sharing one pool:
+//!   one after another with every stage's tasks on the pool, or the four
+//!   characters' whole frames as four tasks (each on `Serial` inside).
 
 use coif::base::tasks::Serial;
+use coif::frame::Stage;
 use coif::frame::{
     motion, FramePipeline, FrameSettings, HairScene, PrepareMode, Shader, ShadingModel,
     DEFAULT_SHADOW_THINNING,
@@ -39,6 +51,16 @@ use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::Vec3;
 use std::hint::black_box;
 use std::path::PathBuf;
+
+/// The demo's default head: 2,048 grown guides, light curl.
+fn default_head() -> HairScene {
+    HairScene::procedural(&GrowOptions {
+        strand_count: 2048,
+        curl: 0.15,
+        ..GrowOptions::default()
+    })
+    .unwrap()
+}
 
 fn bench_scene(c: &mut Criterion, name: &str, scene: &HairScene) {
     let mut p = FramePipeline::new(scene, FrameSettings::default(), 1.0).unwrap();
@@ -72,12 +94,7 @@ fn bench_scene(c: &mut Criterion, name: &str, scene: &HairScene) {
 }
 
 fn frames(c: &mut Criterion) {
-    let default = HairScene::procedural(&GrowOptions {
-        strand_count: 2048,
-        curl: 0.15,
-        ..GrowOptions::default()
-    })
-    .unwrap();
+    let default = default_head();
     bench_scene(c, "default", &default);
     let path =
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/grooms/ratboy_mohawk.tfx");
@@ -182,12 +199,7 @@ fn shade(c: &mut Criterion) {
 /// repeats one task of the fused pass, one interpolation group of eight
 /// hairs, in cache (elements = its vertices).
 fn prepare(c: &mut Criterion) {
-    let scene = HairScene::procedural(&GrowOptions {
-        strand_count: 2048,
-        curl: 0.15,
-        ..GrowOptions::default()
-    })
-    .unwrap();
+    let scene = default_head();
     let mut g = c.benchmark_group("prepare");
     g.sample_size(10);
     for (name, prepare, k) in [
@@ -215,5 +227,123 @@ fn prepare(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, frames, prepare, raster, shade);
+/// A frame's stages at 1 thread: (serial ms, frame ms). Serial: LOD setup
+/// (and the reference's interpolation), the ribbons (placing, stepping two
+/// patches, blending), head and background, the ribbons' triangles, the
+/// sort, and whatever the frame spends outside its timed stages. Counted
+/// parallel: the guides' step, the shadow build (its gathering of the
+/// thinned hairs and its reduction of the partial maps included), the
+/// prepare tasks, the hair's tile rows.
+fn serial_split(p: &FramePipeline) -> (f64, f64) {
+    let t = p.timings();
+    let ms = |s: Stage| t.mean(s).as_secs_f64() * 1e3;
+    let frame = ms(Stage::Frame);
+    let parallel = ms(Stage::Simulate) - ms(Stage::Ribbon)
+        + ms(Stage::Shadow)
+        + ms(Stage::Shade)
+        + ms(Stage::Hair);
+    (frame - parallel, frame)
+}
+
+#[cfg(feature = "rayon")]
+fn threads(c: &mut Criterion) {
+    use coif::base::tasks::Rayon;
+    let scene = default_head();
+    let mut frame_ms = Vec::new();
+    let mut serial = (0.0, 1.0);
+    for n in [1usize, 2] {
+        let pool = Rayon::new(n).unwrap();
+        let mut p = FramePipeline::new(&scene, FrameSettings::default(), 1.0).unwrap();
+        let pivot = p.pivot();
+        let mut t = 0.0f32;
+        p.frame_with(1.0 / 30.0, motion::turn_and_nod(0.0, pivot), &pool);
+        p.reset_timings();
+        let mut g = c.benchmark_group(format!("threads/{n}"));
+        g.sample_size(10);
+        g.bench_function("simulate", |b| {
+            b.iter(|| {
+                t += 1.0 / 30.0;
+                p.simulate_with(1.0 / 30.0, motion::turn_and_nod(t % 3.0, pivot), &pool);
+            })
+        });
+        g.bench_function("prepare", |b| b.iter(|| p.prepare_with(&pool)));
+        g.bench_function("render", |b| b.iter(|| p.render_with(&pool)));
+        g.bench_function("frame", |b| {
+            b.iter(|| {
+                t += 1.0 / 30.0;
+                black_box(p.frame_with(1.0 / 30.0, motion::turn_and_nod(t % 3.0, pivot), &pool))
+            })
+        });
+        g.finish();
+        // The split from whole frames alone (the means above mix the
+        // stages' own iterations in).
+        p.reset_timings();
+        for _ in 0..5 {
+            t += 1.0 / 30.0;
+            p.frame_with(1.0 / 30.0, motion::turn_and_nod(t % 3.0, pivot), &pool);
+        }
+        eprintln!(
+            "\nthreads/{n}: per-stage means over 5 frames after the bench ({} shadow tasks):\n{}\n",
+            p.shadow_tasks(),
+            p.timings()
+        );
+        let split = serial_split(&p);
+        if n == 1 {
+            serial = split;
+        }
+        frame_ms.push(split.1);
+    }
+    let f = serial.0 / serial.1;
+    let amdahl = |cores: f64| 1.0 / (f + (1.0 - f) / cores);
+    eprintln!(
+        "serial parts {:.2} ms of a {:.2} ms frame at 1 thread: serial fraction {:.3}; Amdahl: {:.2}x at 2, {:.2}x at 8, {:.2}x at 16 cores; those 5 frames 1 -> 2 threads: {:.2}x\n",
+        serial.0,
+        serial.1,
+        f,
+        amdahl(2.0),
+        amdahl(8.0),
+        amdahl(16.0),
+        frame_ms[0] / frame_ms[1]
+    );
+
+    // Four characters sharing one pool.
+    let settings = FrameSettings::small(256);
+    for n in [1usize, 2] {
+        let pool = Rayon::new(n).unwrap();
+        let mut heads: Vec<FramePipeline> = (0..4)
+            .map(|_| FramePipeline::new(&scene, settings.clone(), 1.0).unwrap())
+            .collect();
+        let pivot = heads[0].pivot();
+        let mut t = 0.0f32;
+        let mut g = c.benchmark_group(format!("characters4/{n}"));
+        g.sample_size(10);
+        g.bench_function("stages_on_pool", |b| {
+            b.iter(|| {
+                t += 1.0 / 30.0;
+                for (k, h) in heads.iter_mut().enumerate() {
+                    let pose = motion::turn_and_nod((t + 0.5 * k as f32) % 3.0, pivot);
+                    h.frame_with(1.0 / 30.0, pose, &pool);
+                }
+            })
+        });
+        g.bench_function("characters_as_tasks", |b| {
+            b.iter(|| {
+                t += 1.0 / 30.0;
+                let now = t;
+                coif::base::tasks::for_each_chunk_mut(&pool, &mut heads, 1, &|k, h| {
+                    let pose = motion::turn_and_nod((now + 0.5 * k as f32) % 3.0, pivot);
+                    h[0].frame_with(1.0 / 30.0, pose, &Serial);
+                });
+            })
+        });
+        g.finish();
+    }
+}
+
+#[cfg(not(feature = "rayon"))]
+fn threads(_: &mut Criterion) {
+    eprintln!("skipping threads/*: built without the rayon feature");
+}
+
+criterion_group!(benches, frames, prepare, raster, shade, threads);
 criterion_main!(benches);

@@ -8,14 +8,19 @@
 //! distance of the skipping run to the full one per level. Simulation
 //! only: nothing is drawn.
 
-use coif::base::tasks::Serial;
+use coif::base::tasks::Executor;
 use coif::frame::crowd::{add_distances, settled_head, Crowd};
 use coif::frame::sim_lod::STRIDES;
 use coif::kernels::SimParams;
 use std::time::{Duration, Instant};
 
-/// Runs the crowd of `n` for `frames` frames of 1/60 s; one thread.
-pub fn run(n: usize, frames: usize) -> Result<(), Box<dyn std::error::Error>> {
+/// Runs the crowd of `n` for `frames` frames of 1/60 s, the characters as
+/// tasks on `executor`.
+pub fn run(
+    n: usize,
+    frames: usize,
+    executor: &dyn Executor,
+) -> Result<(), Box<dyn std::error::Error>> {
     let start = Instant::now();
     // Settled for 7 s: the pose the characters start from and followers
     // keep their shape relative to.
@@ -39,10 +44,10 @@ pub fn run(n: usize, frames: usize) -> Result<(), Box<dyn std::error::Error>> {
     for f in 0..frames {
         let t = f as f32 * params.dt;
         let t0 = Instant::now();
-        lean.step(t, &Serial);
+        lean.step(t, executor);
         t_lean += t0.elapsed();
         let t0 = Instant::now();
-        full.step(t, &Serial);
+        full.step(t, executor);
         t_full += t0.elapsed();
         advanced += lean.simulated_strands();
         everyone += full.simulated_strands();
@@ -50,7 +55,8 @@ pub fn run(n: usize, frames: usize) -> Result<(), Box<dyn std::error::Error>> {
     }
     let ms = |d: Duration| d.as_secs_f64() * 1e3 / frames as f64;
     println!(
-        "{frames} frames of 1/60 s, one thread: simulating everyone fully {:.2} ms per frame; with simulation LOD, off-screen following and sleeping {:.2} ms per frame ({:.1} %); strand-steps advanced {:.1} %",
+        "{frames} frames of 1/60 s, {} thread(s): simulating everyone fully {:.2} ms per frame; with simulation LOD, off-screen following and sleeping {:.2} ms per frame ({:.1} %); strand-steps advanced {:.1} %",
+        executor.threads(),
         ms(t_full),
         ms(t_lean),
         100.0 * t_lean.as_secs_f64() / t_full.as_secs_f64().max(1e-12),

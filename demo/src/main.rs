@@ -3,12 +3,14 @@
 //! By default: the built-in sphere head with 2,048 grown guides and
 //! interpolated hair, three seconds of head motion (a turn and a nod),
 //! a bow's two silk ribbons swinging from the back of the head (cloth
-//! patches), `hair.png` (512 x 512) and a per-stage timing table. See
+//! patches), `hair.png` (512 x 512) and a per-stage timing table, the
+//! frame's tasks on one rayon pool of every core (`--threads`). See
 //! `--help`.
 
 mod crowd;
 
 use clap::Parser;
+use coif::base::tasks::{Executor, Serial};
 use coif::frame::{
     motion, FramePipeline, FrameSettings, FrameStats, HairScene, PrepareMode, ShadingModel,
     DEFAULT_SHADOW_THINNING,
@@ -109,6 +111,31 @@ struct Cli {
     /// following and sleeping, and the error per level.
     #[arg(long, value_name = "N")]
     crowd: Option<usize>,
+    /// Threads running the frame's parallel stages (the hair's and the
+    /// ribbons' simulation, the shadow-map build, the prepare pass, the
+    /// hair's tile rows; with --crowd, the characters): one rayon pool of
+    /// N threads, 0 = one per core; 1 = the calling thread only (no pool).
+    /// The picture has the same bytes at any thread count.
+    #[arg(long, default_value_t = 0, value_name = "N")]
+    threads: usize,
+}
+
+/// The executor of `--threads`: the calling thread for 1 (or without the
+/// `rayon` feature), else one rayon pool of that many threads (0 = one per
+/// core), built once.
+fn executor(threads: usize) -> Result<Box<dyn Executor>, Box<dyn std::error::Error>> {
+    if threads == 1 {
+        return Ok(Box::new(Serial));
+    }
+    #[cfg(feature = "rayon")]
+    {
+        Ok(Box::new(coif::base::tasks::Rayon::new(threads)?))
+    }
+    #[cfg(not(feature = "rayon"))]
+    {
+        eprintln!("coif: built without the rayon feature: --threads {threads} runs on one thread");
+        Ok(Box::new(Serial))
+    }
 }
 
 fn parse_prepare(s: &str) -> Result<PrepareMode, String> {
@@ -292,6 +319,7 @@ fn run_motion(
     cli: &Cli,
     pipeline: &mut FramePipeline,
     mut animation: Option<&mut Animation>,
+    executor: &dyn Executor,
 ) -> Result<Motion, Box<dyn std::error::Error>> {
     let frames = cli.frames.max(1);
     let dt = 1.0 / cli.fps.max(1.0);
@@ -306,7 +334,7 @@ fn run_motion(
         let wanted =
             animated || f + 1 == frames || (cli.sheet.is_some() && sheet_frames.contains(&f));
         if wanted || (cli.render_every > 0 && f % cli.render_every == 0) {
-            last = pipeline.frame(dt, pose);
+            last = pipeline.frame_with(dt, pose, executor);
             if cli.sheet.is_some() && sheet_frames.contains(&f) {
                 tiles.push(pipeline.image());
             }
@@ -314,7 +342,7 @@ fn run_motion(
                 a.push(pipeline)?;
             }
         } else {
-            pipeline.simulate(dt, pose);
+            pipeline.simulate_with(dt, pose, executor);
         }
     }
     Ok(Motion {
@@ -329,8 +357,9 @@ fn run_motion(
 }
 
 fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
+    let executor = executor(cli.threads)?;
     if let Some(n) = cli.crowd {
-        return crowd::run(n, cli.frames);
+        return crowd::run(n, cli.frames, executor.as_ref());
     }
     let (width, height) = cli.size.unwrap_or((cli.width, cli.height));
     let start = Instant::now();
@@ -372,8 +401,10 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         }
     );
     println!(
-        "setup (scene, settle 1.5 s, tables, buffers): {:.0} ms",
-        start.elapsed().as_secs_f64() * 1e3
+        "setup (scene, settle 1.5 s, tables, buffers): {:.0} ms; {} thread{}",
+        start.elapsed().as_secs_f64() * 1e3,
+        executor.threads(),
+        if executor.threads() == 1 { "" } else { "s" }
     );
 
     let mut animation = match &cli.animation {
@@ -394,7 +425,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         dt,
         total,
         animation_frames,
-    } = run_motion(&cli, &mut pipeline, animation.as_mut())?;
+    } = run_motion(&cli, &mut pipeline, animation.as_mut(), executor.as_ref())?;
     if let (Some(a), Some(path)) = (animation, &cli.animation) {
         a.writer
             .finish()

@@ -224,3 +224,48 @@ fn timings_csv_and_the_animation() {
         std::fs::read(&anim2).unwrap()
     );
 }
+
+#[test]
+fn every_thread_count_writes_the_same_bytes() {
+    let dir = out_dir();
+    let run = |threads: &str| {
+        let (image, animation) = (
+            dir.join(format!("threads_{threads}.png")),
+            dir.join(format!("threads_{threads}_anim.png")),
+        );
+        let out = Command::new(env!("CARGO_BIN_EXE_coif"))
+            .args(["--size", "80x64", "--frames", "4", "--density", "12"])
+            .args(["--render-every", "0", "--threads", threads, "--output"])
+            .arg(&image)
+            .arg("--animation")
+            .arg(&animation)
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+        assert!(
+            out.status.success(),
+            "--threads {threads}: {stdout}\n{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let bytes = (
+            std::fs::read(&image).unwrap(),
+            std::fs::read(&animation).unwrap(),
+        );
+        (bytes, stdout)
+    };
+    let (one, stdout) = run("1");
+    assert!(stdout.contains("; 1 thread\n"), "{stdout}");
+    assert_eq!(png_size(&dir.join("threads_1.png")), (80, 64));
+    for threads in ["2", "3"] {
+        let (other, stdout) = run(threads);
+        assert!(
+            stdout.contains(&format!("; {threads} threads\n")),
+            "{stdout}"
+        );
+        assert!(other.0 == one.0, "--threads {threads}: the PNG differs");
+        assert!(
+            other.1 == one.1,
+            "--threads {threads}: the animation differs"
+        );
+    }
+}

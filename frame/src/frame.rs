@@ -267,7 +267,12 @@ impl FramePipeline {
             PrepareMode::Fused => settings.shadow_thinning.max(1),
             PrepareMode::Reference => 1,
         };
-        let shadow = ShadowStage::new(&settings, capacity, thinning)?;
+        let shadow = ShadowStage::new(
+            &settings,
+            capacity,
+            thinning,
+            interpolation.hair_count().div_ceil(thinning),
+        )?;
         Ok(FramePipeline {
             rest_rig: scene.rig.clone(),
             rest_head: scene.head.clone(),
@@ -310,14 +315,20 @@ impl FramePipeline {
     }
 
     /// One frame: [`FramePipeline::simulate`], then [`FramePipeline::render`]
-    /// (tasks on the calling thread).
+    /// (every task on the calling thread: [`FramePipeline::frame_with`] on
+    /// [`Serial`]).
     pub fn frame(&mut self, frame_time: f32, head_pose: Affine3A) -> FrameStats {
         self.frame_with(frame_time, head_pose, &Serial)
     }
 
-    /// [`FramePipeline::frame`] with the prepare pass's independent tasks
-    /// (one per interpolation group) run by `executor`: the same bytes with
-    /// any executor.
+    /// [`FramePipeline::frame`] with every parallel stage's tasks run by
+    /// `executor` ([`FramePipeline::simulate_with`], then
+    /// [`FramePipeline::render_with`]): the guides' step, the ribbons'
+    /// patches, the shadow-map build, the prepare pass and the hair's tile
+    /// rows. Task counts come from the scene, never from the executor, and
+    /// every reduction runs in task order, so the frame has the same bytes
+    /// with any executor and any number of threads. The pipeline starts no
+    /// thread of its own: the caller's executor is the only one used.
     pub fn frame_with(
         &mut self,
         frame_time: f32,
@@ -325,7 +336,7 @@ impl FramePipeline {
         executor: &dyn Executor,
     ) -> FrameStats {
         let start = Instant::now();
-        self.simulate(frame_time, head_pose);
+        self.simulate_with(frame_time, head_pose, executor);
         self.render_with(executor);
         self.timings.record(Stage::Frame, start.elapsed());
         self.stats
@@ -335,7 +346,19 @@ impl FramePipeline {
     /// the fixed-step accumulator; each fixed step sees the head pose blended
     /// from the last frame's to `head_pose` (rigid, world space, applied to
     /// the scene at rest), with roots, rig and rest orientation following it.
+    /// Every task on the calling thread ([`FramePipeline::simulate_with`] on
+    /// [`Serial`]).
     pub fn simulate(&mut self, frame_time: f32, head_pose: Affine3A) {
+        self.simulate_with(frame_time, head_pose, &Serial);
+    }
+
+    /// [`FramePipeline::simulate`] with the guides' fixed steps
+    /// (`coif_kernels::step_with`, at most `MAX_STEP_TASKS` tasks of
+    /// blocks) and the ribbons' (`patch::step_all`, runs of patches) run by
+    /// `executor`; placing the head and roots, and the ribbons' skinning,
+    /// blending and normals, stay on the calling thread. The same bytes with
+    /// any executor.
+    pub fn simulate_with(&mut self, frame_time: f32, head_pose: Affine3A, executor: &dyn Executor) {
         let start = Instant::now();
         let head_pose = if head_pose.is_finite() {
             head_pose
@@ -353,12 +376,12 @@ impl FramePipeline {
             };
             self.place_head(&pose);
             if steps > 0 {
-                kernels::step(&mut self.strands, &self.params, &self.rig);
+                kernels::step_with(&mut self.strands, &self.params, &self.rig, executor);
             }
             let ribbon_start = Instant::now();
             self.ribbons.place(&pose);
             if steps > 0 {
-                self.ribbons.step();
+                self.ribbons.step(executor);
             }
             ribbon_time += ribbon_start.elapsed();
         }
@@ -395,8 +418,11 @@ impl FramePipeline {
         self.render_with(&Serial);
     }
 
-    /// [`FramePipeline::render`] with the prepare pass's tasks run by
-    /// `executor` (the same bytes with any executor).
+    /// [`FramePipeline::render`] with the parallel stages' tasks run by
+    /// `executor`: the shadow-map build, the prepare pass (one task per
+    /// drawn interpolation group) and the hair's rasterisation (tile rows).
+    /// LOD setup, head, ribbons and sort stay on the calling thread. The
+    /// same bytes with any executor.
     pub fn render_with(&mut self, executor: &dyn Executor) {
         self.prepare_with(executor);
         let origin = self.strands.origin().as_vec3();
@@ -407,7 +433,7 @@ impl FramePipeline {
             self.timed(Stage::RibbonDraw, |p| p.draw_ribbons(origin, &camera));
         }
         self.timed(Stage::Sort, |p| p.sort_hair(&camera));
-        self.timed(Stage::Hair, |p| p.draw_hair(&camera));
+        self.timed(Stage::Hair, |p| p.draw_hair(&camera, executor));
         self.timings.record(Stage::Raster, start.elapsed());
     }
 
@@ -422,7 +448,7 @@ impl FramePipeline {
         let start = Instant::now();
         match self.settings.prepare {
             PrepareMode::Fused => self.prepare_fused(eye, executor),
-            PrepareMode::Reference => self.prepare_reference(eye),
+            PrepareMode::Reference => self.prepare_reference(eye, executor),
         }
         self.timings.record(Stage::Prepare, start.elapsed());
     }
@@ -486,10 +512,10 @@ impl FramePipeline {
     /// The reference prepare: [`FramePipeline::level_of_detail`], the
     /// shadow map of every render vertex, the batch shading, then the
     /// shaded vertices.
-    fn prepare_reference(&mut self, eye: Vec3) {
+    fn prepare_reference(&mut self, eye: Vec3, executor: &dyn Executor) {
         self.timed(Stage::Lod, |p| p.level_of_detail());
         if self.shadow.enabled() {
-            self.timed(Stage::Shadow, |p| p.build_shadow_map());
+            self.timed(Stage::Shadow, |p| p.build_shadow_map(executor));
         }
         self.shade(eye);
     }
@@ -505,7 +531,7 @@ impl FramePipeline {
             p.list_drawn_groups(width_factor);
         });
         if self.shadow.enabled() {
-            self.timed(Stage::Shadow, |p| p.build_thinned_shadow_map());
+            self.timed(Stage::Shadow, |p| p.build_thinned_shadow_map(executor));
         }
         self.timed(Stage::Shade, |p| p.shade_fused(eye, executor));
     }
@@ -629,8 +655,9 @@ impl FramePipeline {
     /// Stage [`Stage::Shadow`] of the fused pass: the positions of every
     /// `shadow_thinning`-th drawn group's hairs (hair after hair, root
     /// first), then the map; its hair radius was widened as many times at
-    /// construction.
-    fn build_thinned_shadow_map(&mut self) {
+    /// construction. The gathering is serial; the build runs as tasks on
+    /// `executor` (`ShadowStage::build_from_points`).
+    fn build_thinned_shadow_map(&mut self, executor: &dyn Executor) {
         let k = self.settings.shadow_thinning.max(1);
         let r_len = self.guides.verts_per_strand();
         let points = self.shadow.points_mut();
@@ -654,7 +681,7 @@ impl FramePipeline {
             }
         }
         self.shadow
-            .build_from_points(self.settings.light.to_light, r_len);
+            .build_from_points(self.settings.light.to_light, r_len, executor);
     }
 
     /// Stage [`Stage::Shade`] of the fused pass: one task per drawn group
@@ -675,13 +702,14 @@ impl FramePipeline {
     }
 
     /// Stage [`Stage::Shadow`]: the opacity shadow map of the render hair
-    /// toward the light.
-    fn build_shadow_map(&mut self) {
+    /// toward the light, its tasks on `executor`.
+    fn build_shadow_map(&mut self, executor: &dyn Executor) {
         let verts_per_hair = self.verts_per_hair();
         self.shadow.build(
             self.settings.light.to_light,
             &self.vertices[..self.vertex_count],
             verts_per_hair,
+            executor,
         );
     }
 
@@ -800,8 +828,9 @@ impl FramePipeline {
     }
 
     /// Stage [`Stage::Hair`]: the hair's anti-aliased segments, blended in
-    /// the sorted order by the binned rasteriser (`coif_render::raster`).
-    fn draw_hair(&mut self, camera: &Camera) {
+    /// the sorted order by the binned rasteriser (`coif_render::raster`),
+    /// its tile rows as tasks on `executor`.
+    fn draw_hair(&mut self, camera: &Camera, executor: &dyn Executor) {
         let verts_per_hair = self.verts_per_hair();
         self.stats.segments = self.raster.draw(
             &mut self.framebuffer,
@@ -810,7 +839,7 @@ impl FramePipeline {
             verts_per_hair,
             &self.order,
             self.settings.hair_opacity,
-            &coif_base::tasks::Serial,
+            executor,
         );
     }
 
@@ -925,5 +954,12 @@ impl FramePipeline {
     /// Whether hair self-shadowing (the deep opacity map) is on.
     pub fn has_shadow_map(&self) -> bool {
         self.shadow.enabled()
+    }
+
+    /// Tasks of one shadow-map build (0 with shadows off): fixed at
+    /// construction from the most hairs the map is built from (one task
+    /// per 256, at most 8), never from an executor's thread count.
+    pub fn shadow_tasks(&self) -> usize {
+        self.shadow.tasks()
     }
 }

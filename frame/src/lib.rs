@@ -17,6 +17,12 @@
 //!           hair         anti-aliased segments blended in that order (coif_render)
 //! ```
 //!
+//! [`FramePipeline::frame_with`] runs the parallel stages (the guides' and
+//! ribbons' steps, the shadow-map build, the prepare pass, the hair's tile
+//! rows) as tasks on the caller's `coif_base::tasks::Executor`, with the
+//! same bytes on any executor; [`FramePipeline::frame`] runs them on the
+//! calling thread.
+//!
 //! [`HairScene`] builds what a frame draws: the built-in sphere head with
 //! grown guides, or a loaded groom (guides, scalp triangles from the roots'
 //! directions, rig). [`drape`] settles grown hair under gravity (the

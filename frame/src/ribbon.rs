@@ -31,6 +31,7 @@
 
 use super::shadow::ShadowStage;
 use super::{Error, HairScene, Light};
+use coif_base::tasks::{Executor, Serial};
 use coif_kernels::patch::{self, grid_normals, ribbon_on_sphere, Patch, Ribbon};
 use coif_kernels::{SimParams, Sphere};
 use coif_render::grid::draw_grid;
@@ -101,7 +102,6 @@ pub fn shade_silk(p: Vec3, n: Vec3, eye: Vec3, light: &Light, visible: f32) -> V
 
 /// One simulated ribbon and its per-frame buffers (sized once).
 struct RibbonState {
-    patch: Patch,
     rows: usize,
     cols: usize,
     /// Rest grid (world space at rest, head pose = identity).
@@ -126,6 +126,8 @@ pub const RIBBON_SWEEPS: u32 = 4;
 /// tied to the head, stepped with the hair's parameters (but
 /// [`RIBBON_SWEEPS`] sweeps).
 pub struct RibbonStage {
+    /// One cloth patch per ribbon (apart, for `patch::step_all`).
+    patches: Vec<Patch>,
     ribbons: Vec<RibbonState>,
     rest_rig: Vec<Sphere>,
     rig: Vec<Sphere>,
@@ -149,13 +151,14 @@ impl RibbonStage {
             })
             .collect();
         let mut ribbons = Vec::with_capacity(scene.ribbons.len());
+        let mut patches = Vec::with_capacity(scene.ribbons.len());
         for ribbon in &scene.ribbons {
             let mut patch = ribbon.patch()?;
             // Diagonals keep the silk from shearing into a parallelogram.
             patch.set_shear_stiffness(0.5)?;
             let n = ribbon.points.len();
+            patches.push(patch);
             ribbons.push(RibbonState {
-                patch,
                 rows: ribbon.rows,
                 cols: ribbon.cols,
                 rest: ribbon.points.clone(),
@@ -167,6 +170,7 @@ impl RibbonStage {
             });
         }
         let mut stage = RibbonStage {
+            patches,
             ribbons,
             rig: rest_rig.clone(),
             rest_rig,
@@ -176,7 +180,7 @@ impl RibbonStage {
             },
         };
         for _ in 0..settle_steps {
-            stage.step();
+            stage.step(&Serial);
         }
         stage.finish();
         Ok(stage)
@@ -198,28 +202,27 @@ impl RibbonStage {
         for (dst, s) in self.rig.iter_mut().zip(&self.rest_rig) {
             dst.center = pose.transform_point3(s.center);
         }
-        for r in &mut self.ribbons {
+        for (r, patch) in self.ribbons.iter_mut().zip(&mut self.patches) {
             for (dst, p) in r.skinned.iter_mut().zip(&r.rest) {
                 *dst = pose.transform_point3(*p);
             }
             // Finite by construction (finite rest grid, pose checked by
             // the caller); a refused skin keeps the previous one.
-            let _ = r.patch.set_skinned(&r.skinned);
+            let _ = patch.set_skinned(&r.skinned);
         }
     }
 
-    /// One fixed step of every ribbon (SIMD `patch::step`).
-    pub fn step(&mut self) {
-        for r in &mut self.ribbons {
-            patch::step(&mut r.patch, &self.params, &self.rig);
-        }
+    /// One fixed step of every ribbon (SIMD `patch::step_all`: runs of
+    /// patches as tasks on `executor`; the same bytes on any executor).
+    pub fn step(&mut self, executor: &dyn Executor) {
+        patch::step_all(&mut self.patches, &self.params, &self.rig, executor);
     }
 
     /// Blended positions and their normals, after the substeps of a frame.
     pub fn finish(&mut self) {
-        for r in &mut self.ribbons {
+        for (r, patch) in self.ribbons.iter_mut().zip(&self.patches) {
             // Counts match by construction.
-            let _ = r.patch.write_blended(&mut r.blended);
+            let _ = patch.write_blended(&mut r.blended);
             let _ = grid_normals(&r.blended, r.rows, r.cols, &mut r.normals);
         }
     }

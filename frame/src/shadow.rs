@@ -18,8 +18,9 @@
 //! (3 mm over the built-in head) soften them to faint smudges.
 
 use super::{Error, FrameSettings};
+use coif_base::tasks::Executor;
 use coif_lod::RenderVertex;
-use coif_shading::shadow::{OpacityShadowMap, ShadowSettings};
+use coif_shading::shadow::{BuildScratch, OpacityShadowMap, ShadowSettings};
 use glam::Vec3;
 
 /// Texels per side of the shadow map.
@@ -28,9 +29,28 @@ pub const SHADOW_RESOLUTION: usize = 128;
 /// Opacity of the shadow map per hair crossing (`k` in `alpha = 1 - exp(-k)`).
 pub const SHADOW_DENSITY: f32 = 0.5;
 
-/// Owns the shadow map and its point buffer (sized once).
+/// Most tasks of one shadow-map build (and partial maps in its scratch).
+pub const MAX_SHADOW_TASKS: usize = 8;
+
+/// Strands (hairs in the map) per task of the shadow-map build, at least:
+/// below this a task's work is no longer worth its partial map (a
+/// 128 x 128 map to clear and to add in the reduction, about 0.02 ms).
+pub const SHADOW_STRANDS_PER_TASK: usize = 256;
+
+/// How many tasks build a shadow map from at most `strands` strands:
+/// `clamp(strands / SHADOW_STRANDS_PER_TASK, 1, MAX_SHADOW_TASKS)`. The
+/// count depends on the scene alone, never on the thread count, so the map
+/// has the same bytes on every executor
+/// (`OpacityShadowMap::build_tasks` sums the partial maps in task order).
+pub fn shadow_tasks(strands: usize) -> usize {
+    (strands / SHADOW_STRANDS_PER_TASK).clamp(1, MAX_SHADOW_TASKS)
+}
+
+/// Owns the shadow map, its point buffer and the build's partial maps (all
+/// sized once).
 pub struct ShadowStage {
     map: Option<OpacityShadowMap>,
+    scratch: Option<BuildScratch>,
     points: Vec<Vec3>,
 }
 
@@ -41,30 +61,42 @@ impl ShadowStage {
     /// real-to-render density ratio), times `thinning` when the map is
     /// built from every `thinning`-th hair only (each stands for that many:
     /// the shadow area a segment deposits, `2 r |d_xy|`, grows by the same
-    /// factor, so the expected opacity per texel is kept).
+    /// factor, so the expected opacity per texel is kept). The build runs
+    /// as [`shadow_tasks`]`(strands)` tasks, `strands` being the most hairs
+    /// the map is built from.
     pub fn new(
         settings: &FrameSettings,
         capacity: usize,
         thinning: usize,
+        strands: usize,
     ) -> Result<ShadowStage, Error> {
         if !settings.shadows {
             return Ok(ShadowStage {
                 map: None,
+                scratch: None,
                 points: Vec::new(),
             });
         }
         let ratio = settings.real_hairs_per_cm2 / settings.render_hairs_per_cm2;
-        let map = OpacityShadowMap::new(ShadowSettings {
+        let shadow_settings = ShadowSettings {
             density: SHADOW_DENSITY,
             hair_radius: (0.5 * settings.hair_width.root * ratio * thinning.max(1) as f32)
                 .max(1e-6),
             resolution: SHADOW_RESOLUTION,
             ..ShadowSettings::deep()
-        })?;
+        };
+        let scratch = BuildScratch::new(&shadow_settings, shadow_tasks(strands))?;
+        let map = OpacityShadowMap::new(shadow_settings)?;
         Ok(ShadowStage {
             map: Some(map),
+            scratch: Some(scratch),
             points: Vec::with_capacity(capacity),
         })
+    }
+
+    /// Tasks per build (0 without a map).
+    pub fn tasks(&self) -> usize {
+        self.scratch.as_ref().map_or(0, BuildScratch::tasks)
     }
 
     /// Whether there is a map (self-shadowing on).
@@ -73,14 +105,23 @@ impl ShadowStage {
     }
 
     /// Rebuilds the map for a light toward `to_light` from the hair
-    /// polylines of `vertices` (`verts_per_strand` each).
-    pub fn build(&mut self, to_light: Vec3, vertices: &[RenderVertex], verts_per_strand: usize) {
-        let Some(map) = &mut self.map else { return };
+    /// polylines of `vertices` (`verts_per_strand` each), its tasks on
+    /// `executor`.
+    pub fn build(
+        &mut self,
+        to_light: Vec3,
+        vertices: &[RenderVertex],
+        verts_per_strand: usize,
+        executor: &dyn Executor,
+    ) {
+        if self.map.is_none() {
+            return;
+        }
         self.points.clear();
         let room = self.points.capacity();
         self.points
             .extend(vertices.iter().take(room).map(|v| Vec3::from(v.position)));
-        map.build(-to_light, &self.points, verts_per_strand);
+        self.build_from_points(to_light, verts_per_strand, executor);
     }
 
     /// The point buffer, for callers that fill it themselves before
@@ -91,10 +132,18 @@ impl ShadowStage {
         &mut self.points
     }
 
-    /// Rebuilds the map from the point buffer (`verts_per_strand` each).
-    pub fn build_from_points(&mut self, to_light: Vec3, verts_per_strand: usize) {
-        if let Some(map) = &mut self.map {
-            map.build(-to_light, &self.points, verts_per_strand);
+    /// Rebuilds the map from the point buffer (`verts_per_strand` each):
+    /// `OpacityShadowMap::build_tasks`, [`ShadowStage::tasks`] tasks on
+    /// `executor` (contiguous runs of strands, partial maps reduced in task
+    /// order on the calling thread).
+    pub fn build_from_points(
+        &mut self,
+        to_light: Vec3,
+        verts_per_strand: usize,
+        executor: &dyn Executor,
+    ) {
+        if let (Some(map), Some(scratch)) = (&mut self.map, &mut self.scratch) {
+            map.build_tasks(executor, scratch, -to_light, &self.points, verts_per_strand);
         }
     }
 

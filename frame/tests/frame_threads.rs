@@ -1,0 +1,140 @@
+//! The whole frame on threads: every parallel stage (the guides' step, the
+//! ribbons' patches, the shadow-map build, the prepare pass, the hair's
+//! tile rows) gives the same bytes on the serial executor, on rayon pools
+//! of 1, 2, 3 and 8 threads and on an engine-style executor that runs the
+//! tasks backwards on two threads: the PNG, the simulated positions, the
+//! ribbons, the shaded vertices and the shadow map.
+
+mod common;
+
+use coif_base::tasks::{Executor, Serial};
+use coif_frame::{motion, FramePipeline, FrameSettings, PrepareMode};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// An engine's job system as coif sees it: the indices handed out
+/// backwards, odd ones to one worker and even ones to another, and the
+/// number of `run` calls counted.
+struct Backwards {
+    runs: AtomicUsize,
+}
+
+// SAFETY: each index runs once, on one of two scoped threads joined
+// before `run` returns.
+unsafe impl Executor for Backwards {
+    fn threads(&self) -> usize {
+        2
+    }
+
+    fn run(&self, count: usize, task: &(dyn Fn(usize) + Sync)) {
+        self.runs.fetch_add(1, Ordering::Relaxed);
+        std::thread::scope(|s| {
+            for parity in 0..2 {
+                s.spawn(move || {
+                    for i in (0..count).rev().filter(|i| i % 2 == parity) {
+                        task(i);
+                    }
+                });
+            }
+        });
+    }
+}
+
+/// What one run of the frames produced, as bits.
+#[derive(PartialEq, Debug)]
+struct Frames {
+    png: Vec<u8>,
+    positions: Vec<[u32; 3]>,
+    ribbons: Vec<[u32; 3]>,
+    shaded: Vec<u32>,
+    shadow: Vec<u32>,
+}
+
+fn bits(v: glam::Vec3) -> [u32; 3] {
+    v.to_array().map(f32::to_bits)
+}
+
+/// Three frames of the turning head (0, 2 and 4 substeps) on `executor`.
+fn run(prepare: PrepareMode, executor: &dyn Executor) -> Frames {
+    let settings = FrameSettings {
+        prepare,
+        render_hairs_per_cm2: 20.0,
+        ..FrameSettings::small(96)
+    };
+    let mut p = FramePipeline::new(&common::small_hair_scene(), settings, 0.05).unwrap();
+    assert!(
+        p.shadow_tasks() >= 2,
+        "the shadow build is split ({} tasks)",
+        p.shadow_tasks()
+    );
+    assert_eq!(p.ribbons().len(), 2, "two patches to step as tasks");
+    let pivot = p.pivot();
+    for (f, dt) in [0.01f32, 1.0 / 30.0, 1.0 / 15.0].into_iter().enumerate() {
+        p.frame_with(dt, motion::turn_and_nod(0.4 * f as f32, pivot), executor);
+    }
+    let path = std::env::temp_dir().join(format!(
+        "coif_frame_threads_{}_{:?}.png",
+        std::process::id(),
+        std::thread::current().id()
+    ));
+    p.image().save_png(&path).unwrap();
+    let png = std::fs::read(&path).unwrap();
+    let _ = std::fs::remove_file(&path);
+    let map = p.shadow_map().expect("shadows are on");
+    let (n, layers) = (map.settings().resolution, map.settings().layers);
+    let shadow = (0..n * n * layers)
+        .map(|k| {
+            map.stored_opacity(k % n, (k / n) % n, k / (n * n))
+                .to_bits()
+        })
+        .collect();
+    let shaded = p
+        .shaded_vertices()
+        .iter()
+        .flat_map(|v| {
+            v.position
+                .into_iter()
+                .chain(v.color)
+                .chain([v.width, v.strand_parameter])
+        })
+        .map(f32::to_bits)
+        .collect();
+    Frames {
+        png,
+        positions: p.strands().positions().into_iter().map(bits).collect(),
+        ribbons: (0..p.ribbons().len())
+            .flat_map(|i| p.ribbons().blended(i).iter().copied().map(bits))
+            .collect(),
+        shaded,
+        shadow,
+    }
+}
+
+#[test]
+fn every_executor_gives_the_same_bytes() {
+    for prepare in [PrepareMode::Fused, PrepareMode::Reference] {
+        let serial = run(prepare, &Serial);
+        assert!(
+            serial.shadow.iter().any(|&b| f32::from_bits(b) > 0.1),
+            "{prepare:?}: the map holds hair"
+        );
+        assert!(!serial.shaded.is_empty(), "{prepare:?}: hair was drawn");
+        let backwards = Backwards {
+            runs: AtomicUsize::new(0),
+        };
+        let b = run(prepare, &backwards);
+        // Per frame at least: 1-4 steps, shadow depth and deposit, prepare
+        // (fused), tile rows; 3 frames.
+        assert!(
+            backwards.runs.load(Ordering::Relaxed) >= 9,
+            "{prepare:?}: the stages ran on the executor ({} runs)",
+            backwards.runs.load(Ordering::Relaxed)
+        );
+        assert!(b == serial, "{prepare:?}: backwards on two threads differs");
+        #[cfg(feature = "rayon")]
+        for threads in [1, 2, 3, 8] {
+            let pool = coif_base::tasks::Rayon::new(threads).unwrap();
+            let r = run(prepare, &pool);
+            assert!(r == serial, "{prepare:?}: rayon {threads} differs");
+        }
+    }
+}
