@@ -35,8 +35,13 @@ pub const DEEP_SPAN: f32 = 0.5;
 /// number of `k` in `1..L` with `q >= k^2`: the same integer, since a
 /// correctly rounded square root is monotonic and exact at the perfect
 /// squares `k^2` (so `sqrt q >= k` exactly when `q >= k^2`; tested next to
-/// every `k^2`). A vector square root costs more than three compares.
+/// every `k^2`). A vector square root costs more than three compares. The
+/// fraction's `/ (2 i + 1)` is then a multiply by
+/// [`ODD_RECIPROCALS`]`[i]` (within one rounding of the division).
 pub const FEW: usize = 4;
+
+/// `1 / (2 i + 1)` for the intervals `i < FEW`, rounded to `f32`.
+pub const ODD_RECIPROCALS: [f32; FEW] = [1.0, 1.0 / 3.0, 1.0 / 5.0, 1.0 / 7.0];
 
 /// How a texel's planes are spaced; see the module documentation.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -74,23 +79,24 @@ impl Layering {
     /// to [0, 1]. `x` must not be NaN.
     ///
     /// Even: `c = x L / depth`, `i = floor(c)`, `f = c - i`. Quadratic:
-    /// `q = x L^2 / depth`, `i = floor(sqrt q)` (by comparisons up to
-    /// [`FEW`] layers), `f = (q - i^2) / (2 i + 1)`.
+    /// `q = x L^2 / depth`, `i = floor(sqrt q)`, `f = (q - i^2) / (2 i + 1)`
+    /// (up to [`FEW`] layers by comparisons and a reciprocal table).
     #[inline(always)]
     pub fn locate(&self, x: f32) -> (usize, f32) {
         let last = (self.count - 1) as f32;
         let q = x.max(0.0) * self.scale;
         if self.quadratic {
-            let i = if self.count <= FEW {
-                // floor(sqrt q) clamped, by comparisons (see `FEW`).
+            if self.count <= FEW {
+                // floor(sqrt q) clamped, by comparisons, and 1 / (2 i + 1)
+                // from a table (see `FEW`).
                 let mut i = 0.0;
                 for k in 1..self.count {
                     i += (q >= (k * k) as f32) as u32 as f32;
                 }
-                i
-            } else {
-                q.sqrt().floor().min(last)
-            };
+                let f = ((q - i * i) * ODD_RECIPROCALS[i as usize]).min(1.0);
+                return (i as usize, f);
+            }
+            let i = q.sqrt().floor().min(last);
             let f = ((q - i * i) / (2.0 * i + 1.0)).min(1.0);
             (i as usize, f)
         } else {
@@ -118,6 +124,7 @@ impl Layering {
     }
 
     /// [`Layering::interval_x8`] as `f32` lanes (exact small integers).
+    /// `x` must not be NaN.
     #[inline(always)]
     pub fn interval_f32x8(&self, x: f32x8) -> f32x8 {
         let last = f32x8::splat((self.count - 1) as f32);
@@ -158,7 +165,11 @@ mod tests {
                         let x = q / ly.scale;
                         let q = x * ly.scale;
                         let want = q.sqrt().floor().min(last) as usize;
-                        assert_eq!(ly.locate(x).0, want, "L {count} q {q}");
+                        let (i, f) = ly.locate(x);
+                        assert_eq!(i, want, "L {count} q {q}");
+                        let i = i as f32;
+                        let divided = ((q - i * i) / (2.0 * i + 1.0)).min(1.0);
+                        assert!((f - divided).abs() <= f32::EPSILON, "L {count} q {q}");
                         let lanes = ly.interval_x8(f32x8::splat(x));
                         assert_eq!(lanes, [want; LANES], "L {count} q {q}");
                     }

@@ -15,6 +15,7 @@
 //! 3. Bilinear blend of the four, `T = exp(-alpha sigma)`.
 
 use super::gather::gather;
+use super::layers::{FEW, ODD_RECIPROCALS};
 use super::map::OpacityShadowMap;
 use super::settings::ShadowMode;
 use coif_base::{Vec3x8, LANES};
@@ -136,7 +137,19 @@ impl OpacityShadowMap {
         let one = f32x8::ONE;
         let q = x.max(f32x8::ZERO) * f32x8::splat(ly.scale);
         let i = ly.interval_f32x8(x);
-        let f = if ly.quadratic {
+        let f = if ly.quadratic && ly.count <= FEW {
+            // The scalar's table entry `1 / (2 i + 1)`, by selects.
+            let r = ODD_RECIPROCALS;
+            let is = |k: f32| i.simd_eq(f32x8::splat(k));
+            let recip = is(0.0).select(
+                f32x8::splat(r[0]),
+                is(1.0).select(
+                    f32x8::splat(r[1]),
+                    is(2.0).select(f32x8::splat(r[2]), f32x8::splat(r[3])),
+                ),
+            );
+            ((q - i * i) * recip).min(one)
+        } else if ly.quadratic {
             ((q - i * i) / (f32x8::splat(2.0) * i + one)).min(one)
         } else {
             (q - i).min(one)
