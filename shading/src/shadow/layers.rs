@@ -124,11 +124,12 @@ impl Layering {
     }
 
     /// [`Layering::interval_x8`] as `f32` lanes (exact small integers).
-    /// `x` must not be NaN.
+    /// `x` must not be NaN (a NaN lane gives some index in `0..L`:
+    /// `fast_max(x, 0)` returns 0 for it).
     #[inline(always)]
     pub fn interval_f32x8(&self, x: f32x8) -> f32x8 {
         let last = f32x8::splat((self.count - 1) as f32);
-        let q = x.max(f32x8::ZERO) * f32x8::splat(self.scale);
+        let q = x.fast_max(f32x8::ZERO) * f32x8::splat(self.scale);
         if self.quadratic && self.count <= FEW {
             // The scalar's comparisons, in the same order.
             let mut i = f32x8::ZERO;
@@ -138,7 +139,7 @@ impl Layering {
             i
         } else {
             let i = if self.quadratic { q.sqrt() } else { q };
-            i.floor().min(last)
+            i.floor().fast_min(last)
         }
     }
 }

@@ -83,7 +83,7 @@ impl OpacityShadowMap {
         let inside = |a: f32x8| a.simd_ge(f32x8::ZERO) & a.simd_le(last);
         // Clamped into [0, n - 1] (NaN-free: finite lanes only), so the
         // truncation is exact; corner indices below n^2 <= 2^26 in i32.
-        let clamp = |a: f32x8| a.max(f32x8::ZERO).min(last).fast_trunc_int();
+        let clamp = |a: f32x8| a.fast_max(f32x8::ZERO).fast_min(last).fast_trunc_int();
         let (fu1, fv1) = (fu + one, fv + one);
         let (in_x, in_x1, in_y, in_y1) = (inside(fu), inside(fu1), inside(fv), inside(fv1));
         let valid = [in_x & in_y, in_x1 & in_y, in_x & in_y1, in_x1 & in_y1];
@@ -130,12 +130,15 @@ impl OpacityShadowMap {
     }
 
     /// [`super::layers::Layering::locate`] on eight depths: interval
-    /// indices (as `i32` and as `f32`) and fractions.
+    /// indices (as `i32` and as `f32`) and fractions. `fast_max` /
+    /// `fast_min` (one instruction; equal to the scalar's `max` / `min` on
+    /// the finite values here: non-finite points were replaced by the
+    /// origin in step 1).
     #[inline(always)]
     fn locate_x8(&self, x: f32x8) -> (i32x8, f32x8, f32x8) {
         let ly = &self.layering;
         let one = f32x8::ONE;
-        let q = x.max(f32x8::ZERO) * f32x8::splat(ly.scale);
+        let q = x.fast_max(f32x8::ZERO) * f32x8::splat(ly.scale);
         let i = ly.interval_f32x8(x);
         let f = if ly.quadratic && ly.count <= FEW {
             // The scalar's table entry `1 / (2 i + 1)`, by selects.
@@ -148,11 +151,11 @@ impl OpacityShadowMap {
                     is(2.0).select(f32x8::splat(r[2]), f32x8::splat(r[3])),
                 ),
             );
-            ((q - i * i) * recip).min(one)
+            ((q - i * i) * recip).fast_min(one)
         } else if ly.quadratic {
-            ((q - i * i) / (f32x8::splat(2.0) * i + one)).min(one)
+            ((q - i * i) / (f32x8::splat(2.0) * i + one)).fast_min(one)
         } else {
-            (q - i).min(one)
+            (q - i).fast_min(one)
         };
         // In [0, L - 1]: exact in i32.
         (i.fast_trunc_int(), i, f)
