@@ -30,6 +30,19 @@ use wide::{f32x8, i32x8};
 /// The share of the hair's depth range that deep mode's layers span.
 pub const DEEP_SPAN: f32 = 0.5;
 
+/// Up to this many quadratic layers (deep maps use 3) the interval index
+/// `min(floor(sqrt q), L - 1)` is found without a square root, as the
+/// number of `k` in `1..L` with `q >= k^2`: the same integer, since a
+/// correctly rounded square root is monotonic and exact at the perfect
+/// squares `k^2` (so `sqrt q >= k` exactly when `q >= k^2`; tested next to
+/// every `k^2`). A vector square root costs more than three compares. The
+/// fraction's `/ (2 i + 1)` is then a multiply by
+/// [`ODD_RECIPROCALS`]`[i]` (within one rounding of the division).
+pub const FEW: usize = 4;
+
+/// `1 / (2 i + 1)` for the intervals `i < FEW`, rounded to `f32`.
+pub const ODD_RECIPROCALS: [f32; FEW] = [1.0, 1.0 / 3.0, 1.0 / 5.0, 1.0 / 7.0];
+
 /// How a texel's planes are spaced; see the module documentation.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Layering {
@@ -66,12 +79,23 @@ impl Layering {
     /// to [0, 1]. `x` must not be NaN.
     ///
     /// Even: `c = x L / depth`, `i = floor(c)`, `f = c - i`. Quadratic:
-    /// `q = x L^2 / depth`, `i = floor(sqrt q)`, `f = (q - i^2) / (2 i + 1)`.
+    /// `q = x L^2 / depth`, `i = floor(sqrt q)`, `f = (q - i^2) / (2 i + 1)`
+    /// (up to [`FEW`] layers by comparisons and a reciprocal table).
     #[inline(always)]
     pub fn locate(&self, x: f32) -> (usize, f32) {
         let last = (self.count - 1) as f32;
         let q = x.max(0.0) * self.scale;
         if self.quadratic {
+            if self.count <= FEW {
+                // floor(sqrt q) clamped, by comparisons, and 1 / (2 i + 1)
+                // from a table (see `FEW`).
+                let mut i = 0.0;
+                for k in 1..self.count {
+                    i += (q >= (k * k) as f32) as u32 as f32;
+                }
+                let f = ((q - i * i) * ODD_RECIPROCALS[i as usize]).min(1.0);
+                return (i as usize, f);
+            }
             let i = q.sqrt().floor().min(last);
             let f = ((q - i * i) / (2.0 * i + 1.0)).min(1.0);
             (i as usize, f)
@@ -83,8 +107,9 @@ impl Layering {
     }
 
     /// The interval index of [`Layering::locate`] on eight depths, with the
-    /// same operations in the same order (`max`, multiply, `sqrt`, `floor`,
-    /// `min`: each correctly rounded, so every lane equals the scalar index).
+    /// same operations in the same order (`max`, multiply, then `sqrt`,
+    /// `floor`, `min`, or the comparisons up to [`FEW`] quadratic layers:
+    /// each correctly rounded, so every lane equals the scalar index).
     /// `x` must not be NaN.
     #[inline(always)]
     pub fn interval_x8(&self, x: f32x8) -> [usize; LANES] {
@@ -95,9 +120,64 @@ impl Layering {
     /// SIMD registers).
     #[inline(always)]
     pub fn interval_i32x8(&self, x: f32x8) -> i32x8 {
+        self.interval_f32x8(x).fast_trunc_int()
+    }
+
+    /// [`Layering::interval_x8`] as `f32` lanes (exact small integers).
+    /// `x` must not be NaN (a NaN lane gives some index in `0..L`:
+    /// `fast_max(x, 0)` returns 0 for it).
+    #[inline(always)]
+    pub fn interval_f32x8(&self, x: f32x8) -> f32x8 {
         let last = f32x8::splat((self.count - 1) as f32);
-        let q = x.max(f32x8::ZERO) * f32x8::splat(self.scale);
-        let i = if self.quadratic { q.sqrt() } else { q };
-        i.floor().min(last).fast_trunc_int()
+        let q = x.fast_max(f32x8::ZERO) * f32x8::splat(self.scale);
+        if self.quadratic && self.count <= FEW {
+            // The scalar's comparisons, in the same order.
+            let mut i = f32x8::ZERO;
+            for k in 1..self.count {
+                i += q.simd_ge(f32x8::splat((k * k) as f32)) & f32x8::ONE;
+            }
+            i
+        } else {
+            let i = if self.quadratic { q.sqrt() } else { q };
+            i.floor().fast_min(last)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The comparisons give `min(floor(sqrt q), L - 1)` next to every
+    /// perfect square they test (a thousand floats either side of `k^2`),
+    /// and the eight-lane index equals the scalar one.
+    #[test]
+    fn few_layer_index_equals_the_square_root_floor() {
+        for count in 1..=FEW {
+            let ly = Layering::quadratic(count, count as f32);
+            assert_eq!(ly.scale, count as f32, "q = x * L here");
+            let last = (count - 1) as f32;
+            for k in 1..=count + 1 {
+                let square = (k * k) as f32;
+                let mut below = square;
+                let mut above = square;
+                for _ in 0..1000 {
+                    for q in [below, above] {
+                        let x = q / ly.scale;
+                        let q = x * ly.scale;
+                        let want = q.sqrt().floor().min(last) as usize;
+                        let (i, f) = ly.locate(x);
+                        assert_eq!(i, want, "L {count} q {q}");
+                        let i = i as f32;
+                        let divided = ((q - i * i) / (2.0 * i + 1.0)).min(1.0);
+                        assert!((f - divided).abs() <= f32::EPSILON, "L {count} q {q}");
+                        let lanes = ly.interval_x8(f32x8::splat(x));
+                        assert_eq!(lanes, [want; LANES], "L {count} q {q}");
+                    }
+                    below = f32::from_bits(below.to_bits() - 1);
+                    above = f32::from_bits(above.to_bits() + 1);
+                }
+            }
+        }
     }
 }

@@ -1,8 +1,12 @@
 //! The SIMD batch lookup: eight points per step in `f32x8` lanes, the same
 //! arithmetic in the same order as the one-point
 //! [`OpacityShadowMap::transmittance`] (which `shadow/scalar/lookup.rs`
-//! runs per point), with the texel reads done lane by lane (manual
-//! gathers). Steps, in both:
+//! runs per point). Texel reads: with up to four layers (one RGBA group,
+//! the frame's deep map) each lane loads its corners' 16-byte texels as
+//! rows, transposed into one vector per plane, and picks its two planes by
+//! selects; with more layers, gathers at flat indices computed in `i32`
+//! lanes; the first depth (deep mode) is gathered (`shadow/gather.rs`).
+//! Steps, in both:
 //!
 //! 1. Light-space coordinates, texel coordinates, the four corner texels
 //!    and the bilinear fractions.
@@ -10,6 +14,8 @@
 //!    the texel's planes (0 outside the map).
 //! 3. Bilinear blend of the four, `T = exp(-alpha sigma)`.
 
+use super::gather::gather;
+use super::layers::{FEW, ODD_RECIPROCALS};
 use super::map::OpacityShadowMap;
 use super::settings::ShadowMode;
 use coif_base::{Vec3x8, LANES};
@@ -77,31 +83,44 @@ impl OpacityShadowMap {
         let inside = |a: f32x8| a.simd_ge(f32x8::ZERO) & a.simd_le(last);
         // Clamped into [0, n - 1] (NaN-free: finite lanes only), so the
         // truncation is exact; corner indices below n^2 <= 2^26 in i32.
-        let clamp = |a: f32x8| a.max(f32x8::ZERO).min(last).fast_trunc_int();
+        let clamp = |a: f32x8| a.fast_max(f32x8::ZERO).fast_min(last).fast_trunc_int();
         let (fu1, fv1) = (fu + one, fv + one);
         let (in_x, in_x1, in_y, in_y1) = (inside(fu), inside(fu1), inside(fv), inside(fv1));
         let valid = [in_x & in_y, in_x1 & in_y, in_x & in_y1, in_x1 & in_y1];
         let row = i32x8::splat(self.settings.resolution as i32);
         let (cx, cx1, cy, cy1) = (clamp(fu), clamp(fu1), clamp(fv) * row, clamp(fv1) * row);
-        let corner = [cy + cx, cy + cx1, cy1 + cx, cy1 + cx1].map(|c| c.to_array());
+        let corner = [cy + cx, cy + cx1, cy1 + cx, cy1 + cx1];
 
-        // 2. Opacity in front of the depth in each corner.
+        // 2. Opacity in front of the depth in each corner. With one group
+        // of four planes (up to four layers, the frame's deep map) a corner's
+        // planes are one 16-byte texel: two corners' texels per lane are
+        // loaded as one row and transposed into plane vectors, then each
+        // lane picks its pair by its interval. More planes: two gathers.
+        let one_group = self.settings.layers <= 4;
+        let planes = if one_group {
+            let ct = corner.map(|c| c.to_array());
+            let [a, b] = [(0, 1), (2, 3)].map(|(c, d)| self.texel_planes_x8(&ct[c], &ct[d]));
+            [a, b]
+        } else {
+            [[f32x8::ZERO; 8]; 2]
+        };
         let mut sigma = [f32x8::ZERO; 4];
-        match self.settings.mode {
-            ShadowMode::Slices => {
-                let (s, frac) = self.locate_x8(lz - f32x8::splat(pl.near));
-                for (c, out) in sigma.iter_mut().enumerate() {
-                    *out = valid[c].select(self.corner_sigma_x8(&corner[c], &s, frac), f32x8::ZERO);
-                }
-            }
-            ShadowMode::Deep => {
-                for (c, out) in sigma.iter_mut().enumerate() {
-                    let base: [f32; LANES] =
-                        std::array::from_fn(|l| self.first_depth[corner[c][l] as usize]);
-                    let (s, frac) = self.locate_x8(lz - f32x8::new(base));
-                    *out = valid[c].select(self.corner_sigma_x8(&corner[c], &s, frac), f32x8::ZERO);
-                }
-            }
+        for (c, out) in sigma.iter_mut().enumerate() {
+            let base = match self.settings.mode {
+                ShadowMode::Slices => f32x8::splat(pl.near),
+                ShadowMode::Deep => gather(&self.first_depth, corner[c]),
+            };
+            let (s, i, frac) = self.locate_x8(lz - base);
+            let first = i.simd_eq(f32x8::ZERO);
+            let (prev, next) = if one_group {
+                let p = &planes[c / 2][4 * (c % 2)..4 * (c % 2) + 4];
+                pick_pair(p, i)
+            } else if self.flat_fits() {
+                self.plane_pair_x8(corner[c], s, first)
+            } else {
+                self.plane_pair_lanes(corner[c], s)
+            };
+            *out = valid[c].select(prev + frac * (next - prev), f32x8::ZERO);
         }
         // 3. Bilinear blend and exponential.
         let s = (sigma[0] * (one - fx) + sigma[1] * fx) * (one - fy)
@@ -110,41 +129,99 @@ impl OpacityShadowMap {
         finite.select(t, one)
     }
 
-    /// [`super::layers::Layering::locate`] on eight depths: interval indices
-    /// and fractions.
+    /// [`super::layers::Layering::locate`] on eight depths: interval
+    /// indices (as `i32` and as `f32`) and fractions. `fast_max` /
+    /// `fast_min` (one instruction; equal to the scalar's `max` / `min` on
+    /// the finite values here: non-finite points were replaced by the
+    /// origin in step 1).
     #[inline(always)]
-    fn locate_x8(&self, x: f32x8) -> ([i32; LANES], f32x8) {
+    fn locate_x8(&self, x: f32x8) -> (i32x8, f32x8, f32x8) {
         let ly = &self.layering;
-        let last = f32x8::splat((ly.count - 1) as f32);
         let one = f32x8::ONE;
-        let q = x.max(f32x8::ZERO) * f32x8::splat(ly.scale);
-        let (i, f) = if ly.quadratic {
-            let i = q.sqrt().floor().min(last);
-            let f = ((q - i * i) / (f32x8::splat(2.0) * i + one)).min(one);
-            (i, f)
+        let q = x.fast_max(f32x8::ZERO) * f32x8::splat(ly.scale);
+        let i = ly.interval_f32x8(x);
+        let f = if ly.quadratic && ly.count <= FEW {
+            // The scalar's table entry `1 / (2 i + 1)`, by selects.
+            let r = ODD_RECIPROCALS;
+            let is = |k: f32| i.simd_eq(f32x8::splat(k));
+            let recip = is(0.0).select(
+                f32x8::splat(r[0]),
+                is(1.0).select(
+                    f32x8::splat(r[1]),
+                    is(2.0).select(f32x8::splat(r[2]), f32x8::splat(r[3])),
+                ),
+            );
+            ((q - i * i) * recip).fast_min(one)
+        } else if ly.quadratic {
+            ((q - i * i) / (f32x8::splat(2.0) * i + one)).fast_min(one)
         } else {
-            let i = q.floor().min(last);
-            (i, (q - i).min(one))
+            (q - i).fast_min(one)
         };
         // In [0, L - 1]: exact in i32.
-        (i.fast_trunc_int().to_array(), f)
+        (i.fast_trunc_int(), i, f)
     }
 
-    /// Opacity in front of each lane's depth in one corner texel per lane:
-    /// gathers `S[s - 1], S[s]` (`S[-1] = 0`) and interpolates with `frac`.
+    /// The four planes of texel `a[l]` and of texel `b[l]` per lane (one
+    /// group of planes): rows `[texel a, texel b]` per lane, transposed, so
+    /// that `[0..4]` are planes 0 to 3 of the `a` texels and `[4..8]` those
+    /// of the `b` texels. Texel indices are in the map (clamped corners).
     #[inline(always)]
-    fn corner_sigma_x8(&self, texel: &[i32; LANES], s: &[i32; LANES], frac: f32x8) -> f32x8 {
-        let nn = self.settings.resolution * self.settings.resolution;
-        let mut prev = [0.0f32; LANES];
-        let mut next = [0.0f32; LANES];
-        for l in 0..LANES {
-            let (t, s) = (texel[l] as usize, s[l] as usize);
-            next[l] = self.texels[(s >> 2) * nn + t][s & 3];
-            let p = s.saturating_sub(1);
-            let below = self.texels[(p >> 2) * nn + t][p & 3];
-            prev[l] = if s == 0 { 0.0 } else { below };
-        }
-        let (prev, next) = (f32x8::new(prev), f32x8::new(next));
-        prev + frac * (next - prev)
+    fn texel_planes_x8(&self, a: &[i32; LANES], b: &[i32; LANES]) -> [f32x8; 8] {
+        let rows = std::array::from_fn(|l| {
+            let (x, y) = (self.texels[a[l] as usize], self.texels[b[l] as usize]);
+            f32x8::new([x[0], x[1], x[2], x[3], y[0], y[1], y[2], y[3]])
+        });
+        f32x8::transpose(rows)
     }
+
+    /// Whether every flat float index into the map, `(s / 4) 4 n^2 + 4 t +
+    /// s % 4`, fits in an `i32` lane (every map up to 2^29 texels).
+    #[inline(always)]
+    fn flat_fits(&self) -> bool {
+        self.texels.len() <= (i32::MAX as usize) / 4
+    }
+
+    /// The stored opacities `(S[s - 1], S[s])` (`S[-1] = 0`, the lanes of
+    /// `first`) of one texel per lane: two gathers from the flat map at
+    /// `(s / 4) 4 n^2 + 4 t + s % 4` and the same for `s - 1`.
+    #[inline(always)]
+    fn plane_pair_x8(&self, texel: i32x8, s: i32x8, first: f32x8) -> (f32x8, f32x8) {
+        let nn = self.settings.resolution * self.settings.resolution;
+        let nn4 = i32x8::splat((4 * nn) as i32);
+        let three = i32x8::splat(3);
+        let t4 = texel << 2;
+        let flat_index = |s: i32x8| {
+            let group: i32x8 = s >> 2;
+            group * nn4 + t4 + (s & three)
+        };
+        let flat = self.texels.as_flattened();
+        let next = gather(flat, flat_index(s));
+        let below = gather(flat, flat_index((s - i32x8::ONE).max(i32x8::ZERO)));
+        (first.select(f32x8::ZERO, below), next)
+    }
+
+    /// [`OpacityShadowMap::plane_pair`] lane by lane (maps too large for
+    /// `i32` flat indices).
+    #[inline(always)]
+    fn plane_pair_lanes(&self, texel: i32x8, s: i32x8) -> (f32x8, f32x8) {
+        let (texel, s) = (texel.to_array(), s.to_array());
+        let pairs: [(f32, f32); LANES] =
+            std::array::from_fn(|l| self.plane_pair(texel[l] as usize, s[l] as usize));
+        (
+            f32x8::new(pairs.map(|p| p.0)),
+            f32x8::new(pairs.map(|p| p.1)),
+        )
+    }
+}
+
+/// The pair `(S[i - 1], S[i])` (`S[-1] = 0`) from one texel's four planes
+/// `p` per lane, by the lane's interval `i` (an exact small integer in
+/// `0..4`): selects, no memory access.
+#[inline(always)]
+fn pick_pair(p: &[f32x8], i: f32x8) -> (f32x8, f32x8) {
+    let is = |k: f32| i.simd_eq(f32x8::splat(k));
+    let (i0, i1, i2) = (is(0.0), is(1.0), is(2.0));
+    let next = i0.select(p[0], i1.select(p[1], i2.select(p[2], p[3])));
+    let prev = i0.select(f32x8::ZERO, i1.select(p[0], i2.select(p[1], p[2])));
+    (prev, next)
 }

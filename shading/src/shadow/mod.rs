@@ -30,6 +30,7 @@
 mod build;
 pub use build::BuildScratch;
 mod exact;
+mod gather;
 pub mod layers;
 pub mod light_frame;
 mod lookup;
