@@ -53,6 +53,10 @@ use coif_base::tasks::{for_each_chunk_mut, Executor};
 use glam::Vec3;
 use wide::f32x8;
 
+/// Vertices projected per task (a multiple of eight lanes): enough work per
+/// task (about 0.1 ms) that a job system's cost per task stays small.
+const PROJECT_CHUNK: usize = 16_384;
+
 /// Tile side in pixels: a tile's colour and depth (4 x 32 x 32 floats,
 /// 16 KiB) stay in L1 while its segments are drawn. 32 was the fastest of
 /// 16, 32 and 64 on the default scene (`render/README.md`).
@@ -228,15 +232,21 @@ impl HairRaster {
             return 0;
         }
         let n = job.vertices.len().min(self.screen.len());
-        // 1. Project every vertex once.
+        // 1. Project every vertex once (the SIMD path in tasks of
+        // PROJECT_CHUNK vertices: each vertex's projection depends on it
+        // alone, so the split changes no bit).
         if simd {
-            let chunks = self.screen[..n]
-                .chunks_mut(8)
-                .zip(job.vertices[..n].chunks(8));
-            for (dst, v) in chunks {
-                let p = project_x8(job.camera, v);
-                dst.copy_from_slice(&p[..dst.len()]);
-            }
+            let vertices = &job.vertices[..n];
+            for_each_chunk_mut(executor, &mut self.screen[..n], PROJECT_CHUNK, &|t, out| {
+                let (start, len) = (t * PROJECT_CHUNK, out.len());
+                let chunks = out
+                    .chunks_mut(8)
+                    .zip(vertices[start..start + len].chunks(8));
+                for (dst, v) in chunks {
+                    let p = project_x8(job.camera, v);
+                    dst.copy_from_slice(&p[..dst.len()]);
+                }
+            });
         } else {
             for (dst, v) in self.screen[..n].iter_mut().zip(&job.vertices[..n]) {
                 *dst = project(job.camera, v);
