@@ -234,6 +234,7 @@ fn prepare(c: &mut Criterion) {
 /// parallel: the guides' step, the shadow build (its gathering of the
 /// thinned hairs and its reduction of the partial maps included), the
 /// prepare tasks, the hair's tile rows.
+#[cfg_attr(not(feature = "rayon"), allow(dead_code))]
 fn serial_split(p: &FramePipeline) -> (f64, f64) {
     let t = p.timings();
     let ms = |s: Stage| t.mean(s).as_secs_f64() * 1e3;
