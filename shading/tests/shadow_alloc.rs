@@ -4,7 +4,6 @@
 
 mod common;
 
-use coif_base::SplitMix64;
 use coif_shading::shadow::{OpacityShadowMap, ShadowMode, ShadowSettings};
 use coif_testkit::counting::allocations;
 use glam::Vec3;
@@ -12,39 +11,11 @@ use glam::Vec3;
 #[global_allocator]
 static GLOBAL: coif_testkit::counting::Counting = coif_testkit::counting::Counting;
 
-fn curly_hair(strands: usize, verts: usize, seed: u64) -> Vec<Vec3> {
-    let mut rng = SplitMix64::new(seed);
-    let mut pts = Vec::with_capacity(strands * verts);
-    for _ in 0..strands {
-        let mut p = rng.unit_vector() * 0.1;
-        let d = rng.unit_vector();
-        for _ in 0..verts {
-            pts.push(p);
-            p += (d + rng.unit_vector() * 0.4).normalize() * 0.01;
-        }
-    }
-    pts
-}
-
-fn snapshot(map: &OpacityShadowMap) -> Vec<u32> {
-    let s = map.settings();
-    let n = s.resolution;
-    let mut v = Vec::with_capacity(n * n * s.layers);
-    for y in 0..n {
-        for x in 0..n {
-            for l in 0..s.layers {
-                v.push(map.stored_opacity(x, y, l).to_bits());
-            }
-        }
-    }
-    v
-}
-
 #[test]
 fn build_and_lookups_allocate_nothing_and_rebuilds_are_deterministic() {
-    let hair = curly_hair(400, 16, 1);
-    let other = curly_hair(300, 16, 2);
-    let queries = curly_hair(50, 16, 3);
+    let hair = common::curly_hair(400, 16, 1, 0.4);
+    let other = common::curly_hair(300, 16, 2, 0.4);
+    let queries = common::curly_hair(50, 16, 3, 0.4);
     let mut out = vec![0.0; queries.len()];
     let light = Vec3::new(0.2, -1.0, 0.1);
     for mode in [ShadowMode::Slices, ShadowMode::Deep] {
@@ -57,7 +28,7 @@ fn build_and_lookups_allocate_nothing_and_rebuilds_are_deterministic() {
         })
         .unwrap();
         map.build(light, &hair, 16);
-        let first = snapshot(&map);
+        let first = common::stored_bits(&map);
         assert!(first.iter().any(|b| f32::from_bits(*b) > 0.1));
 
         let before = allocations();
@@ -76,7 +47,10 @@ fn build_and_lookups_allocate_nothing_and_rebuilds_are_deterministic() {
         assert!((0.0..=1.0).contains(&t));
 
         // The counter does see allocations (the snapshot makes one).
-        assert!(snapshot(&map) == first, "{mode:?}: rebuild differs");
+        assert!(
+            common::stored_bits(&map) == first,
+            "{mode:?}: rebuild differs"
+        );
         assert!(allocations() > after);
 
         // The scalar build allocates nothing either.

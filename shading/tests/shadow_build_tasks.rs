@@ -4,8 +4,9 @@
 //! up to the grouping of the float sums; scratch for other settings gives
 //! no map instead of a panic.
 
+mod common;
+
 use coif_base::tasks::{Executor, Serial};
-use coif_base::SplitMix64;
 use coif_shading::shadow::{BuildScratch, OpacityShadowMap, ShadowMode, ShadowSettings};
 use glam::Vec3;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -50,37 +51,10 @@ unsafe impl Executor for Threads {
     }
 }
 
-fn hair(strands: usize, verts: usize) -> Vec<Vec3> {
-    let mut rng = SplitMix64::new(11);
-    let mut pts = Vec::with_capacity(strands * verts);
-    for _ in 0..strands {
-        let mut p = rng.unit_vector() * 0.1;
-        let d = rng.unit_vector();
-        for _ in 0..verts {
-            pts.push(p);
-            p += (d + rng.unit_vector() * 0.5).normalize() * 0.01;
-        }
-    }
-    pts
-}
-
-fn stored(map: &OpacityShadowMap) -> Vec<u32> {
-    let s = map.settings();
-    let mut out = Vec::new();
-    for y in 0..s.resolution {
-        for x in 0..s.resolution {
-            for l in 0..s.layers {
-                out.push(map.stored_opacity(x, y, l).to_bits());
-            }
-        }
-    }
-    out
-}
-
 #[test]
 fn task_builds_have_the_same_bytes_on_any_executor() {
     let (verts, light) = (16, Vec3::new(1.0, -0.5, 0.3));
-    let mut pts = hair(301, verts);
+    let mut pts = common::curly_hair(301, verts, 11, 0.5);
     pts[40] = Vec3::NAN;
     for settings in [
         ShadowSettings {
@@ -96,13 +70,17 @@ fn task_builds_have_the_same_bytes_on_any_executor() {
     ] {
         let mut single = OpacityShadowMap::new(settings.clone()).unwrap();
         single.build(light, &pts, verts);
-        let reference = stored(&single);
+        let reference = common::stored_bits(&single);
         assert!(reference.iter().filter(|b| **b != 0).count() > 1000);
 
         let mut one = BuildScratch::new(&settings, 1).unwrap();
         let mut map = OpacityShadowMap::new(settings.clone()).unwrap();
         map.build_tasks(&Serial, &mut one, light, &pts, verts);
-        assert_eq!(stored(&map), reference, "one task is build, bit for bit");
+        assert_eq!(
+            common::stored_bits(&map),
+            reference,
+            "one task is build, bit for bit"
+        );
 
         let mut scratch = BuildScratch::new(&settings, 7).unwrap();
         let executors: [&dyn Executor; 3] = [&Serial, &Reverse, &Threads];
@@ -110,7 +88,7 @@ fn task_builds_have_the_same_bytes_on_any_executor() {
         for e in executors {
             let mut m = OpacityShadowMap::new(settings.clone()).unwrap();
             m.build_tasks(e, &mut scratch, light, &pts, verts);
-            maps.push(stored(&m));
+            maps.push(common::stored_bits(&m));
             let p = pts[200];
             assert!((m.transmittance(p) - single.transmittance(p)).abs() < 1e-5);
         }
@@ -135,7 +113,13 @@ fn scratch_for_other_settings_gives_no_map() {
     };
     let mut scratch = BuildScratch::new(&other, 2).unwrap();
     let mut map = OpacityShadowMap::new(settings).unwrap();
-    map.build_tasks(&Serial, &mut scratch, Vec3::NEG_Z, &hair(20, 8), 8);
+    map.build_tasks(
+        &Serial,
+        &mut scratch,
+        Vec3::NEG_Z,
+        &common::curly_hair(20, 8, 11, 0.5),
+        8,
+    );
     assert!(!map.is_ready());
     assert_eq!(map.transmittance(Vec3::ZERO), 1.0);
     assert!(BuildScratch::new(&ShadowSettings { layers: 0, ..other }, 2).is_err());

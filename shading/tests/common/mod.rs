@@ -1,6 +1,8 @@
 //! Dev-only fixtures of the coif-shading tests.
 #![allow(dead_code)]
 
+use coif_base::SplitMix64;
+use coif_shading::shadow::OpacityShadowMap;
 use glam::Vec3;
 
 /// A unit direction at longitudinal angle `theta` from the normal plane of
@@ -11,4 +13,37 @@ pub fn fibre_direction(theta: f32, phi: f32) -> Vec3 {
         theta.cos() * phi.cos(),
         theta.cos() * phi.sin(),
     )
+}
+
+/// `strands` random curly strands of `verts` vertices, 1 cm segments,
+/// roots within 10 cm of the origin: each segment is the strand's
+/// direction plus `wander` times a random unit vector, renormalised.
+pub fn curly_hair(strands: usize, verts: usize, seed: u64, wander: f32) -> Vec<Vec3> {
+    let mut rng = SplitMix64::new(seed);
+    let mut pts = Vec::with_capacity(strands * verts);
+    for _ in 0..strands {
+        let mut p = rng.unit_vector() * 0.1;
+        let d = rng.unit_vector();
+        for _ in 0..verts {
+            pts.push(p);
+            p += (d + rng.unit_vector() * wander).normalize() * 0.01;
+        }
+    }
+    pts
+}
+
+/// Every stored texel of `map` as bits (row by row, layer innermost), for
+/// bit-for-bit comparisons.
+pub fn stored_bits(map: &OpacityShadowMap) -> Vec<u32> {
+    let s = map.settings();
+    let n = s.resolution;
+    let mut v = Vec::with_capacity(n * n * s.layers);
+    for y in 0..n {
+        for x in 0..n {
+            for l in 0..s.layers {
+                v.push(map.stored_opacity(x, y, l).to_bits());
+            }
+        }
+    }
+    v
 }
