@@ -44,6 +44,7 @@
 //! by the caller; an executor never sees a dependency.
 
 use std::ffi::c_void;
+use std::marker::PhantomData;
 use std::panic::{catch_unwind, resume_unwind, AssertUnwindSafe};
 use std::sync::Mutex;
 
@@ -124,6 +125,65 @@ pub fn for_each_chunk_mut<T: Send>(
         let chunk = unsafe { std::slice::from_raw_parts_mut(base.get().add(start), n) };
         f(i, chunk);
     });
+}
+
+/// A mutable slice that a stage's tasks write in disjoint parts: how one
+/// task gets parts of several output arrays (for one array,
+/// [`for_each_chunk_mut`] does it safely), or writes scattered elements
+/// whose disjointness the stage guarantees (a prefix sum of counts, as in
+/// a binning pass).
+pub struct DisjointMut<'a, T> {
+    base: SendPtr<T>,
+    len: usize,
+    _borrow: PhantomData<&'a mut [T]>,
+}
+
+impl<'a, T: Send> DisjointMut<'a, T> {
+    /// Borrows `data` mutably for as long as the view lives.
+    pub fn new(data: &'a mut [T]) -> DisjointMut<'a, T> {
+        DisjointMut {
+            base: SendPtr(data.as_mut_ptr()),
+            len: data.len(),
+            _borrow: PhantomData,
+        }
+    }
+
+    /// Number of elements.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether the slice is empty.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Elements `start..start + len`; panics when they are out of bounds.
+    ///
+    /// # Safety
+    ///
+    /// While the returned slice lives, no other call of [`DisjointMut::range`]
+    /// or [`DisjointMut::set`] on this view may touch any of its elements,
+    /// on any thread.
+    #[allow(clippy::mut_from_ref)]
+    pub unsafe fn range(&self, start: usize, len: usize) -> &mut [T] {
+        assert!(start <= self.len && len <= self.len - start);
+        // SAFETY: in bounds (asserted); exclusive by the caller's promise.
+        unsafe { std::slice::from_raw_parts_mut(self.base.get().add(start), len) }
+    }
+
+    /// Writes `value` at `i` (the old value is dropped); panics when `i` is
+    /// out of bounds.
+    ///
+    /// # Safety
+    ///
+    /// No other thread reads or writes element `i` at the same time, and no
+    /// slice from [`DisjointMut::range`] that holds it is alive.
+    pub unsafe fn set(&self, i: usize, value: T) {
+        assert!(i < self.len);
+        // SAFETY: in bounds (asserted); exclusive by the caller's promise.
+        unsafe { *self.base.get().add(i) = value };
+    }
 }
 
 /// A C task: runs task `index` of the stage whose context is `task_ctx`.
@@ -294,6 +354,35 @@ mod tests {
             calls.fetch_add(1, Ordering::Relaxed);
         });
         assert_eq!(calls.load(Ordering::Relaxed), 37);
+        // Two arrays written in the same disjoint ranges, and one scattered
+        // write per element (a permutation: disjoint by construction).
+        let (mut a, mut b, mut c) = (vec![0u32; 1001], vec![0u16; 1001], vec![0usize; 1001]);
+        let (da, db, dc) = (
+            DisjointMut::new(&mut a),
+            DisjointMut::new(&mut b),
+            DisjointMut::new(&mut c),
+        );
+        assert_eq!((da.len(), dc.is_empty()), (1001, false));
+        executor.run(1001usize.div_ceil(64), &|i| {
+            let (start, len) = (i * 64, 64.min(1001 - i * 64));
+            // SAFETY: task i alone touches [start, start + len) of a and b,
+            // and element 10 k mod 1001 of c for k in that range (10 is
+            // prime to 1001 = 7 x 11 x 13, so those elements are distinct).
+            let (ra, rb) = unsafe { (da.range(start, len), db.range(start, len)) };
+            for j in 0..len {
+                let k = start + j;
+                ra[j] = 2 * k as u32;
+                rb[j] = k as u16;
+                // SAFETY: as above.
+                unsafe { dc.set(k * 10 % 1001, k) };
+            }
+        });
+        for k in 0..1001 {
+            assert_eq!(
+                (a[k], b[k] as usize, c[k * 10 % 1001]),
+                (2 * k as u32, k, k)
+            );
+        }
     }
 
     #[test]
@@ -332,7 +421,7 @@ mod tests {
         // SAFETY: the callback keeps the promise; `runs` outlives `exec`.
         let exec = unsafe { Callback::new(two_threads_backwards, ctx, 2) };
         run_all(&exec);
-        assert_eq!(runs.load(Ordering::Relaxed), 2, "one C call per run");
+        assert_eq!(runs.load(Ordering::Relaxed), 3, "one C call per run");
         assert_eq!(exec.threads(), 2);
     }
 

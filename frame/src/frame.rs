@@ -12,7 +12,7 @@ use coif_lod::{
     self as lod, level, HairWidth, Interpolation, RefinedGuides, RenderHairs, RenderVertex,
     Visibility,
 };
-use coif_render::head::{draw_spheres, occluded, HeadShading};
+use coif_render::head::{draw_spheres_with, occluded, HeadShading};
 use coif_render::raster::HairRaster;
 use coif_render::sort::DepthOrder;
 use coif_render::{Camera, Framebuffer, RgbImage, ShadedVertex};
@@ -420,15 +420,16 @@ impl FramePipeline {
 
     /// [`FramePipeline::render`] with the parallel stages' tasks run by
     /// `executor`: the shadow-map build, the prepare pass (one task per
-    /// drawn interpolation group) and the hair's rasterisation (tile rows).
-    /// LOD setup, head, ribbons and sort stay on the calling thread. The
-    /// same bytes with any executor.
+    /// drawn interpolation group), the head's ray-cast (bands of rows) and
+    /// the hair's rasterisation (projection, binning and tile rows). LOD
+    /// setup, ribbons and sort stay on the calling thread. The same bytes
+    /// with any executor.
     pub fn render_with(&mut self, executor: &dyn Executor) {
         self.prepare_with(executor);
         let origin = self.strands.origin().as_vec3();
         let camera = self.camera.shifted(origin);
         let start = Instant::now();
-        self.timed(Stage::Head, |p| p.draw_head(&camera));
+        self.timed(Stage::Head, |p| p.draw_head(&camera, executor));
         if !self.ribbons.is_empty() {
             self.timed(Stage::RibbonDraw, |p| p.draw_ribbons(origin, &camera));
         }
@@ -790,7 +791,7 @@ impl FramePipeline {
 
     /// Stage [`Stage::Head`]: the background gradient and the ray-cast head,
     /// shadowed by the hair.
-    fn draw_head(&mut self, camera: &Camera) {
+    fn draw_head(&mut self, camera: &Camera, executor: &dyn Executor) {
         let light = self.settings.light;
         self.framebuffer.clear_gradient(BACKGROUND.0, BACKGROUND.1);
         let head_shading = HeadShading {
@@ -800,12 +801,13 @@ impl FramePipeline {
             ambient: light.ambient,
         };
         let shadow = &self.shadow;
-        self.stats.head_pixels = draw_spheres(
+        self.stats.head_pixels = draw_spheres_with(
             &mut self.framebuffer,
             camera,
             &self.head_local,
             &head_shading,
-            |p| shadow.transmittance_at(p),
+            &|p| shadow.transmittance_at(p),
+            executor,
         );
     }
 

@@ -6,8 +6,10 @@
 //! light's transmittance at the hit point (hair shadow; 1 without shadows).
 
 use super::{Camera, Framebuffer, Pixel};
+use coif_base::tasks::{for_each_chunk_mut, Executor, Serial};
 use coif_base::Sphere;
 use glam::Vec3;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// How the head is lit.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -105,47 +107,75 @@ pub fn screen_bounds(
 /// the hit's view depth; `transmittance(p)` gives the light's visibility at
 /// hit point `p` (hair shadow), and other spheres' shadows are added by
 /// [`occluded`]. Only the pixels inside [`screen_bounds`] are cast.
-/// Returns the number of pixels covered.
+/// Returns the number of pixels covered. On the calling thread; see
+/// [`draw_spheres_with`] for tasks.
 pub fn draw_spheres(
     frame: &mut Framebuffer,
     camera: &Camera,
     spheres: &[Sphere],
     shading: &HeadShading,
-    mut transmittance: impl FnMut(Vec3) -> f32,
+    transmittance: impl Fn(Vec3) -> f32 + Sync,
+) -> usize {
+    draw_spheres_with(frame, camera, spheres, shading, &transmittance, &Serial)
+}
+
+/// Rows of pixels a task of [`draw_spheres_with`] casts.
+const HEAD_ROWS: usize = 16;
+
+/// [`draw_spheres`] with bands of 16 rows as tasks on
+/// `executor`: every pixel's ray depends on that pixel alone, so the bytes
+/// are the same with any number of threads.
+pub fn draw_spheres_with(
+    frame: &mut Framebuffer,
+    camera: &Camera,
+    spheres: &[Sphere],
+    shading: &HeadShading,
+    transmittance: &(dyn Fn(Vec3) -> f32 + Sync),
+    executor: &dyn Executor,
 ) -> usize {
     let eye = camera.eye();
     let forward = camera.forward();
-    let mut covered = 0;
-    let [x0, x1, y0, y1] = screen_bounds(camera, spheres, frame.width(), frame.height());
-    for y in y0..y1 {
-        for x in x0..x1 {
-            let dir = camera.ray_direction(x as f32 + 0.5, y as f32 + 0.5);
-            let mut best: Option<(f32, usize)> = None;
-            for (k, s) in spheres.iter().enumerate() {
-                if let Some(t) = ray_sphere(eye, dir, s) {
-                    if best.is_none_or(|(bt, _)| t < bt) {
-                        best = Some((t, k));
+    let width = frame.width();
+    let [x0, x1, y0, y1] = screen_bounds(camera, spheres, width, frame.height());
+    if x0 >= x1 || y0 >= y1 {
+        return 0;
+    }
+    let covered = AtomicUsize::new(0);
+    let rows = &mut frame.pixels[y0 * width..y1 * width];
+    for_each_chunk_mut(executor, rows, HEAD_ROWS * width, &|band_index, band| {
+        let mut here = 0;
+        for (r, row) in band.chunks_mut(width).enumerate() {
+            let y = y0 + band_index * HEAD_ROWS + r;
+            for (x, pixel) in row.iter_mut().enumerate().take(x1).skip(x0) {
+                let dir = camera.ray_direction(x as f32 + 0.5, y as f32 + 0.5);
+                let mut best: Option<(f32, usize)> = None;
+                for (k, s) in spheres.iter().enumerate() {
+                    if let Some(t) = ray_sphere(eye, dir, s) {
+                        if best.is_none_or(|(bt, _)| t < bt) {
+                            best = Some((t, k));
+                        }
                     }
                 }
+                let Some((t, k)) = best else { continue };
+                let p = eye + dir * t;
+                let n = (p - spheres[k].center) / spheres[k].radius;
+                let lambert = n.dot(shading.to_light).max(0.0);
+                let lit =
+                    if lambert > 0.0 && !occluded(p + n * 1e-4, shading.to_light, spheres, 1e-3) {
+                        lambert * transmittance(p).clamp(0.0, 1.0)
+                    } else {
+                        0.0
+                    };
+                *pixel = Pixel {
+                    color: shading.albedo * (shading.ambient + shading.light * lit),
+                    depth: t * dir.dot(forward),
+                };
+                here += 1;
             }
-            let Some((t, k)) = best else { continue };
-            let p = eye + dir * t;
-            let n = (p - spheres[k].center) / spheres[k].radius;
-            let lambert = n.dot(shading.to_light).max(0.0);
-            let lit = if lambert > 0.0 && !occluded(p + n * 1e-4, shading.to_light, spheres, 1e-3) {
-                lambert * transmittance(p).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let i = frame.index(x, y);
-            frame.pixels[i] = Pixel {
-                color: shading.albedo * (shading.ambient + shading.light * lit),
-                depth: t * dir.dot(forward),
-            };
-            covered += 1;
         }
-    }
-    covered
+        covered.fetch_add(here, Ordering::Relaxed);
+    });
+    covered.into_inner()
 }
 
 #[cfg(test)]

@@ -31,9 +31,14 @@
 //!    [`Segment::pixel`] (eight pixels per `f32x8` here, one at a time in
 //!    [`crate::scalar::draw`]), and the tile is copied back.
 //!
-//! Each row of tiles is an independent task on the caller's
-//! [`Executor`]: it writes only its own rows of the frame, so the bytes do
-//! not depend on the thread count. The bins are sized once
+//! Every step runs as tasks on the caller's [`Executor`], and none of them
+//! changes a bit with the number of tasks: projection in chunks of
+//! vertices; the tile ranges in chunks of strands; counting and filling in
+//! consecutive runs of the sorted strands, one row of per-tile counts per
+//! task, whose prefix sum goes tile by tile and within a tile task by task,
+//! so the lists are exactly those of one pass in order
+//! (`HairRaster::bin_in_tasks`); rasterisation by rows of tiles, each
+//! writing only its own rows of the frame. The bins are sized once
 //! ([`HairRaster::with_bin_capacity`]); when a frame's segments touch more
 //! tiles than they hold, steps 2 to 5 run over consecutive runs of the
 //! ordered segments (batches), each drawn completely before the next:
@@ -49,13 +54,24 @@ use super::hair::NEAR;
 use super::line::{blend, ScreenVertex, Segment};
 use super::sort::DepthOrder;
 use super::{Camera, Framebuffer, Pixel, ShadedVertex};
-use coif_base::tasks::{for_each_chunk_mut, Executor};
+use coif_base::tasks::{for_each_chunk_mut, DisjointMut, Executor};
 use glam::Vec3;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use wide::f32x8;
 
 /// Vertices projected per task (a multiple of eight lanes): enough work per
 /// task (about 0.1 ms) that a job system's cost per task stays small.
 const PROJECT_CHUNK: usize = 16_384;
+
+/// Most tasks a stage of the rasteriser makes (the task API's promise to
+/// job systems with fixed-size pools).
+const MAX_TASKS: usize = 64;
+
+/// Most tasks binning makes: each has a row of per-tile counts, sized once.
+const MAX_BIN_TASKS: usize = 16;
+
+/// Fewest strands a tile-range or binning task takes.
+const MIN_TASK_STRANDS: usize = 64;
 
 /// Tile side in pixels: a tile's colour and depth (4 x 32 x 32 floats,
 /// 16 KiB) stay in L1 while its segments are drawn. 32 was the fastest of
@@ -119,8 +135,11 @@ pub struct HairRaster {
     rects: Vec<[u16; 4]>,
     /// Per tile: the start of its list in `bins` (tiles + 1 entries).
     starts: Vec<u32>,
-    /// Per tile: the next free slot while filling.
+    /// Per tile: the next free slot while filling (batched path).
     cursor: Vec<u32>,
+    /// Per binning task, a row of `2 tiles + 1`: the task's count per tile,
+    /// then its next and end slots per tile, and its total in the last slot.
+    task_bins: Vec<u32>,
     /// The tile lists, tile after tile: first vertex index of each segment.
     bins: Vec<u32>,
     stats: RasterStats,
@@ -159,6 +178,7 @@ impl HairRaster {
             rects: vec![[0; 4]; vertex_capacity],
             starts: vec![0; tiles + 1],
             cursor: vec![0; tiles],
+            task_bins: vec![0; MAX_BIN_TASKS * (2 * tiles + 1)],
             bins: vec![0; bin_capacity],
             stats: RasterStats::default(),
         })
@@ -232,34 +252,26 @@ impl HairRaster {
             return 0;
         }
         let n = job.vertices.len().min(self.screen.len());
-        // 1. Project every vertex once (the SIMD path in tasks of
-        // PROJECT_CHUNK vertices: each vertex's projection depends on it
-        // alone, so the split changes no bit).
-        if simd {
-            let vertices = &job.vertices[..n];
-            for_each_chunk_mut(executor, &mut self.screen[..n], PROJECT_CHUNK, &|t, out| {
-                let (start, len) = (t * PROJECT_CHUNK, out.len());
-                let chunks = out
-                    .chunks_mut(8)
-                    .zip(vertices[start..start + len].chunks(8));
-                for (dst, v) in chunks {
-                    let p = project_x8(job.camera, v);
-                    dst.copy_from_slice(&p[..dst.len()]);
-                }
-            });
-        } else {
-            for (dst, v) in self.screen[..n].iter_mut().zip(&job.vertices[..n]) {
-                *dst = project(job.camera, v);
-            }
+        // 1. Project every vertex once.
+        self.project(job, n, executor, simd);
+        // 2a. Every segment's tile range.
+        self.stats.segments = self.segment_rects(job, n, executor, simd);
+        if job.order.is_empty() {
+            return 0;
         }
-        let [px, py, pd, pw] = &mut self.planes;
-        for (k, v) in self.screen[..n].iter().enumerate() {
-            (px[k], py[k], pd[k], pw[k]) = (v.x, v.y, v.depth, v.width_px);
+        // 2b-4. Count, prefix sum and fill in tasks over the order, when
+        // the lists hold the whole frame.
+        if self.bin_in_tasks(job.order, vps, n, executor) {
+            // 5. Rasterise tile by tile, a row of tiles per task.
+            self.rasterise(frame, job.opacity, executor, tile);
+            self.stats.entries = self.starts[self.cursor.len()] as usize;
+            self.stats.batches = 1;
+            return self.stats.segments;
         }
         let mut from = (0, 0);
         while from.0 < job.order.len() {
-            // 2. Count, in order, until the bins would overflow.
-            let to = self.count(job.order, vps, n, from, simd);
+            // 2b. Count, in order, until the bins would overflow.
+            let to = self.count(job.order, vps, n, from);
             // 3. Prefix sum.
             let mut sum = 0u32;
             for (start, count) in self.starts.iter_mut().zip(&mut self.cursor) {
@@ -279,59 +291,219 @@ impl HairRaster {
         self.stats.segments
     }
 
-    /// Step 2: computes the tile range of the segments from position
-    /// `from` (order index, segment in strand) on, counting them per tile
-    /// in `cursor`, until the next would not fit in the bins; returns where
-    /// it stopped.
+    /// Step 1: `screen[k]` for every vertex `k < n`, and in the SIMD path
+    /// the planes of `x`, `y`, depth and width that step 2a loads eight at
+    /// a time. The SIMD path runs in tasks of at least [`PROJECT_CHUNK`]
+    /// vertices (each vertex's projection depends on it alone, so the split
+    /// changes no bit); the scalar twin projects one vertex at a time.
+    fn project(&mut self, job: &Job<'_>, n: usize, executor: &dyn Executor, simd: bool) {
+        if !simd {
+            for (dst, v) in self.screen[..n].iter_mut().zip(&job.vertices[..n]) {
+                *dst = project(job.camera, v);
+            }
+            return;
+        }
+        let chunk = PROJECT_CHUNK.max(n.div_ceil(MAX_TASKS).next_multiple_of(8));
+        let vertices = &job.vertices[..n];
+        let planes = self
+            .planes
+            .each_mut()
+            .map(|p| DisjointMut::new(&mut p[..n]));
+        for_each_chunk_mut(executor, &mut self.screen[..n], chunk, &|t, out| {
+            let (start, len) = (t * chunk, out.len());
+            // SAFETY: task t alone writes vertices [start, start + len) of
+            // the planes, as it alone holds that chunk of `screen`.
+            let [px, py, pd, pw] = planes.each_ref().map(|p| unsafe { p.range(start, len) });
+            let chunks = out.chunks_mut(8).zip(vertices[start..].chunks(8));
+            for (c, (dst, v)) in chunks.enumerate() {
+                let p = project_x8(job.camera, v);
+                dst.copy_from_slice(&p[..dst.len()]);
+                for (l, v) in dst.iter().enumerate() {
+                    let k = 8 * c + l;
+                    (px[k], py[k], pd[k], pw[k]) = (v.x, v.y, v.depth, v.width_px);
+                }
+            }
+        });
+    }
+
+    /// Step 2a: `rects[k]` of every segment `k -> k + 1` of the strands
+    /// an order can draw (the first `min(order, n / vps)`; the
+    /// strand's last vertex gets an empty range), eight consecutive
+    /// segments of a strand at once in the SIMD path, in tasks of whole
+    /// strands. Returns the number of segments with both ends valid.
+    fn segment_rects(
+        &mut self,
+        job: &Job<'_>,
+        n: usize,
+        executor: &dyn Executor,
+        simd: bool,
+    ) -> usize {
+        let vps = job.verts_per_strand;
+        let strands = job.order.len().min(n / vps);
+        let per_task = MIN_TASK_STRANDS.max(strands.div_ceil(MAX_TASKS));
+        let drawn_total = AtomicUsize::new(0);
+        let mut rects = std::mem::take(&mut self.rects);
+        let this = &*self;
+        for_each_chunk_mut(
+            executor,
+            &mut rects[..strands * vps],
+            per_task * vps,
+            &|t, out| {
+                let first = t * per_task * vps;
+                let mut drawn_here = 0;
+                for (s, strand) in out.chunks_mut(vps).enumerate() {
+                    let base = first + s * vps;
+                    let (mut at, mut ranges) = (usize::MAX, TileRects::default());
+                    for (j, rect) in strand[..vps - 1].iter_mut().enumerate() {
+                        let k = base + j;
+                        let (drawn, r) = if simd {
+                            if at == usize::MAX || k >= at + 8 {
+                                at = k;
+                                ranges = this.tile_rects_x8(k);
+                            }
+                            ranges.lane(k - at)
+                        } else {
+                            let (a, b) = (&this.screen[k], &this.screen[k + 1]);
+                            let drawn = valid(a) && valid(b);
+                            (drawn, drawn.then(|| this.tile_rect(a, b)).flatten())
+                        };
+                        drawn_here += drawn as usize;
+                        *rect = if drawn { r.unwrap_or_default() } else { [0; 4] };
+                    }
+                    strand[vps - 1] = [0; 4];
+                }
+                drawn_total.fetch_add(drawn_here, Ordering::Relaxed);
+            },
+        );
+        self.rects = rects;
+        drawn_total.into_inner()
+    }
+
+    /// Steps 2b to 4 in tasks: the order is cut into consecutive runs of
+    /// strands, one per task. Each task counts its segments per tile in its
+    /// own row of `task_bins` (2b); the prefix sum (3) goes tile by tile
+    /// and, within a tile, task by task, so task `c`'s entries for tile `t`
+    /// follow every earlier task's; each task then fills its slots (4). The
+    /// lists come out exactly as one pass over the order would write them,
+    /// whatever the number of tasks. Returns `false` (and does nothing
+    /// else) when the frame needs more entries than the lists hold: the
+    /// caller then draws in batches.
+    fn bin_in_tasks(
+        &mut self,
+        order: &DepthOrder,
+        vps: usize,
+        n: usize,
+        executor: &dyn Executor,
+    ) -> bool {
+        let tiles = self.cursor.len();
+        let row = 2 * tiles + 1;
+        let tasks = executor
+            .threads()
+            .clamp(1, MAX_BIN_TASKS)
+            .min(order.len().div_ceil(MIN_TASK_STRANDS))
+            .max(1);
+        let per_task = order.len().div_ceil(tasks);
+        let tiles_x = self.tiles_x;
+        let rects = &self.rects;
+        // The segments of order positions [i0, i1) that the vertices hold,
+        // as `(first vertex, tile range)`.
+        let segments = |t: usize, f: &mut dyn FnMut(usize, [u16; 4])| {
+            let (i0, i1) = (t * per_task, ((t + 1) * per_task).min(order.len()));
+            for i in i0..i1 {
+                let base = order.strand(i) * vps;
+                if base + vps <= n {
+                    for (j, &r) in rects[base..base + vps - 1].iter().enumerate() {
+                        f(base + j, r);
+                    }
+                }
+            }
+        };
+        let task_bins = &mut self.task_bins[..tasks * row];
+        // 2b. Count per tile, and the task's total in its row's last slot.
+        for_each_chunk_mut(executor, task_bins, row, &|t, counts| {
+            counts.fill(0);
+            let mut total = 0u32;
+            segments(t, &mut |_, r| {
+                for ty in r[2] as usize..r[3] as usize {
+                    for c in &mut counts[ty * tiles_x..][r[0] as usize..r[1] as usize] {
+                        *c += 1;
+                    }
+                }
+                let area = (r[1] - r[0]) as u32 * (r[3] - r[2]) as u32;
+                total = total.saturating_add(area);
+            });
+            counts[2 * tiles] = total;
+        });
+        let total: u64 = task_bins.chunks(row).map(|r| r[2 * tiles] as u64).sum();
+        if total > self.bins.len() as u64 {
+            return false;
+        }
+        // 3. Prefix sum: the row's first half becomes each task's next
+        // slot per tile, the second half the end of its slots.
+        let mut sum = 0u32;
+        for t in 0..tiles {
+            self.starts[t] = sum;
+            for counts in task_bins.chunks_mut(row) {
+                let count = counts[t];
+                counts[t] = sum;
+                sum += count;
+                counts[tiles + t] = sum;
+            }
+        }
+        self.starts[tiles] = sum;
+        // 4. Fill: every task writes only slots in [next, end) of its own
+        // row, ranges that the prefix sum made disjoint.
+        let bins = DisjointMut::new(&mut self.bins);
+        for_each_chunk_mut(executor, task_bins, row, &|t, slots| {
+            let (next, end) = slots.split_at_mut(tiles);
+            segments(t, &mut |k, r| {
+                for ty in r[2] as usize..r[3] as usize {
+                    for tx in r[0] as usize..r[1] as usize {
+                        let tile = ty * tiles_x + tx;
+                        let slot = next[tile];
+                        if slot < end[tile] {
+                            // SAFETY: [next, end) of this task and tile
+                            // overlaps no other task's or tile's range.
+                            unsafe { bins.set(slot as usize, k as u32) };
+                            next[tile] = slot + 1;
+                        }
+                    }
+                }
+            });
+        });
+        true
+    }
+
+    /// Step 2b when the lists overflow: counts the segments from position
+    /// `from` (order index, segment in strand) on per tile in `cursor`,
+    /// until the next would not fit in the bins; returns where it stopped.
     fn count(
         &mut self,
         order: &DepthOrder,
         vps: usize,
         n: usize,
         from: (usize, usize),
-        simd: bool,
     ) -> (usize, usize) {
         self.cursor.fill(0);
         let room = self.bins.len();
         let mut used = 0usize;
         let (mut i, mut j) = from;
-        // The eight segments from `at` on, when `simd`.
-        let (mut at, mut ranges) = (usize::MAX, TileRects::default());
         while i < order.len() {
             let base = order.strand(i) * vps;
             if base + vps <= n {
                 while j + 1 < vps {
-                    let k = base + j;
-                    let (drawn, rect) = if simd {
-                        if k < at || k >= at + 8 {
-                            at = k;
-                            ranges = self.tile_rects_x8(k);
-                        }
-                        ranges.lane(k - at)
-                    } else {
-                        let (a, b) = (&self.screen[k], &self.screen[k + 1]);
-                        let drawn = valid(a) && valid(b);
-                        (drawn, drawn.then(|| self.tile_rect(a, b)).flatten())
-                    };
-                    let mut kept = [0u16; 4];
-                    if drawn {
-                        if let Some(r) = rect {
-                            let area = (r[1] - r[0]) as usize * (r[3] - r[2]) as usize;
-                            if used + area > room {
-                                return (i, j);
-                            }
-                            used += area;
-                            for ty in r[2] as usize..r[3] as usize {
-                                let row = &mut self.cursor[ty * self.tiles_x..][..self.tiles_x];
-                                for c in &mut row[r[0] as usize..r[1] as usize] {
-                                    *c += 1;
-                                }
-                            }
-                            kept = r;
-                        }
-                        self.stats.segments += 1;
+                    let r = self.rects[base + j];
+                    let area = (r[1] - r[0]) as usize * (r[3] - r[2]) as usize;
+                    if used + area > room {
+                        return (i, j);
                     }
-                    self.rects[k] = kept;
+                    used += area;
+                    for ty in r[2] as usize..r[3] as usize {
+                        let row = &mut self.cursor[ty * self.tiles_x..][..self.tiles_x];
+                        for c in &mut row[r[0] as usize..r[1] as usize] {
+                            *c += 1;
+                        }
+                    }
                     j += 1;
                 }
             }

@@ -15,12 +15,14 @@ use glam::Vec3;
 
 const SIZE: usize = 160;
 
-/// Runs the tasks from last to first (any order must give the same bytes).
-struct Reversed;
+/// Runs the tasks from last to first (any order must give the same bytes),
+/// claiming to have the given number of threads (stages split their work
+/// by that number: any split must give the same bytes too).
+struct Reversed(usize);
 // SAFETY: each index runs once, before `run` returns.
 unsafe impl Executor for Reversed {
     fn threads(&self) -> usize {
-        1
+        self.0
     }
     fn run(&self, count: usize, task: &(dyn Fn(usize) + Sync)) {
         for i in (0..count).rev() {
@@ -197,18 +199,27 @@ fn binned_simd_scalar_and_reference_agree_bit_for_bit() {
     );
     assert_same(&shaded, &want, "draw_shaded");
     let mut raster = HairRaster::new(SIZE, SIZE, vertices.len()).unwrap();
+    let mut entries = Vec::new();
     for simd in [true, false] {
         for (executor, name) in [
             (&Serial as &dyn Executor, "serial"),
-            (&Reversed, "reversed"),
+            (&Reversed(1), "reversed"),
+            (&Reversed(3), "reversed, split for 3 threads"),
+            (&Reversed(16), "reversed, split for 16 threads"),
             (&TwoThreads, "two threads"),
         ] {
             let (got, m) = binned(&mut raster, &vertices, vps, &order, simd, executor);
             assert_eq!(m, n, "segments drawn");
             assert_same(&got, &want, &format!("simd {simd}, {name}"));
             assert_eq!(raster.stats().batches, 1);
+            entries.push(raster.stats().entries);
         }
     }
+    // Every split of the binning writes the same number of list entries.
+    assert!(
+        entries.iter().all(|&e| e == entries[0] && e >= n),
+        "{entries:?}"
+    );
 }
 
 #[test]
@@ -224,10 +235,12 @@ fn overflowing_bins_draw_in_batches_with_the_same_bytes() {
     let (want, n) = reference(&vertices, vps, &order);
     let mut small = HairRaster::with_bin_capacity(SIZE, SIZE, vertices.len(), 1000).unwrap();
     for simd in [true, false] {
-        let (got, m) = binned(&mut small, &vertices, vps, &order, simd, &Serial);
-        assert_eq!(m, n);
-        assert!(small.stats().batches > 3, "{:?}", small.stats());
-        assert_same(&got, &want, "batched");
+        for executor in [&Serial as &dyn Executor, &TwoThreads, &Reversed(8)] {
+            let (got, m) = binned(&mut small, &vertices, vps, &order, simd, executor);
+            assert_eq!(m, n);
+            assert!(small.stats().batches > 3, "{:?}", small.stats());
+            assert_same(&got, &want, "batched");
+        }
     }
 }
 
