@@ -404,32 +404,25 @@ impl HairRaster {
             .max(1);
         let per_task = order.len().div_ceil(tasks);
         let tiles_x = self.tiles_x;
-        let rects = &self.rects;
-        // The segments of order positions [i0, i1) that the vertices hold,
-        // as `(first vertex, tile range)`.
-        let segments = |t: usize, f: &mut dyn FnMut(usize, [u16; 4])| {
-            let (i0, i1) = (t * per_task, ((t + 1) * per_task).min(order.len()));
-            for i in i0..i1 {
-                let base = order.strand(i) * vps;
-                if base + vps <= n {
-                    for (j, &r) in rects[base..base + vps - 1].iter().enumerate() {
-                        f(base + j, r);
-                    }
-                }
-            }
-        };
+        let rects = &self.rects[..];
+        let runs = |t: usize| (t * per_task, ((t + 1) * per_task).min(order.len()));
         let task_bins = &mut self.task_bins[..tasks * row];
         // 2b. Count per tile, and the task's total in its row's last slot.
         for_each_chunk_mut(executor, task_bins, row, &|t, counts| {
             counts.fill(0);
             let mut total = 0u32;
-            segments(t, &mut |_, r| {
-                for ty in r[2] as usize..r[3] as usize {
-                    for c in &mut counts[ty * tiles_x..][r[0] as usize..r[1] as usize] {
-                        *c += 1;
+            for_segments(order, rects, vps, n, runs(t), |_, r| {
+                let area = (r[1] - r[0]) as u32 * (r[3] - r[2]) as u32;
+                if area == 1 {
+                    // Four segments in five lie in one tile.
+                    counts[r[2] as usize * tiles_x + r[0] as usize] += 1;
+                } else {
+                    for ty in r[2] as usize..r[3] as usize {
+                        for c in &mut counts[ty * tiles_x..][r[0] as usize..r[1] as usize] {
+                            *c += 1;
+                        }
                     }
                 }
-                let area = (r[1] - r[0]) as u32 * (r[3] - r[2]) as u32;
                 total = total.saturating_add(area);
             });
             counts[2 * tiles] = total;
@@ -456,17 +449,23 @@ impl HairRaster {
         let bins = DisjointMut::new(&mut self.bins);
         for_each_chunk_mut(executor, task_bins, row, &|t, slots| {
             let (next, end) = slots.split_at_mut(tiles);
-            segments(t, &mut |k, r| {
+            let mut put = |tile: usize, k: usize| {
+                let slot = next[tile];
+                if slot < end[tile] {
+                    // SAFETY: [next, end) of this task and tile overlaps no
+                    // other task's or tile's range.
+                    unsafe { bins.set(slot as usize, k as u32) };
+                    next[tile] = slot + 1;
+                }
+            };
+            for_segments(order, rects, vps, n, runs(t), |k, r| {
+                if r[1] - r[0] == 1 && r[3] - r[2] == 1 {
+                    put(r[2] as usize * tiles_x + r[0] as usize, k);
+                    return;
+                }
                 for ty in r[2] as usize..r[3] as usize {
                     for tx in r[0] as usize..r[1] as usize {
-                        let tile = ty * tiles_x + tx;
-                        let slot = next[tile];
-                        if slot < end[tile] {
-                            // SAFETY: [next, end) of this task and tile
-                            // overlaps no other task's or tile's range.
-                            unsafe { bins.set(slot as usize, k as u32) };
-                            next[tile] = slot + 1;
-                        }
+                        put(ty * tiles_x + tx, k);
                     }
                 }
             });
@@ -634,6 +633,27 @@ impl HairRaster {
             }
         });
         debug_assert_eq!(self.tiles_y, frame.height().div_ceil(TILE));
+    }
+}
+
+/// Calls `f(first vertex, tile range)` for every segment of the strands at
+/// order positions `[i0, i1)` that the first `n` vertices hold, in order.
+#[inline(always)]
+fn for_segments(
+    order: &DepthOrder,
+    rects: &[[u16; 4]],
+    vps: usize,
+    n: usize,
+    (i0, i1): (usize, usize),
+    mut f: impl FnMut(usize, [u16; 4]),
+) {
+    for i in i0..i1 {
+        let base = order.strand(i) * vps;
+        if base + vps <= n {
+            for (j, &r) in rects[base..base + vps - 1].iter().enumerate() {
+                f(base + j, r);
+            }
+        }
     }
 }
 
