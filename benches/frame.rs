@@ -233,7 +233,7 @@ fn prepare(c: &mut Criterion) {
 /// sort, and whatever the frame spends outside its timed stages. Counted
 /// parallel: the guides' step, the shadow build (its gathering of the
 /// thinned hairs and its reduction of the partial maps included), the
-/// prepare tasks, the hair's tile rows.
+/// prepare tasks, the hair's runs of tiles.
 #[cfg_attr(not(feature = "rayon"), allow(dead_code))]
 fn serial_split(p: &FramePipeline) -> (f64, f64) {
     let t = p.timings();

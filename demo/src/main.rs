@@ -113,7 +113,7 @@ struct Cli {
     crowd: Option<usize>,
     /// Threads running the frame's parallel stages (the hair's and the
     /// ribbons' simulation, the shadow-map build, the prepare pass, the
-    /// hair's tile rows; with --crowd, the characters): one rayon pool of
+    /// hair's runs of tiles; with --crowd, the characters): one rayon pool of
     /// N threads, 0 = one per core; 1 = the calling thread only (no pool).
     /// The picture has the same bytes at any thread count.
     #[arg(long, default_value_t = 0, value_name = "N")]

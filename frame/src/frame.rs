@@ -421,9 +421,9 @@ impl FramePipeline {
     /// [`FramePipeline::render`] with the parallel stages' tasks run by
     /// `executor`: the shadow-map build, the prepare pass (one task per
     /// drawn interpolation group), the head's ray-cast (bands of rows) and
-    /// the hair's rasterisation (projection, binning and tile rows). LOD
-    /// setup, ribbons and sort stay on the calling thread. The same bytes
-    /// with any executor.
+    /// the hair's rasterisation (projection, binning and runs of tiles). LOD
+    /// set-up, background, ribbons and sort stay on the calling thread. The
+    /// same bytes with any executor.
     pub fn render_with(&mut self, executor: &dyn Executor) {
         self.prepare_with(executor);
         let origin = self.strands.origin().as_vec3();
@@ -831,7 +831,7 @@ impl FramePipeline {
 
     /// Stage [`Stage::Hair`]: the hair's anti-aliased segments, blended in
     /// the sorted order by the binned rasteriser (`coif_render::raster`),
-    /// its tile rows as tasks on `executor`.
+    /// its runs of tiles as tasks on `executor`.
     fn draw_hair(&mut self, camera: &Camera, executor: &dyn Executor) {
         let verts_per_hair = self.verts_per_hair();
         self.stats.segments = self.raster.draw(

@@ -1,6 +1,6 @@
 //! The whole frame on threads: every parallel stage (the guides' step, the
 //! ribbons' patches, the shadow-map build, the prepare pass, the hair's
-//! tile rows) gives the same bytes on the serial executor, on rayon pools
+//! runs of tiles) gives the same bytes on the serial executor, on rayon pools
 //! of 1, 2, 3 and 8 threads and on an engine-style executor that runs the
 //! tasks backwards on two threads: the PNG, the simulated positions, the
 //! ribbons, the shaded vertices and the shadow map.
@@ -123,7 +123,7 @@ fn every_executor_gives_the_same_bytes() {
         };
         let b = run(prepare, &backwards);
         // Per frame at least: 1-4 steps, shadow depth and deposit, prepare
-        // (fused), tile rows; 3 frames.
+        // (fused), runs of tiles; 3 frames.
         assert!(
             backwards.runs.load(Ordering::Relaxed) >= 9,
             "{prepare:?}: the stages ran on the executor ({} runs)",

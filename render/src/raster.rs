@@ -37,8 +37,8 @@
 //! consecutive runs of the sorted strands, one row of per-tile counts per
 //! task, whose prefix sum goes tile by tile and within a tile task by task,
 //! so the lists are exactly those of one pass in order
-//! (`HairRaster::bin_in_tasks`); rasterisation by rows of tiles, each
-//! writing only its own rows of the frame. The bins are sized once
+//! (`HairRaster::bin_in_tasks`); rasterisation by runs of tiles of about
+//! equal work, each tile's pixels read and written by its run's task alone. The bins are sized once
 //! ([`HairRaster::with_bin_capacity`]); when a frame's segments touch more
 //! tiles than they hold, steps 2 to 5 run over consecutive runs of the
 //! ordered segments (batches), each drawn completely before the next:
@@ -205,7 +205,7 @@ impl HairRaster {
     /// frame's colour, hidden where the frame's depth (head, ribbons) is
     /// nearer: the same pixels and bits as [`crate::hair::draw_strands`]
     /// on the same data. SIMD, eight pixels at a time; the scalar twin is
-    /// [`crate::scalar::draw`]. Rows of tiles run as tasks on `executor`.
+    /// [`crate::scalar::draw`]. Every step runs as tasks on `executor`.
     ///
     /// Only the first [`HairRaster::vertex_capacity`] vertices are read;
     /// a frame of another size than the buffers' is left alone. Returns
@@ -262,7 +262,7 @@ impl HairRaster {
         // 2b-4. Count, prefix sum and fill in tasks over the order, when
         // the lists hold the whole frame.
         if self.bin_in_tasks(job.order, vps, n, executor) {
-            // 5. Rasterise tile by tile, a row of tiles per task.
+            // 5. Rasterise tile by tile, runs of tiles as tasks.
             self.rasterise(frame, job.opacity, executor, tile);
             self.stats.entries = self.starts[self.cursor.len()] as usize;
             self.stats.batches = 1;
@@ -282,7 +282,7 @@ impl HairRaster {
             self.starts[self.cursor.len()] = sum;
             // 4. Fill the lists in the same order.
             self.fill(job.order, vps, n, from, to);
-            // 5. Rasterise tile by tile, a row of tiles per task.
+            // 5. Rasterise tile by tile, runs of tiles as tasks.
             self.rasterise(frame, job.opacity, executor, tile);
             self.stats.entries += sum as usize;
             self.stats.batches += 1;
@@ -599,8 +599,10 @@ impl HairRaster {
         }
     }
 
-    /// Step 5: one task per row of tiles, each drawing its tiles left to
-    /// right into its own rows of the frame.
+    /// Step 5: the tiles in row-major order cut into runs of about equal
+    /// list entries, one task per run (at most four per thread and
+    /// [`MAX_TASKS`]): each tile belongs to one task, which alone reads and
+    /// writes its pixels, so the bytes do not depend on the split.
     fn rasterise(
         &self,
         frame: &mut Framebuffer,
@@ -608,31 +610,47 @@ impl HairRaster {
         executor: &dyn Executor,
         tile: TileFn,
     ) {
-        let width = self.width;
-        for_each_chunk_mut(executor, &mut frame.pixels, TILE * width, &|ty, band| {
-            let rows = band.len() / width;
+        debug_assert_eq!(self.tiles_y, frame.height().div_ceil(TILE));
+        let (width, tiles) = (self.width, self.tiles_x * self.tiles_y);
+        let total = self.starts[tiles] as u64;
+        let tasks = (4 * executor.threads()).clamp(1, MAX_TASKS);
+        // Task c starts at the first tile whose list starts at or after
+        // c / tasks of all entries.
+        let first_tile = |c: usize| {
+            let at = (total * c as u64).div_ceil(tasks as u64);
+            self.starts[..tiles].partition_point(|&s| (s as u64) < at)
+        };
+        let pixels = DisjointMut::new(&mut frame.pixels);
+        executor.run(tasks, &|c| {
             let mut buffer = TileBuffer::zeroed();
-            for tx in 0..self.tiles_x {
-                let t = ty * self.tiles_x + tx;
+            let end = if c + 1 == tasks {
+                tiles
+            } else {
+                first_tile(c + 1)
+            };
+            for t in first_tile(c)..end {
                 let list = &self.bins[self.starts[t] as usize..self.starts[t + 1] as usize];
                 if list.is_empty() {
                     continue;
                 }
-                let x0 = tx * TILE;
+                let (tx, ty) = (t % self.tiles_x, t / self.tiles_x);
+                let (x0, y0) = (tx * TILE, ty * TILE);
                 let area = TileArea {
                     x0,
-                    y0: ty * TILE,
+                    y0,
                     columns: TILE.min(width - x0),
-                    rows,
+                    rows: TILE.min(self.height - y0),
                     width,
                     height: self.height,
                 };
-                buffer.load(band, &area);
+                // SAFETY: tile t is in task c's run only (the runs cut the
+                // tiles' sequence), and a tile's pixels are no other tile's.
+                unsafe { buffer.load(&pixels, &area) };
                 tile(&mut buffer, &area, list, &self.screen, opacity);
-                buffer.store(band, &area);
+                // SAFETY: as above.
+                unsafe { buffer.store(&pixels, &area) };
             }
         });
-        debug_assert_eq!(self.tiles_y, frame.height().div_ceil(TILE));
     }
 }
 
@@ -733,6 +751,18 @@ impl TileArea {
         self.clip_int(xa as i32, xb as i32)
     }
 
+    /// Row `y` of the tile (`0..rows`) in the frame's pixels.
+    ///
+    /// # Safety
+    ///
+    /// As [`DisjointMut::range`]: nobody else touches the row meanwhile.
+    #[inline(always)]
+    #[allow(clippy::mut_from_ref)]
+    unsafe fn row<'p>(&self, pixels: &'p DisjointMut<'_, Pixel>, y: usize) -> &'p mut [Pixel] {
+        // SAFETY: the caller's promise.
+        unsafe { pixels.range((self.y0 + y) * self.width + self.x0, self.columns) }
+    }
+
     /// [`TileArea::clip`] of a span already in whole numbers.
     #[inline(always)]
     pub fn clip_int(&self, xa: i32, xb: i32) -> Option<(usize, usize)> {
@@ -764,9 +794,13 @@ impl TileBuffer {
         }
     }
 
-    /// Copies the tile's pixels out of its band of rows.
+    /// Copies the tile's pixels out of the frame.
+    ///
+    /// # Safety
+    ///
+    /// No other task reads or writes this tile's pixels meanwhile.
     #[inline]
-    fn load(&mut self, band: &[Pixel], area: &TileArea) {
+    unsafe fn load(&mut self, pixels: &DisjointMut<'_, Pixel>, area: &TileArea) {
         let planes: [&mut [f32]; 4] = [
             bytemuck::cast_slice_mut(&mut self.r),
             bytemuck::cast_slice_mut(&mut self.g),
@@ -775,7 +809,8 @@ impl TileBuffer {
         ];
         let [r, g, b, depth] = planes;
         for y in 0..area.rows {
-            let src = &band[y * area.width + area.x0..][..area.columns];
+            // SAFETY: the tile's pixels are this task's alone (the caller).
+            let src = unsafe { area.row(pixels, y) };
             let at = y * TILE;
             for (x, p) in src.iter().enumerate() {
                 r[at + x] = p.color.x;
@@ -786,14 +821,19 @@ impl TileBuffer {
         }
     }
 
-    /// Copies the tile's colours back into its band of rows.
+    /// Copies the tile's colours back into the frame.
+    ///
+    /// # Safety
+    ///
+    /// As [`TileBuffer::load`].
     #[inline]
-    fn store(&self, band: &mut [Pixel], area: &TileArea) {
+    unsafe fn store(&self, pixels: &DisjointMut<'_, Pixel>, area: &TileArea) {
         let r: &[f32] = bytemuck::cast_slice(&self.r);
         let g: &[f32] = bytemuck::cast_slice(&self.g);
         let b: &[f32] = bytemuck::cast_slice(&self.b);
         for y in 0..area.rows {
-            let dst = &mut band[y * area.width + area.x0..][..area.columns];
+            // SAFETY: as in `load`.
+            let dst = unsafe { area.row(pixels, y) };
             let at = y * TILE;
             for (x, p) in dst.iter_mut().enumerate() {
                 p.color = Vec3::new(r[at + x], g[at + x], b[at + x]);
