@@ -510,14 +510,18 @@ struct FrameScene {
 }
 
 fn frame_scene(strand_count: usize) -> FrameScene {
-    use coif::frame::{FramePipeline, FrameSettings, HairScene};
+    frame_scene_at(strand_count, coif::frame::FrameSettings::default())
+}
+
+/// [`frame_scene`] with other frame settings.
+fn frame_scene_at(strand_count: usize, settings: coif::frame::FrameSettings) -> FrameScene {
+    use coif::frame::{FramePipeline, HairScene};
     let scene = HairScene::procedural(&GrowOptions {
         strand_count,
         curl: 0.15,
         ..GrowOptions::default()
     })
     .expect("built-in head");
-    let settings = FrameSettings::default();
     let roots: Vec<Vec3> = scene.roots().collect();
     let interp = coif::lod::Interpolation::new(
         &roots,
@@ -589,6 +593,65 @@ fn raster_case(size: Size) -> Case {
             black_box(hair::draw_shaded(
                 &mut fb, &camera, &vertices, verts, &order, opacity,
             ));
+        }),
+    }
+}
+
+/// The frame's binned rasteriser (`HairRaster::draw`, SIMD, on the calling
+/// thread) over the same hairs as [`raster_case`].
+fn binned_raster_case(size: Size) -> Case {
+    use coif::base::tasks::Serial;
+    use coif::render::{raster::HairRaster, sort::DepthOrder, Framebuffer};
+    let guides = if size == Size::Quick { 512 } else { 2048 };
+    let FrameScene { pipeline, .. } = frame_scene(guides);
+    let (_, verts) = pipeline.render_vertices();
+    let all = pipeline.shaded_vertices();
+    let hairs = match size {
+        Size::Cache => 512.min(all.len() / verts),
+        _ => all.len() / verts,
+    };
+    let vertices = all[..hairs * verts].to_vec();
+    let camera = pipeline
+        .camera()
+        .shifted(pipeline.strands().origin().as_vec3());
+    let mut order = DepthOrder::with_capacity(hairs);
+    order.sort(&camera, &vertices, verts);
+    let settings = pipeline.settings();
+    let mut fb = Framebuffer::new(settings.width, settings.height);
+    let mut raster =
+        HairRaster::new(settings.width, settings.height, vertices.len()).expect("raster buffers");
+    let opacity = settings.hair_opacity;
+    Case {
+        elements: hairs * (verts - 1),
+        run: Box::new(move || {
+            fb.clear_gradient(Vec3::ZERO, Vec3::ONE);
+            black_box(raster.draw(&mut fb, &camera, &vertices, verts, &order, opacity, &Serial));
+        }),
+    }
+}
+
+/// The frame's fused prepare pass (`FramePipeline::prepare_with` on the
+/// calling thread: LOD set-up, shadow map, then refine, interpolate, shadow
+/// lookup and shade per group of hairs into the shaded vertices), per
+/// shaded vertex, on the demo's density (40 hairs per cm^2, about 848,000
+/// shaded vertices, 27 MiB: the output always streams; each group's work
+/// is in cache by design): 256 guides as "in cache" (their refined
+/// positions, 1.5 MiB, fit L2 and L3), the demo's 2048 streaming.
+fn prepare_case(size: Size) -> Case {
+    use coif::base::tasks::Serial;
+    let settings = coif::frame::FrameSettings::default();
+    let guides = match size {
+        Size::Stream => 2048,
+        _ => 256,
+    };
+    let FrameScene { mut pipeline, .. } = frame_scene_at(guides, settings);
+    pipeline.prepare_with(&Serial);
+    let elements = pipeline.shaded_vertices().len().max(1);
+    Case {
+        elements,
+        run: Box::new(move || {
+            pipeline.prepare_with(&Serial);
+            black_box(pipeline.shaded_vertices());
         }),
     }
 }
@@ -666,6 +729,22 @@ pub const KERNELS: &[Kernel] = &[
         instructions: 1151.0,
         note: "the scalar anti-aliased line rasteriser (coverage and blending per pixel, about 10 pixels per segment); its SIMD replacement is under way in render/",
         make: raster_case,
+    },
+    Kernel {
+        name: "hair raster (binned SIMD, 512^2)",
+        element: "segment",
+        bytes: 160.0,
+        instructions: 1303.0,
+        note: "the frame's rasteriser: projection (read 32 B, write 28 B screen vertex and 16 B planes per vertex), tile ranges and binning (rects 8 B written and read twice, 1.27 list entries of 4 B), then per tile entry set-up and about 12 candidate pixels for 5 covered in a 16 KiB tile buffer; compute bound",
+        make: binned_raster_case,
+    },
+    Kernel {
+        name: "fused prepare (LOD, shadow map, shade)",
+        element: "shaded vertex",
+        bytes: 64.0,
+        instructions: 818.3,
+        note: "per shaded vertex: the shadow-map build of about one segment (about 430 instructions: two rasterisations of the deep map, scalar deposits), then refine, interpolate, shadow lookup (about 175) and Kajiya-Kay (about 45) in registers, one 32 B write: compute bound, far from the 12 ms goal",
+        make: prepare_case,
     },
 ];
 
