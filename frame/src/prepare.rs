@@ -93,8 +93,6 @@ pub(crate) fn shade_group(
     } else {
         0.0
     };
-    let mut points = [Vec3::ZERO; LANES];
-    let mut transmittance = [1.0f32; LANES];
     for r in 0..r_len {
         // 1. Interpolate.
         let p = blend.position_x8(r);
@@ -103,14 +101,9 @@ pub(crate) fn shade_group(
         let wo = (eye - p).normalize_or(Vec3x8::splat(Vec3::Z));
         let s = ctx.shader.scattering_x8(t, wi, wo);
         // 3. Visibility: shadow map, head.
-        if let Some(map) = ctx.shadow {
-            for (l, q) in points.iter_mut().enumerate() {
-                *q = p.lane(l);
-            }
-            map.transmittance_batch(&points, &mut transmittance);
-        }
+        let transmittance = ctx.shadow.map_or(f32x8::ONE, |m| m.transmittance_x8(p));
         let head = occluded_x8(p, light.to_light, ctx.head, 1e-3);
-        let visible = head.select(f32x8::ZERO, f32x8::new(transmittance));
+        let visible = head.select(f32x8::ZERO, transmittance);
         // 4. Colour.
         let mut direct = Vec3x8::new(
             s.x * f32x8::splat(irradiance.x) * visible,

@@ -49,6 +49,7 @@ impl OpacityShadowMap {
         pass.deposit(&mut self.texels, &self.first_depth, points);
         // 4. Prefix sum along depth.
         prefix_sum(&mut self.texels, pass.nn, self.settings.layers);
+        self.keep_depth_in_texels();
         self.ready = true;
     }
 
@@ -121,6 +122,7 @@ impl OpacityShadowMap {
         }
         // 4. Prefix sum along depth.
         prefix_sum(&mut self.texels, pass.nn, self.settings.layers);
+        self.keep_depth_in_texels();
         self.ready = true;
     }
 }

@@ -174,6 +174,26 @@ impl OpacityShadowMap {
         (-self.hair_opacity * sigma).exp()
     }
 
+    /// Whether the map keeps each texel's first depth `z0` also in the
+    /// texel's fourth plane: deep mode with at most three layers, where
+    /// that plane is never used (the SIMD lookups then read `z0` with the
+    /// planes, one 16-byte load per corner, instead of a gather).
+    #[inline(always)]
+    pub(super) fn depth_in_texels(&self) -> bool {
+        self.settings.mode == ShadowMode::Deep && self.settings.layers < 4
+    }
+
+    /// The last step of both builds: where [`Self::depth_in_texels`],
+    /// copies `z0` into every texel's fourth plane (no plane a lookup or
+    /// [`Self::stored_opacity`] reads as an opacity).
+    pub(super) fn keep_depth_in_texels(&mut self) {
+        if self.depth_in_texels() {
+            for (t, z) in self.texels.iter_mut().zip(&self.first_depth) {
+                t[3] = *z;
+            }
+        }
+    }
+
     /// Texel index of `(i, j)`, or `None` outside the map.
     #[inline(always)]
     pub(super) fn texel_index(&self, i: isize, j: isize) -> Option<usize> {

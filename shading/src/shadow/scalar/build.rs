@@ -87,6 +87,7 @@ pub fn build(
     }
     // 4. Prefix sum along depth.
     prefix_sum(&mut map.texels, nn, map.settings.layers);
+    map.keep_depth_in_texels();
     map.ready = true;
 }
 
