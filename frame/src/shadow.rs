@@ -19,8 +19,9 @@
 
 use super::{Error, FrameSettings};
 use coif_base::tasks::Executor;
-use coif_lod::RenderVertex;
-use coif_shading::shadow::{BuildScratch, OpacityShadowMap, ShadowSettings};
+use coif_base::{Vec3x8, LANES};
+use coif_lod::{Interpolation, RefinedGuides, RenderVertex};
+use coif_shading::shadow::{BuildScratch, OpacityShadowMap, ShadowSettings, StrandLanes};
 use glam::Vec3;
 
 /// Texels per side of the shadow map.
@@ -147,6 +148,21 @@ impl ShadowStage {
         }
     }
 
+    /// Rebuilds the map from hair in lane layout
+    /// (`OpacityShadowMap::build_lanes`, [`ShadowStage::tasks`] tasks on
+    /// `executor`): the fused pass's drawn groups ([`DrawnHair`]),
+    /// interpolated on the fly, no point buffer.
+    pub fn build_lanes(
+        &mut self,
+        to_light: Vec3,
+        hair: &(impl StrandLanes + ?Sized),
+        executor: &dyn Executor,
+    ) {
+        if let (Some(map), Some(scratch)) = (&mut self.map, &mut self.scratch) {
+            map.build_lanes(executor, scratch, -to_light, hair);
+        }
+    }
+
     /// The map, if self-shadowing is on.
     pub fn map(&self) -> Option<&OpacityShadowMap> {
         self.map.as_ref()
@@ -168,5 +184,41 @@ impl ShadowStage {
     /// Transmittance at one point (the head's surface); 1 without a map.
     pub fn transmittance_at(&self, p: Vec3) -> f32 {
         self.map.as_ref().map_or(1.0, |m| m.transmittance(p))
+    }
+}
+
+/// The hair of the fused pass's shadow map in lane layout: every `step`-th
+/// drawn group (up to eight hairs of one scalp triangle in the lanes), its
+/// rows interpolated from the refined guides when the build asks for them
+/// (`coif_lod::GroupBlend::position_x8`, the numbers `interpolate`
+/// writes), so no frame-sized point buffer is written or read.
+pub(crate) struct DrawnHair<'a> {
+    pub interpolation: &'a Interpolation,
+    pub guides: &'a RefinedGuides,
+    /// `(group, first hair)` of the drawn groups, in draw order.
+    pub drawn: &'a [(u32, u32)],
+    /// Every `step`-th drawn group is in the map (at least 1).
+    pub step: usize,
+}
+
+impl StrandLanes for DrawnHair<'_> {
+    fn verts(&self) -> usize {
+        self.guides.verts_per_strand()
+    }
+
+    fn blocks(&self) -> usize {
+        self.drawn.len().div_ceil(self.step.max(1))
+    }
+
+    fn block(&self, b: usize) -> (usize, impl Fn(usize) -> Vec3x8 + '_) {
+        let blend = self
+            .drawn
+            .get(b * self.step.max(1))
+            .and_then(|&(g, _)| self.interpolation.group_blend(self.guides, g as usize))
+            .filter(|blend| blend.verts() == self.verts());
+        let lanes = blend.map_or(0, |blend| blend.hairs().min(LANES));
+        (lanes, move |r: usize| {
+            blend.map_or(Vec3x8::ZERO, |blend| blend.position_x8(r))
+        })
     }
 }
