@@ -309,13 +309,21 @@ impl Pass {
     /// Step 2 into `z0` (filled with infinity by the caller): the nearest
     /// sample of `points` per texel.
     fn depth(&self, z0: &mut [f32], src: &impl Source, units: Range<usize>) {
-        let (n, offsets) = (self.n, self.offsets());
-        src.samples(self, units, |sp| {
+        let n = self.n;
+        src.samples(self, units, move |sp| {
             let z = sp.z.to_array();
             for l in sp.lanes() {
-                let quad = &mut z0[sp.t0[l]..sp.t0[l] + n + 2];
-                for o in offsets {
-                    quad[o] = quad[o].min(z[l]);
+                let (t, zl) = (sp.t0[l], z[l]);
+                // `t0` is clamped so that its four texels are in the map.
+                if let Some(quad) = z0.get_mut(t..t + n + 2) {
+                    // Neither z0 (infinity or a depth) nor a sample's depth
+                    // is NaN, so this compare is `f32::min` (one
+                    // instruction, no NaN handling).
+                    let min = |d: &mut f32| *d = if zl < *d { zl } else { *d };
+                    min(&mut quad[0]);
+                    min(&mut quad[1]);
+                    min(&mut quad[n]);
+                    min(&mut quad[n + 1]);
                 }
             }
         });
@@ -349,50 +357,73 @@ impl Pass {
                     }
                 });
             }
-            ShadowMode::Deep => {
-                let nn4 = i32x8::splat((4 * nn).min(i32::MAX as usize) as i32);
-                let flat_fits = self.flat_fits;
-                src.samples(self, units, |sp| {
-                    // Each corner's plane interval, relative to its own z0,
-                    // gathered lane by lane (every lane's `t0` is clamped
-                    // into the map, also the inactive lanes').
-                    let mut base = [[0.0f32; LANES]; 4];
-                    for l in 0..LANES {
-                        let quad = &z0[sp.t0[l]..sp.t0[l] + n + 2];
-                        for (c, o) in offsets.iter().enumerate() {
-                            base[c][l] = quad[*o];
-                        }
-                    }
-                    let w = sp.weights.map(|w| w.to_array());
-                    if flat_fits {
-                        // Each corner's float index into the flat map,
-                        // (slice / 4) 4 n^2 + 4 (t0 + o) + slice % 4, in
-                        // i32 lanes; the same deposits in the same order.
-                        let index: [[i32; LANES]; 4] = std::array::from_fn(|c| {
-                            let s = layering.interval_i32x8(sp.z - f32x8::new(base[c]));
-                            let t = sp.t0_x8 + i32x8::splat(offsets[c] as i32);
-                            let group: i32x8 = s >> 2;
-                            let texel: i32x8 = t << 2;
-                            (group * nn4 + texel + (s & i32x8::splat(3))).to_array()
-                        });
-                        let flat = texels.as_flattened_mut();
-                        for l in sp.lanes() {
-                            for c in 0..4 {
-                                flat[index[c][l] as usize] += w[c][l];
-                            }
-                        }
-                    } else {
-                        let slices = base.map(|b| layering.interval_x8(sp.z - f32x8::new(b)));
-                        for l in sp.lanes() {
-                            for (c, o) in offsets.iter().enumerate() {
-                                let slice = slices[c][l];
-                                texels[(slice / 4) * nn + sp.t0[l] + o][slice % 4] += w[c][l];
-                            }
-                        }
-                    }
-                });
-            }
+            ShadowMode::Deep => match layering.few_thresholds() {
+                // Up to four quadratic layers (the frame's 3): the interval
+                // by a fixed number of comparisons, no branch per corner.
+                Some(thresholds) => self.deposit_deep(texels, z0, src, units, move |x| {
+                    layering.interval_few_i32x8(&thresholds, x)
+                }),
+                None => {
+                    self.deposit_deep(texels, z0, src, units, move |x| layering.interval_i32x8(x))
+                }
+            },
         }
+    }
+
+    /// [`Pass::deposit`] in deep mode, `interval` giving the plane interval
+    /// of eight depths behind their corners' `z0` (the layering's).
+    fn deposit_deep(
+        &self,
+        texels: &mut [[f32; 4]],
+        z0: &[f32],
+        src: &impl Source,
+        units: Range<usize>,
+        interval: impl Fn(f32x8) -> i32x8,
+    ) {
+        let (n, nn, offsets, layering) = (self.n, self.nn, self.offsets(), self.layering);
+        let nn4 = i32x8::splat((4 * nn).min(i32::MAX as usize) as i32);
+        let flat_fits = self.flat_fits;
+        src.samples(self, units, move |sp| {
+            // Each corner's plane interval, relative to its own z0,
+            // gathered lane by lane (every lane's `t0` is clamped
+            // into the map, also the inactive lanes').
+            let mut base = [[0.0f32; LANES]; 4];
+            for l in 0..LANES {
+                if let Some(quad) = z0.get(sp.t0[l]..sp.t0[l] + n + 2) {
+                    base[0][l] = quad[0];
+                    base[1][l] = quad[1];
+                    base[2][l] = quad[n];
+                    base[3][l] = quad[n + 1];
+                }
+            }
+            let w = sp.weights.map(|w| w.to_array());
+            if flat_fits {
+                // Each corner's float index into the flat map,
+                // (slice / 4) 4 n^2 + 4 (t0 + o) + slice % 4, in
+                // i32 lanes; the same deposits in the same order.
+                let index: [[i32; LANES]; 4] = std::array::from_fn(|c| {
+                    let s = interval(sp.z - f32x8::new(base[c]));
+                    let t = sp.t0_x8 + i32x8::splat(offsets[c] as i32);
+                    let group: i32x8 = s >> 2;
+                    let texel: i32x8 = t << 2;
+                    (group * nn4 + texel + (s & i32x8::splat(3))).to_array()
+                });
+                let flat = texels.as_flattened_mut();
+                for l in sp.lanes() {
+                    for c in 0..4 {
+                        flat[index[c][l] as usize] += w[c][l];
+                    }
+                }
+            } else {
+                let slices = base.map(|b| layering.interval_x8(sp.z - f32x8::new(b)));
+                for l in sp.lanes() {
+                    for (c, o) in offsets.iter().enumerate() {
+                        let slice = slices[c][l];
+                        texels[(slice / 4) * nn + sp.t0[l] + o][slice % 4] += w[c][l];
+                    }
+                }
+            }
+        });
     }
 }
 

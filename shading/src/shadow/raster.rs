@@ -181,18 +181,13 @@ impl Raster {
         let ua = (la.x - self.x0) * self.inv_h - half;
         let va = (la.y - self.y0) * self.inv_h - half;
         let (du, dv, za, dz) = (d.x * self.inv_h, d.y * self.inv_h, la.z, d.z);
-        // The most samples of a sampled lane (n >= 1 there): the rounds.
-        let n_lanes = n.to_array();
-        let mut rounds = 0.0f32;
-        for (l, &nl) in n_lanes.iter().enumerate() {
-            if sampled & (1 << l) != 0 {
-                rounds = rounds.max(nl);
-            }
-        }
-        let rounds = rounds as usize;
+        // The most samples of a sampled lane (n >= 1 there, an exact
+        // integer): the rounds.
+        let sampled_lanes = i32x8::new(std::array::from_fn(|l| -((sampled >> l) as i32 & 1)));
+        let rounds = (n.fast_trunc_int() & sampled_lanes).reduce_max();
         for j in 0..rounds {
             // 2. Sample j of every segment of the group.
-            let jf = f32x8::splat(j as f32);
+            let jf = f32x8::splat(j as f32); // j < 2^24: exact
             let t = (jf + half) * inv_n;
             let (u, v) = (ua + du * t, va + dv * t);
             let (fu, fv) = (u.floor(), v.floor());
