@@ -116,15 +116,27 @@ pub(crate) fn shade_group(
         }
         let c = (direct + Vec3x8::splat(ambient)) * tint;
         let c = Vec3x8::select(c.finite(), c, Vec3x8::splat(ambient));
-        // 5. Write.
+        // 5. Write: the eight lanes' fields (the `ShadedVertex` order)
+        // transposed, so lane l's vertex is one row of eight floats.
         let sp = r as f32 * inv;
         let width = (ctx.width.root + (ctx.width.tip - ctx.width.root) * sp) * ctx.width_factor;
-        for l in 0..hairs {
+        let rows = f32x8::transpose([
+            p.x,
+            p.y,
+            p.z,
+            f32x8::splat(width),
+            c.x,
+            c.y,
+            c.z,
+            f32x8::splat(sp),
+        ]);
+        for (l, row) in rows.iter().take(hairs).enumerate() {
+            let v = row.to_array();
             out[l * r_len + r] = ShadedVertex {
-                position: p.lane(l).to_array(),
-                width,
-                color: c.lane(l).to_array(),
-                strand_parameter: sp,
+                position: [v[0], v[1], v[2]],
+                width: v[3],
+                color: [v[4], v[5], v[6]],
+                strand_parameter: v[7],
             };
         }
     }

@@ -45,4 +45,4 @@ pub use exact::exact_transmittance;
 pub use light_frame::{LightFrame, MapPlacement};
 pub use map::OpacityShadowMap;
 pub use settings::{ShadowMode, ShadowSettings, MAX_LAYERS, MAX_RESOLUTION};
-pub use strand_lanes::{LaneRows, StrandLanes};
+pub use strand_lanes::{to_lane_rows, LaneRows, StrandLanes};

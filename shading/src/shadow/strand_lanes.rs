@@ -5,6 +5,7 @@
 //! them out of their lanes (see `OpacityShadowMap::build_lanes`).
 
 use coif_base::{Vec3x8, LANES};
+use glam::Vec3;
 
 /// Strands in blocks of up to [`LANES`], every strand with
 /// [`StrandLanes::verts`] vertices: block `b` has `lanes` strands in its
@@ -65,4 +66,25 @@ impl StrandLanes for LaneRows<'_> {
             rows.get(r).copied().unwrap_or(Vec3x8::ZERO)
         })
     }
+}
+
+/// The whole strands of `points` (`verts` each, strand after strand) in
+/// lane layout for [`LaneRows`]: strand `s` in lane `s % 8` of block
+/// `s / 8`, row `r` its vertex `r`; lanes past the last strand hold
+/// `fill`. Replaces the contents of `rows` (allocates when it grows: for
+/// tests, benchmarks and callers that convert once). Returns the number of
+/// strands.
+pub fn to_lane_rows(points: &[Vec3], verts: usize, fill: Vec3, rows: &mut Vec<Vec3x8>) -> usize {
+    rows.clear();
+    if verts == 0 {
+        return 0;
+    }
+    let strands = points.len() / verts;
+    rows.resize(strands.div_ceil(LANES) * verts, Vec3x8::splat(fill));
+    for (s, strand) in points.chunks_exact(verts).enumerate() {
+        for (r, p) in strand.iter().enumerate() {
+            rows[(s / LANES) * verts + r].set_lane(s % LANES, *p);
+        }
+    }
+    strands
 }

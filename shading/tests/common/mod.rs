@@ -1,7 +1,7 @@
 //! Dev-only fixtures of the coif-shading tests.
 #![allow(dead_code)]
 
-use coif_base::{SplitMix64, Vec3x8, LANES};
+use coif_base::{SplitMix64, Vec3x8};
 use coif_shading::shadow::OpacityShadowMap;
 use glam::Vec3;
 
@@ -49,20 +49,11 @@ pub fn stored_bits(map: &OpacityShadowMap) -> Vec<u32> {
 }
 
 /// The whole strands of `points` (`verts` each) in lane layout for
-/// `build_lanes`: strand `s` in lane `s % 8` of block `s / 8`, row `r` its
-/// vertex `r`. Lanes past the last strand hold `1e30` (finite, far away:
-/// a build that read them would place its map elsewhere). Returns the rows
-/// and the strand count.
+/// `build_lanes` (`shadow::to_lane_rows`); lanes past the last strand hold
+/// `1e30` (finite, far away: a build that read them would place its map
+/// elsewhere). Returns the rows and the strand count.
 pub fn lane_rows(points: &[Vec3], verts: usize) -> (Vec<Vec3x8>, usize) {
-    if verts == 0 {
-        return (Vec::new(), 0);
-    }
-    let strands = points.len() / verts;
-    let mut rows = vec![Vec3x8::splat(Vec3::splat(1.0e30)); strands.div_ceil(LANES) * verts];
-    for s in 0..strands {
-        for r in 0..verts {
-            rows[(s / LANES) * verts + r].set_lane(s % LANES, points[s * verts + r]);
-        }
-    }
+    let mut rows = Vec::new();
+    let strands = coif_shading::shadow::to_lane_rows(points, verts, Vec3::splat(1.0e30), &mut rows);
     (rows, strands)
 }
