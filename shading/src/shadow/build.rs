@@ -388,8 +388,8 @@ impl Pass {
             // gathered lane by lane (every lane's `t0` is clamped
             // into the map, also the inactive lanes').
             let mut base = [[0.0f32; LANES]; 4];
-            for l in 0..LANES {
-                if let Some(quad) = z0.get(sp.t0[l]..sp.t0[l] + n + 2) {
+            for (l, &t) in sp.t0.iter().enumerate() {
+                if let Some(quad) = z0.get(t..t + n + 2) {
                     base[0][l] = quad[0];
                     base[1][l] = quad[1];
                     base[2][l] = quad[n];

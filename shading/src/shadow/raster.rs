@@ -145,7 +145,7 @@ impl Raster {
     /// Light-space coordinates of eight points (the scalar's unfused dot
     /// products).
     #[inline(always)]
-    fn to_light(&self, p: Vec3x8) -> Vec3x8 {
+    fn light_space(&self, p: Vec3x8) -> Vec3x8 {
         Vec3x8 {
             x: p.dot(self.axes[0]),
             y: p.dot(self.axes[1]),
@@ -276,7 +276,7 @@ pub fn for_each_sample(
             let cap = cap
                 .simd_gt(f32x8::ZERO)
                 .select(raster.cap_area, f32x8::ZERO);
-            let (la, lb) = (raster.to_light(a), raster.to_light(b));
+            let (la, lb) = (raster.light_space(a), raster.light_space(b));
             raster.segments(la, lb, sampled, cap, &mut deposit);
         }
     }
@@ -319,11 +319,11 @@ pub fn for_each_sample_lanes<H: StrandLanes + ?Sized>(
         let p = row(0);
         let mut before = f32x8::ZERO;
         let mut fin_a = p.finite() & hair_lanes;
-        let mut la = raster.to_light(p);
+        let mut la = raster.light_space(p);
         for r in 1..verts {
             let q = row(r);
             let fin_b = q.finite() & hair_lanes;
-            let lb = raster.to_light(q);
+            let lb = raster.light_space(q);
             let sampled = (fin_a & fin_b).to_bitmask();
             if sampled != 0 {
                 let cap = before.select(f32x8::ZERO, raster.cap_area);
