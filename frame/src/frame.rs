@@ -267,9 +267,15 @@ impl FramePipeline {
             PrepareMode::Fused => settings.shadow_thinning.max(1),
             PrepareMode::Reference => 1,
         };
+        // The fused pass builds its map from the refined guides in lanes:
+        // no point buffer.
+        let points = match settings.prepare {
+            PrepareMode::Fused => 0,
+            PrepareMode::Reference => capacity,
+        };
         let shadow = ShadowStage::new(
             &settings,
-            capacity,
+            points,
             thinning,
             interpolation.hair_count().div_ceil(thinning),
         )?;

@@ -1,8 +1,9 @@
 //! The shadow stage of a frame: a deep opacity map
 //! (`coif::shading::shadow`, `ShadowMode::Deep`, Yuksel & Keyser 2008, 3
-//! layers from each texel's first hair, 128 x 128 texels) of the render hair, built from the
-//! render vertices each frame and looked up at every vertex (SIMD batch) and
-//! at the head's surface.
+//! layers from each texel's first hair, 128 x 128 texels) of the render hair, built each
+//! frame (the reference pass: from the render vertices' positions; the fused
+//! pass: from the drawn groups in lanes, [`DrawnHair`]) and looked up at
+//! every vertex and at the head's surface.
 //!
 //! Why deep layers and not 16 slices between the hair's nearest and
 //! farthest depth: over the built-in head the hair spans about 36 cm along
@@ -57,7 +58,8 @@ pub struct ShadowStage {
 
 impl ShadowStage {
     /// The map for `settings.shadows` (none if off), with a point buffer for
-    /// `capacity` render vertices. The capsule radius of a render hair is
+    /// `capacity` render vertices (the reference pass's build; 0 for the
+    /// fused pass, which needs none). The capsule radius of a render hair is
     /// half its width at the root (`hair_width.root` times the
     /// real-to-render density ratio), times `thinning` when the map is
     /// built from every `thinning`-th hair only (each stands for that many:
@@ -123,14 +125,6 @@ impl ShadowStage {
         self.points
             .extend(vertices.iter().take(room).map(|v| Vec3::from(v.position)));
         self.build_from_points(to_light, verts_per_strand, executor);
-    }
-
-    /// The point buffer, for callers that fill it themselves before
-    /// [`ShadowStage::build_from_points`] (cleared; its capacity is the one
-    /// given to [`ShadowStage::new`]).
-    pub fn points_mut(&mut self) -> &mut Vec<Vec3> {
-        self.points.clear();
-        &mut self.points
     }
 
     /// Rebuilds the map from the point buffer (`verts_per_strand` each):

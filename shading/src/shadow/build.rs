@@ -433,11 +433,7 @@ impl Pass {
 /// maximum over the finite points, reduced over the lanes at the end (min
 /// and max of non-NaN numbers do not depend on the order).
 fn light_bounds(frame: &LightFrame, points: &[Vec3]) -> Option<(Vec3, Vec3)> {
-    let axes = [frame.x_axis, frame.y_axis, frame.z_axis].map(Vec3x8::splat);
-    let (inf, neg_inf) = (f32x8::splat(f32::INFINITY), f32x8::splat(f32::NEG_INFINITY));
-    let mut min = [inf; 3];
-    let mut max = [neg_inf; 3];
-    let mut overflow = f32x8::ZERO;
+    let mut bounds = BoundsX8::new(frame);
     for chunk in points.chunks(LANES) {
         let mut p = Vec3x8::ZERO;
         let mut finite = [0.0f32; LANES];
@@ -447,15 +443,9 @@ fn light_bounds(frame: &LightFrame, points: &[Vec3]) -> Option<(Vec3, Vec3)> {
                 finite[l] = 1.0;
             }
         }
-        let finite = f32x8::new(finite).simd_gt(f32x8::ZERO);
-        for k in 0..3 {
-            let c = p.dot(axes[k]);
-            overflow |= finite & !c.is_finite();
-            min[k] = min[k].min(finite.select(c, inf));
-            max[k] = max[k].max(finite.select(c, neg_inf));
-        }
+        bounds.add(p, f32x8::new(finite).simd_gt(f32x8::ZERO));
     }
-    reduce_bounds(min, max, overflow)
+    bounds.finish()
 }
 
 /// Light-space bounding box `(min, max)` of the finite vertices of hair in
@@ -463,11 +453,7 @@ fn light_bounds(frame: &LightFrame, points: &[Vec3]) -> Option<(Vec3, Vec3)> {
 /// [`light_bounds`] of the same points): per row, the lanes that are hair
 /// and finite, the same dot products, lane-wise minimum and maximum.
 fn lane_bounds<H: StrandLanes + ?Sized>(frame: &LightFrame, hair: &H) -> Option<(Vec3, Vec3)> {
-    let axes = [frame.x_axis, frame.y_axis, frame.z_axis].map(Vec3x8::splat);
-    let (inf, neg_inf) = (f32x8::splat(f32::INFINITY), f32x8::splat(f32::NEG_INFINITY));
-    let mut min = [inf; 3];
-    let mut max = [neg_inf; 3];
-    let mut overflow = f32x8::ZERO;
+    let mut bounds = BoundsX8::new(frame);
     for b in 0..hair.blocks() {
         let (lanes, row) = hair.block(b);
         if lanes == 0 {
@@ -477,30 +463,56 @@ fn lane_bounds<H: StrandLanes + ?Sized>(frame: &LightFrame, hair: &H) -> Option<
             .simd_gt(f32x8::ZERO);
         for r in 0..hair.verts() {
             let p = row(r);
-            let finite = p.finite() & hair_lanes;
-            for k in 0..3 {
-                let c = p.dot(axes[k]);
-                overflow |= finite & !c.is_finite();
-                min[k] = min[k].min(finite.select(c, inf));
-                max[k] = max[k].max(finite.select(c, neg_inf));
-            }
+            bounds.add(p, p.finite() & hair_lanes);
         }
     }
-    reduce_bounds(min, max, overflow)
+    bounds.finish()
 }
 
-/// The lanes' bounds reduced (min and max of non-NaN numbers do not depend
-/// on the order); `None` on overflow or when no point was finite.
-fn reduce_bounds(min: [f32x8; 3], max: [f32x8; 3], overflow: f32x8) -> Option<(Vec3, Vec3)> {
-    if overflow.any() {
-        return None;
+/// Lane-wise light-space bounds of the points added so far.
+struct BoundsX8 {
+    axes: [Vec3x8; 3],
+    min: [f32x8; 3],
+    max: [f32x8; 3],
+    overflow: f32x8,
+}
+
+impl BoundsX8 {
+    fn new(frame: &LightFrame) -> BoundsX8 {
+        BoundsX8 {
+            axes: [frame.x_axis, frame.y_axis, frame.z_axis].map(Vec3x8::splat),
+            min: [f32x8::splat(f32::INFINITY); 3],
+            max: [f32x8::splat(f32::NEG_INFINITY); 3],
+            overflow: f32x8::ZERO,
+        }
     }
-    let reduce = |v: [f32x8; 3], f: fn(f32, f32) -> f32| {
-        let [x, y, z] = v.map(|c| c.to_array().into_iter().reduce(f).unwrap_or(0.0));
-        Vec3::new(x, y, z)
-    };
-    let (min, max) = (reduce(min, f32::min), reduce(max, f32::max));
-    (min.x <= max.x).then_some((min, max))
+
+    /// Eight points, the lanes of `finite` only (the dot products
+    /// `p.x a.x + p.y a.y + p.z a.z`, unfused, as the scalar's).
+    #[inline(always)]
+    fn add(&mut self, p: Vec3x8, finite: f32x8) {
+        let (inf, neg_inf) = (f32x8::splat(f32::INFINITY), f32x8::splat(f32::NEG_INFINITY));
+        for k in 0..3 {
+            let c = p.dot(self.axes[k]);
+            self.overflow |= finite & !c.is_finite();
+            self.min[k] = self.min[k].min(finite.select(c, inf));
+            self.max[k] = self.max[k].max(finite.select(c, neg_inf));
+        }
+    }
+
+    /// The lanes reduced (min and max of non-NaN numbers do not depend on
+    /// the order); `None` on overflow or when no point was finite.
+    fn finish(self) -> Option<(Vec3, Vec3)> {
+        if self.overflow.any() {
+            return None;
+        }
+        let reduce = |v: [f32x8; 3], f: fn(f32, f32) -> f32| {
+            let [x, y, z] = v.map(|c| c.to_array().into_iter().reduce(f).unwrap_or(0.0));
+            Vec3::new(x, y, z)
+        };
+        let (min, max) = (reduce(self.min, f32::min), reduce(self.max, f32::max));
+        (min.x <= max.x).then_some((min, max))
+    }
 }
 
 /// SIMD twin of the scalar build's prefix sum along depth
