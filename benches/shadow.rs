@@ -7,6 +7,10 @@
 //! - `shadow_build/<mode>_L<layers>/{simd,scalar}`: rebuild a 256^2 map of
 //!   a draped head (2048 strands x 32 vertices, 63,488 segments), per
 //!   segment, with `build` (SIMD) and `shadow::scalar::build`.
+//! - `shadow_build/deep_L3/{lanes_simd,lanes_scalar}`: the same head in
+//!   lane layout (eight strands per block, `to_lane_rows`) with
+//!   `build_lanes` (one task, serial) and `shadow::scalar::build_lanes`,
+//!   the fused prepare pass's build.
 //! - `shadow_lookup/<mode>_L<layers>/{simd,scalar}`: transmittance at all
 //!   65,536 vertices of the head, per sample.
 //! - `shadow_time_vs_error/<mode>/L<layers>_err<mean |error|>`: build time
@@ -20,9 +24,12 @@
 //!   (16,384 strands, 6 MiB of points and 2 MiB of output per pass; the
 //!   map itself stays in cache, which is the point of the build's layout).
 
+use coif::base::tasks::Serial;
 use coif::frame::drape::draped_on_sphere;
 use coif::shading::shadow::quality::{error_of_map, reference_transmittance, Footprint};
-use coif::shading::shadow::{OpacityShadowMap, ShadowMode, ShadowSettings};
+use coif::shading::shadow::{
+    to_lane_rows, BuildScratch, LaneRows, OpacityShadowMap, ShadowMode, ShadowSettings,
+};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use glam::Vec3;
 use std::hint::black_box;
@@ -75,6 +82,24 @@ fn build_and_lookup(c: &mut Criterion) {
                 )
             })
         });
+        if s.mode == ShadowMode::Deep {
+            let mut rows = Vec::new();
+            let strands = to_lane_rows(&pts, verts, Vec3::ZERO, &mut rows);
+            let hair = LaneRows {
+                rows: &rows,
+                verts,
+                strands,
+            };
+            let mut scratch = BuildScratch::new(&s, 1).unwrap();
+            g.bench_function(BenchmarkId::new(name(&s), "lanes_simd"), |b| {
+                b.iter(|| map.build_lanes(&Serial, &mut scratch, black_box(light()), &hair))
+            });
+            g.bench_function(BenchmarkId::new(name(&s), "lanes_scalar"), |b| {
+                b.iter(|| {
+                    coif::shading::shadow::scalar::build_lanes(&mut map, black_box(light()), &hair)
+                })
+            });
+        }
     }
     g.finish();
 

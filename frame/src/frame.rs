@@ -3,7 +3,7 @@
 use super::motion::blend_poses;
 use super::prepare::{shade_group, GroupShading, SharedOut};
 use super::ribbon::RibbonStage;
-use super::shadow::ShadowStage;
+use super::shadow::{DrawnHair, ShadowStage};
 use super::timings::{Stage, StageTimings};
 use super::{Error, FrameSettings, HairScene, PrepareMode, Shader};
 use coif_base::tasks::{Executor, Serial};
@@ -267,9 +267,15 @@ impl FramePipeline {
             PrepareMode::Fused => settings.shadow_thinning.max(1),
             PrepareMode::Reference => 1,
         };
+        // The fused pass builds its map from the refined guides in lanes:
+        // no point buffer.
+        let points = match settings.prepare {
+            PrepareMode::Fused => 0,
+            PrepareMode::Reference => capacity,
+        };
         let shadow = ShadowStage::new(
             &settings,
-            capacity,
+            points,
             thinning,
             interpolation.hair_count().div_ceil(thinning),
         )?;
@@ -653,36 +659,19 @@ impl FramePipeline {
         self.stats.hairs = hairs;
     }
 
-    /// Stage [`Stage::Shadow`] of the fused pass: the positions of every
-    /// `shadow_thinning`-th drawn group's hairs (hair after hair, root
-    /// first), then the map; its hair radius was widened as many times at
-    /// construction. The gathering is serial; the build runs as tasks on
-    /// `executor` (`ShadowStage::build_from_points`).
+    /// Stage [`Stage::Shadow`] of the fused pass: the map of every
+    /// `shadow_thinning`-th drawn group's hairs, interpolated on the fly in
+    /// lane layout ([`DrawnHair`]); its hair radius was widened as many
+    /// times at construction. The build runs as tasks on `executor`.
     fn build_thinned_shadow_map(&mut self, executor: &dyn Executor) {
-        let k = self.settings.shadow_thinning.max(1);
-        let r_len = self.guides.verts_per_strand();
-        let points = self.shadow.points_mut();
-        let room = points.capacity();
-        for &(g, _) in self.drawn.iter().step_by(k) {
-            let Some(blend) = self.interpolation.group_blend(&self.guides, g as usize) else {
-                continue;
-            };
-            let hairs = blend.hairs().min(coif_base::LANES);
-            if points.len() + hairs * r_len > room {
-                break;
-            }
-            let start = points.len();
-            points.resize(start + hairs * r_len, Vec3::ZERO);
-            let out = &mut points[start..];
-            for r in 0..r_len {
-                let p = blend.position_x8(r);
-                for l in 0..hairs {
-                    out[l * r_len + r] = p.lane(l);
-                }
-            }
-        }
+        let hair = DrawnHair {
+            interpolation: &self.interpolation,
+            guides: &self.guides,
+            drawn: &self.drawn,
+            step: self.settings.shadow_thinning.max(1),
+        };
         self.shadow
-            .build_from_points(self.settings.light.to_light, r_len, executor);
+            .build_lanes(self.settings.light.to_light, &hair, executor);
     }
 
     /// Stage [`Stage::Shade`] of the fused pass: one task per drawn group

@@ -93,8 +93,6 @@ pub(crate) fn shade_group(
     } else {
         0.0
     };
-    let mut points = [Vec3::ZERO; LANES];
-    let mut transmittance = [1.0f32; LANES];
     for r in 0..r_len {
         // 1. Interpolate.
         let p = blend.position_x8(r);
@@ -103,14 +101,9 @@ pub(crate) fn shade_group(
         let wo = (eye - p).normalize_or(Vec3x8::splat(Vec3::Z));
         let s = ctx.shader.scattering_x8(t, wi, wo);
         // 3. Visibility: shadow map, head.
-        if let Some(map) = ctx.shadow {
-            for (l, q) in points.iter_mut().enumerate() {
-                *q = p.lane(l);
-            }
-            map.transmittance_batch(&points, &mut transmittance);
-        }
+        let transmittance = ctx.shadow.map_or(f32x8::ONE, |m| m.transmittance_x8(p));
         let head = occluded_x8(p, light.to_light, ctx.head, 1e-3);
-        let visible = head.select(f32x8::ZERO, f32x8::new(transmittance));
+        let visible = head.select(f32x8::ZERO, transmittance);
         // 4. Colour.
         let mut direct = Vec3x8::new(
             s.x * f32x8::splat(irradiance.x) * visible,
@@ -123,15 +116,27 @@ pub(crate) fn shade_group(
         }
         let c = (direct + Vec3x8::splat(ambient)) * tint;
         let c = Vec3x8::select(c.finite(), c, Vec3x8::splat(ambient));
-        // 5. Write.
+        // 5. Write: the eight lanes' fields (the `ShadedVertex` order)
+        // transposed, so lane l's vertex is one row of eight floats.
         let sp = r as f32 * inv;
         let width = (ctx.width.root + (ctx.width.tip - ctx.width.root) * sp) * ctx.width_factor;
-        for l in 0..hairs {
+        let rows = f32x8::transpose([
+            p.x,
+            p.y,
+            p.z,
+            f32x8::splat(width),
+            c.x,
+            c.y,
+            c.z,
+            f32x8::splat(sp),
+        ]);
+        for (l, row) in rows.iter().take(hairs).enumerate() {
+            let v = row.to_array();
             out[l * r_len + r] = ShadedVertex {
-                position: p.lane(l).to_array(),
-                width,
-                color: c.lane(l).to_array(),
-                strand_parameter: sp,
+                position: [v[0], v[1], v[2]],
+                width: v[3],
+                color: [v[4], v[5], v[6]],
+                strand_parameter: v[7],
             };
         }
     }

@@ -1,8 +1,9 @@
 //! The shadow stage of a frame: a deep opacity map
 //! (`coif::shading::shadow`, `ShadowMode::Deep`, Yuksel & Keyser 2008, 3
-//! layers from each texel's first hair, 128 x 128 texels) of the render hair, built from the
-//! render vertices each frame and looked up at every vertex (SIMD batch) and
-//! at the head's surface.
+//! layers from each texel's first hair, 128 x 128 texels) of the render hair, built each
+//! frame (the reference pass: from the render vertices' positions; the fused
+//! pass: from the drawn groups in lanes, [`DrawnHair`]) and looked up at
+//! every vertex and at the head's surface.
 //!
 //! Why deep layers and not 16 slices between the hair's nearest and
 //! farthest depth: over the built-in head the hair spans about 36 cm along
@@ -19,8 +20,9 @@
 
 use super::{Error, FrameSettings};
 use coif_base::tasks::Executor;
-use coif_lod::RenderVertex;
-use coif_shading::shadow::{BuildScratch, OpacityShadowMap, ShadowSettings};
+use coif_base::{Vec3x8, LANES};
+use coif_lod::{Interpolation, RefinedGuides, RenderVertex};
+use coif_shading::shadow::{BuildScratch, OpacityShadowMap, ShadowSettings, StrandLanes};
 use glam::Vec3;
 
 /// Texels per side of the shadow map.
@@ -56,7 +58,8 @@ pub struct ShadowStage {
 
 impl ShadowStage {
     /// The map for `settings.shadows` (none if off), with a point buffer for
-    /// `capacity` render vertices. The capsule radius of a render hair is
+    /// `capacity` render vertices (the reference pass's build; 0 for the
+    /// fused pass, which needs none). The capsule radius of a render hair is
     /// half its width at the root (`hair_width.root` times the
     /// real-to-render density ratio), times `thinning` when the map is
     /// built from every `thinning`-th hair only (each stands for that many:
@@ -124,14 +127,6 @@ impl ShadowStage {
         self.build_from_points(to_light, verts_per_strand, executor);
     }
 
-    /// The point buffer, for callers that fill it themselves before
-    /// [`ShadowStage::build_from_points`] (cleared; its capacity is the one
-    /// given to [`ShadowStage::new`]).
-    pub fn points_mut(&mut self) -> &mut Vec<Vec3> {
-        self.points.clear();
-        &mut self.points
-    }
-
     /// Rebuilds the map from the point buffer (`verts_per_strand` each):
     /// `OpacityShadowMap::build_tasks`, [`ShadowStage::tasks`] tasks on
     /// `executor` (contiguous runs of strands, partial maps reduced in task
@@ -144,6 +139,21 @@ impl ShadowStage {
     ) {
         if let (Some(map), Some(scratch)) = (&mut self.map, &mut self.scratch) {
             map.build_tasks(executor, scratch, -to_light, &self.points, verts_per_strand);
+        }
+    }
+
+    /// Rebuilds the map from hair in lane layout
+    /// (`OpacityShadowMap::build_lanes`, [`ShadowStage::tasks`] tasks on
+    /// `executor`): the fused pass's drawn groups ([`DrawnHair`]),
+    /// interpolated on the fly, no point buffer.
+    pub fn build_lanes(
+        &mut self,
+        to_light: Vec3,
+        hair: &(impl StrandLanes + ?Sized),
+        executor: &dyn Executor,
+    ) {
+        if let (Some(map), Some(scratch)) = (&mut self.map, &mut self.scratch) {
+            map.build_lanes(executor, scratch, -to_light, hair);
         }
     }
 
@@ -168,5 +178,41 @@ impl ShadowStage {
     /// Transmittance at one point (the head's surface); 1 without a map.
     pub fn transmittance_at(&self, p: Vec3) -> f32 {
         self.map.as_ref().map_or(1.0, |m| m.transmittance(p))
+    }
+}
+
+/// The hair of the fused pass's shadow map in lane layout: every `step`-th
+/// drawn group (up to eight hairs of one scalp triangle in the lanes), its
+/// rows interpolated from the refined guides when the build asks for them
+/// (`coif_lod::GroupBlend::position_x8`, the numbers `interpolate`
+/// writes), so no frame-sized point buffer is written or read.
+pub(crate) struct DrawnHair<'a> {
+    pub interpolation: &'a Interpolation,
+    pub guides: &'a RefinedGuides,
+    /// `(group, first hair)` of the drawn groups, in draw order.
+    pub drawn: &'a [(u32, u32)],
+    /// Every `step`-th drawn group is in the map (at least 1).
+    pub step: usize,
+}
+
+impl StrandLanes for DrawnHair<'_> {
+    fn verts(&self) -> usize {
+        self.guides.verts_per_strand()
+    }
+
+    fn blocks(&self) -> usize {
+        self.drawn.len().div_ceil(self.step.max(1))
+    }
+
+    fn block(&self, b: usize) -> (usize, impl Fn(usize) -> Vec3x8 + '_) {
+        let blend = self
+            .drawn
+            .get(b * self.step.max(1))
+            .and_then(|&(g, _)| self.interpolation.group_blend(self.guides, g as usize))
+            .filter(|blend| blend.verts() == self.verts());
+        let lanes = blend.map_or(0, |blend| blend.hairs().min(LANES));
+        (lanes, move |r: usize| {
+            blend.map_or(Vec3x8::ZERO, |blend| blend.position_x8(r))
+        })
     }
 }

@@ -4,9 +4,18 @@
 //! deep mode's depth map) equal, for slices and deep layers, several light
 //! directions, NaN vertices, a partial trailing strand, hair far from the
 //! origin and resolutions whose texel count is not a multiple of 16.
+//!
+//! The same cases for the lane-layout build (`build_lanes`, the fused
+//! prepare pass's): SIMD and scalar twin bit for bit (one task), and
+//! against `build` on the same strands the same placement and first depths
+//! bit for bit, opacities and lookups to float rounding (its deposits add
+//! up in another order), lanes that are not hair never read.
 
+mod common;
+
+use coif_base::tasks::Serial;
 use coif_base::SplitMix64;
-use coif_shading::shadow::{OpacityShadowMap, ShadowMode, ShadowSettings};
+use coif_shading::shadow::{BuildScratch, LaneRows, OpacityShadowMap, ShadowMode, ShadowSettings};
 use glam::Vec3;
 
 /// Random wavy strands around `centre`: `strands` strands of `verts`
@@ -77,7 +86,83 @@ fn assert_same(s: &ShadowSettings, light: Vec3, pts: &[Vec3], verts: usize, what
             "{what}: lookup at {p}: {a} vs {b}"
         );
     }
+    assert_lanes(s, light, pts, verts, &simd, what);
     filled
+}
+
+/// The lane-layout builds of the same strands: SIMD (one task) and scalar
+/// bit for bit; against `points_map` (the `build` of `pts`) the same
+/// readiness, placement and first depths, opacities within 1e-5 relative
+/// (1e-5 absolute below 1) and lookups within 1e-5.
+fn assert_lanes(
+    s: &ShadowSettings,
+    light: Vec3,
+    pts: &[Vec3],
+    verts: usize,
+    points_map: &OpacityShadowMap,
+    what: &str,
+) {
+    let (rows, strands) = common::lane_rows(pts, verts);
+    let hair = LaneRows {
+        rows: &rows,
+        verts,
+        strands,
+    };
+    let mut simd = OpacityShadowMap::new(s.clone()).unwrap();
+    let mut scalar = OpacityShadowMap::new(s.clone()).unwrap();
+    let mut scratch = BuildScratch::new(s, 1).unwrap();
+    simd.build_lanes(&Serial, &mut scratch, light, &hair);
+    coif_shading::shadow::scalar::build_lanes(&mut scalar, light, &hair);
+    assert_eq!(
+        common::stored_bits(&simd),
+        common::stored_bits(&scalar),
+        "{what}: lanes, simd against scalar"
+    );
+    assert_eq!(
+        simd.is_ready(),
+        points_map.is_ready(),
+        "{what}: lanes readiness"
+    );
+    assert_eq!(
+        simd.is_ready(),
+        scalar.is_ready(),
+        "{what}: lanes readiness"
+    );
+    if !simd.is_ready() {
+        return;
+    }
+    assert_eq!(
+        simd.placement(),
+        points_map.placement(),
+        "{what}: lanes placement"
+    );
+    let n = s.resolution;
+    for y in 0..n {
+        for x in 0..n {
+            let z = [&simd, &scalar, points_map].map(|m| m.first_depth(x, y).map(f32::to_bits));
+            assert!(
+                z[0] == z[1] && z[0] == z[2],
+                "{what}: first depth ({x}, {y}): {z:?}"
+            );
+            for l in 0..s.layers {
+                let (a, b) = (
+                    simd.stored_opacity(x, y, l),
+                    points_map.stored_opacity(x, y, l),
+                );
+                assert!(
+                    (a - b).abs() <= 1e-5 * b.abs().max(1.0),
+                    "{what}: lanes texel ({x}, {y}) plane {l}: {a} vs {b}"
+                );
+            }
+        }
+    }
+    for p in pts.iter().flat_map(|p| [*p, *p + Vec3::splat(0.003)]) {
+        let (a, b) = (simd.transmittance(p), points_map.transmittance(p));
+        assert!(
+            (a - b).abs() <= 1e-5,
+            "{what}: lanes lookup at {p}: {a} vs {b}"
+        );
+    }
 }
 
 #[test]

@@ -7,12 +7,14 @@
 use super::layers::Layering;
 use super::light_frame::{LightFrame, MapPlacement};
 use super::map::OpacityShadowMap;
-use super::raster::for_each_sample;
+use super::raster::{for_each_sample, for_each_sample_lanes, SplatX8};
 use super::settings::{ShadowMode, ShadowSettings};
+use super::strand_lanes::StrandLanes;
 use crate::Error;
 use coif_base::tasks::{for_each_chunk_mut, Executor};
 use coif_base::{Vec3x8, LANES};
 use glam::Vec3;
+use std::ops::Range;
 use wide::{f32x8, i32x8};
 
 impl OpacityShadowMap {
@@ -38,17 +40,23 @@ impl OpacityShadowMap {
         let Some(points) = self.prepare(light_dir, points, verts_per_strand, light_bounds) else {
             return;
         };
-        let pass = Pass::of(self, verts_per_strand);
+        let pass = Pass::of(self);
+        let src = Points {
+            points,
+            verts: verts_per_strand,
+        };
+        let all = 0..src.units();
         if self.settings.mode == ShadowMode::Deep {
             // 2. The depth map z0: the nearest sample per texel.
             self.first_depth.fill(f32::INFINITY);
-            pass.depth(&mut self.first_depth, points);
+            pass.depth(&mut self.first_depth, &src, all.clone());
             pass.finish_depth(&mut self.first_depth);
         }
         // 3. Deposit every sample into its plane interval.
-        pass.deposit(&mut self.texels, &self.first_depth, points);
+        pass.deposit(&mut self.texels, &self.first_depth, &src, all);
         // 4. Prefix sum along depth.
         prefix_sum(&mut self.texels, pass.nn, self.settings.layers);
+        self.keep_depth_in_texels();
         self.ready = true;
     }
 
@@ -71,10 +79,7 @@ impl OpacityShadowMap {
         points: &[Vec3],
         verts_per_strand: usize,
     ) {
-        let texels_len = self.texels.len();
-        let depth_len = self.first_depth.len();
-        let tasks = scratch.tasks;
-        if scratch.texels.len() != tasks * texels_len || scratch.depth.len() != tasks * depth_len {
+        if !scratch.fits(self) {
             // Scratch made for other settings: no map (and no panic).
             self.ready = false;
             return;
@@ -82,17 +87,61 @@ impl OpacityShadowMap {
         let Some(points) = self.prepare(light_dir, points, verts_per_strand, light_bounds) else {
             return;
         };
-        let pass = Pass::of(self, verts_per_strand);
-        let strands = points.len() / verts_per_strand;
-        let range = |i: usize| {
-            let (a, b) = (i * strands / tasks, (i + 1) * strands / tasks);
-            &points[a * verts_per_strand..b * verts_per_strand]
+        let src = Points {
+            points,
+            verts: verts_per_strand,
         };
+        self.build_parts(executor, scratch, &src);
+    }
+
+    /// [`OpacityShadowMap::build_tasks`] from hair in lane layout (blocks
+    /// of up to eight strands in the lanes of `f32x8`, [`StrandLanes`]):
+    /// the same steps, with the tasks' ranges of blocks instead of strands
+    /// and each group of eight segments taken as segment `r` of a block's
+    /// eight strands (rows `r`, `r + 1`) instead of eight consecutive
+    /// segments of one strand. The same samples as
+    /// [`OpacityShadowMap::build`] on the same strands (hair after hair),
+    /// deposited in another order: the same first depths bit for bit, the
+    /// same opacities to float rounding (tested). The rows are asked for
+    /// three times per block (bounds, depth map, deposits), never stored:
+    /// a fused pass interpolates them on the fly. Scalar twin
+    /// [`super::scalar::build_lanes`] (bit for bit, one task). No
+    /// allocation.
+    pub fn build_lanes<H: StrandLanes + ?Sized>(
+        &mut self,
+        executor: &dyn Executor,
+        scratch: &mut BuildScratch,
+        light_dir: Vec3,
+        hair: &H,
+    ) {
+        if !scratch.fits(self) {
+            self.ready = false;
+            return;
+        }
+        if !self.prepare_with(light_dir, hair.verts(), |frame| lane_bounds(frame, hair)) {
+            return;
+        }
+        self.build_parts(executor, scratch, &Lanes(hair));
+    }
+
+    /// Steps 2 to 4 of the task builds, after `prepare`.
+    fn build_parts(
+        &mut self,
+        executor: &dyn Executor,
+        scratch: &mut BuildScratch,
+        src: &impl Source,
+    ) {
+        let texels_len = self.texels.len();
+        let depth_len = self.first_depth.len();
+        let tasks = scratch.tasks;
+        let pass = Pass::of(self);
+        let units = src.units();
+        let range = |i: usize| i * units / tasks..(i + 1) * units / tasks;
         if self.settings.mode == ShadowMode::Deep {
             // 2. Partial depth maps, reduced by min.
             for_each_chunk_mut(executor, &mut scratch.depth, depth_len, &|i, z0| {
                 z0.fill(f32::INFINITY);
-                pass.depth(z0, range(i));
+                pass.depth(z0, src, range(i));
             });
             self.first_depth.fill(f32::INFINITY);
             for part in scratch.depth.chunks_exact(depth_len) {
@@ -106,7 +155,7 @@ impl OpacityShadowMap {
         let z0 = &self.first_depth;
         for_each_chunk_mut(executor, &mut scratch.texels, texels_len, &|i, part| {
             part.fill([0.0; 4]);
-            pass.deposit(part, z0, range(i));
+            pass.deposit(part, z0, src, range(i));
         });
         let mut parts = scratch.texels.chunks_exact(texels_len);
         if let Some(first) = parts.next() {
@@ -121,7 +170,65 @@ impl OpacityShadowMap {
         }
         // 4. Prefix sum along depth.
         prefix_sum(&mut self.texels, pass.nn, self.settings.layers);
+        self.keep_depth_in_texels();
         self.ready = true;
+    }
+}
+
+/// The hair of one build, in units (strands or blocks) that tasks split
+/// into contiguous ranges.
+trait Source: Sync {
+    /// Number of units.
+    fn units(&self) -> usize;
+    /// Every sample of the units in `units`, in order.
+    fn samples(&self, pass: &Pass, units: Range<usize>, deposit: impl FnMut(&SplatX8));
+}
+
+/// Strands of `verts` points each, one after another (units: strands).
+struct Points<'a> {
+    points: &'a [Vec3],
+    verts: usize,
+}
+
+impl Source for Points<'_> {
+    fn units(&self) -> usize {
+        self.points.len() / self.verts.max(1)
+    }
+
+    fn samples(&self, pass: &Pass, units: Range<usize>, deposit: impl FnMut(&SplatX8)) {
+        let points = &self.points[units.start * self.verts..units.end * self.verts];
+        let (frame, placement) = (&pass.frame, &pass.placement);
+        for_each_sample(
+            frame,
+            placement,
+            pass.n,
+            pass.radius,
+            points,
+            self.verts,
+            deposit,
+        );
+    }
+}
+
+/// Hair in lane layout (units: blocks).
+struct Lanes<'a, H: ?Sized>(&'a H);
+
+impl<H: StrandLanes + ?Sized> Source for Lanes<'_, H> {
+    fn units(&self) -> usize {
+        self.0.blocks()
+    }
+
+    fn samples(&self, pass: &Pass, units: Range<usize>, deposit: impl FnMut(&SplatX8)) {
+        let (frame, placement) = (&pass.frame, &pass.placement);
+        for_each_sample_lanes(
+            frame,
+            placement,
+            pass.n,
+            pass.radius,
+            self.0,
+            units,
+            deposit,
+        );
     }
 }
 
@@ -155,6 +262,12 @@ impl BuildScratch {
     pub fn tasks(&self) -> usize {
         self.tasks
     }
+
+    /// Whether the partial maps have `map`'s sizes.
+    fn fits(&self, map: &OpacityShadowMap) -> bool {
+        self.texels.len() == self.tasks * map.texels.len()
+            && self.depth.len() == self.tasks * map.first_depth.len()
+    }
 }
 
 /// What the rasterising passes of one build share: the light frame and
@@ -168,14 +281,13 @@ struct Pass {
     n: usize,
     nn: usize,
     radius: f32,
-    verts: usize,
     /// Float indices into the flat map fit in i32 lanes (every map up to
     /// 2^29 texels; larger ones index lane by lane).
     flat_fits: bool,
 }
 
 impl Pass {
-    fn of(map: &OpacityShadowMap, verts: usize) -> Pass {
+    fn of(map: &OpacityShadowMap) -> Pass {
         let n = map.settings.resolution;
         Pass {
             frame: map.frame,
@@ -185,7 +297,6 @@ impl Pass {
             n,
             nn: n * n,
             radius: map.settings.hair_radius,
-            verts,
             flat_fits: map.texels.len() <= (i32::MAX as usize) / 4,
         }
     }
@@ -197,25 +308,25 @@ impl Pass {
 
     /// Step 2 into `z0` (filled with infinity by the caller): the nearest
     /// sample of `points` per texel.
-    fn depth(&self, z0: &mut [f32], points: &[Vec3]) {
-        let (n, offsets) = (self.n, self.offsets());
-        for_each_sample(
-            &self.frame,
-            &self.placement,
-            n,
-            self.radius,
-            points,
-            self.verts,
-            |sp| {
-                let z = sp.z.to_array();
-                for l in sp.lanes() {
-                    let quad = &mut z0[sp.t0[l]..sp.t0[l] + n + 2];
-                    for o in offsets {
-                        quad[o] = quad[o].min(z[l]);
-                    }
+    fn depth(&self, z0: &mut [f32], src: &impl Source, units: Range<usize>) {
+        let n = self.n;
+        src.samples(self, units, move |sp| {
+            let z = sp.z.to_array();
+            for l in sp.lanes() {
+                let (t, zl) = (sp.t0[l], z[l]);
+                // `t0` is clamped so that its four texels are in the map.
+                if let Some(quad) = z0.get_mut(t..t + n + 2) {
+                    // Neither z0 (infinity or a depth) nor a sample's depth
+                    // is NaN, so this compare is `f32::min` (one
+                    // instruction, no NaN handling).
+                    let min = |d: &mut f32| *d = if zl < *d { zl } else { *d };
+                    min(&mut quad[0]);
+                    min(&mut quad[1]);
+                    min(&mut quad[n]);
+                    min(&mut quad[n + 1]);
                 }
-            },
-        );
+            }
+        });
     }
 
     /// Texels no sample reached start their layers at the near plane.
@@ -227,13 +338,12 @@ impl Pass {
 
     /// Step 3 into `texels`: every sample of `points` into its plane
     /// interval (from `near`, or in deep mode from each corner's `z0`).
-    fn deposit(&self, texels: &mut [[f32; 4]], z0: &[f32], points: &[Vec3]) {
+    fn deposit(&self, texels: &mut [[f32; 4]], z0: &[f32], src: &impl Source, units: Range<usize>) {
         let (n, nn, offsets, layering) = (self.n, self.nn, self.offsets(), self.layering);
-        let (frame, placement) = (&self.frame, &self.placement);
         match self.mode {
             ShadowMode::Slices => {
-                let near = f32x8::splat(placement.near);
-                for_each_sample(frame, placement, n, self.radius, points, self.verts, |sp| {
+                let near = f32x8::splat(self.placement.near);
+                src.samples(self, units, |sp| {
                     let slices = layering.interval_x8(sp.z - near);
                     let w = sp.weights.map(|w| w.to_array());
                     for l in sp.lanes() {
@@ -247,50 +357,73 @@ impl Pass {
                     }
                 });
             }
-            ShadowMode::Deep => {
-                let nn4 = i32x8::splat((4 * nn).min(i32::MAX as usize) as i32);
-                let flat_fits = self.flat_fits;
-                for_each_sample(frame, placement, n, self.radius, points, self.verts, |sp| {
-                    // Each corner's plane interval, relative to its own z0,
-                    // gathered lane by lane (every lane's `t0` is clamped
-                    // into the map, also the inactive lanes').
-                    let mut base = [[0.0f32; LANES]; 4];
-                    for l in 0..LANES {
-                        let quad = &z0[sp.t0[l]..sp.t0[l] + n + 2];
-                        for (c, o) in offsets.iter().enumerate() {
-                            base[c][l] = quad[*o];
-                        }
-                    }
-                    let w = sp.weights.map(|w| w.to_array());
-                    if flat_fits {
-                        // Each corner's float index into the flat map,
-                        // (slice / 4) 4 n^2 + 4 (t0 + o) + slice % 4, in
-                        // i32 lanes; the same deposits in the same order.
-                        let index: [[i32; LANES]; 4] = std::array::from_fn(|c| {
-                            let s = layering.interval_i32x8(sp.z - f32x8::new(base[c]));
-                            let t = sp.t0_x8 + i32x8::splat(offsets[c] as i32);
-                            let group: i32x8 = s >> 2;
-                            let texel: i32x8 = t << 2;
-                            (group * nn4 + texel + (s & i32x8::splat(3))).to_array()
-                        });
-                        let flat = texels.as_flattened_mut();
-                        for l in sp.lanes() {
-                            for c in 0..4 {
-                                flat[index[c][l] as usize] += w[c][l];
-                            }
-                        }
-                    } else {
-                        let slices = base.map(|b| layering.interval_x8(sp.z - f32x8::new(b)));
-                        for l in sp.lanes() {
-                            for (c, o) in offsets.iter().enumerate() {
-                                let slice = slices[c][l];
-                                texels[(slice / 4) * nn + sp.t0[l] + o][slice % 4] += w[c][l];
-                            }
-                        }
-                    }
-                });
-            }
+            ShadowMode::Deep => match layering.few_thresholds() {
+                // Up to four quadratic layers (the frame's 3): the interval
+                // by a fixed number of comparisons, no branch per corner.
+                Some(thresholds) => self.deposit_deep(texels, z0, src, units, move |x| {
+                    layering.interval_few_i32x8(&thresholds, x)
+                }),
+                None => {
+                    self.deposit_deep(texels, z0, src, units, move |x| layering.interval_i32x8(x))
+                }
+            },
         }
+    }
+
+    /// [`Pass::deposit`] in deep mode, `interval` giving the plane interval
+    /// of eight depths behind their corners' `z0` (the layering's).
+    fn deposit_deep(
+        &self,
+        texels: &mut [[f32; 4]],
+        z0: &[f32],
+        src: &impl Source,
+        units: Range<usize>,
+        interval: impl Fn(f32x8) -> i32x8,
+    ) {
+        let (n, nn, offsets, layering) = (self.n, self.nn, self.offsets(), self.layering);
+        let nn4 = i32x8::splat((4 * nn).min(i32::MAX as usize) as i32);
+        let flat_fits = self.flat_fits;
+        src.samples(self, units, move |sp| {
+            // Each corner's plane interval, relative to its own z0,
+            // gathered lane by lane (every lane's `t0` is clamped
+            // into the map, also the inactive lanes').
+            let mut base = [[0.0f32; LANES]; 4];
+            for (l, &t) in sp.t0.iter().enumerate() {
+                if let Some(quad) = z0.get(t..t + n + 2) {
+                    base[0][l] = quad[0];
+                    base[1][l] = quad[1];
+                    base[2][l] = quad[n];
+                    base[3][l] = quad[n + 1];
+                }
+            }
+            let w = sp.weights.map(|w| w.to_array());
+            if flat_fits {
+                // Each corner's float index into the flat map,
+                // (slice / 4) 4 n^2 + 4 (t0 + o) + slice % 4, in
+                // i32 lanes; the same deposits in the same order.
+                let index: [[i32; LANES]; 4] = std::array::from_fn(|c| {
+                    let s = interval(sp.z - f32x8::new(base[c]));
+                    let t = sp.t0_x8 + i32x8::splat(offsets[c] as i32);
+                    let group: i32x8 = s >> 2;
+                    let texel: i32x8 = t << 2;
+                    (group * nn4 + texel + (s & i32x8::splat(3))).to_array()
+                });
+                let flat = texels.as_flattened_mut();
+                for l in sp.lanes() {
+                    for c in 0..4 {
+                        flat[index[c][l] as usize] += w[c][l];
+                    }
+                }
+            } else {
+                let slices = base.map(|b| layering.interval_x8(sp.z - f32x8::new(b)));
+                for l in sp.lanes() {
+                    for (c, o) in offsets.iter().enumerate() {
+                        let slice = slices[c][l];
+                        texels[(slice / 4) * nn + sp.t0[l] + o][slice % 4] += w[c][l];
+                    }
+                }
+            }
+        });
     }
 }
 
@@ -300,11 +433,7 @@ impl Pass {
 /// maximum over the finite points, reduced over the lanes at the end (min
 /// and max of non-NaN numbers do not depend on the order).
 fn light_bounds(frame: &LightFrame, points: &[Vec3]) -> Option<(Vec3, Vec3)> {
-    let axes = [frame.x_axis, frame.y_axis, frame.z_axis].map(Vec3x8::splat);
-    let (inf, neg_inf) = (f32x8::splat(f32::INFINITY), f32x8::splat(f32::NEG_INFINITY));
-    let mut min = [inf; 3];
-    let mut max = [neg_inf; 3];
-    let mut overflow = f32x8::ZERO;
+    let mut bounds = BoundsX8::new(frame);
     for chunk in points.chunks(LANES) {
         let mut p = Vec3x8::ZERO;
         let mut finite = [0.0f32; LANES];
@@ -314,23 +443,76 @@ fn light_bounds(frame: &LightFrame, points: &[Vec3]) -> Option<(Vec3, Vec3)> {
                 finite[l] = 1.0;
             }
         }
-        let finite = f32x8::new(finite).simd_gt(f32x8::ZERO);
-        for k in 0..3 {
-            let c = p.dot(axes[k]);
-            overflow |= finite & !c.is_finite();
-            min[k] = min[k].min(finite.select(c, inf));
-            max[k] = max[k].max(finite.select(c, neg_inf));
+        bounds.add(p, f32x8::new(finite).simd_gt(f32x8::ZERO));
+    }
+    bounds.finish()
+}
+
+/// Light-space bounding box `(min, max)` of the finite vertices of hair in
+/// lane layout (SIMD twin of the scalar `lane_bounds`; the same as
+/// [`light_bounds`] of the same points): per row, the lanes that are hair
+/// and finite, the same dot products, lane-wise minimum and maximum.
+fn lane_bounds<H: StrandLanes + ?Sized>(frame: &LightFrame, hair: &H) -> Option<(Vec3, Vec3)> {
+    let mut bounds = BoundsX8::new(frame);
+    for b in 0..hair.blocks() {
+        let (lanes, row) = hair.block(b);
+        if lanes == 0 {
+            continue;
+        }
+        let hair_lanes = f32x8::new(std::array::from_fn(|l| if l < lanes { 1.0 } else { 0.0 }))
+            .simd_gt(f32x8::ZERO);
+        for r in 0..hair.verts() {
+            let p = row(r);
+            bounds.add(p, p.finite() & hair_lanes);
         }
     }
-    if overflow.any() {
-        return None;
+    bounds.finish()
+}
+
+/// Lane-wise light-space bounds of the points added so far.
+struct BoundsX8 {
+    axes: [Vec3x8; 3],
+    min: [f32x8; 3],
+    max: [f32x8; 3],
+    overflow: f32x8,
+}
+
+impl BoundsX8 {
+    fn new(frame: &LightFrame) -> BoundsX8 {
+        BoundsX8 {
+            axes: [frame.x_axis, frame.y_axis, frame.z_axis].map(Vec3x8::splat),
+            min: [f32x8::splat(f32::INFINITY); 3],
+            max: [f32x8::splat(f32::NEG_INFINITY); 3],
+            overflow: f32x8::ZERO,
+        }
     }
-    let reduce = |v: [f32x8; 3], f: fn(f32, f32) -> f32| {
-        let [x, y, z] = v.map(|c| c.to_array().into_iter().reduce(f).unwrap_or(0.0));
-        Vec3::new(x, y, z)
-    };
-    let (min, max) = (reduce(min, f32::min), reduce(max, f32::max));
-    (min.x <= max.x).then_some((min, max))
+
+    /// Eight points, the lanes of `finite` only (the dot products
+    /// `p.x a.x + p.y a.y + p.z a.z`, unfused, as the scalar's).
+    #[inline(always)]
+    fn add(&mut self, p: Vec3x8, finite: f32x8) {
+        let (inf, neg_inf) = (f32x8::splat(f32::INFINITY), f32x8::splat(f32::NEG_INFINITY));
+        for k in 0..3 {
+            let c = p.dot(self.axes[k]);
+            self.overflow |= finite & !c.is_finite();
+            self.min[k] = self.min[k].min(finite.select(c, inf));
+            self.max[k] = self.max[k].max(finite.select(c, neg_inf));
+        }
+    }
+
+    /// The lanes reduced (min and max of non-NaN numbers do not depend on
+    /// the order); `None` on overflow or when no point was finite.
+    fn finish(self) -> Option<(Vec3, Vec3)> {
+        if self.overflow.any() {
+            return None;
+        }
+        let reduce = |v: [f32x8; 3], f: fn(f32, f32) -> f32| {
+            let [x, y, z] = v.map(|c| c.to_array().into_iter().reduce(f).unwrap_or(0.0));
+            Vec3::new(x, y, z)
+        };
+        let (min, max) = (reduce(self.min, f32::min), reduce(self.max, f32::max));
+        (min.x <= max.x).then_some((min, max))
+    }
 }
 
 /// SIMD twin of the scalar build's prefix sum along depth

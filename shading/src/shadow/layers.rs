@@ -123,6 +123,36 @@ impl Layering {
         self.interval_f32x8(x).fast_trunc_int()
     }
 
+    /// Up to [`FEW`] quadratic layers: the thresholds `k^2` for `k` in
+    /// `1..FEW`, `+inf` from `k = L` on (never reached by a finite `q`),
+    /// splatted, for [`Layering::interval_few_i32x8`]; `None` otherwise.
+    pub fn few_thresholds(&self) -> Option<[f32x8; FEW - 1]> {
+        (self.quadratic && self.count <= FEW).then(|| {
+            std::array::from_fn(|j| {
+                let k = j + 1;
+                f32x8::splat(if k < self.count {
+                    (k * k) as f32
+                } else {
+                    f32::INFINITY
+                })
+            })
+        })
+    }
+
+    /// [`Layering::interval_i32x8`] for up to [`FEW`] quadratic layers with
+    /// the thresholds of [`Layering::few_thresholds`]: always `FEW - 1`
+    /// comparisons, no branch on the layer count; the same index (a
+    /// comparison with `+inf` adds nothing for finite `q`).
+    #[inline(always)]
+    pub fn interval_few_i32x8(&self, thresholds: &[f32x8; FEW - 1], x: f32x8) -> i32x8 {
+        let q = x.fast_max(f32x8::ZERO) * f32x8::splat(self.scale);
+        let mut i = f32x8::ZERO;
+        for t in thresholds {
+            i += q.simd_ge(*t) & f32x8::ONE;
+        }
+        i.fast_trunc_int()
+    }
+
     /// [`Layering::interval_x8`] as `f32` lanes (exact small integers).
     /// `x` must not be NaN (a NaN lane gives some index in `0..L`:
     /// `fast_max(x, 0)` returns 0 for it).
@@ -173,6 +203,9 @@ mod tests {
                         assert!((f - divided).abs() <= f32::EPSILON, "L {count} q {q}");
                         let lanes = ly.interval_x8(f32x8::splat(x));
                         assert_eq!(lanes, [want; LANES], "L {count} q {q}");
+                        let few = ly.few_thresholds().expect("quadratic, few layers");
+                        let lanes = ly.interval_few_i32x8(&few, f32x8::splat(x));
+                        assert_eq!(lanes.to_array(), [want as i32; LANES], "L {count} q {q}");
                     }
                     below = f32::from_bits(below.to_bits() - 1);
                     above = f32::from_bits(above.to_bits() + 1);

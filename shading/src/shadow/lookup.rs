@@ -95,25 +95,29 @@ impl OpacityShadowMap {
         // of four planes (up to four layers, the frame's deep map) a corner's
         // planes are one 16-byte texel: two corners' texels per lane are
         // loaded as one row and transposed into plane vectors, then each
-        // lane picks its pair by its interval. More planes: two gathers.
+        // lane picks its pair by its interval; a deep map of up to three
+        // layers keeps each texel's first depth in its free fourth plane
+        // (`OpacityShadowMap::keep_depth_in_texels`), so the same loads
+        // bring it. More planes: two gathers.
         let one_group = self.settings.layers <= 4;
-        let planes = if one_group {
+        let depth_in_texel = self.depth_in_texels();
+        let mut planes = [[f32x8::ZERO; 8]; 2];
+        if one_group {
             let ct = corner.map(|c| c.to_array());
-            let [a, b] = [(0, 1), (2, 3)].map(|(c, d)| self.texel_planes_x8(&ct[c], &ct[d]));
-            [a, b]
-        } else {
-            [[f32x8::ZERO; 8]; 2]
-        };
+            planes[0] = self.texel_planes_x8(&ct[0], &ct[1]);
+            planes[1] = self.texel_planes_x8(&ct[2], &ct[3]);
+        }
         let mut sigma = [f32x8::ZERO; 4];
         for (c, out) in sigma.iter_mut().enumerate() {
+            let p = &planes[c / 2][4 * (c % 2)..4 * (c % 2) + 4];
             let base = match self.settings.mode {
                 ShadowMode::Slices => f32x8::splat(pl.near),
+                ShadowMode::Deep if depth_in_texel => p[3],
                 ShadowMode::Deep => gather(&self.first_depth, corner[c]),
             };
             let (s, i, frac) = self.locate_x8(lz - base);
             let first = i.simd_eq(f32x8::ZERO);
             let (prev, next) = if one_group {
-                let p = &planes[c / 2][4 * (c % 2)..4 * (c % 2) + 4];
                 pick_pair(p, i)
             } else if self.flat_fits() {
                 self.plane_pair_x8(corner[c], s, first)
@@ -167,10 +171,11 @@ impl OpacityShadowMap {
     /// of the `b` texels. Texel indices are in the map (clamped corners).
     #[inline(always)]
     fn texel_planes_x8(&self, a: &[i32; LANES], b: &[i32; LANES]) -> [f32x8; 8] {
-        let rows = std::array::from_fn(|l| {
+        let mut rows = [f32x8::ZERO; LANES];
+        for (l, row) in rows.iter_mut().enumerate() {
             let (x, y) = (self.texels[a[l] as usize], self.texels[b[l] as usize]);
-            f32x8::new([x[0], x[1], x[2], x[3], y[0], y[1], y[2], y[3]])
-        });
+            *row = f32x8::new([x[0], x[1], x[2], x[3], y[0], y[1], y[2], y[3]]);
+        }
         f32x8::transpose(rows)
     }
 

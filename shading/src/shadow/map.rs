@@ -101,6 +101,16 @@ impl OpacityShadowMap {
         self.texels[(s / 4) * n * n + y * n + x][s % 4]
     }
 
+    /// The first depth `z0` of texel `(x, y)` (deep mode: the light-space
+    /// depth where its layers start); `None` in slices mode or outside the
+    /// map.
+    pub fn first_depth(&self, x: usize, y: usize) -> Option<f32> {
+        let n = self.settings.resolution;
+        (x < n && y < n)
+            .then(|| self.first_depth.get(y * n + x).copied())
+            .flatten()
+    }
+
     /// The steps both builds share before rasterising: clears the map, sets
     /// the light frame, takes the light-space bounds of the finite points
     /// (with `bounds`, scalar or SIMD), places the map and its layering.
@@ -115,30 +125,48 @@ impl OpacityShadowMap {
         verts_per_strand: usize,
         bounds: LightBounds,
     ) -> Option<&'p [Vec3]> {
+        let used = points.len() - points.len() % verts_per_strand.max(1);
+        let points = &points[..used];
+        self.prepare_with(light_dir, verts_per_strand, |frame| bounds(frame, points))
+            .then_some(points)
+    }
+
+    /// [`Self::prepare`] for any hair layout: `bounds` gives the
+    /// light-space bounds of its finite points in the new light frame.
+    /// False when there is no usable map.
+    pub(super) fn prepare_with(
+        &mut self,
+        light_dir: Vec3,
+        verts_per_strand: usize,
+        bounds: impl FnOnce(&LightFrame) -> Option<(Vec3, Vec3)>,
+    ) -> bool {
         // 1. Clear, light frame, bounds, placement and layering.
         self.ready = false;
         self.texels.fill([0.0; 4]);
-        self.frame = LightFrame::new(light_dir)?;
+        let Some(frame) = LightFrame::new(light_dir) else {
+            return false;
+        };
+        self.frame = frame;
         if verts_per_strand < 2 {
-            return None;
+            return false;
         }
-        let used = points.len() - points.len() % verts_per_strand;
-        let points = &points[..used];
-        let (min, max) = bounds(&self.frame, points)?;
+        let Some((min, max)) = bounds(&self.frame) else {
+            return false;
+        };
         let n = self.settings.resolution;
         self.placement = MapPlacement::cover(min, max, self.settings.hair_radius, n);
         let pl = &self.placement;
         let usable = [pl.inv_texel, pl.x0, pl.y0, max.z - min.z];
         if !usable.iter().all(|v| v.is_finite()) {
             // Finite but astronomically large coordinates: no usable map.
-            return None;
+            return false;
         }
         let depth = max.z - min.z;
         self.layering = match self.settings.mode {
             ShadowMode::Slices => Layering::even(self.settings.layers, depth),
             ShadowMode::Deep => Layering::quadratic(self.settings.layers, depth * DEEP_SPAN),
         };
-        Some(points)
+        true
     }
 
     /// Transmittance toward the light, in [0, 1] (1 = fully lit), at a
@@ -172,6 +200,26 @@ impl OpacityShadowMap {
         // 3. Bilinear blend and exponential.
         let sigma = (s00 * (1.0 - fx) + s10 * fx) * (1.0 - fy) + (s01 * (1.0 - fx) + s11 * fx) * fy;
         (-self.hair_opacity * sigma).exp()
+    }
+
+    /// Whether the map keeps each texel's first depth `z0` also in the
+    /// texel's fourth plane: deep mode with at most three layers, where
+    /// that plane is never used (the SIMD lookups then read `z0` with the
+    /// planes, one 16-byte load per corner, instead of a gather).
+    #[inline(always)]
+    pub(super) fn depth_in_texels(&self) -> bool {
+        self.settings.mode == ShadowMode::Deep && self.settings.layers < 4
+    }
+
+    /// The last step of both builds: where [`Self::depth_in_texels`],
+    /// copies `z0` into every texel's fourth plane (no plane a lookup or
+    /// [`Self::stored_opacity`] reads as an opacity).
+    pub(super) fn keep_depth_in_texels(&mut self) {
+        if self.depth_in_texels() {
+            for (t, z) in self.texels.iter_mut().zip(&self.first_depth) {
+                t[3] = *z;
+            }
+        }
     }
 
     /// Texel index of `(i, j)`, or `None` outside the map.

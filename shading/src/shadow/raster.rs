@@ -35,6 +35,7 @@
 //!    deposits the active lanes in lane order, which is the scalar order).
 
 use super::light_frame::{LightFrame, MapPlacement};
+use super::strand_lanes::StrandLanes;
 use coif_base::{Vec3x8, LANES};
 use glam::Vec3;
 use wide::{f32x8, i32x8};
@@ -95,6 +96,126 @@ impl SplatX8 {
     }
 }
 
+/// What the rasterising of one pass shares: the light frame's axes, the
+/// placement in texel units, the map's size and the hair radius, splatted
+/// into lanes once.
+#[derive(Clone, Copy)]
+struct Raster {
+    axes: [Vec3x8; 3],
+    max_samples: f32x8,
+    cap_area: f32x8,
+    inv_h: f32x8,
+    inv_h2: f32x8,
+    diameter: f32x8,
+    x0: f32x8,
+    y0: f32x8,
+    last: f32x8,
+    row: i32x8,
+    top: i32x8,
+}
+
+impl Raster {
+    /// `None` for maps under two texels a side (nothing to splat into).
+    fn new(
+        frame: &LightFrame,
+        placement: &MapPlacement,
+        resolution: usize,
+        hair_radius: f32,
+    ) -> Option<Raster> {
+        if resolution < 2 {
+            return None;
+        }
+        let inv_h = placement.inv_texel;
+        Some(Raster {
+            axes: [frame.x_axis, frame.y_axis, frame.z_axis].map(Vec3x8::splat),
+            max_samples: f32x8::splat((4 * resolution) as f32),
+            cap_area: f32x8::splat(std::f32::consts::PI * hair_radius * hair_radius),
+            inv_h: f32x8::splat(inv_h),
+            inv_h2: f32x8::splat(inv_h * inv_h),
+            diameter: f32x8::splat(2.0 * hair_radius),
+            x0: f32x8::splat(placement.x0),
+            y0: f32x8::splat(placement.y0),
+            last: f32x8::splat(resolution.saturating_sub(2) as f32),
+            row: i32x8::splat(resolution as i32),
+            // The largest lower-left texel, (n - 2) n + n - 2.
+            top: i32x8::splat((resolution * resolution - resolution - 2) as i32),
+        })
+    }
+
+    /// Light-space coordinates of eight points (the scalar's unfused dot
+    /// products).
+    #[inline(always)]
+    fn light_space(&self, p: Vec3x8) -> Vec3x8 {
+        Vec3x8 {
+            x: p.dot(self.axes[0]),
+            y: p.dot(self.axes[1]),
+            z: p.dot(self.axes[2]),
+        }
+    }
+
+    /// Steps 1 (from the light-space ends `la`, `lb` on) to 3 for eight
+    /// segments, one per lane: the lanes set in `sampled` are sampled,
+    /// with the coverage `cap` (`pi r^2` or 0) added to each one's first
+    /// sample weight sum.
+    #[inline(always)]
+    fn segments(
+        &self,
+        la: Vec3x8,
+        lb: Vec3x8,
+        sampled: u32,
+        cap: f32x8,
+        deposit: &mut impl FnMut(&SplatX8),
+    ) {
+        let (zero, one, half) = (f32x8::ZERO, f32x8::ONE, f32x8::splat(0.5));
+        let d = lb - la;
+        let len_xy = (d.x * d.x + d.y * d.y).sqrt();
+        // The scalar's `ceil as usize` clamped to [1, 4 res]: equal for
+        // the finite, non-negative lengths of finite segments (lanes
+        // not sampled may hold anything; they are never deposited).
+        let n = (one * len_xy * self.inv_h)
+            .ceil()
+            .max(one)
+            .min(self.max_samples);
+        let inv_n = one / n;
+        let w = (self.diameter * len_xy + cap) * self.inv_h2 * inv_n;
+        let ua = (la.x - self.x0) * self.inv_h - half;
+        let va = (la.y - self.y0) * self.inv_h - half;
+        let (du, dv, za, dz) = (d.x * self.inv_h, d.y * self.inv_h, la.z, d.z);
+        // The most samples of a sampled lane (n >= 1 there, an exact
+        // integer): the rounds.
+        let sampled_lanes = i32x8::new(std::array::from_fn(|l| -((sampled >> l) as i32 & 1)));
+        let rounds = (n.fast_trunc_int() & sampled_lanes).reduce_max();
+        for j in 0..rounds {
+            // 2. Sample j of every segment of the group.
+            let jf = f32x8::splat(j as f32); // j < 2^24: exact
+            let t = (jf + half) * inv_n;
+            let (u, v) = (ua + du * t, va + dv * t);
+            let (fu, fv) = (u.floor(), v.floor());
+            let (fx, fy) = (u - fu, v - fv);
+            let (gx, gy) = (one - fx, one - fy);
+            // max/min equal the scalar clamp on the sampled lanes
+            // (finite); NaN lanes (not sampled) land on 0 or `last`
+            // (`max`/`min` return the other operand), in the map.
+            let i0 = fu.max(zero).min(self.last).fast_trunc_int();
+            let j0 = fv.max(zero).min(self.last).fast_trunc_int();
+            // Below n^2 <= 8192^2 < 2^31: no overflow in i32.
+            // Lanes not sampled may be garbage: clamped into the map.
+            let t0_x8 = (j0 * self.row + i0).max(i32x8::ZERO).min(self.top);
+            let t0 = t0_x8.to_array();
+            // j < n, both exact small integers in f32.
+            let active = jf.simd_lt(n).to_bitmask() & sampled;
+            // 3. Deposit (the caller goes through the lanes in order).
+            deposit(&SplatX8 {
+                t0: t0.map(|t| t as usize),
+                t0_x8,
+                weights: [gx * gy * w, fx * gy * w, gx * fy * w, fx * fy * w],
+                z: za + dz * t,
+                active,
+            });
+        }
+    }
+}
+
 /// SIMD twin of [`super::scalar::raster::for_each_sample`]: per group of
 /// eight consecutive segments of a strand, the setup in `f32x8` lanes
 /// (light-space ends, length across the light, sample count `n =
@@ -116,27 +237,12 @@ pub fn for_each_sample(
     verts: usize,
     mut deposit: impl FnMut(&SplatX8),
 ) {
-    if verts < 2 || resolution < 2 {
+    if verts < 2 {
         return;
     }
-    let axes = [frame.x_axis, frame.y_axis, frame.z_axis].map(Vec3x8::splat);
-    let to_light = |p: Vec3x8| Vec3x8 {
-        x: p.dot(axes[0]),
-        y: p.dot(axes[1]),
-        z: p.dot(axes[2]),
+    let Some(raster) = Raster::new(frame, placement, resolution, hair_radius) else {
+        return;
     };
-    let max_samples = f32x8::splat((4 * resolution) as f32);
-    let cap_area = std::f32::consts::PI * hair_radius * hair_radius;
-    let inv_h = placement.inv_texel;
-    let inv_h_x8 = f32x8::splat(inv_h);
-    let inv_h2 = f32x8::splat(inv_h * inv_h);
-    let diameter = f32x8::splat(2.0 * hair_radius);
-    let (x0, y0) = (f32x8::splat(placement.x0), f32x8::splat(placement.y0));
-    let (zero, one, half) = (f32x8::ZERO, f32x8::ONE, f32x8::splat(0.5));
-    let last = f32x8::splat(resolution.saturating_sub(2) as f32);
-    let row = i32x8::splat(resolution as i32);
-    // The largest lower-left texel, (n - 2) n + n - 2.
-    let top = i32x8::splat((resolution * resolution - resolution - 2) as i32);
     for strand in points.chunks_exact(verts) {
         let segments = verts - 1;
         let mut k0 = 0;
@@ -166,61 +272,64 @@ pub fn for_each_sample(
             if sampled == 0 {
                 continue;
             }
-            let (la, lb) = (to_light(a), to_light(b));
-            let d = lb - la;
-            let len_xy = (d.x * d.x + d.y * d.y).sqrt();
-            // The scalar's `ceil as usize` clamped to [1, 4 res]: equal for
-            // the finite, non-negative lengths of finite segments (lanes
-            // not sampled may hold anything; they are never deposited).
-            let n = (one * len_xy * inv_h_x8).ceil().max(one).min(max_samples);
-            let inv_n = one / n;
-            let cap = f32x8::new(std::array::from_fn(
-                |l| {
-                    if finite[l] {
-                        0.0
-                    } else {
-                        cap_area
-                    }
-                },
-            ));
-            let w = (diameter * len_xy + cap) * inv_h2 * inv_n;
-            let ua = (la.x - x0) * inv_h_x8 - half;
-            let va = (la.y - y0) * inv_h_x8 - half;
-            let (du, dv, za, dz) = (d.x * inv_h_x8, d.y * inv_h_x8, la.z, d.z);
-            let samples = n.fast_trunc_int().to_array();
-            let rounds = (0..count)
-                .filter(|l| sampled & (1 << l) != 0)
-                .map(|l| samples[l])
-                .max()
-                .unwrap_or(0);
-            for j in 0..rounds {
-                // 2. Sample j of every segment of the group.
-                let jf = f32x8::splat(j as f32);
-                let t = (jf + half) * inv_n;
-                let (u, v) = (ua + du * t, va + dv * t);
-                let (fu, fv) = (u.floor(), v.floor());
-                let (fx, fy) = (u - fu, v - fv);
-                let (gx, gy) = (one - fx, one - fy);
-                // max/min equal the scalar clamp on the sampled lanes
-                // (finite); NaN lanes (not sampled) land on 0 or `last`
-                // (`max`/`min` return the other operand), in the map.
-                let i0 = fu.max(zero).min(last).fast_trunc_int();
-                let j0 = fv.max(zero).min(last).fast_trunc_int();
-                // Below n^2 <= 8192^2 < 2^31: no overflow in i32.
-                // Lanes not sampled may be garbage: clamped into the map.
-                let t0_x8 = (j0 * row + i0).max(i32x8::ZERO).min(top);
-                let t0 = t0_x8.to_array();
-                // j < n, both exact small integers in f32.
-                let active = jf.simd_lt(n).to_bitmask() & sampled;
-                // 3. Deposit (the caller goes through the lanes in order).
-                deposit(&SplatX8 {
-                    t0: t0.map(|t| t as usize),
-                    t0_x8,
-                    weights: [gx * gy * w, fx * gy * w, gx * fy * w, fx * fy * w],
-                    z: za + dz * t,
-                    active,
-                });
+            let cap = f32x8::new(std::array::from_fn(|l| if finite[l] { 0.0 } else { 1.0 }));
+            let cap = cap
+                .simd_gt(f32x8::ZERO)
+                .select(raster.cap_area, f32x8::ZERO);
+            let (la, lb) = (raster.light_space(a), raster.light_space(b));
+            raster.segments(la, lb, sampled, cap, &mut deposit);
+        }
+    }
+}
+
+/// The lane-layout twin of [`for_each_sample`] (scalar twin
+/// [`super::scalar::raster::for_each_sample_lanes`]): the hair of
+/// `blocks` of `hair`, eight strands in the lanes, segment `r` of the
+/// eight strands (rows `r` and `r + 1`) in the lanes of one group, so no
+/// lane shuffling: per block, per segment, the group's rounds, the same
+/// per-lane arithmetic as [`for_each_sample`] (each row is taken to light
+/// space once). A segment is sampled when its lane is hair and both its
+/// ends are finite; it starts a piece (the cap) when it is the strand's
+/// first or the vertex before it is not finite.
+pub fn for_each_sample_lanes<H: StrandLanes + ?Sized>(
+    frame: &LightFrame,
+    placement: &MapPlacement,
+    resolution: usize,
+    hair_radius: f32,
+    hair: &H,
+    blocks: std::ops::Range<usize>,
+    mut deposit: impl FnMut(&SplatX8),
+) {
+    let verts = hair.verts();
+    if verts < 2 {
+        return;
+    }
+    let Some(raster) = Raster::new(frame, placement, resolution, hair_radius) else {
+        return;
+    };
+    for b in blocks {
+        let (lanes, row) = hair.block(b);
+        let hair_lanes = f32x8::new(std::array::from_fn(|l| if l < lanes { 1.0 } else { 0.0 }))
+            .simd_gt(f32x8::ZERO);
+        if lanes == 0 {
+            continue;
+        }
+        // 1. Segment setup per row pair; `before`: the vertex before the
+        // segment is finite (none before the root).
+        let p = row(0);
+        let mut before = f32x8::ZERO;
+        let mut fin_a = p.finite() & hair_lanes;
+        let mut la = raster.light_space(p);
+        for r in 1..verts {
+            let q = row(r);
+            let fin_b = q.finite() & hair_lanes;
+            let lb = raster.light_space(q);
+            let sampled = (fin_a & fin_b).to_bitmask();
+            if sampled != 0 {
+                let cap = before.select(f32x8::ZERO, raster.cap_area);
+                raster.segments(la, lb, sampled, cap, &mut deposit);
             }
+            (before, fin_a, la) = (fin_a, fin_b, lb);
         }
     }
 }

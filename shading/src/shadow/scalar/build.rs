@@ -1,10 +1,12 @@
 //! Scalar twin of `shadow/build.rs`: the same steps, one sample at a time,
 //! one texel at a time in the prefix sum.
 
-use super::raster::for_each_sample;
+use super::raster::{for_each_sample, for_each_sample_lanes, Splat};
 use crate::shadow::light_frame::LightFrame;
 use crate::shadow::settings::ShadowMode;
+use crate::shadow::strand_lanes::StrandLanes;
 use crate::shadow::OpacityShadowMap;
+use coif_base::LANES;
 use glam::Vec3;
 
 /// The scalar reference of [`OpacityShadowMap::build`]: the same steps,
@@ -19,8 +21,34 @@ pub fn build(
     let Some(points) = map.prepare(light_dir, points, verts_per_strand, light_bounds) else {
         return;
     };
-    let (frame, placement, layering) = (map.frame, map.placement, map.layering);
+    let (frame, placement) = (map.frame, map.placement);
     let (n, r) = (map.settings.resolution, map.settings.hair_radius);
+    rasterise(map, |deposit| {
+        for_each_sample(&frame, &placement, n, r, points, verts_per_strand, deposit)
+    });
+}
+
+/// The scalar twin of [`OpacityShadowMap::build_lanes`] (one task): the
+/// same steps from hair in lane layout, one lane and one sample at a time,
+/// in the SIMD order (block, segment, round, lane). Makes the same map bit
+/// for bit as the SIMD build with one task.
+pub fn build_lanes<H: StrandLanes + ?Sized>(map: &mut OpacityShadowMap, light_dir: Vec3, hair: &H) {
+    if !map.prepare_with(light_dir, hair.verts(), |frame| lane_bounds(frame, hair)) {
+        return;
+    }
+    let (frame, placement) = (map.frame, map.placement);
+    let (n, r) = (map.settings.resolution, map.settings.hair_radius);
+    let blocks = 0..hair.blocks();
+    rasterise(map, |deposit| {
+        for_each_sample_lanes(&frame, &placement, n, r, hair, blocks.clone(), deposit)
+    });
+}
+
+/// Steps 2 to 4 of both scalar builds, `samples` calling its argument once
+/// per sample (splat and depth), in order.
+fn rasterise(map: &mut OpacityShadowMap, samples: impl Fn(&mut dyn FnMut(&Splat, f32))) {
+    let (placement, layering) = (map.placement, map.layering);
+    let n = map.settings.resolution;
     let nn = n * n;
     // The four texels of a splat, relative to its lower-left one.
     let offsets = [0, 1, n, n + 1];
@@ -28,65 +56,42 @@ pub fn build(
         ShadowMode::Slices => {
             // 3. Deposit every sample into its plane interval.
             let texels = &mut map.texels;
-            for_each_sample(
-                &frame,
-                &placement,
-                n,
-                r,
-                points,
-                verts_per_strand,
-                |sp, z| {
-                    let (slice, _) = layering.locate(z - placement.near);
-                    let plane = &mut texels[(slice / 4) * nn..(slice / 4 + 1) * nn];
-                    for (o, w) in offsets.iter().zip(sp.weights) {
-                        plane[sp.t0 + o][slice % 4] += w;
-                    }
-                },
-            );
+            samples(&mut |sp, z| {
+                let (slice, _) = layering.locate(z - placement.near);
+                let plane = &mut texels[(slice / 4) * nn..(slice / 4 + 1) * nn];
+                for (o, w) in offsets.iter().zip(sp.weights) {
+                    plane[sp.t0 + o][slice % 4] += w;
+                }
+            });
         }
         ShadowMode::Deep => {
             // 2. The depth map z0: the nearest sample per texel.
             let z0 = &mut map.first_depth;
             z0.fill(f32::INFINITY);
-            for_each_sample(
-                &frame,
-                &placement,
-                n,
-                r,
-                points,
-                verts_per_strand,
-                |sp, z| {
-                    for o in offsets {
-                        let d = &mut z0[sp.t0 + o];
-                        *d = d.min(z);
-                    }
-                },
-            );
+            samples(&mut |sp, z| {
+                for o in offsets {
+                    let d = &mut z0[sp.t0 + o];
+                    *d = d.min(z);
+                }
+            });
             for z in z0.iter_mut().filter(|z| **z == f32::INFINITY) {
                 *z = placement.near;
             }
             // 3. Deposit every sample into its plane interval from z0.
             let z0 = &map.first_depth;
             let texels = &mut map.texels;
-            for_each_sample(
-                &frame,
-                &placement,
-                n,
-                r,
-                points,
-                verts_per_strand,
-                |sp, z| {
-                    for (o, w) in offsets.iter().zip(sp.weights) {
-                        let t = sp.t0 + o;
-                        let (slice, _) = layering.locate(z - z0[t]);
-                        texels[(slice / 4) * nn + t][slice % 4] += w;
-                    }
-                },
-            );
+            samples(&mut |sp, z| {
+                for (o, w) in offsets.iter().zip(sp.weights) {
+                    let t = sp.t0 + o;
+                    let (slice, _) = layering.locate(z - z0[t]);
+                    texels[(slice / 4) * nn + t][slice % 4] += w;
+                }
+            });
         }
     }
     // 4. Prefix sum along depth.
     prefix_sum(&mut map.texels, nn, map.settings.layers);
+    map.keep_depth_in_texels();
     map.ready = true;
 }
 
@@ -106,6 +111,32 @@ fn light_bounds(frame: &LightFrame, points: &[Vec3]) -> Option<(Vec3, Vec3)> {
         max = max.max(l);
     }
     // Stays inverted (min > max) when no point is finite.
+    (min.x <= max.x).then_some((min, max))
+}
+
+/// [`light_bounds`] of hair in lane layout: every lane that is hair,
+/// vertex by vertex.
+fn lane_bounds<H: StrandLanes + ?Sized>(frame: &LightFrame, hair: &H) -> Option<(Vec3, Vec3)> {
+    let mut min = Vec3::splat(f32::INFINITY);
+    let mut max = Vec3::splat(f32::NEG_INFINITY);
+    for b in 0..hair.blocks() {
+        let (lanes, row) = hair.block(b);
+        for r in 0..hair.verts() {
+            let p = row(r);
+            for l in 0..lanes.min(LANES) {
+                let q = p.lane(l);
+                if !q.is_finite() {
+                    continue;
+                }
+                let c = frame.to_light(q);
+                if !c.is_finite() {
+                    return None;
+                }
+                min = min.min(c);
+                max = max.max(c);
+            }
+        }
+    }
     (min.x <= max.x).then_some((min, max))
 }
 

@@ -8,5 +8,5 @@ mod build;
 mod lookup;
 pub(crate) mod raster;
 
-pub use build::build;
+pub use build::{build, build_lanes};
 pub use lookup::transmittance_batch;

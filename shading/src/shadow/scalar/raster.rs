@@ -5,8 +5,10 @@
 
 use crate::shadow::light_frame::{LightFrame, MapPlacement};
 use crate::shadow::raster::{Segment, SAMPLES_PER_TEXEL};
+use crate::shadow::strand_lanes::StrandLanes;
 use coif_base::LANES;
 use glam::Vec3;
+use std::ops::Range;
 
 /// One sample's bilinear splat: the four texels `t0`, `t0 + 1`, `t0 + n`,
 /// `t0 + n + 1` around it and their weights times the sample's coverage.
@@ -16,6 +18,55 @@ pub struct Splat {
     pub t0: usize,
     /// Weights of `t0`, `t0 + 1`, `t0 + n`, `t0 + n + 1`.
     pub weights: [f32; 4],
+}
+
+/// The setup of one finite segment from its light-space ends (step 1):
+/// sample count, coverage per sample (with the cap `pi r^2` when the
+/// segment starts a piece), start and step in texel coordinates.
+#[derive(Clone, Copy)]
+struct Setup {
+    placement: MapPlacement,
+    hair_radius: f32,
+    max_samples: usize,
+    cap_area: f32,
+    inv_h: f32,
+    inv_h2: f32,
+}
+
+impl Setup {
+    fn new(placement: &MapPlacement, resolution: usize, hair_radius: f32) -> Setup {
+        let inv_h = placement.inv_texel;
+        Setup {
+            placement: *placement,
+            hair_radius,
+            max_samples: 4 * resolution,
+            cap_area: std::f32::consts::PI * hair_radius * hair_radius,
+            inv_h,
+            inv_h2: inv_h * inv_h,
+        }
+    }
+
+    /// 1. Segment setup.
+    fn segment(&self, prev_light: Vec3, next_light: Vec3, first: bool) -> Segment {
+        let inv_h = self.inv_h;
+        let d = next_light - prev_light;
+        let len_xy = (d.x * d.x + d.y * d.y).sqrt();
+        let n = ((SAMPLES_PER_TEXEL * len_xy * inv_h).ceil() as usize).clamp(1, self.max_samples);
+        let inv_n = 1.0 / n as f32;
+        let cap = if first { self.cap_area } else { 0.0 };
+        let (ua, va) = self.placement.texel_coords(prev_light.x, prev_light.y);
+        Segment {
+            ua,
+            va,
+            za: prev_light.z,
+            du: d.x * inv_h,
+            dv: d.y * inv_h,
+            dz: d.z,
+            samples: n,
+            inv_n,
+            weight: (2.0 * self.hair_radius * len_xy + cap) * self.inv_h2 * inv_n,
+        }
+    }
 }
 
 /// Calls `visit(strand, k, segment)` for every segment of the hair
@@ -36,10 +87,7 @@ pub fn for_each_segment(
     if verts < 2 || resolution < 2 {
         return;
     }
-    let max_samples = 4 * resolution;
-    let cap_area = std::f32::consts::PI * hair_radius * hair_radius;
-    let inv_h = placement.inv_texel;
-    let inv_h2 = inv_h * inv_h;
+    let setup = Setup::new(placement, resolution, hair_radius);
     for (index, strand) in points.chunks_exact(verts).enumerate() {
         let mut prev = strand[0];
         let mut prev_light = frame.to_light(prev);
@@ -48,30 +96,8 @@ pub fn for_each_segment(
         for (k, &next) in strand[1..].iter().enumerate() {
             let next_light = frame.to_light(next);
             if prev.is_finite() && next.is_finite() {
-                // 1. Segment setup.
-                let d = next_light - prev_light;
-                let len_xy = (d.x * d.x + d.y * d.y).sqrt();
-                let n =
-                    ((SAMPLES_PER_TEXEL * len_xy * inv_h).ceil() as usize).clamp(1, max_samples);
-                let inv_n = 1.0 / n as f32;
-                let cap = if first { cap_area } else { 0.0 };
+                visit(index, k, &setup.segment(prev_light, next_light, first));
                 first = false;
-                let (ua, va) = placement.texel_coords(prev_light.x, prev_light.y);
-                visit(
-                    index,
-                    k,
-                    &Segment {
-                        ua,
-                        va,
-                        za: prev_light.z,
-                        du: d.x * inv_h,
-                        dv: d.y * inv_h,
-                        dz: d.z,
-                        samples: n,
-                        inv_n,
-                        weight: (2.0 * hair_radius * len_xy + cap) * inv_h2 * inv_n,
-                    },
-                );
             } else {
                 first = true;
             }
@@ -81,10 +107,8 @@ pub fn for_each_segment(
     }
 }
 
-/// Calls `deposit(splat, z)` for every sample point of every segment of the
-/// hair (`points`, `verts` per strand), with `z` the sample's light-space
-/// depth. Segments with a non-finite end are skipped. Deterministic: strand
-/// after strand, root to tip. The scalar reference of the SIMD twin.
+/// Steps 2 and 3 for a group of up to eight segments: round `j` takes
+/// sample `j` of every segment of the group that has one, in slot order.
 ///
 /// Sample `j` of a segment lies at `t = (j + 1/2) / n` along it; its
 /// texel coordinates `(u, v)` split into the lower-left texel
@@ -92,6 +116,40 @@ pub fn for_each_segment(
 /// The placement's margin (hair radius plus a texel on every side) keeps
 /// every sample's four texels inside the map; the lower-left texel is still
 /// clamped to `[0, n - 2]` so that rounding can never index outside it.
+fn sample_group(
+    group: &[Option<Segment>; LANES],
+    resolution: usize,
+    deposit: &mut impl FnMut(&Splat, f32),
+) {
+    let last = resolution.saturating_sub(2) as f32;
+    let rounds = group.iter().flatten().map(|s| s.samples).max().unwrap_or(0);
+    for j in 0..rounds {
+        for seg in group.iter().flatten().filter(|s| j < s.samples) {
+            // 2. The sample's splat and depth.
+            let t = (j as f32 + 0.5) * seg.inv_n;
+            let (u, v) = (seg.ua + seg.du * t, seg.va + seg.dv * t);
+            let (fu, fv) = (u.floor(), v.floor());
+            let (fx, fy) = (u - fu, v - fv);
+            let (gx, gy) = (1.0 - fx, 1.0 - fy);
+            let i0 = fu.clamp(0.0, last) as usize;
+            let j0 = fv.clamp(0.0, last) as usize;
+            let w = seg.weight;
+            let splat = Splat {
+                t0: j0 * resolution + i0,
+                weights: [gx * gy * w, fx * gy * w, gx * fy * w, fx * fy * w],
+            };
+            // 3. Deposit, in strand, group, round and segment order.
+            deposit(&splat, seg.za + seg.dz * t);
+        }
+    }
+}
+
+/// Calls `deposit(splat, z)` for every sample point of every segment of the
+/// hair (`points`, `verts` per strand), with `z` the sample's light-space
+/// depth. Segments with a non-finite end are skipped. Deterministic: strand
+/// after strand, root to tip, groups of eight consecutive segments of a
+/// strand sampled in rounds (see [`sample_group`]). The scalar reference
+/// of the SIMD twin.
 pub fn for_each_sample(
     frame: &LightFrame,
     placement: &MapPlacement,
@@ -101,37 +159,10 @@ pub fn for_each_sample(
     verts: usize,
     mut deposit: impl FnMut(&Splat, f32),
 ) {
-    let last = resolution.saturating_sub(2) as f32;
-    let sample = |seg: &Segment, j: usize, deposit: &mut dyn FnMut(&Splat, f32)| {
-        // 2. The sample's splat and depth.
-        let t = (j as f32 + 0.5) * seg.inv_n;
-        let (u, v) = (seg.ua + seg.du * t, seg.va + seg.dv * t);
-        let (fu, fv) = (u.floor(), v.floor());
-        let (fx, fy) = (u - fu, v - fv);
-        let (gx, gy) = (1.0 - fx, 1.0 - fy);
-        let i0 = fu.clamp(0.0, last) as usize;
-        let j0 = fv.clamp(0.0, last) as usize;
-        let w = seg.weight;
-        let splat = Splat {
-            t0: j0 * resolution + i0,
-            weights: [gx * gy * w, fx * gy * w, gx * fy * w, fx * fy * w],
-        };
-        // 3. Deposit, in strand, group, round and segment order.
-        deposit(&splat, seg.za + seg.dz * t);
-    };
     // The group of segments k0 .. k0 + 8 of one strand, sampled in rounds
     // when the next segment falls outside it.
     let mut group: [Option<Segment>; LANES] = [None; LANES];
     let mut key = (usize::MAX, usize::MAX);
-    let mut flush = |group: &mut [Option<Segment>; LANES]| {
-        let rounds = group.iter().flatten().map(|s| s.samples).max().unwrap_or(0);
-        for j in 0..rounds {
-            for seg in group.iter().flatten().filter(|s| j < s.samples) {
-                sample(seg, j, &mut deposit);
-            }
-        }
-        *group = [None; LANES];
-    };
     for_each_segment(
         frame,
         placement,
@@ -141,11 +172,64 @@ pub fn for_each_sample(
         verts,
         |strand, k, seg| {
             if (strand, k / LANES) != key {
-                flush(&mut group);
+                sample_group(&group, resolution, &mut deposit);
+                group = [None; LANES];
                 key = (strand, k / LANES);
             }
             group[k % LANES] = Some(*seg);
         },
     );
-    flush(&mut group);
+    sample_group(&group, resolution, &mut deposit);
+}
+
+/// Scalar twin of the SIMD `for_each_sample_lanes`: the hair of `blocks`
+/// of `hair` (eight strands in lanes), per block and segment `r` the group
+/// of the lanes' segments `r` (rows `r`, `r + 1`), one lane at a time, then
+/// its rounds ([`sample_group`]). A segment is sampled when its lane is
+/// hair and both ends are finite; it starts a piece when it is the strand's
+/// first or follows a broken one.
+pub fn for_each_sample_lanes<H: StrandLanes + ?Sized>(
+    frame: &LightFrame,
+    placement: &MapPlacement,
+    resolution: usize,
+    hair_radius: f32,
+    hair: &H,
+    blocks: Range<usize>,
+    mut deposit: impl FnMut(&Splat, f32),
+) {
+    let verts = hair.verts();
+    if verts < 2 || resolution < 2 {
+        return;
+    }
+    let setup = Setup::new(placement, resolution, hair_radius);
+    for b in blocks {
+        let (lanes, row) = hair.block(b);
+        let lanes = lanes.min(LANES);
+        let first_row = row(0);
+        let mut prev = [Vec3::ZERO; LANES];
+        let mut prev_light = [Vec3::ZERO; LANES];
+        for l in 0..lanes {
+            prev[l] = first_row.lane(l);
+            prev_light[l] = frame.to_light(prev[l]);
+        }
+        let mut first = [true; LANES];
+        for r in 1..verts {
+            let next_row = row(r);
+            let mut group: [Option<Segment>; LANES] = [None; LANES];
+            for l in 0..lanes {
+                // 1. Segment setup, lane by lane.
+                let next = next_row.lane(l);
+                let next_light = frame.to_light(next);
+                if prev[l].is_finite() && next.is_finite() {
+                    group[l] = Some(setup.segment(prev_light[l], next_light, first[l]));
+                    first[l] = false;
+                } else {
+                    first[l] = true;
+                }
+                prev[l] = next;
+                prev_light[l] = next_light;
+            }
+            sample_group(&group, resolution, &mut deposit);
+        }
+    }
 }
