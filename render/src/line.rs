@@ -195,6 +195,8 @@ pub struct Fragment<T: Lane> {
     pub mask: T::Mask,
     /// `coverage * opacity` (meaningful where `mask` is set).
     pub alpha: T,
+    /// The segment's view depth at the pixel.
+    pub depth: T,
     /// Linear-RGB colour interpolated along the segment.
     pub color: V3<T>,
 }
@@ -293,32 +295,77 @@ impl Segment {
     /// eight-lane forms give the same bits.
     #[inline(always)]
     pub fn row_spans<T: Rounding>(&self, y: T) -> (T, T) {
-        let (a, ex, ey) = (&self.a, self.ex, self.ey);
-        let py = (y + T::splat(0.5)) - T::splat(a.y);
-        let mut lo = T::splat(self.x0 - a.x - 0.5);
-        let mut hi = T::splat(self.x1 - a.x - 0.5);
+        let axes = Axes {
+            along: (self.a.x, self.ex, self.inv_ex, self.x0, self.x1),
+            across: (self.a.y, self.ey, self.inv_ey),
+        };
+        self.spans(y, &axes)
+    }
+
+    /// The transpose of [`Segment::row_spans`]: the pixel rows `[ya, yb)`
+    /// of the columns `x` (one per lane, whole numbers) within the bounds,
+    /// the strip's reach and `0 <= t <= 1`, widened by [`SPAN_MARGIN`]
+    /// (the same operations with `x` and `y` exchanged); both 0 where the
+    /// span is empty. Used for segments running closer to `x` than to `y`
+    /// ([`Segment::along_columns`]).
+    #[inline(always)]
+    pub fn column_spans<T: Rounding>(&self, x: T) -> (T, T) {
+        let axes = Axes {
+            along: (self.a.y, self.ey, self.inv_ey, self.y0, self.y1),
+            across: (self.a.x, self.ex, self.inv_ex),
+        };
+        self.spans(x, &axes)
+    }
+
+    /// Whether the tiled rasterisers walk this segment column by column
+    /// ([`Segment::column_spans`]) rather than row by row: when it runs
+    /// closer to `x` than to `y` (`|e_x| > |e_y|`: a column then crosses
+    /// at most about three pixels of a thin hair, where a row crosses
+    /// `1 / tan` of them) and both ends lie within [`COLUMN_REACH`] pixels
+    /// of the origin, so that the rounding of either span form stays far
+    /// below [`SPAN_MARGIN`] and both contain every pixel
+    /// [`Segment::pixel`] draws. Otherwise row by row, as the reference.
+    #[inline(always)]
+    pub fn along_columns(&self) -> bool {
+        let near = |v: f32| v.abs() <= COLUMN_REACH;
+        self.ex.abs() > self.ey.abs()
+            && near(self.a.x)
+            && near(self.a.y)
+            && near(self.b.x)
+            && near(self.b.y)
+    }
+
+    /// The spans of [`Segment::row_spans`] with the axes named by `axes`
+    /// (`along` the span, `across` it).
+    #[inline(always)]
+    fn spans<T: Rounding>(&self, y: T, axes: &Axes) -> (T, T) {
+        let (ax, ex, inv_ex, x0, x1) = axes.along;
+        let (ay, ey, inv_ey) = axes.across;
+        let py = (y + T::splat(0.5)) - T::splat(ay);
+        let mut lo = T::splat(x0 - ax - 0.5);
+        let mut hi = T::splat(x1 - ax - 0.5);
         // dist = (ex py - ey px) / len within [-radius, radius].
         if ey != 0.0 {
             let exy = T::splat(ex) * py;
-            let u = (exy - T::splat(self.radius_len)) * T::splat(self.inv_ey);
-            let v = (exy + T::splat(self.radius_len)) * T::splat(self.inv_ey);
+            let u = (exy - T::splat(self.radius_len)) * T::splat(inv_ey);
+            let v = (exy + T::splat(self.radius_len)) * T::splat(inv_ey);
             lo = lo.max(u.min(v));
             hi = hi.min(u.max(v));
         }
         // t = (ex px + ey py) / len2 within [0, 1].
         if ex != 0.0 {
             let pey = py * T::splat(ey);
-            let u = (-py * T::splat(ey)) * T::splat(self.inv_ex);
-            let v = (T::splat(self.len2) - pey) * T::splat(self.inv_ex);
+            let u = (-py * T::splat(ey)) * T::splat(inv_ex);
+            let v = (T::splat(self.len2) - pey) * T::splat(inv_ex);
             lo = lo.max(u.min(v));
             hi = hi.min(u.max(v));
         }
         // px = x + 0.5 - a.x in [lo, hi], widened by SPAN_MARGIN.
-        let xa = ((lo + T::splat(a.x)) - T::splat(0.5 + SPAN_MARGIN))
+        let xa = ((lo + T::splat(ax)) - T::splat(0.5 + SPAN_MARGIN))
             .ceil()
-            .max(T::splat(self.x0));
-        let xb = (((hi + T::splat(a.x)) - T::splat(0.5 - SPAN_MARGIN)).floor() + T::splat(1.0))
-            .min(T::splat(self.x1));
+            .max(T::splat(x0));
+        let xb = (((hi + T::splat(ax)) - T::splat(0.5 - SPAN_MARGIN)).floor() + T::splat(1.0))
+            .min(T::splat(x1));
         let ok = lo.finite() & hi.finite() & !lo.gt(hi) & xa.lt(xb);
         let zero = T::splat(0.0);
         (T::select(ok, xa, zero), T::select(ok, xb, zero))
@@ -336,8 +383,21 @@ impl Segment {
     /// `d_a + t (d_b - d_a)` is nearer than `depth` (the head's); colour
     /// `c_a + (c_b - c_a) t`. Plain multiplies and adds in a fixed order
     /// (no fused multiply-add), so every lane width gives the same bits.
+    /// [`Segment::fragment`] and the depth test.
     #[inline(always)]
     pub fn pixel<T: Lane>(&self, xc: T, yc: T, depth: T, opacity: f32) -> Fragment<T> {
+        let mut f = self.fragment(xc, yc, opacity);
+        f.mask = f.mask & f.depth.lt(depth);
+        f
+    }
+
+    /// [`Segment::pixel`] before the depth test: `mask` holds where
+    /// `0 <= t < 1` and `alpha > 0`, and `depth` is the segment's depth
+    /// at the pixel; a pixel is drawn where also `depth` is below the
+    /// stored one (the tiled rasteriser tests that lane by lane while
+    /// blending, with the same comparison).
+    #[inline(always)]
+    pub fn fragment<T: Lane>(&self, xc: T, yc: T, opacity: f32) -> Fragment<T> {
         let (a, b) = (&self.a, &self.b);
         // 1. Position relative to a; t along the segment.
         let py = yc - T::splat(a.y);
@@ -348,15 +408,16 @@ impl Segment {
         // 3. Coverage of the strip, width interpolated along it.
         let width = T::splat(a.width_px) + t * T::splat(b.width_px - a.width_px);
         let alpha = coverage_lanes(&self.profile, dist, width) * T::splat(opacity);
-        // 4. Depth test against the opaque surfaces.
+        // 4. Depth along the segment (tested against the opaque surfaces
+        // by the caller).
         let z = T::splat(a.depth) + t * T::splat(b.depth - a.depth);
-        let mask =
-            !t.lt(T::splat(0.0)) & t.lt(T::splat(1.0)) & alpha.gt(T::splat(0.0)) & z.lt(depth);
+        let mask = !t.lt(T::splat(0.0)) & t.lt(T::splat(1.0)) & alpha.gt(T::splat(0.0));
         // 5. Colour along the segment.
         let lerp = |ca: f32, cb: f32| T::splat(ca) + T::splat(cb - ca) * t;
         Fragment {
             mask,
             alpha,
+            depth: z,
             color: V3::new(
                 lerp(a.color.x, b.color.x),
                 lerp(a.color.y, b.color.y),
@@ -365,6 +426,20 @@ impl Segment {
         }
     }
 }
+
+/// The two axes of a span ([`Segment::row_spans`], [`Segment::column_spans`]):
+/// `along` (the end's coordinate, the edge, its reciprocal and the bounds),
+/// `across` (the end's coordinate, the edge and its reciprocal).
+struct Axes {
+    along: (f32, f32, f32, f32, f32),
+    across: (f32, f32, f32),
+}
+
+/// How far from the frame's origin (pixels) both ends of a segment lie
+/// for it to be walked column by column ([`Segment::along_columns`]):
+/// there the spans' rounding (a few units of `2^-11` px) is far below
+/// [`SPAN_MARGIN`].
+pub const COLUMN_REACH: f32 = 4096.0;
 
 /// How far (pixels) a row span reaches past the slabs' ends: pixel
 /// centres within this of the exact bounds are tested, so float rounding

@@ -526,27 +526,28 @@ pub(crate) struct TileArea {
 }
 
 impl TileArea {
-    /// The frame rows `[lo, hi)` of the tile that `seg`'s bounds cross.
+    /// The frame rows (`columns` false) or columns `[lo, hi)` of the tile
+    /// that `seg`'s bounds cross.
     #[inline(always)]
-    pub fn rows(&self, seg: &Segment) -> (usize, usize) {
-        let [_, _, y0, y1] = seg.bounds();
-        (y0.max(self.y0), y1.min(self.y0 + self.rows))
+    pub fn lines(&self, seg: &Segment, columns: bool) -> (usize, usize) {
+        let [x0, x1, y0, y1] = seg.bounds();
+        if columns {
+            (x0.max(self.x0), x1.min(self.x0 + self.columns))
+        } else {
+            (y0.max(self.y0), y1.min(self.y0 + self.rows))
+        }
     }
 
-    /// A row span `[xa, xb)` ([`Segment::row_spans`], frame columns as
-    /// whole floats in `[0, width]`) clipped to the tile, in tile columns;
-    /// `None` when empty.
+    /// The tile's frame columns (`columns` false) or rows `[lo, hi)`
+    /// across those lines, as floats.
     #[inline(always)]
-    pub fn clip(&self, xa: f32, xb: f32) -> Option<(usize, usize)> {
-        self.clip_int(xa as i32, xb as i32)
-    }
-
-    /// [`TileArea::clip`] of a span already in whole numbers.
-    #[inline(always)]
-    pub fn clip_int(&self, xa: i32, xb: i32) -> Option<(usize, usize)> {
-        let x0 = self.x0 as i32;
-        let (xa, xb) = ((xa - x0).max(0), (xb - x0).min(self.columns as i32));
-        (xa < xb).then_some((xa as usize, xb as usize))
+    pub fn cross(&self, columns: bool) -> (f32, f32) {
+        let (lo, len) = if columns {
+            (self.y0, self.rows)
+        } else {
+            (self.x0, self.columns)
+        };
+        (lo as f32, (lo + len) as f32)
     }
 }
 
@@ -706,56 +707,17 @@ pub fn project_x8(camera: &Camera, vertices: &[ShadedVertex]) -> [ScreenVertex; 
 /// Lane `l` holds `l as f32`.
 const LANE_INDEX: f32x8 = f32x8::new([0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
 
-/// Up to eight pixels of one segment gathered into lanes: their centres,
-/// their index in the tile and the stored depths.
-struct Lanes {
-    xc: [f32; 8],
-    yc: [f32; 8],
-    index: [u32; 8],
-    depth: [f32; 8],
-    len: usize,
-}
-
-impl Lanes {
-    /// 5d. The fragments of the gathered pixels, eight at a time; then the
-    /// blend of each drawn lane, in lane order (the pixels are distinct).
-    #[inline(always)]
-    fn flush(&mut self, seg: &Segment, planes: [&mut [f32]; 3], opacity: f32) {
-        let f = seg.pixel(
-            f32x8::new(self.xc),
-            f32x8::new(self.yc),
-            f32x8::new(self.depth),
-            opacity,
-        );
-        let live = f.mask & LANE_INDEX.simd_lt(f32x8::splat(self.len as f32));
-        let mut bits = live.to_bitmask();
-        self.len = 0;
-        if bits == 0 {
-            return;
-        }
-        let (alpha, r, g, b) = (
-            f.alpha.to_array(),
-            f.color.x.to_array(),
-            f.color.y.to_array(),
-            f.color.z.to_array(),
-        );
-        let [tr, tg, tb] = planes;
-        while bits != 0 {
-            let l = bits.trailing_zeros() as usize;
-            bits &= bits - 1;
-            let i = self.index[l] as usize;
-            tr[i] = blend(tr[i], r[l], alpha[l]);
-            tg[i] = blend(tg[i], g[l], alpha[l]);
-            tb[i] = blend(tb[i], b[l], alpha[l]);
-        }
-    }
-}
-
 /// Step 5 for one tile, eight pixels at a time: every segment of `list`
-/// in order; the pixels of its row spans are packed eight to a register
-/// (a thin segment has a few pixels per row: rows of eight would leave
-/// most lanes idle), their fragments computed together, the drawn ones
-/// blended.
+/// in order, walked along its major axis ([`Segment::along_columns`]):
+/// eight rows (or columns) per register, each lane one row with its span
+/// ([`Segment::row_spans`], [`Segment::column_spans`]) clipped to the
+/// tile; pass `k` evaluates the `k`-th pixel of every lane's span at once
+/// ([`Segment::fragment`]) until no span has pixels left. A thin hair's
+/// span across its major axis is at most three pixels, so a segment costs
+/// about three passes per eight rows and no per-pixel bookkeeping (a
+/// first version packed the span pixels eight to a register one by one).
+/// The drawn lanes are depth-tested and blended one by one; the pixels of
+/// one segment are distinct, so their order does not matter.
 pub(crate) fn draw_tile(
     tile: &mut TileBuffer,
     area: &TileArea,
@@ -763,56 +725,106 @@ pub(crate) fn draw_tile(
     screen: &[ScreenVertex],
     opacity: f32,
 ) {
-    let mut lanes = Lanes {
-        xc: [0.0; 8],
-        yc: [0.0; 8],
-        index: [0; 8],
-        depth: [0.0; 8],
-        len: 0,
-    };
     let TileBuffer { r, g, b, depth } = tile;
-    let depth: &[f32] = bytemuck::cast_slice(&depth[..]);
-    let r: &mut [f32] = bytemuck::cast_slice_mut(&mut r[..]);
-    let g: &mut [f32] = bytemuck::cast_slice_mut(&mut g[..]);
-    let b: &mut [f32] = bytemuck::cast_slice_mut(&mut b[..]);
+    let mut planes = TilePlanes {
+        depth: bytemuck::cast_slice(&depth[..]),
+        r: bytemuck::cast_slice_mut(&mut r[..]),
+        g: bytemuck::cast_slice_mut(&mut g[..]),
+        b: bytemuck::cast_slice_mut(&mut b[..]),
+    };
     for &k in list {
         let k = k as usize;
         // 5a. Set up the segment (its list entry guarantees it draws).
         let Some(seg) = Segment::new(&screen[k], &screen[k + 1], area.width, area.height) else {
             continue;
         };
-        // 5b. The row spans, eight rows at a time.
-        let (lo, hi) = area.rows(&seg);
-        let mut first_row = lo;
-        while first_row < hi {
-            let (xa8, xb8) = seg.row_spans(LANE_INDEX + f32x8::splat(first_row as f32));
-            let (xa8, xb8) = (xa8.trunc_int().to_array(), xb8.trunc_int().to_array());
-            for row in 0..(hi - first_row).min(8) {
-                let Some((xa, xb)) = area.clip_int(xa8[row], xb8[row]) else {
-                    continue;
-                };
-                let y = first_row + row;
-                let at = (y - area.y0) * TILE;
-                let yc = y as f32 + 0.5;
-                let mut xc = (area.x0 + xa) as f32 + 0.5;
-                // 5c. Each pixel of [xa, xb) into the next lane.
-                for (x, &d) in depth[at..at + TILE].iter().enumerate().take(xb).skip(xa) {
-                    let l = lanes.len & 7;
-                    lanes.xc[l] = xc;
-                    lanes.yc[l] = yc;
-                    lanes.index[l] = (at + x) as u32;
-                    lanes.depth[l] = d;
-                    lanes.len = l + 1;
-                    xc += 1.0;
-                    if lanes.len == 8 {
-                        lanes.flush(&seg, [&mut *r, &mut *g, &mut *b], opacity);
-                    }
+        if seg.along_columns() {
+            draw_lines::<true>(&seg, area, &mut planes, opacity);
+        } else {
+            draw_lines::<false>(&seg, area, &mut planes, opacity);
+        }
+    }
+}
+
+/// The tile's depth and colour planes as flat slices (row-major, [`TILE`]
+/// pixels per row).
+pub(crate) struct TilePlanes<'a> {
+    pub depth: &'a [f32],
+    pub r: &'a mut [f32],
+    pub g: &'a mut [f32],
+    pub b: &'a mut [f32],
+}
+
+impl TilePlanes<'_> {
+    /// 5d. The depth test and the blend of one fragment at index `i`.
+    #[inline(always)]
+    pub fn blend(&mut self, i: usize, z: f32, alpha: f32, [r, g, b]: [f32; 3]) {
+        if z < self.depth[i] {
+            self.r[i] = blend(self.r[i], r, alpha);
+            self.g[i] = blend(self.g[i], g, alpha);
+            self.b[i] = blend(self.b[i], b, alpha);
+        }
+    }
+}
+
+/// 5b-5d for one segment in one tile, its rows (`COLUMNS` false) or
+/// columns eight at a time.
+#[inline(always)]
+fn draw_lines<const COLUMNS: bool>(
+    seg: &Segment,
+    area: &TileArea,
+    planes: &mut TilePlanes<'_>,
+    opacity: f32,
+) {
+    let s = f32x8::splat;
+    let (lo, hi) = area.lines(seg, COLUMNS);
+    let (cross_lo, cross_hi) = area.cross(COLUMNS);
+    // Tile index of pixel (x, y): (y - y0) TILE + (x - x0), exact in f32.
+    let (x0, y0) = (area.x0 as f32, area.y0 as f32);
+    let mut first = lo;
+    while first < hi {
+        // 5b. The spans of eight rows (columns), clipped to the tile.
+        let line = LANE_INDEX + s(first as f32);
+        let (ca, cb) = if COLUMNS {
+            seg.column_spans(line)
+        } else {
+            seg.row_spans(line)
+        };
+        let ca = ca.fast_max(s(cross_lo));
+        let cb = line.simd_lt(s(hi as f32)).select(cb.fast_min(s(cross_hi)), s(0.0));
+        let centre = line + s(0.5);
+        let mut c = ca;
+        let mut live = c.simd_lt(cb).to_bitmask();
+        while live != 0 {
+            // 5c. The c-th pixel of every live span.
+            let (xc, yc) = if COLUMNS {
+                (centre, c + s(0.5))
+            } else {
+                (c + s(0.5), centre)
+            };
+            let f = seg.fragment(xc, yc, opacity);
+            let mut bits = live & f.mask.to_bitmask();
+            if bits != 0 {
+                let (x, y) = if COLUMNS { (line, c) } else { (c, line) };
+                let index = ((y - s(y0)) * s(TILE as f32) + (x - s(x0)))
+                    .trunc_int()
+                    .to_array();
+                let (z, alpha) = (f.depth.to_array(), f.alpha.to_array());
+                let (r, g, b) = (
+                    f.color.x.to_array(),
+                    f.color.y.to_array(),
+                    f.color.z.to_array(),
+                );
+                // 5d. Depth test and blend of the drawn lanes.
+                while bits != 0 {
+                    let l = bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    planes.blend(index[l] as usize, z[l], alpha[l], [r[l], g[l], b[l]]);
                 }
             }
-            first_row += 8;
+            c += s(1.0);
+            live = c.simd_lt(cb).to_bitmask();
         }
-        if lanes.len > 0 {
-            lanes.flush(&seg, [&mut *r, &mut *g, &mut *b], opacity);
-        }
+        first += 8;
     }
 }
