@@ -295,80 +295,77 @@ impl Segment {
     /// eight-lane forms give the same bits.
     #[inline(always)]
     pub fn row_spans<T: Rounding>(&self, y: T) -> (T, T) {
-        let axes = Axes {
-            along: (self.a.x, self.ex, self.inv_ex, self.x0, self.x1),
-            across: (self.a.y, self.ey, self.inv_ey),
-        };
-        self.spans(y, &axes)
-    }
-
-    /// The transpose of [`Segment::row_spans`]: the pixel rows `[ya, yb)`
-    /// of the columns `x` (one per lane, whole numbers) within the bounds,
-    /// the strip's reach and `0 <= t <= 1`, widened by [`SPAN_MARGIN`]
-    /// (the same operations with `x` and `y` exchanged); both 0 where the
-    /// span is empty. Used for segments running closer to `x` than to `y`
-    /// ([`Segment::along_columns`]).
-    #[inline(always)]
-    pub fn column_spans<T: Rounding>(&self, x: T) -> (T, T) {
-        let axes = Axes {
-            along: (self.a.y, self.ey, self.inv_ey, self.y0, self.y1),
-            across: (self.a.x, self.ex, self.inv_ex),
-        };
-        self.spans(x, &axes)
-    }
-
-    /// Whether the tiled rasterisers walk this segment column by column
-    /// ([`Segment::column_spans`]) rather than row by row: when it runs
-    /// closer to `x` than to `y` (`|e_x| > |e_y|`: a column then crosses
-    /// at most about three pixels of a thin hair, where a row crosses
-    /// `1 / tan` of them) and both ends lie within [`COLUMN_REACH`] pixels
-    /// of the origin, so that the rounding of either span form stays far
-    /// below [`SPAN_MARGIN`] and both contain every pixel
-    /// [`Segment::pixel`] draws. Otherwise row by row, as the reference.
-    #[inline(always)]
-    pub fn along_columns(&self) -> bool {
-        let near = |v: f32| v.abs() <= COLUMN_REACH;
-        self.ex.abs() > self.ey.abs()
-            && near(self.a.x)
-            && near(self.a.y)
-            && near(self.b.x)
-            && near(self.b.y)
-    }
-
-    /// The spans of [`Segment::row_spans`] with the axes named by `axes`
-    /// (`along` the span, `across` it).
-    #[inline(always)]
-    fn spans<T: Rounding>(&self, y: T, axes: &Axes) -> (T, T) {
-        let (ax, ex, inv_ex, x0, x1) = axes.along;
-        let (ay, ey, inv_ey) = axes.across;
-        let py = (y + T::splat(0.5)) - T::splat(ay);
-        let mut lo = T::splat(x0 - ax - 0.5);
-        let mut hi = T::splat(x1 - ax - 0.5);
+        let (a, ex, ey) = (&self.a, self.ex, self.ey);
+        let py = (y + T::splat(0.5)) - T::splat(a.y);
+        let mut lo = T::splat(self.x0 - a.x - 0.5);
+        let mut hi = T::splat(self.x1 - a.x - 0.5);
         // dist = (ex py - ey px) / len within [-radius, radius].
         if ey != 0.0 {
             let exy = T::splat(ex) * py;
-            let u = (exy - T::splat(self.radius_len)) * T::splat(inv_ey);
-            let v = (exy + T::splat(self.radius_len)) * T::splat(inv_ey);
+            let u = (exy - T::splat(self.radius_len)) * T::splat(self.inv_ey);
+            let v = (exy + T::splat(self.radius_len)) * T::splat(self.inv_ey);
             lo = lo.max(u.min(v));
             hi = hi.min(u.max(v));
         }
         // t = (ex px + ey py) / len2 within [0, 1].
         if ex != 0.0 {
             let pey = py * T::splat(ey);
-            let u = (-py * T::splat(ey)) * T::splat(inv_ex);
-            let v = (T::splat(self.len2) - pey) * T::splat(inv_ex);
+            let u = (-py * T::splat(ey)) * T::splat(self.inv_ex);
+            let v = (T::splat(self.len2) - pey) * T::splat(self.inv_ex);
             lo = lo.max(u.min(v));
             hi = hi.min(u.max(v));
         }
         // px = x + 0.5 - a.x in [lo, hi], widened by SPAN_MARGIN.
-        let xa = ((lo + T::splat(ax)) - T::splat(0.5 + SPAN_MARGIN))
+        let xa = ((lo + T::splat(a.x)) - T::splat(0.5 + SPAN_MARGIN))
             .ceil()
-            .max(T::splat(x0));
-        let xb = (((hi + T::splat(ax)) - T::splat(0.5 - SPAN_MARGIN)).floor() + T::splat(1.0))
-            .min(T::splat(x1));
+            .max(T::splat(self.x0));
+        let xb = (((hi + T::splat(a.x)) - T::splat(0.5 - SPAN_MARGIN)).floor() + T::splat(1.0))
+            .min(T::splat(self.x1));
         let ok = lo.finite() & hi.finite() & !lo.gt(hi) & xa.lt(xb);
         let zero = T::splat(0.0);
         (T::select(ok, xa, zero), T::select(ok, xb, zero))
+    }
+
+    /// How the tiled rasterisers walk this segment ([`Walk`]).
+    #[inline(always)]
+    pub fn walk(&self) -> Walk {
+        let near = |v: f32| v.abs() <= BAND_REACH;
+        if !(near(self.a.x) && near(self.a.y) && near(self.b.x) && near(self.b.y)) {
+            Walk::Rows
+        } else if self.ex.abs() > self.ey.abs() {
+            Walk::BandColumns
+        } else {
+            Walk::BandRows
+        }
+    }
+
+    /// The candidate band of [`Walk::BandRows`] (`columns` false: the
+    /// pixels `[xa, xb)` of the rows `c`) or [`Walk::BandColumns`] (the
+    /// pixel rows `[ya, yb)` of the columns `c`), one line per lane, as
+    /// whole floats: the pixel centres of the line within the strip's
+    /// reach (`|dist| <= radius`, the first slab of
+    /// [`Segment::row_spans`]), widened by [`SPAN_MARGIN`]. Neither the
+    /// bounds nor `0 <= t <= 1` are applied (the caller clips to its
+    /// tile, [`Segment::pixel`] tests `t`): for a thin hair running along
+    /// the line's axis that costs no pass, since the band is at most
+    /// about three pixels long in every line. The line's axis component
+    /// of `e` must not be 0 (it is not, for the walk that uses it).
+    #[inline(always)]
+    pub fn band<T: Rounding>(&self, c: T, columns: bool) -> (T, T) {
+        let (ax, ay, ex, inv_ey) = if columns {
+            (self.a.y, self.a.x, self.ey, self.inv_ex)
+        } else {
+            (self.a.x, self.a.y, self.ex, self.inv_ey)
+        };
+        // dist = (ex py - ey px) / len within [-radius, radius] (with x
+        // and y exchanged for columns: the same slab).
+        let py = (c + T::splat(0.5)) - T::splat(ay);
+        let exy = T::splat(ex) * py;
+        let u = (exy - T::splat(self.radius_len)) * T::splat(inv_ey);
+        let v = (exy + T::splat(self.radius_len)) * T::splat(inv_ey);
+        let xa = ((u.min(v) + T::splat(ax)) - T::splat(0.5 + SPAN_MARGIN)).ceil();
+        let xb = ((u.max(v) + T::splat(ax)) - T::splat(0.5 - SPAN_MARGIN)).floor() + T::splat(1.0);
+        (xa, xb)
     }
 
     /// The fragment of the pixels with centres `(xc, yc)` (`x + 0.5`,
@@ -427,19 +424,33 @@ impl Segment {
     }
 }
 
-/// The two axes of a span ([`Segment::row_spans`], [`Segment::column_spans`]):
-/// `along` (the end's coordinate, the edge, its reciprocal and the bounds),
-/// `across` (the end's coordinate, the edge and its reciprocal).
-struct Axes {
-    along: (f32, f32, f32, f32, f32),
-    across: (f32, f32, f32),
+/// How the tiled rasterisers ([`crate::raster`]) walk a segment's pixels
+/// ([`Segment::walk`]).
+///
+/// The reference ([`draw_segment`]) tests the pixels of each row's span
+/// ([`Segment::row_spans`]); the spans are widened by [`SPAN_MARGIN`]
+/// so that they contain every pixel [`Segment::pixel`] draws (its `t`
+/// in `[0, 1)`, its distance within the strip's reach: the slabs of the
+/// span, up to rounding). Any other candidate set that also contains
+/// them draws the same pixels with the same bits. The band walks use
+/// only the distance slab along the segment's major axis; the rounding
+/// of both forms is far below the margin while both ends lie within
+/// [`BAND_REACH`] pixels of the origin (a few units of `2^-11` px).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Walk {
+    /// The reference's row spans (an end farther than [`BAND_REACH`]).
+    Rows,
+    /// Rows, candidates [`Segment::band`] (`|e_y| >= |e_x|`).
+    BandRows,
+    /// Columns, candidates [`Segment::band`] (`|e_x| > |e_y|`: a column
+    /// crosses at most about three pixels of a thin hair, where a row
+    /// crosses `|e_x / e_y|` times more).
+    BandColumns,
 }
 
 /// How far from the frame's origin (pixels) both ends of a segment lie
-/// for it to be walked column by column ([`Segment::along_columns`]):
-/// there the spans' rounding (a few units of `2^-11` px) is far below
-/// [`SPAN_MARGIN`].
-pub const COLUMN_REACH: f32 = 4096.0;
+/// for the band walks ([`Walk`]).
+pub const BAND_REACH: f32 = 4096.0;
 
 /// How far (pixels) a row span reaches past the slabs' ends: pixel
 /// centres within this of the exact bounds are tested, so float rounding

@@ -46,7 +46,7 @@
 //! frames agree bit for bit (the tests compare them on the default scene).
 
 use super::hair::NEAR;
-use super::line::{blend, ScreenVertex, Segment};
+use super::line::{blend, ScreenVertex, Segment, Walk};
 use super::sort::DepthOrder;
 use super::{Camera, Framebuffer, Pixel, ShadedVertex};
 use coif_base::tasks::{for_each_chunk_mut, Executor};
@@ -560,6 +560,10 @@ pub(crate) struct TileBuffer {
     pub g: [f32x8; TILE_GROUPS],
     pub b: [f32x8; TILE_GROUPS],
     pub depth: [f32x8; TILE_GROUPS],
+    /// Whether any pixel of the tile holds an opaque depth (not
+    /// `+inf`); without one, every fragment passes the depth test (a
+    /// segment's depth is finite) and the tile body skips it.
+    pub opaque: bool,
 }
 
 impl TileBuffer {
@@ -570,6 +574,7 @@ impl TileBuffer {
             g: [f32x8::ZERO; TILE_GROUPS],
             b: [f32x8::ZERO; TILE_GROUPS],
             depth: [f32x8::ZERO; TILE_GROUPS],
+            opaque: false,
         }
     }
 
@@ -583,6 +588,7 @@ impl TileBuffer {
             bytemuck::cast_slice_mut(&mut self.depth),
         ];
         let [r, g, b, depth] = planes;
+        let mut opaque = false;
         for y in 0..area.rows {
             let src = &band[y * area.width + area.x0..][..area.columns];
             let at = y * TILE;
@@ -591,8 +597,10 @@ impl TileBuffer {
                 g[at + x] = p.color.y;
                 b[at + x] = p.color.z;
                 depth[at + x] = p.depth;
+                opaque |= p.depth != f32::INFINITY;
             }
         }
+        self.opaque = opaque;
     }
 
     /// Copies the tile's colours back into its band of rows.
@@ -708,16 +716,17 @@ pub fn project_x8(camera: &Camera, vertices: &[ShadedVertex]) -> [ScreenVertex; 
 const LANE_INDEX: f32x8 = f32x8::new([0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
 
 /// Step 5 for one tile, eight pixels at a time: every segment of `list`
-/// in order, walked along its major axis ([`Segment::along_columns`]):
-/// eight rows (or columns) per register, each lane one row with its span
-/// ([`Segment::row_spans`], [`Segment::column_spans`]) clipped to the
-/// tile; pass `k` evaluates the `k`-th pixel of every lane's span at once
-/// ([`Segment::fragment`]) until no span has pixels left. A thin hair's
-/// span across its major axis is at most three pixels, so a segment costs
-/// about three passes per eight rows and no per-pixel bookkeeping (a
-/// first version packed the span pixels eight to a register one by one).
-/// The drawn lanes are depth-tested and blended one by one; the pixels of
-/// one segment are distinct, so their order does not matter.
+/// in order, walked along its major axis ([`Segment::walk`]): eight rows
+/// (or columns) per register, each lane one line with its candidate
+/// pixels ([`Segment::band`], or the reference's [`Segment::row_spans`]
+/// for a segment with a far end) clipped to the tile; pass `k` evaluates
+/// the `k`-th candidate of every lane at once ([`Segment::fragment`])
+/// until no lane has candidates left. A thin hair's band across its
+/// major axis is at most three pixels, so a segment costs at most three
+/// passes per eight lines and no per-pixel bookkeeping (a first version
+/// packed the span pixels eight to a register one by one). The drawn
+/// lanes are depth-tested and blended one by one; the pixels of one
+/// segment are distinct, so their order does not matter.
 pub(crate) fn draw_tile(
     tile: &mut TileBuffer,
     area: &TileArea,
@@ -725,7 +734,14 @@ pub(crate) fn draw_tile(
     screen: &[ScreenVertex],
     opacity: f32,
 ) {
-    let TileBuffer { r, g, b, depth } = tile;
+    let TileBuffer {
+        r,
+        g,
+        b,
+        depth,
+        opaque,
+    } = tile;
+    let opaque = *opaque;
     let mut planes = TilePlanes {
         depth: bytemuck::cast_slice(&depth[..]),
         r: bytemuck::cast_slice_mut(&mut r[..]),
@@ -738,13 +754,21 @@ pub(crate) fn draw_tile(
         let Some(seg) = Segment::new(&screen[k], &screen[k + 1], area.width, area.height) else {
             continue;
         };
-        if seg.along_columns() {
-            draw_lines::<true>(&seg, area, &mut planes, opacity);
-        } else {
-            draw_lines::<false>(&seg, area, &mut planes, opacity);
+        let (p, o) = (&mut planes, opacity);
+        match (seg.walk(), opaque) {
+            (Walk::BandRows, false) => draw_lines::<BAND_ROWS, false>(&seg, area, p, o),
+            (Walk::BandRows, true) => draw_lines::<BAND_ROWS, true>(&seg, area, p, o),
+            (Walk::BandColumns, false) => draw_lines::<BAND_COLUMNS, false>(&seg, area, p, o),
+            (Walk::BandColumns, true) => draw_lines::<BAND_COLUMNS, true>(&seg, area, p, o),
+            (Walk::Rows, _) => draw_lines::<ROWS, true>(&seg, area, p, o),
         }
     }
 }
+
+/// [`Walk`] as a const parameter of [`draw_lines`].
+const ROWS: u8 = 0;
+const BAND_ROWS: u8 = 1;
+const BAND_COLUMNS: u8 = 2;
 
 /// The tile's depth and colour planes as flat slices (row-major, [`TILE`]
 /// pixels per row).
@@ -756,10 +780,13 @@ pub(crate) struct TilePlanes<'a> {
 }
 
 impl TilePlanes<'_> {
-    /// 5d. The depth test and the blend of one fragment at index `i`.
+    /// 5d. The depth test (when `DEPTH`: skipped for a tile without
+    /// opaque depth) and the blend of one fragment at index `i` (taken
+    /// modulo the tile's size).
     #[inline(always)]
-    pub fn blend(&mut self, i: usize, z: f32, alpha: f32, [r, g, b]: [f32; 3]) {
-        if z < self.depth[i] {
+    pub fn blend<const DEPTH: bool>(&mut self, i: usize, z: f32, alpha: f32, [r, g, b]: [f32; 3]) {
+        let i = i % TILE_PIXELS;
+        if !DEPTH || z < self.depth[i] {
             self.r[i] = blend(self.r[i], r, alpha);
             self.g[i] = blend(self.g[i], g, alpha);
             self.b[i] = blend(self.b[i], b, alpha);
@@ -767,37 +794,41 @@ impl TilePlanes<'_> {
     }
 }
 
-/// 5b-5d for one segment in one tile, its rows (`COLUMNS` false) or
-/// columns eight at a time.
+/// 5b-5d for one segment in one tile, its rows (or columns for
+/// `WALK` = [`BAND_COLUMNS`]) eight at a time, with the depth test when
+/// `DEPTH`.
 #[inline(always)]
-fn draw_lines<const COLUMNS: bool>(
+fn draw_lines<const WALK: u8, const DEPTH: bool>(
     seg: &Segment,
     area: &TileArea,
     planes: &mut TilePlanes<'_>,
     opacity: f32,
 ) {
+    const { assert!(WALK <= BAND_COLUMNS) };
+    let columns = WALK == BAND_COLUMNS;
     let s = f32x8::splat;
-    let (lo, hi) = area.lines(seg, COLUMNS);
-    let (cross_lo, cross_hi) = area.cross(COLUMNS);
+    let (lo, hi) = area.lines(seg, columns);
+    let (cross_lo, cross_hi) = area.cross(columns);
     // Tile index of pixel (x, y): (y - y0) TILE + (x - x0), exact in f32.
     let (x0, y0) = (area.x0 as f32, area.y0 as f32);
     let mut first = lo;
     while first < hi {
-        // 5b. The spans of eight rows (columns), clipped to the tile.
+        // 5b. The candidates of eight rows (columns), clipped to the tile.
         let line = LANE_INDEX + s(first as f32);
-        let (ca, cb) = if COLUMNS {
-            seg.column_spans(line)
-        } else {
-            seg.row_spans(line)
+        let (ca, cb) = match WALK {
+            ROWS => seg.row_spans(line),
+            _ => seg.band(line, columns),
         };
         let ca = ca.fast_max(s(cross_lo));
-        let cb = line.simd_lt(s(hi as f32)).select(cb.fast_min(s(cross_hi)), s(0.0));
+        let cb = line
+            .simd_lt(s(hi as f32))
+            .select(cb.fast_min(s(cross_hi)), s(0.0));
         let centre = line + s(0.5);
         let mut c = ca;
         let mut live = c.simd_lt(cb).to_bitmask();
         while live != 0 {
             // 5c. The c-th pixel of every live span.
-            let (xc, yc) = if COLUMNS {
+            let (xc, yc) = if columns {
                 (centre, c + s(0.5))
             } else {
                 (c + s(0.5), centre)
@@ -805,7 +836,7 @@ fn draw_lines<const COLUMNS: bool>(
             let f = seg.fragment(xc, yc, opacity);
             let mut bits = live & f.mask.to_bitmask();
             if bits != 0 {
-                let (x, y) = if COLUMNS { (line, c) } else { (c, line) };
+                let (x, y) = if columns { (line, c) } else { (c, line) };
                 let index = ((y - s(y0)) * s(TILE as f32) + (x - s(x0)))
                     .trunc_int()
                     .to_array();
@@ -819,7 +850,7 @@ fn draw_lines<const COLUMNS: bool>(
                 while bits != 0 {
                     let l = bits.trailing_zeros() as usize;
                     bits &= bits - 1;
-                    planes.blend(index[l] as usize, z[l], alpha[l], [r[l], g[l], b[l]]);
+                    planes.blend::<DEPTH>(index[l] as usize, z[l], alpha[l], [r[l], g[l], b[l]]);
                 }
             }
             c += s(1.0);

@@ -4,7 +4,7 @@
 //! ([`Segment::pixel`] on `f32`), one pixel at a time instead of eight.
 //! Its frames equal the SIMD path's bit for bit.
 
-use crate::line::{ScreenVertex, Segment};
+use crate::line::{ScreenVertex, Segment, Walk};
 use crate::raster::{HairRaster, Job, Path, TileArea, TileBuffer, TilePlanes, TILE};
 use crate::sort::DepthOrder;
 use crate::{Camera, Framebuffer, ShadedVertex};
@@ -35,7 +35,7 @@ pub fn draw(
 
 /// Step 5 for one tile, one pixel at a time: every segment of `list` in
 /// order, walked along its major axis as the SIMD path does
-/// ([`Segment::along_columns`]), each row (or column) pixel by pixel over
+/// ([`Segment::walk`]), each row (or column) pixel by pixel over
 /// its span clipped to the tile. (The SIMD path visits a segment's pixels
 /// eight lines at a time; they are distinct pixels, so the order among
 /// them changes no bit.)
@@ -46,7 +46,14 @@ pub(crate) fn draw_tile(
     screen: &[ScreenVertex],
     opacity: f32,
 ) {
-    let TileBuffer { r, g, b, depth } = tile;
+    let TileBuffer {
+        r,
+        g,
+        b,
+        depth,
+        opaque,
+    } = tile;
+    let opaque = *opaque;
     let mut planes = TilePlanes {
         depth: bytemuck::cast_slice(&depth[..]),
         r: bytemuck::cast_slice_mut(&mut r[..]),
@@ -59,15 +66,15 @@ pub(crate) fn draw_tile(
         let Some(seg) = Segment::new(&screen[k], &screen[k + 1], area.width, area.height) else {
             continue;
         };
-        let columns = seg.along_columns();
-        // 5b. The span of each row (column), clipped to the tile.
+        let walk = seg.walk();
+        let columns = walk == Walk::BandColumns;
+        // 5b. The candidates of each row (column), clipped to the tile.
         let (lo, hi) = area.lines(&seg, columns);
         let (cross_lo, cross_hi) = area.cross(columns);
         for line in lo..hi {
-            let (ca, cb) = if columns {
-                seg.column_spans(line as f32)
-            } else {
-                seg.row_spans(line as f32)
+            let (ca, cb) = match walk {
+                Walk::Rows => seg.row_spans(line as f32),
+                _ => seg.band(line as f32, columns),
             };
             let (ca, cb) = (ca.max(cross_lo), cb.min(cross_hi));
             let centre = line as f32 + 0.5;
@@ -88,7 +95,11 @@ pub(crate) fn draw_tile(
                         (c as usize, line)
                     };
                     let i = (y - area.y0) * TILE + (x - area.x0);
-                    planes.blend(i, f.depth, f.alpha, f.color.to_vec3().to_array());
+                    if opaque {
+                        planes.blend::<true>(i, f.depth, f.alpha, f.color.to_vec3().to_array());
+                    } else {
+                        planes.blend::<false>(i, f.depth, f.alpha, f.color.to_vec3().to_array());
+                    }
                 }
                 c += 1.0;
             }
