@@ -81,7 +81,7 @@ impl PixelProfile {
     pub fn for_direction(dx: f32, dy: f32) -> PixelProfile {
         let len = (dx * dx + dy * dy).sqrt();
         let (a, b) = ((dy / len).abs(), (dx / len).abs());
-        let (lo, hi) = (a.min(b), a.max(b));
+        let (lo, hi) = (Lane::min(a, b), Lane::max(a, b));
         let height = 1.0 / hi;
         PixelProfile {
             half: 0.5 * (a + b),
@@ -262,6 +262,12 @@ impl Segment {
             y0,
             y1,
         })
+    }
+
+    /// [`Segment::bounds`] as whole floats.
+    #[inline(always)]
+    pub fn float_bounds(&self) -> [f32; 4] {
+        [self.x0, self.x1, self.y0, self.y1]
     }
 
     /// The pixel rectangle `[x0, x1) x [y0, y1)` that can be touched.
@@ -492,11 +498,15 @@ impl Rounding for f32x8 {
 fn float_bounds(a: &ScreenVertex, b: &ScreenVertex, width: usize, height: usize) -> [f32; 4] {
     let reach = 0.5 * a.width_px.max(b.width_px) + 0.75;
     let (w, h) = (width as f32, height as f32);
+    // `Lane::min` / `Lane::max` (one instruction each, the SIMD tile
+    // ranges' `fast_min` / `fast_max`): the ends are finite here, and a
+    // NaN reach still gives the whole frame as `f32::min` / `f32::max` do.
+    let (min, max) = (<f32 as Lane>::min, <f32 as Lane>::max);
     [
-        (a.x.min(b.x) - reach).floor().max(0.0),
-        (a.x.max(b.x) + reach).ceil().min(w),
-        (a.y.min(b.y) - reach).floor().max(0.0),
-        (a.y.max(b.y) + reach).ceil().min(h),
+        max((min(a.x, b.x) - reach).floor(), 0.0),
+        min((max(a.x, b.x) + reach).ceil(), w),
+        max((min(a.y, b.y) - reach).floor(), 0.0),
+        min((max(a.y, b.y) + reach).ceil(), h),
     ]
 }
 

@@ -527,15 +527,16 @@ pub(crate) struct TileArea {
 
 impl TileArea {
     /// The frame rows (`columns` false) or columns `[lo, hi)` of the tile
-    /// that `seg`'s bounds cross.
+    /// that `seg`'s bounds cross, as whole floats.
     #[inline(always)]
-    pub fn lines(&self, seg: &Segment, columns: bool) -> (usize, usize) {
-        let [x0, x1, y0, y1] = seg.bounds();
-        if columns {
-            (x0.max(self.x0), x1.min(self.x0 + self.columns))
+    pub fn lines(&self, seg: &Segment, columns: bool) -> (f32, f32) {
+        let [x0, x1, y0, y1] = seg.float_bounds();
+        let (lo, hi, start, len) = if columns {
+            (x0, x1, self.x0, self.columns)
         } else {
-            (y0.max(self.y0), y1.min(self.y0 + self.rows))
-        }
+            (y0, y1, self.y0, self.rows)
+        };
+        (lo.max(start as f32), hi.min((start + len) as f32))
     }
 
     /// The tile's frame columns (`columns` false) or rows `[lo, hi)`
@@ -814,15 +815,13 @@ fn draw_lines<const WALK: u8, const DEPTH: bool>(
     let mut first = lo;
     while first < hi {
         // 5b. The candidates of eight rows (columns), clipped to the tile.
-        let line = LANE_INDEX + s(first as f32);
+        let line = LANE_INDEX + s(first);
         let (ca, cb) = match WALK {
             ROWS => seg.row_spans(line),
             _ => seg.band(line, columns),
         };
         let ca = ca.fast_max(s(cross_lo));
-        let cb = line
-            .simd_lt(s(hi as f32))
-            .select(cb.fast_min(s(cross_hi)), s(0.0));
+        let cb = line.simd_lt(s(hi)).select(cb.fast_min(s(cross_hi)), s(0.0));
         let centre = line + s(0.5);
         let mut c = ca;
         let mut live = c.simd_lt(cb).to_bitmask();
@@ -856,6 +855,6 @@ fn draw_lines<const WALK: u8, const DEPTH: bool>(
             c += s(1.0);
             live = c.simd_lt(cb).to_bitmask();
         }
-        first += 8;
+        first += 8.0;
     }
 }

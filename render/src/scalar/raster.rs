@@ -71,13 +71,14 @@ pub(crate) fn draw_tile(
         // 5b. The candidates of each row (column), clipped to the tile.
         let (lo, hi) = area.lines(&seg, columns);
         let (cross_lo, cross_hi) = area.cross(columns);
-        for line in lo..hi {
+        let mut line = lo;
+        while line < hi {
             let (ca, cb) = match walk {
-                Walk::Rows => seg.row_spans(line as f32),
-                _ => seg.band(line as f32, columns),
+                Walk::Rows => seg.row_spans(line),
+                _ => seg.band(line, columns),
             };
             let (ca, cb) = (ca.max(cross_lo), cb.min(cross_hi));
-            let centre = line as f32 + 0.5;
+            let centre = line + 0.5;
             let mut c = ca;
             // 5c. The pixels of the span.
             while c < cb {
@@ -89,12 +90,9 @@ pub(crate) fn draw_tile(
                 let f = seg.fragment(xc, yc, opacity);
                 if f.mask {
                     // 5d. Depth test and blend.
-                    let (x, y) = if columns {
-                        (line, c as usize)
-                    } else {
-                        (c as usize, line)
-                    };
-                    let i = (y - area.y0) * TILE + (x - area.x0);
+                    // Whole numbers in the tile: exact as i32.
+                    let (x, y) = if columns { (line, c) } else { (c, line) };
+                    let i = (y as i32 as usize - area.y0) * TILE + (x as i32 as usize - area.x0);
                     if opaque {
                         planes.blend::<true>(i, f.depth, f.alpha, f.color.to_vec3().to_array());
                     } else {
@@ -103,6 +101,7 @@ pub(crate) fn draw_tile(
                 }
                 c += 1.0;
             }
+            line += 1.0;
         }
     }
 }
