@@ -187,6 +187,57 @@ pub struct Segment {
     y1: f32,
 }
 
+/// Eight segments set up at once ([`Segment::new_x8`]): every field of
+/// [`Segment`] as a plane of eight lanes.
+#[derive(Clone, Copy, Debug)]
+pub struct SegmentsX8 {
+    f: [[f32; 8]; 32],
+    drawn: u32,
+}
+
+impl SegmentsX8 {
+    /// Lane `l` as the [`Segment`] of [`Segment::new`] (`None` where
+    /// that is, or past the segments given).
+    #[inline(always)]
+    pub fn lane(&self, l: usize) -> Option<Segment> {
+        if l >= 8 || self.drawn >> l & 1 == 0 {
+            return None;
+        }
+        let f = |i: usize| self.f[i][l];
+        let end = |i: usize| ScreenVertex {
+            x: f(i),
+            y: f(i + 1),
+            depth: f(i + 2),
+            width_px: f(i + 3),
+            color: Vec3::new(f(i + 4), f(i + 5), f(i + 6)),
+        };
+        Some(Segment {
+            a: end(0),
+            b: end(7),
+            ex: f(14),
+            ey: f(15),
+            len2: f(16),
+            inv_len2: f(17),
+            inv_len: f(18),
+            profile: PixelProfile {
+                half: f(19),
+                plateau: f(20),
+                ramp: f(21),
+                height: f(22),
+                ramp_area: f(23),
+                ramp_curve: f(24),
+            },
+            radius_len: f(25),
+            inv_ey: f(26),
+            inv_ex: f(27),
+            x0: f(28),
+            x1: f(29),
+            y0: f(30),
+            y1: f(31),
+        })
+    }
+}
+
 /// What one pixel gets from a segment: its alpha (coverage times
 /// opacity; 0 where the pixel is not drawn) and colour, per lane.
 #[derive(Clone, Copy, Debug)]
@@ -268,6 +319,100 @@ impl Segment {
     #[inline(always)]
     pub fn float_bounds(&self) -> [f32; 4] {
         [self.x0, self.x1, self.y0, self.y1]
+    }
+
+    /// [`Segment::new`] of the segments `screen[k] -> screen[k + 1]` for
+    /// the (up to eight) `k` of `first`, eight at a time: the same
+    /// operations in the same order, so every lane's [`SegmentsX8::lane`]
+    /// has the bits of [`Segment::new`] (for ends that [`crate::raster`]
+    /// projected: finite, widths not negative; a test compares every
+    /// field). Panics if a `k + 1` is outside `screen` (as indexing does).
+    #[inline(always)]
+    pub fn new_x8(
+        screen: &[ScreenVertex],
+        first: &[u32],
+        width: usize,
+        height: usize,
+    ) -> SegmentsX8 {
+        let mut v = [[0.0f32; 8]; 14];
+        let mut present = [0.0f32; 8];
+        for (l, &k) in first.iter().take(8).enumerate() {
+            let (a, b) = (&screen[k as usize], &screen[k as usize + 1]);
+            let ends = [
+                a.x, a.y, a.depth, a.width_px, a.color.x, a.color.y, a.color.z, b.x, b.y, b.depth,
+                b.width_px, b.color.x, b.color.y, b.color.z,
+            ];
+            for (plane, value) in v.iter_mut().zip(ends) {
+                plane[l] = value;
+            }
+            present[l] = 1.0;
+        }
+        let [ax, ay, ad, aw, ar, ag, ab, bx, by, bd, bw, br, bg, bb] = v.map(f32x8::new);
+        let s = f32x8::splat;
+        // 1. Length: above 1e-12 and finite (NaN fails both).
+        let (ex, ey) = (bx - ax, by - ay);
+        let len2 = ex * ex + ey * ey;
+        let long = len2.simd_gt(s(1e-12)) & len2.is_finite();
+        // 2. The float bounds (`float_bounds`).
+        let reach = s(0.5) * aw.fast_max(bw) + s(0.75);
+        let (w, h) = (width as f32, height as f32);
+        let x0 = (ax.fast_min(bx) - reach).floor().fast_max(f32x8::ZERO);
+        let x1 = (ax.fast_max(bx) + reach).ceil().fast_min(s(w));
+        let y0 = (ay.fast_min(by) - reach).floor().fast_max(f32x8::ZERO);
+        let y1 = (ay.fast_max(by) + reach).ceil().fast_min(s(h));
+        let drawn =
+            long & x0.simd_lt(x1) & y0.simd_lt(y1) & f32x8::new(present).simd_gt(f32x8::ZERO);
+        // 3. Reciprocals and the profile (`PixelProfile::for_direction`).
+        let inv_len2 = s(1.0) / len2;
+        let inv_len = inv_len2.sqrt();
+        let len = len2.sqrt();
+        let (pa, pb) = ((ey / len).abs(), (ex / len).abs());
+        let (lo, hi) = (pa.fast_min(pb), pa.fast_max(pb));
+        let height = s(1.0) / hi;
+        let ramp_curve = lo
+            .simd_gt(s(1e-20))
+            .select(s(0.5) * height / lo, f32x8::ZERO);
+        let half = s(0.5) * (pa + pb);
+        let radius = half + s(0.5) * aw.fast_max(bw);
+        let recip = |v: f32x8| v.simd_ne(f32x8::ZERO).select(s(1.0) / v, f32x8::ZERO);
+        let fields = [
+            ax,
+            ay,
+            ad,
+            aw,
+            ar,
+            ag,
+            ab,
+            bx,
+            by,
+            bd,
+            bw,
+            br,
+            bg,
+            bb,
+            ex,
+            ey,
+            len2,
+            inv_len2,
+            inv_len,
+            half,
+            s(0.5) * (hi - lo),
+            lo,
+            height,
+            s(0.5) * height * lo,
+            ramp_curve,
+            radius * len,
+            recip(ey),
+            recip(ex),
+            x0,
+            x1,
+            y0,
+            y1,
+        ];
+        SegmentsX8 {
+            f: fields.map(|v| v.to_array()),
+            drawn: drawn.to_bitmask(),
+        }
     }
 
     /// The pixel rectangle `[x0, x1) x [y0, y1)` that can be touched.
@@ -594,5 +739,64 @@ mod tests {
         assert!((p.coverage(0.5, 0.5) - 0.25).abs() < 1e-6);
         assert_eq!(p.coverage(2.0, 0.5), 0.0);
         assert_eq!(p.coverage(0.0, f32::NAN), 0.0);
+    }
+
+    #[test]
+    fn eight_segment_set_up_has_the_bits_of_the_scalar_one() {
+        // Random ends (some off the frame), axis-aligned and diagonal
+        // segments, lengths from below the 1e-6 px cut-off up, widths 0
+        // to 4 px; in chunks of 1 to 8 so that absent lanes are covered.
+        let mut rng = coif_base::SplitMix64::new(41);
+        let mut screen = Vec::new();
+        for i in 0..400 {
+            let a = ScreenVertex {
+                x: rng.range(-20.0, 120.0),
+                y: rng.range(-20.0, 120.0),
+                depth: rng.range(0.5, 3.0),
+                width_px: rng.range(0.0, 4.0),
+                color: Vec3::new(rng.range(0.0, 1.0), rng.range(0.0, 1.0), 0.3),
+            };
+            let (dx, dy) = match i % 5 {
+                0 => (rng.range(-9.0, 9.0), 0.0),
+                1 => (0.0, rng.range(-9.0, 9.0)),
+                2 => {
+                    let d = rng.range(-9.0, 9.0);
+                    (d, -d)
+                }
+                3 => (rng.range(-1e-6, 1e-6), rng.range(-1e-6, 1e-6)),
+                _ => (rng.range(-9.0, 9.0), rng.range(-9.0, 9.0)),
+            };
+            let b = ScreenVertex {
+                x: a.x + dx,
+                y: a.y + dy,
+                width_px: rng.range(0.0, 4.0),
+                ..a
+            };
+            screen.extend([a, b]);
+        }
+        let first: Vec<u32> = (0..400).map(|i| 2 * i).collect();
+        let (mut some, mut none) = (0, 0);
+        let mut at = 0;
+        for len in (1..=8).cycle() {
+            if at >= first.len() {
+                break;
+            }
+            let chunk = &first[at..(at + len).min(first.len())];
+            let x8 = Segment::new_x8(&screen, chunk, 100, 100);
+            for (l, &k) in chunk.iter().enumerate() {
+                let k = k as usize;
+                let one = Segment::new(&screen[k], &screen[k + 1], 100, 100);
+                let got = x8.lane(l);
+                assert_eq!(format!("{one:?}"), format!("{got:?}"), "segment {k}");
+                if one.is_some() {
+                    some += 1;
+                } else {
+                    none += 1;
+                }
+            }
+            assert!((chunk.len()..8).all(|l| x8.lane(l).is_none()));
+            at += len;
+        }
+        assert!(some > 120 && none > 80, "{some} drawn, {none} not");
     }
 }
