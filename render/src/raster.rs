@@ -749,7 +749,12 @@ pub(crate) fn draw_tile(
         g: bytemuck::cast_slice_mut(&mut g[..]),
         b: bytemuck::cast_slice_mut(&mut b[..]),
     };
-    for first in list.chunks(8) {
+    for (c, first) in list.chunks(8).enumerate() {
+        // The next chunk's ends, from memory (the lists visit strands
+        // back to front, far apart in `screen`), while this one draws.
+        for &k in list.iter().skip(8 * c + 8).take(8) {
+            prefetch(screen.get(k as usize + 1));
+        }
         // 5a. Set up eight segments at once (the bits of `Segment::new`).
         let segments = Segment::new_x8(screen, first, area.width, area.height);
         for l in 0..first.len() {
@@ -766,6 +771,24 @@ pub(crate) fn draw_tile(
             }
         }
     }
+}
+
+/// Asks for the cache lines of `v` and the vertex before it (a hint:
+/// nothing is read, nothing can fault; no-op off x86-64).
+#[inline(always)]
+fn prefetch(v: Option<&ScreenVertex>) {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(v) = v {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        let p = v as *const ScreenVertex as *const i8;
+        // SAFETY: prefetching is a hint; the address is a live reference.
+        unsafe {
+            _mm_prefetch::<_MM_HINT_T0>(p);
+            _mm_prefetch::<_MM_HINT_T0>(p.wrapping_sub(std::mem::size_of::<ScreenVertex>()));
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = v;
 }
 
 /// [`Walk`] as a const parameter of [`draw_lines`].
