@@ -25,11 +25,15 @@
 //!    that matters: the lists give every pixel its segments in exactly the
 //!    reference's order).
 //! 5. **Rasterise** tile by tile: the tile's colour and depth are copied
-//!    into a tile-local buffer (16 KiB, in L1), every segment of its list
-//!    is set up ([`Segment`]) and blended row by row
-//!    ([`Segment::row_span`]) with the exact-area coverage of
-//!    [`Segment::pixel`] (eight pixels per `f32x8` here, one at a time in
-//!    [`crate::scalar::draw`]), and the tile is copied back.
+//!    into a tile-local buffer (16 KiB, in L1); its list's segments are set
+//!    up eight at a time ([`Segment::new_x8`]) and each is walked along its
+//!    major axis ([`Segment::walk`]), eight rows (or columns) per `f32x8`,
+//!    the `k`-th candidate pixel of every line ([`Segment::band`]) in pass
+//!    `k`, with the exact-area coverage of [`Segment::fragment`]; the drawn
+//!    lanes are depth-tested and blended one by one (one
+//!    pixel at a time in [`crate::scalar::draw`]), and the tile is copied
+//!    back. The candidates contain every pixel the reference draws, so
+//!    the bits are the reference's ([`crate::line::Walk`]).
 //!
 //! Each row of tiles is an independent task on the caller's
 //! [`Executor`]: it writes only its own rows of the frame, so the bytes do
@@ -40,7 +44,7 @@
 //! every pixel still sees its segments in the same order, so the result is
 //! the same bytes as with one batch.
 //!
-//! The per-pixel arithmetic is [`Segment::pixel`], shared with the direct
+//! The per-pixel arithmetic is [`Segment::fragment`], shared with the direct
 //! reference and done without fused multiply-adds, so the SIMD path, its
 //! scalar twin and the reference blend exactly the same values: their
 //! frames agree bit for bit (the tests compare them on the default scene).
