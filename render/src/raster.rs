@@ -583,6 +583,25 @@ impl TileBuffer {
         }
     }
 
+    /// The buffer as flat planes, and whether it holds an opaque depth.
+    #[inline(always)]
+    pub fn planes(&mut self) -> (TilePlanes<'_>, bool) {
+        let TileBuffer {
+            r,
+            g,
+            b,
+            depth,
+            opaque,
+        } = self;
+        let planes = TilePlanes {
+            depth: bytemuck::cast_slice(&depth[..]),
+            r: bytemuck::cast_slice_mut(&mut r[..]),
+            g: bytemuck::cast_slice_mut(&mut g[..]),
+            b: bytemuck::cast_slice_mut(&mut b[..]),
+        };
+        (planes, *opaque)
+    }
+
     /// Copies the tile's pixels out of its band of rows.
     #[inline]
     fn load(&mut self, band: &[Pixel], area: &TileArea) {
@@ -739,20 +758,7 @@ pub(crate) fn draw_tile(
     screen: &[ScreenVertex],
     opacity: f32,
 ) {
-    let TileBuffer {
-        r,
-        g,
-        b,
-        depth,
-        opaque,
-    } = tile;
-    let opaque = *opaque;
-    let mut planes = TilePlanes {
-        depth: bytemuck::cast_slice(&depth[..]),
-        r: bytemuck::cast_slice_mut(&mut r[..]),
-        g: bytemuck::cast_slice_mut(&mut g[..]),
-        b: bytemuck::cast_slice_mut(&mut b[..]),
-    };
+    let (mut planes, opaque) = tile.planes();
     for (c, first) in list.chunks(8).enumerate() {
         // The next chunk's ends, from memory (the lists visit strands
         // back to front, far apart in `screen`), while this one draws.

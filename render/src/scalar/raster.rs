@@ -5,7 +5,7 @@
 //! Its frames equal the SIMD path's bit for bit.
 
 use crate::line::{ScreenVertex, Segment, Walk};
-use crate::raster::{HairRaster, Job, Path, TileArea, TileBuffer, TilePlanes, TILE};
+use crate::raster::{HairRaster, Job, Path, TileArea, TileBuffer, TILE};
 use crate::sort::DepthOrder;
 use crate::{Camera, Framebuffer, ShadedVertex};
 use coif_base::tasks::Executor;
@@ -46,20 +46,7 @@ pub(crate) fn draw_tile(
     screen: &[ScreenVertex],
     opacity: f32,
 ) {
-    let TileBuffer {
-        r,
-        g,
-        b,
-        depth,
-        opaque,
-    } = tile;
-    let opaque = *opaque;
-    let mut planes = TilePlanes {
-        depth: bytemuck::cast_slice(&depth[..]),
-        r: bytemuck::cast_slice_mut(&mut r[..]),
-        g: bytemuck::cast_slice_mut(&mut g[..]),
-        b: bytemuck::cast_slice_mut(&mut b[..]),
-    };
+    let (mut planes, opaque) = tile.planes();
     for &k in list {
         let k = k as usize;
         // 5a. Set up the segment (its list entry guarantees it draws).
