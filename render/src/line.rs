@@ -81,7 +81,7 @@ impl PixelProfile {
     pub fn for_direction(dx: f32, dy: f32) -> PixelProfile {
         let len = (dx * dx + dy * dy).sqrt();
         let (a, b) = ((dy / len).abs(), (dx / len).abs());
-        let (lo, hi) = (a.min(b), a.max(b));
+        let (lo, hi) = (Lane::min(a, b), Lane::max(a, b));
         let height = 1.0 / hi;
         PixelProfile {
             half: 0.5 * (a + b),
@@ -187,6 +187,57 @@ pub struct Segment {
     y1: f32,
 }
 
+/// Eight segments set up at once ([`Segment::new_x8`]): every field of
+/// [`Segment`] as a plane of eight lanes.
+#[derive(Clone, Copy, Debug)]
+pub struct SegmentsX8 {
+    f: [[f32; 8]; 32],
+    drawn: u32,
+}
+
+impl SegmentsX8 {
+    /// Lane `l` as the [`Segment`] of [`Segment::new`] (`None` where
+    /// that is, or past the segments given).
+    #[inline(always)]
+    pub fn lane(&self, l: usize) -> Option<Segment> {
+        if l >= 8 || self.drawn >> l & 1 == 0 {
+            return None;
+        }
+        let f = |i: usize| self.f[i][l];
+        let end = |i: usize| ScreenVertex {
+            x: f(i),
+            y: f(i + 1),
+            depth: f(i + 2),
+            width_px: f(i + 3),
+            color: Vec3::new(f(i + 4), f(i + 5), f(i + 6)),
+        };
+        Some(Segment {
+            a: end(0),
+            b: end(7),
+            ex: f(14),
+            ey: f(15),
+            len2: f(16),
+            inv_len2: f(17),
+            inv_len: f(18),
+            profile: PixelProfile {
+                half: f(19),
+                plateau: f(20),
+                ramp: f(21),
+                height: f(22),
+                ramp_area: f(23),
+                ramp_curve: f(24),
+            },
+            radius_len: f(25),
+            inv_ey: f(26),
+            inv_ex: f(27),
+            x0: f(28),
+            x1: f(29),
+            y0: f(30),
+            y1: f(31),
+        })
+    }
+}
+
 /// What one pixel gets from a segment: its alpha (coverage times
 /// opacity; 0 where the pixel is not drawn) and colour, per lane.
 #[derive(Clone, Copy, Debug)]
@@ -195,6 +246,8 @@ pub struct Fragment<T: Lane> {
     pub mask: T::Mask,
     /// `coverage * opacity` (meaningful where `mask` is set).
     pub alpha: T,
+    /// The segment's view depth at the pixel.
+    pub depth: T,
     /// Linear-RGB colour interpolated along the segment.
     pub color: V3<T>,
 }
@@ -262,6 +315,106 @@ impl Segment {
         })
     }
 
+    /// [`Segment::bounds`] as whole floats.
+    #[inline(always)]
+    pub fn float_bounds(&self) -> [f32; 4] {
+        [self.x0, self.x1, self.y0, self.y1]
+    }
+
+    /// [`Segment::new`] of the segments `screen[k] -> screen[k + 1]` for
+    /// the (up to eight) `k` of `first`, eight at a time: the same
+    /// operations in the same order, so every lane's [`SegmentsX8::lane`]
+    /// has the bits of [`Segment::new`] (for ends that [`crate::raster`]
+    /// projected: finite, widths not negative; a test compares every
+    /// field). Panics if a `k + 1` is outside `screen` (as indexing does).
+    #[inline(always)]
+    pub fn new_x8(
+        screen: &[ScreenVertex],
+        first: &[u32],
+        width: usize,
+        height: usize,
+    ) -> SegmentsX8 {
+        let mut v = [[0.0f32; 8]; 14];
+        let mut present = [0.0f32; 8];
+        for (l, &k) in first.iter().take(8).enumerate() {
+            let (a, b) = (&screen[k as usize], &screen[k as usize + 1]);
+            let ends = [
+                a.x, a.y, a.depth, a.width_px, a.color.x, a.color.y, a.color.z, b.x, b.y, b.depth,
+                b.width_px, b.color.x, b.color.y, b.color.z,
+            ];
+            for (plane, value) in v.iter_mut().zip(ends) {
+                plane[l] = value;
+            }
+            present[l] = 1.0;
+        }
+        let [ax, ay, ad, aw, ar, ag, ab, bx, by, bd, bw, br, bg, bb] = v.map(f32x8::new);
+        let s = f32x8::splat;
+        // 1. Length: above 1e-12 and finite (NaN fails both).
+        let (ex, ey) = (bx - ax, by - ay);
+        let len2 = ex * ex + ey * ey;
+        let long = len2.simd_gt(s(1e-12)) & len2.is_finite();
+        // 2. The float bounds (`float_bounds`).
+        let reach = s(0.5) * aw.fast_max(bw) + s(0.75);
+        let (w, h) = (width as f32, height as f32);
+        let x0 = (ax.fast_min(bx) - reach).floor().fast_max(f32x8::ZERO);
+        let x1 = (ax.fast_max(bx) + reach).ceil().fast_min(s(w));
+        let y0 = (ay.fast_min(by) - reach).floor().fast_max(f32x8::ZERO);
+        let y1 = (ay.fast_max(by) + reach).ceil().fast_min(s(h));
+        let drawn =
+            long & x0.simd_lt(x1) & y0.simd_lt(y1) & f32x8::new(present).simd_gt(f32x8::ZERO);
+        // 3. Reciprocals and the profile (`PixelProfile::for_direction`).
+        let inv_len2 = s(1.0) / len2;
+        let inv_len = inv_len2.sqrt();
+        let len = len2.sqrt();
+        let (pa, pb) = ((ey / len).abs(), (ex / len).abs());
+        let (lo, hi) = (pa.fast_min(pb), pa.fast_max(pb));
+        let height = s(1.0) / hi;
+        let ramp_curve = lo
+            .simd_gt(s(1e-20))
+            .select(s(0.5) * height / lo, f32x8::ZERO);
+        let half = s(0.5) * (pa + pb);
+        let radius = half + s(0.5) * aw.fast_max(bw);
+        let recip = |v: f32x8| v.simd_ne(f32x8::ZERO).select(s(1.0) / v, f32x8::ZERO);
+        let fields = [
+            ax,
+            ay,
+            ad,
+            aw,
+            ar,
+            ag,
+            ab,
+            bx,
+            by,
+            bd,
+            bw,
+            br,
+            bg,
+            bb,
+            ex,
+            ey,
+            len2,
+            inv_len2,
+            inv_len,
+            half,
+            s(0.5) * (hi - lo),
+            lo,
+            height,
+            s(0.5) * height * lo,
+            ramp_curve,
+            radius * len,
+            recip(ey),
+            recip(ex),
+            x0,
+            x1,
+            y0,
+            y1,
+        ];
+        SegmentsX8 {
+            f: fields.map(|v| v.to_array()),
+            drawn: drawn.to_bitmask(),
+        }
+    }
+
     /// The pixel rectangle `[x0, x1) x [y0, y1)` that can be touched.
     #[inline]
     pub fn bounds(&self) -> [usize; 4] {
@@ -324,6 +477,48 @@ impl Segment {
         (T::select(ok, xa, zero), T::select(ok, xb, zero))
     }
 
+    /// How the tiled rasterisers walk this segment ([`Walk`]).
+    #[inline(always)]
+    pub fn walk(&self) -> Walk {
+        let near = |v: f32| v.abs() <= BAND_REACH;
+        if !(near(self.a.x) && near(self.a.y) && near(self.b.x) && near(self.b.y)) {
+            Walk::Rows
+        } else if self.ex.abs() > self.ey.abs() {
+            Walk::BandColumns
+        } else {
+            Walk::BandRows
+        }
+    }
+
+    /// The candidate band of [`Walk::BandRows`] (`columns` false: the
+    /// pixels `[xa, xb)` of the rows `c`) or [`Walk::BandColumns`] (the
+    /// pixel rows `[ya, yb)` of the columns `c`), one line per lane, as
+    /// whole floats: the pixel centres of the line within the strip's
+    /// reach (`|dist| <= radius`, the first slab of
+    /// [`Segment::row_spans`]), widened by [`SPAN_MARGIN`]. Neither the
+    /// bounds nor `0 <= t <= 1` are applied (the caller clips to its
+    /// tile, [`Segment::pixel`] tests `t`): for a thin hair running along
+    /// the line's axis that costs no pass, since the band is at most
+    /// about three pixels long in every line. The line's axis component
+    /// of `e` must not be 0 (it is not, for the walk that uses it).
+    #[inline(always)]
+    pub fn band<T: Rounding>(&self, c: T, columns: bool) -> (T, T) {
+        let (ax, ay, ex, inv_ey) = if columns {
+            (self.a.y, self.a.x, self.ey, self.inv_ex)
+        } else {
+            (self.a.x, self.a.y, self.ex, self.inv_ey)
+        };
+        // dist = (ex py - ey px) / len within [-radius, radius] (with x
+        // and y exchanged for columns: the same slab).
+        let py = (c + T::splat(0.5)) - T::splat(ay);
+        let exy = T::splat(ex) * py;
+        let u = (exy - T::splat(self.radius_len)) * T::splat(inv_ey);
+        let v = (exy + T::splat(self.radius_len)) * T::splat(inv_ey);
+        let xa = ((u.min(v) + T::splat(ax)) - T::splat(0.5 + SPAN_MARGIN)).ceil();
+        let xb = ((u.max(v) + T::splat(ax)) - T::splat(0.5 - SPAN_MARGIN)).floor() + T::splat(1.0);
+        (xa, xb)
+    }
+
     /// The fragment of the pixels with centres `(xc, yc)` (`x + 0.5`,
     /// `y + 0.5` per lane) over stored depths `depth`:
     ///
@@ -336,8 +531,21 @@ impl Segment {
     /// `d_a + t (d_b - d_a)` is nearer than `depth` (the head's); colour
     /// `c_a + (c_b - c_a) t`. Plain multiplies and adds in a fixed order
     /// (no fused multiply-add), so every lane width gives the same bits.
+    /// [`Segment::fragment`] and the depth test.
     #[inline(always)]
     pub fn pixel<T: Lane>(&self, xc: T, yc: T, depth: T, opacity: f32) -> Fragment<T> {
+        let mut f = self.fragment(xc, yc, opacity);
+        f.mask = f.mask & f.depth.lt(depth);
+        f
+    }
+
+    /// [`Segment::pixel`] before the depth test: `mask` holds where
+    /// `0 <= t < 1` and `alpha > 0`, and `depth` is the segment's depth
+    /// at the pixel; a pixel is drawn where also `depth` is below the
+    /// stored one (the tiled rasteriser tests that lane by lane while
+    /// blending, with the same comparison).
+    #[inline(always)]
+    pub fn fragment<T: Lane>(&self, xc: T, yc: T, opacity: f32) -> Fragment<T> {
         let (a, b) = (&self.a, &self.b);
         // 1. Position relative to a; t along the segment.
         let py = yc - T::splat(a.y);
@@ -348,15 +556,16 @@ impl Segment {
         // 3. Coverage of the strip, width interpolated along it.
         let width = T::splat(a.width_px) + t * T::splat(b.width_px - a.width_px);
         let alpha = coverage_lanes(&self.profile, dist, width) * T::splat(opacity);
-        // 4. Depth test against the opaque surfaces.
+        // 4. Depth along the segment (tested against the opaque surfaces
+        // by the caller).
         let z = T::splat(a.depth) + t * T::splat(b.depth - a.depth);
-        let mask =
-            !t.lt(T::splat(0.0)) & t.lt(T::splat(1.0)) & alpha.gt(T::splat(0.0)) & z.lt(depth);
+        let mask = !t.lt(T::splat(0.0)) & t.lt(T::splat(1.0)) & alpha.gt(T::splat(0.0));
         // 5. Colour along the segment.
         let lerp = |ca: f32, cb: f32| T::splat(ca) + T::splat(cb - ca) * t;
         Fragment {
             mask,
             alpha,
+            depth: z,
             color: V3::new(
                 lerp(a.color.x, b.color.x),
                 lerp(a.color.y, b.color.y),
@@ -365,6 +574,34 @@ impl Segment {
         }
     }
 }
+
+/// How the tiled rasterisers ([`crate::raster`]) walk a segment's pixels
+/// ([`Segment::walk`]).
+///
+/// The reference ([`draw_segment`]) tests the pixels of each row's span
+/// ([`Segment::row_spans`]); the spans are widened by [`SPAN_MARGIN`]
+/// so that they contain every pixel [`Segment::pixel`] draws (its `t`
+/// in `[0, 1)`, its distance within the strip's reach: the slabs of the
+/// span, up to rounding). Any other candidate set that also contains
+/// them draws the same pixels with the same bits. The band walks use
+/// only the distance slab along the segment's major axis; the rounding
+/// of both forms is far below the margin while both ends lie within
+/// [`BAND_REACH`] pixels of the origin (a few units of `2^-11` px).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Walk {
+    /// The reference's row spans (an end farther than [`BAND_REACH`]).
+    Rows,
+    /// Rows, candidates [`Segment::band`] (`|e_y| >= |e_x|`).
+    BandRows,
+    /// Columns, candidates [`Segment::band`] (`|e_x| > |e_y|`: a column
+    /// crosses at most about three pixels of a thin hair, where a row
+    /// crosses `|e_x / e_y|` times more).
+    BandColumns,
+}
+
+/// How far from the frame's origin (pixels) both ends of a segment lie
+/// for the band walks ([`Walk`]).
+pub const BAND_REACH: f32 = 4096.0;
 
 /// How far (pixels) a row span reaches past the slabs' ends: pixel
 /// centres within this of the exact bounds are tested, so float rounding
@@ -406,11 +643,15 @@ impl Rounding for f32x8 {
 fn float_bounds(a: &ScreenVertex, b: &ScreenVertex, width: usize, height: usize) -> [f32; 4] {
     let reach = 0.5 * a.width_px.max(b.width_px) + 0.75;
     let (w, h) = (width as f32, height as f32);
+    // `Lane::min` / `Lane::max` (one instruction each, the SIMD tile
+    // ranges' `fast_min` / `fast_max`): the ends are finite here, and a
+    // NaN reach still gives the whole frame as `f32::min` / `f32::max` do.
+    let (min, max) = (<f32 as Lane>::min, <f32 as Lane>::max);
     [
-        (a.x.min(b.x) - reach).floor().max(0.0),
-        (a.x.max(b.x) + reach).ceil().min(w),
-        (a.y.min(b.y) - reach).floor().max(0.0),
-        (a.y.max(b.y) + reach).ceil().min(h),
+        max((min(a.x, b.x) - reach).floor(), 0.0),
+        min((max(a.x, b.x) + reach).ceil(), w),
+        max((min(a.y, b.y) - reach).floor(), 0.0),
+        min((max(a.y, b.y) + reach).ceil(), h),
     ]
 }
 
@@ -498,5 +739,64 @@ mod tests {
         assert!((p.coverage(0.5, 0.5) - 0.25).abs() < 1e-6);
         assert_eq!(p.coverage(2.0, 0.5), 0.0);
         assert_eq!(p.coverage(0.0, f32::NAN), 0.0);
+    }
+
+    #[test]
+    fn eight_segment_set_up_has_the_bits_of_the_scalar_one() {
+        // Random ends (some off the frame), axis-aligned and diagonal
+        // segments, lengths from below the 1e-6 px cut-off up, widths 0
+        // to 4 px; in chunks of 1 to 8 so that absent lanes are covered.
+        let mut rng = coif_base::SplitMix64::new(41);
+        let mut screen = Vec::new();
+        for i in 0..400 {
+            let a = ScreenVertex {
+                x: rng.range(-20.0, 120.0),
+                y: rng.range(-20.0, 120.0),
+                depth: rng.range(0.5, 3.0),
+                width_px: rng.range(0.0, 4.0),
+                color: Vec3::new(rng.range(0.0, 1.0), rng.range(0.0, 1.0), 0.3),
+            };
+            let (dx, dy) = match i % 5 {
+                0 => (rng.range(-9.0, 9.0), 0.0),
+                1 => (0.0, rng.range(-9.0, 9.0)),
+                2 => {
+                    let d = rng.range(-9.0, 9.0);
+                    (d, -d)
+                }
+                3 => (rng.range(-1e-6, 1e-6), rng.range(-1e-6, 1e-6)),
+                _ => (rng.range(-9.0, 9.0), rng.range(-9.0, 9.0)),
+            };
+            let b = ScreenVertex {
+                x: a.x + dx,
+                y: a.y + dy,
+                width_px: rng.range(0.0, 4.0),
+                ..a
+            };
+            screen.extend([a, b]);
+        }
+        let first: Vec<u32> = (0..400).map(|i| 2 * i).collect();
+        let (mut some, mut none) = (0, 0);
+        let mut at = 0;
+        for len in (1..=8).cycle() {
+            if at >= first.len() {
+                break;
+            }
+            let chunk = &first[at..(at + len).min(first.len())];
+            let x8 = Segment::new_x8(&screen, chunk, 100, 100);
+            for (l, &k) in chunk.iter().enumerate() {
+                let k = k as usize;
+                let one = Segment::new(&screen[k], &screen[k + 1], 100, 100);
+                let got = x8.lane(l);
+                assert_eq!(format!("{one:?}"), format!("{got:?}"), "segment {k}");
+                if one.is_some() {
+                    some += 1;
+                } else {
+                    none += 1;
+                }
+            }
+            assert!((chunk.len()..8).all(|l| x8.lane(l).is_none()));
+            at += len;
+        }
+        assert!(some > 120 && none > 80, "{some} drawn, {none} not");
     }
 }

@@ -25,11 +25,15 @@
 //!    that matters: the lists give every pixel its segments in exactly the
 //!    reference's order).
 //! 5. **Rasterise** tile by tile: the tile's colour and depth are copied
-//!    into a tile-local buffer (16 KiB, in L1), every segment of its list
-//!    is set up ([`Segment`]) and blended row by row
-//!    ([`Segment::row_span`]) with the exact-area coverage of
-//!    [`Segment::pixel`] (eight pixels per `f32x8` here, one at a time in
-//!    [`crate::scalar::draw`]), and the tile is copied back.
+//!    into a tile-local buffer (16 KiB, in L1); its list's segments are set
+//!    up eight at a time ([`Segment::new_x8`]) and each is walked along its
+//!    major axis ([`Segment::walk`]), eight rows (or columns) per `f32x8`,
+//!    the `k`-th candidate pixel of every line ([`Segment::band`]) in pass
+//!    `k`, with the exact-area coverage of [`Segment::fragment`]; the drawn
+//!    lanes are depth-tested and blended one by one (one
+//!    pixel at a time in [`crate::scalar::draw`]), and the tile is copied
+//!    back. The candidates contain every pixel the reference draws, so
+//!    the bits are the reference's ([`crate::line::Walk`]).
 //!
 //! Every step runs as tasks on the caller's [`Executor`], and none of them
 //! changes a bit with the number of tasks: projection in chunks of
@@ -45,13 +49,13 @@
 //! every pixel still sees its segments in the same order, so the result is
 //! the same bytes as with one batch.
 //!
-//! The per-pixel arithmetic is [`Segment::pixel`], shared with the direct
+//! The per-pixel arithmetic is [`Segment::fragment`], shared with the direct
 //! reference and done without fused multiply-adds, so the SIMD path, its
 //! scalar twin and the reference blend exactly the same values: their
 //! frames agree bit for bit (the tests compare them on the default scene).
 
 use super::hair::NEAR;
-use super::line::{blend, ScreenVertex, Segment};
+use super::line::{blend, ScreenVertex, Segment, Walk};
 use super::sort::DepthOrder;
 use super::{Camera, Framebuffer, Pixel, ShadedVertex};
 use coif_base::tasks::{for_each_chunk_mut, DisjointMut, Executor};
@@ -736,19 +740,29 @@ pub(crate) struct TileArea {
 }
 
 impl TileArea {
-    /// The frame rows `[lo, hi)` of the tile that `seg`'s bounds cross.
+    /// The frame rows (`columns` false) or columns `[lo, hi)` of the tile
+    /// that `seg`'s bounds cross, as whole floats.
     #[inline(always)]
-    pub fn rows(&self, seg: &Segment) -> (usize, usize) {
-        let [_, _, y0, y1] = seg.bounds();
-        (y0.max(self.y0), y1.min(self.y0 + self.rows))
+    pub fn lines(&self, seg: &Segment, columns: bool) -> (f32, f32) {
+        let [x0, x1, y0, y1] = seg.float_bounds();
+        let (lo, hi, start, len) = if columns {
+            (x0, x1, self.x0, self.columns)
+        } else {
+            (y0, y1, self.y0, self.rows)
+        };
+        (lo.max(start as f32), hi.min((start + len) as f32))
     }
 
-    /// A row span `[xa, xb)` ([`Segment::row_spans`], frame columns as
-    /// whole floats in `[0, width]`) clipped to the tile, in tile columns;
-    /// `None` when empty.
+    /// The tile's frame columns (`columns` false) or rows `[lo, hi)`
+    /// across those lines, as floats.
     #[inline(always)]
-    pub fn clip(&self, xa: f32, xb: f32) -> Option<(usize, usize)> {
-        self.clip_int(xa as i32, xb as i32)
+    pub fn cross(&self, columns: bool) -> (f32, f32) {
+        let (lo, len) = if columns {
+            (self.y0, self.rows)
+        } else {
+            (self.x0, self.columns)
+        };
+        (lo as f32, (lo + len) as f32)
     }
 
     /// Row `y` of the tile (`0..rows`) in the frame's pixels.
@@ -762,14 +776,6 @@ impl TileArea {
         // SAFETY: the caller's promise.
         unsafe { pixels.range((self.y0 + y) * self.width + self.x0, self.columns) }
     }
-
-    /// [`TileArea::clip`] of a span already in whole numbers.
-    #[inline(always)]
-    pub fn clip_int(&self, xa: i32, xb: i32) -> Option<(usize, usize)> {
-        let x0 = self.x0 as i32;
-        let (xa, xb) = ((xa - x0).max(0), (xb - x0).min(self.columns as i32));
-        (xa < xb).then_some((xa as usize, xb as usize))
-    }
 }
 
 /// A tile's colour and depth as planes of `f32x8` (row-major, [`TILE`]
@@ -781,6 +787,10 @@ pub(crate) struct TileBuffer {
     pub g: [f32x8; TILE_GROUPS],
     pub b: [f32x8; TILE_GROUPS],
     pub depth: [f32x8; TILE_GROUPS],
+    /// Whether any pixel of the tile holds an opaque depth (not
+    /// `+inf`); without one, every fragment passes the depth test (a
+    /// segment's depth is finite) and the tile body skips it.
+    pub opaque: bool,
 }
 
 impl TileBuffer {
@@ -791,7 +801,27 @@ impl TileBuffer {
             g: [f32x8::ZERO; TILE_GROUPS],
             b: [f32x8::ZERO; TILE_GROUPS],
             depth: [f32x8::ZERO; TILE_GROUPS],
+            opaque: false,
         }
+    }
+
+    /// The buffer as flat planes, and whether it holds an opaque depth.
+    #[inline(always)]
+    pub fn planes(&mut self) -> (TilePlanes<'_>, bool) {
+        let TileBuffer {
+            r,
+            g,
+            b,
+            depth,
+            opaque,
+        } = self;
+        let planes = TilePlanes {
+            depth: bytemuck::cast_slice(&depth[..]),
+            r: bytemuck::cast_slice_mut(&mut r[..]),
+            g: bytemuck::cast_slice_mut(&mut g[..]),
+            b: bytemuck::cast_slice_mut(&mut b[..]),
+        };
+        (planes, *opaque)
     }
 
     /// Copies the tile's pixels out of the frame.
@@ -808,6 +838,7 @@ impl TileBuffer {
             bytemuck::cast_slice_mut(&mut self.depth),
         ];
         let [r, g, b, depth] = planes;
+        let mut opaque = false;
         for y in 0..area.rows {
             // SAFETY: the tile's pixels are this task's alone (the caller).
             let src = unsafe { area.row(pixels, y) };
@@ -817,8 +848,10 @@ impl TileBuffer {
                 g[at + x] = p.color.y;
                 b[at + x] = p.color.z;
                 depth[at + x] = p.depth;
+                opaque |= p.depth != f32::INFINITY;
             }
         }
+        self.opaque = opaque;
     }
 
     /// Copies the tile's colours back into the frame.
@@ -938,56 +971,18 @@ pub fn project_x8(camera: &Camera, vertices: &[ShadedVertex]) -> [ScreenVertex; 
 /// Lane `l` holds `l as f32`.
 const LANE_INDEX: f32x8 = f32x8::new([0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
 
-/// Up to eight pixels of one segment gathered into lanes: their centres,
-/// their index in the tile and the stored depths.
-struct Lanes {
-    xc: [f32; 8],
-    yc: [f32; 8],
-    index: [u32; 8],
-    depth: [f32; 8],
-    len: usize,
-}
-
-impl Lanes {
-    /// 5d. The fragments of the gathered pixels, eight at a time; then the
-    /// blend of each drawn lane, in lane order (the pixels are distinct).
-    #[inline(always)]
-    fn flush(&mut self, seg: &Segment, planes: [&mut [f32]; 3], opacity: f32) {
-        let f = seg.pixel(
-            f32x8::new(self.xc),
-            f32x8::new(self.yc),
-            f32x8::new(self.depth),
-            opacity,
-        );
-        let live = f.mask & LANE_INDEX.simd_lt(f32x8::splat(self.len as f32));
-        let mut bits = live.to_bitmask();
-        self.len = 0;
-        if bits == 0 {
-            return;
-        }
-        let (alpha, r, g, b) = (
-            f.alpha.to_array(),
-            f.color.x.to_array(),
-            f.color.y.to_array(),
-            f.color.z.to_array(),
-        );
-        let [tr, tg, tb] = planes;
-        while bits != 0 {
-            let l = bits.trailing_zeros() as usize;
-            bits &= bits - 1;
-            let i = self.index[l] as usize;
-            tr[i] = blend(tr[i], r[l], alpha[l]);
-            tg[i] = blend(tg[i], g[l], alpha[l]);
-            tb[i] = blend(tb[i], b[l], alpha[l]);
-        }
-    }
-}
-
 /// Step 5 for one tile, eight pixels at a time: every segment of `list`
-/// in order; the pixels of its row spans are packed eight to a register
-/// (a thin segment has a few pixels per row: rows of eight would leave
-/// most lanes idle), their fragments computed together, the drawn ones
-/// blended.
+/// in order, walked along its major axis ([`Segment::walk`]): eight rows
+/// (or columns) per register, each lane one line with its candidate
+/// pixels ([`Segment::band`], or the reference's [`Segment::row_spans`]
+/// for a segment with a far end) clipped to the tile; pass `k` evaluates
+/// the `k`-th candidate of every lane at once ([`Segment::fragment`])
+/// until no lane has candidates left. A thin hair's band across its
+/// major axis is at most three pixels, so a segment costs at most three
+/// passes per eight lines and no per-pixel bookkeeping (a first version
+/// packed the span pixels eight to a register one by one). The drawn
+/// lanes are depth-tested and blended one by one; the pixels of one
+/// segment are distinct, so their order does not matter.
 pub(crate) fn draw_tile(
     tile: &mut TileBuffer,
     area: &TileArea,
@@ -995,56 +990,138 @@ pub(crate) fn draw_tile(
     screen: &[ScreenVertex],
     opacity: f32,
 ) {
-    let mut lanes = Lanes {
-        xc: [0.0; 8],
-        yc: [0.0; 8],
-        index: [0; 8],
-        depth: [0.0; 8],
-        len: 0,
-    };
-    let TileBuffer { r, g, b, depth } = tile;
-    let depth: &[f32] = bytemuck::cast_slice(&depth[..]);
-    let r: &mut [f32] = bytemuck::cast_slice_mut(&mut r[..]);
-    let g: &mut [f32] = bytemuck::cast_slice_mut(&mut g[..]);
-    let b: &mut [f32] = bytemuck::cast_slice_mut(&mut b[..]);
-    for &k in list {
-        let k = k as usize;
-        // 5a. Set up the segment (its list entry guarantees it draws).
-        let Some(seg) = Segment::new(&screen[k], &screen[k + 1], area.width, area.height) else {
-            continue;
+    let (mut planes, opaque) = tile.planes();
+    for (c, first) in list.chunks(8).enumerate() {
+        // The next chunk's ends, from memory (the lists visit strands
+        // back to front, far apart in `screen`), while this one draws.
+        for &k in list.iter().skip(8 * c + 8).take(8) {
+            prefetch(screen.get(k as usize + 1));
+        }
+        // 5a. Set up eight segments at once (the bits of `Segment::new`).
+        let segments = Segment::new_x8(screen, first, area.width, area.height);
+        for l in 0..first.len() {
+            let Some(seg) = segments.lane(l) else {
+                continue;
+            };
+            let (p, o) = (&mut planes, opacity);
+            match (seg.walk(), opaque) {
+                (Walk::BandRows, false) => draw_lines::<BAND_ROWS, false>(&seg, area, p, o),
+                (Walk::BandRows, true) => draw_lines::<BAND_ROWS, true>(&seg, area, p, o),
+                (Walk::BandColumns, false) => draw_lines::<BAND_COLUMNS, false>(&seg, area, p, o),
+                (Walk::BandColumns, true) => draw_lines::<BAND_COLUMNS, true>(&seg, area, p, o),
+                (Walk::Rows, _) => draw_lines::<ROWS, true>(&seg, area, p, o),
+            }
+        }
+    }
+}
+
+/// Asks for the cache lines of `v` and the vertex before it (a hint:
+/// nothing is read, nothing can fault; no-op off x86-64).
+#[inline(always)]
+fn prefetch(v: Option<&ScreenVertex>) {
+    #[cfg(target_arch = "x86_64")]
+    if let Some(v) = v {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        let p = v as *const ScreenVertex as *const i8;
+        // SAFETY: prefetching is a hint; the address is a live reference.
+        unsafe {
+            _mm_prefetch::<_MM_HINT_T0>(p);
+            _mm_prefetch::<_MM_HINT_T0>(p.wrapping_sub(std::mem::size_of::<ScreenVertex>()));
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = v;
+}
+
+/// [`Walk`] as a const parameter of [`draw_lines`].
+const ROWS: u8 = 0;
+const BAND_ROWS: u8 = 1;
+const BAND_COLUMNS: u8 = 2;
+
+/// The tile's depth and colour planes as flat slices (row-major, [`TILE`]
+/// pixels per row).
+pub(crate) struct TilePlanes<'a> {
+    pub depth: &'a [f32],
+    pub r: &'a mut [f32],
+    pub g: &'a mut [f32],
+    pub b: &'a mut [f32],
+}
+
+impl TilePlanes<'_> {
+    /// 5d. The depth test (when `DEPTH`: skipped for a tile without
+    /// opaque depth) and the blend of one fragment at index `i` (taken
+    /// modulo the tile's size).
+    #[inline(always)]
+    pub fn blend<const DEPTH: bool>(&mut self, i: usize, z: f32, alpha: f32, [r, g, b]: [f32; 3]) {
+        let i = i % TILE_PIXELS;
+        if !DEPTH || z < self.depth[i] {
+            self.r[i] = blend(self.r[i], r, alpha);
+            self.g[i] = blend(self.g[i], g, alpha);
+            self.b[i] = blend(self.b[i], b, alpha);
+        }
+    }
+}
+
+/// 5b-5d for one segment in one tile, its rows (or columns for
+/// `WALK` = [`BAND_COLUMNS`]) eight at a time, with the depth test when
+/// `DEPTH`.
+#[inline(always)]
+fn draw_lines<const WALK: u8, const DEPTH: bool>(
+    seg: &Segment,
+    area: &TileArea,
+    planes: &mut TilePlanes<'_>,
+    opacity: f32,
+) {
+    const { assert!(WALK <= BAND_COLUMNS) };
+    let columns = WALK == BAND_COLUMNS;
+    let s = f32x8::splat;
+    let (lo, hi) = area.lines(seg, columns);
+    let (cross_lo, cross_hi) = area.cross(columns);
+    // Tile index of pixel (x, y): (y - y0) TILE + (x - x0), exact in f32.
+    let (x0, y0) = (area.x0 as f32, area.y0 as f32);
+    let mut first = lo;
+    while first < hi {
+        // 5b. The candidates of eight rows (columns), clipped to the tile.
+        let line = LANE_INDEX + s(first);
+        let (ca, cb) = match WALK {
+            ROWS => seg.row_spans(line),
+            _ => seg.band(line, columns),
         };
-        // 5b. The row spans, eight rows at a time.
-        let (lo, hi) = area.rows(&seg);
-        let mut first_row = lo;
-        while first_row < hi {
-            let (xa8, xb8) = seg.row_spans(LANE_INDEX + f32x8::splat(first_row as f32));
-            let (xa8, xb8) = (xa8.trunc_int().to_array(), xb8.trunc_int().to_array());
-            for row in 0..(hi - first_row).min(8) {
-                let Some((xa, xb)) = area.clip_int(xa8[row], xb8[row]) else {
-                    continue;
-                };
-                let y = first_row + row;
-                let at = (y - area.y0) * TILE;
-                let yc = y as f32 + 0.5;
-                let mut xc = (area.x0 + xa) as f32 + 0.5;
-                // 5c. Each pixel of [xa, xb) into the next lane.
-                for (x, &d) in depth[at..at + TILE].iter().enumerate().take(xb).skip(xa) {
-                    let l = lanes.len & 7;
-                    lanes.xc[l] = xc;
-                    lanes.yc[l] = yc;
-                    lanes.index[l] = (at + x) as u32;
-                    lanes.depth[l] = d;
-                    lanes.len = l + 1;
-                    xc += 1.0;
-                    if lanes.len == 8 {
-                        lanes.flush(&seg, [&mut *r, &mut *g, &mut *b], opacity);
-                    }
+        let ca = ca.fast_max(s(cross_lo));
+        let cb = line.simd_lt(s(hi)).select(cb.fast_min(s(cross_hi)), s(0.0));
+        let centre = line + s(0.5);
+        let mut c = ca;
+        let mut live = c.simd_lt(cb).to_bitmask();
+        while live != 0 {
+            // 5c. The c-th pixel of every live span.
+            let (xc, yc) = if columns {
+                (centre, c + s(0.5))
+            } else {
+                (c + s(0.5), centre)
+            };
+            let f = seg.fragment(xc, yc, opacity);
+            let mut bits = live & f.mask.to_bitmask();
+            if bits != 0 {
+                let (x, y) = if columns { (line, c) } else { (c, line) };
+                let index = ((y - s(y0)) * s(TILE as f32) + (x - s(x0)))
+                    .trunc_int()
+                    .to_array();
+                let (z, alpha) = (f.depth.to_array(), f.alpha.to_array());
+                let (r, g, b) = (
+                    f.color.x.to_array(),
+                    f.color.y.to_array(),
+                    f.color.z.to_array(),
+                );
+                // 5d. Depth test and blend of the drawn lanes.
+                while bits != 0 {
+                    let l = bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    planes.blend::<DEPTH>(index[l] as usize, z[l], alpha[l], [r[l], g[l], b[l]]);
                 }
             }
-            first_row += 8;
+            c += s(1.0);
+            live = c.simd_lt(cb).to_bitmask();
         }
-        if lanes.len > 0 {
-            lanes.flush(&seg, [&mut *r, &mut *g, &mut *b], opacity);
-        }
+        first += 8.0;
     }
 }

@@ -372,3 +372,60 @@ fn eight_lane_projection_matches_the_scalar_one_bit_for_bit() {
     }
     assert!(invalid >= 8, "{invalid}");
 }
+
+#[test]
+fn band_walks_draw_the_reference_pixels_at_every_angle() {
+    // Two-vertex strands on the plane z = 0 (depth 1, so pixel size is
+    // linear in metres): 96 directions (axis-aligned and diagonal ones
+    // included), lengths 0.3 to 40 px, widths 0.1 to 3 px, at sub-pixel
+    // offsets; then long segments with ends 500 to 3,000 px outside the
+    // frame (band walks) and beyond `BAND_REACH` (the reference's rows).
+    let cam = camera();
+    let f = cam.pixels_per_metre(1.0);
+    let mut rng = SplitMix64::new(29);
+    let mut vertices = Vec::new();
+    let mut push = |p: Vec3, q: Vec3, width_px: f32, rng: &mut SplitMix64| {
+        let color = [
+            rng.range(0.2, 1.0),
+            rng.range(0.1, 0.8),
+            rng.range(0.0, 0.5),
+        ];
+        for (k, at) in [p, q].into_iter().enumerate() {
+            vertices.push(ShadedVertex {
+                position: at.into(),
+                width: width_px / f,
+                color: color.map(|c| c * (0.7 + 0.3 * k as f32)),
+                strand_parameter: k as f32,
+            });
+        }
+    };
+    for i in 0..96 {
+        let angle = i as f32 * std::f32::consts::TAU / 96.0;
+        let dir = Vec3::new(angle.cos(), angle.sin(), 0.0);
+        for length_px in [0.3f32, 1.0, 3.7, 9.0, 40.0] {
+            let width_px = rng.range(0.1, 3.0);
+            let centre = Vec3::new(rng.range(-60.0, 60.0), rng.range(-60.0, 60.0), 0.0) / f;
+            let half = dir * (0.5 * length_px / f);
+            push(centre - half, centre + half, width_px, &mut rng);
+        }
+    }
+    for (reach_px, count) in [(500.0f32, 12), (3_000.0, 12), (20_000.0, 4)] {
+        for _ in 0..count {
+            let angle = rng.range(0.0, std::f32::consts::TAU);
+            let dir = Vec3::new(angle.cos(), angle.sin(), 0.0);
+            let centre = Vec3::new(rng.range(-40.0, 40.0), rng.range(-40.0, 40.0), 0.0) / f;
+            let half = dir * (reach_px / f);
+            push(centre - half, centre + half, rng.range(0.2, 1.5), &mut rng);
+        }
+    }
+    let order = sorted(&vertices, 2);
+    let (want, n) = reference(&vertices, 2, &order);
+    assert_eq!(n, vertices.len() / 2, "every segment is in front");
+    assert!(changed_pixels(&want) > SIZE * SIZE / 4);
+    let mut raster = HairRaster::new(SIZE, SIZE, vertices.len()).unwrap();
+    for simd in [true, false] {
+        let (got, m) = binned(&mut raster, &vertices, 2, &order, simd, &Serial);
+        assert_eq!(m, n);
+        assert_same(&got, &want, &format!("simd {simd}"));
+    }
+}

@@ -4,7 +4,7 @@
 //! ([`Segment::pixel`] on `f32`), one pixel at a time instead of eight.
 //! Its frames equal the SIMD path's bit for bit.
 
-use crate::line::{blend, ScreenVertex, Segment};
+use crate::line::{ScreenVertex, Segment, Walk};
 use crate::raster::{HairRaster, Job, Path, TileArea, TileBuffer, TILE};
 use crate::sort::DepthOrder;
 use crate::{Camera, Framebuffer, ShadedVertex};
@@ -34,7 +34,11 @@ pub fn draw(
 }
 
 /// Step 5 for one tile, one pixel at a time: every segment of `list` in
-/// order, each row of it pixel by pixel over the row's span.
+/// order, walked along its major axis as the SIMD path does
+/// ([`Segment::walk`]), each row (or column) pixel by pixel over
+/// its span clipped to the tile. (The SIMD path visits a segment's pixels
+/// eight lines at a time; they are distinct pixels, so the order among
+/// them changes no bit.)
 pub(crate) fn draw_tile(
     tile: &mut TileBuffer,
     area: &TileArea,
@@ -42,36 +46,49 @@ pub(crate) fn draw_tile(
     screen: &[ScreenVertex],
     opacity: f32,
 ) {
+    let (mut planes, opaque) = tile.planes();
     for &k in list {
         let k = k as usize;
         // 5a. Set up the segment (its list entry guarantees it draws).
         let Some(seg) = Segment::new(&screen[k], &screen[k + 1], area.width, area.height) else {
             continue;
         };
-        // 5b. The row spans, one row at a time.
-        let (lo, hi) = area.rows(&seg);
-        for y in lo..hi {
-            let (xa, xb) = seg.row_spans(y as f32);
-            let Some((xa, xb)) = area.clip(xa, xb) else {
-                continue;
+        let walk = seg.walk();
+        let columns = walk == Walk::BandColumns;
+        // 5b. The candidates of each row (column), clipped to the tile.
+        let (lo, hi) = area.lines(&seg, columns);
+        let (cross_lo, cross_hi) = area.cross(columns);
+        let mut line = lo;
+        while line < hi {
+            let (ca, cb) = match walk {
+                Walk::Rows => seg.row_spans(line),
+                _ => seg.band(line, columns),
             };
-            let ly = y - area.y0;
-            // 5c. The pixels of [xa, xb).
-            for x in xa..xb {
-                let (i, l) = ((ly * TILE + x) / 8, x % 8);
-                // 5d. The fragment and the blend.
-                let xc = (area.x0 + x) as f32 + 0.5;
-                let yc = y as f32 + 0.5;
-                let f = seg.pixel(xc, yc, tile.depth[i].as_array()[l], opacity);
+            let (ca, cb) = (ca.max(cross_lo), cb.min(cross_hi));
+            let centre = line + 0.5;
+            let mut c = ca;
+            // 5c. The pixels of the span.
+            while c < cb {
+                let (xc, yc) = if columns {
+                    (centre, c + 0.5)
+                } else {
+                    (c + 0.5, centre)
+                };
+                let f = seg.fragment(xc, yc, opacity);
                 if f.mask {
-                    let r = &mut tile.r[i].as_mut_array()[l];
-                    *r = blend(*r, f.color.x, f.alpha);
-                    let g = &mut tile.g[i].as_mut_array()[l];
-                    *g = blend(*g, f.color.y, f.alpha);
-                    let b = &mut tile.b[i].as_mut_array()[l];
-                    *b = blend(*b, f.color.z, f.alpha);
+                    // 5d. Depth test and blend.
+                    // Whole numbers in the tile: exact as i32.
+                    let (x, y) = if columns { (line, c) } else { (c, line) };
+                    let i = (y as i32 as usize - area.y0) * TILE + (x as i32 as usize - area.x0);
+                    if opaque {
+                        planes.blend::<true>(i, f.depth, f.alpha, f.color.to_vec3().to_array());
+                    } else {
+                        planes.blend::<false>(i, f.depth, f.alpha, f.color.to_vec3().to_array());
+                    }
                 }
+                c += 1.0;
             }
+            line += 1.0;
         }
     }
 }
