@@ -92,6 +92,40 @@ pub(crate) fn block_sweep_aabb(
     fold_box(lo, hi)
 }
 
+/// The box that the strain limit keeps the active lanes of a block in
+/// over the step: every vertex within `stretch_factor` times its strand's
+/// rest arc length of its root's target (`roots`, the step's `pos[0]`), so
+/// the roots' box grown by `stretch_factor` times the longest rest arc
+/// (`rest_len`: the block's rest segment lengths). The swept box of
+/// [`block_sweep_aabb`] extrapolates the last step's velocity and misses
+/// hair that a whipping root turns around within one step (measured: a
+/// strand left 3.4 cm inside a sphere whipped at 4 m/s with dt 1/15 s);
+/// the broad phase tests the union of the two.
+pub(crate) fn block_reach_aabb(
+    roots: Vec3x8,
+    rest_len: &[f32x8],
+    stretch_factor: f32,
+    active: f32x8,
+) -> Aabb {
+    let arc = rest_len.iter().fold(f32x8::ZERO, |a, l| a + *l);
+    let longest = active
+        .select(arc, f32x8::ZERO)
+        .to_array()
+        .into_iter()
+        .fold(0.0, f32::max);
+    let reach = longest * stretch_factor;
+    let (mut lo, mut hi) = (
+        Vec3x8::splat(Vec3::INFINITY),
+        Vec3x8::splat(Vec3::NEG_INFINITY),
+    );
+    grow_box(&mut lo, &mut hi, roots, active);
+    let b = fold_box(lo, hi);
+    Aabb {
+        min: b.min - Vec3::splat(reach),
+        max: b.max + Vec3::splat(reach),
+    }
+}
+
 fn fold_box(lo: Vec3x8, hi: Vec3x8) -> Aabb {
     let fold = |v: f32x8, f: fn(f32, f32) -> f32, init: f32| v.to_array().into_iter().fold(init, f);
     Aabb {

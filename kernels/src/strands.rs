@@ -128,6 +128,15 @@ impl BlockSleep {
 }
 
 impl Scratch {
+    /// Room for the candidate spheres of a rig of `spheres` spheres in
+    /// every buffer that holds them (allocates only when the rig grew).
+    pub(crate) fn reserve_spheres(&mut self, spheres: usize) {
+        self.candidates
+            .reserve(spheres.saturating_sub(self.candidates.len()));
+        self.chain.reserve_spheres(spheres);
+        self.lane.reserve_spheres(spheres);
+    }
+
     fn new(verts: usize) -> Scratch {
         Scratch {
             candidates: Vec::new(),
@@ -586,8 +595,7 @@ impl Strands {
             .reserve(spheres.saturating_sub(sc.rig_prev.len()));
         sc.movers.reserve(spheres.saturating_sub(sc.movers.len()));
         for t in &mut sc.tasks {
-            t.candidates
-                .reserve(spheres.saturating_sub(t.candidates.len()));
+            t.reserve_spheres(spheres);
         }
     }
 

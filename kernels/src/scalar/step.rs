@@ -41,6 +41,11 @@ pub(crate) struct LaneBuffers {
 }
 
 impl LaneBuffers {
+    /// Room for the candidate spheres of a rig of `spheres` spheres.
+    pub(crate) fn reserve_spheres(&mut self, spheres: usize) {
+        self.chain.reserve_spheres(spheres);
+    }
+
     pub(crate) fn new(verts: usize) -> Self {
         LaneBuffers {
             pos: vec![V3::zero(); verts],
