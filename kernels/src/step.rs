@@ -63,7 +63,8 @@
 //! and scalar paths agree bit for bit on x86-64 with AVX.
 
 use crate::broad_phase::{
-    block_reach_aabb, block_sweep_aabb, select_candidates, spheres_to_local, Aabb, Candidate,
+    block_sweep_aabb, roots_aabb, select_strand_candidates, spheres_to_local, Aabb, BlockBounds,
+    Candidate,
 };
 use crate::constraints::{BLOWN_UP, MIN_LENGTH};
 use crate::lanes::{Lane, Vec3x8, LANES, V3};
@@ -242,16 +243,19 @@ pub(crate) struct Reach<T: Lane> {
     centre: V3<T>,
     reach: T,
     reach2: T,
+    /// The first vertex of the block that may touch it (broad phase).
+    first: usize,
 }
 
 impl<T: Lane> Reach<T> {
     #[inline(always)]
-    fn new(s: [f32; 4], r: f32) -> Self {
+    fn new(s: [f32; 4], r: f32, first: u32) -> Self {
         let reach = T::splat(s[3] + r);
         Reach {
             centre: V3::splat(Vec3::new(s[0], s[1], s[2])),
             reach,
             reach2: reach * reach,
+            first: first as usize,
         }
     }
 }
@@ -353,8 +357,18 @@ pub(crate) fn step_chain<T: Lane>(
         spheres
             .iter()
             .filter(|sp| sp.touches(block))
-            .map(|sp| Reach::new(sp.sphere, k.pearl_radius)),
+            .map(|sp| Reach::new(sp.sphere, k.pearl_radius, sp.first[block])),
     );
+    // In the order of the first vertex that may touch them (rig order among
+    // equals: a stable insertion sort, the lists are short), so that the
+    // spheres a vertex meets are a prefix.
+    for i in 1..s.reach.len() {
+        let mut j = i;
+        while j > 0 && s.reach[j - 1].first > s.reach[j].first {
+            s.reach.swap(j - 1, j);
+            j -= 1;
+        }
+    }
     let (pearl_off, vertex_off) = (&mut s.pearl_off[..verts], &mut s.vertex_off[..verts]);
     for v in 0..verts {
         let free = w[v].gt(zero);
@@ -585,7 +599,7 @@ fn pearls<T: Lane>(c: &mut Chain<'_, T>, k: &Setup, s: &ChainScratch<T>) {
             let tt = j as f32 / (k.pearls + 1) as f32;
             let t = T::splat(tt);
             let u = T::splat(1.0 - tt);
-            for v in 0..verts - 1 {
+            for v in r.first.saturating_sub(1)..verts - 1 {
                 let p = madd(pos[v], u, pos[v + 1] * t);
                 let d = p - r.centre;
                 let d2 = dot_add(d, d, off[v]);
@@ -622,7 +636,11 @@ fn strain_limit_and_collide<T: Lane>(
     let mu = T::splat(k.friction);
     let (pos, prev) = (&mut c.pos[..verts], &mut c.prev[..verts]);
     let (w, rest_len, off) = (&c.w[..verts], &c.rest_len[..verts], &s.vertex_off[..verts]);
+    let mut live = 0;
     for v in 1..verts {
+        while live < s.reach.len() && s.reach[live].first <= v {
+            live += 1;
+        }
         let limit = rest_len[v - 1] * factor;
         let floor = rest_len[v - 1] * shrink;
         let free = w[v].gt(zero);
@@ -638,7 +656,7 @@ fn strain_limit_and_collide<T: Lane>(
                 let inv = d2.max(T::splat(MIN_LENGTH * MIN_LENGTH)).inv_sqrt();
                 x = V3::select(fix, madd(d, target * inv, pos[v - 1]), x);
             }
-            for r in &s.reach {
+            for r in &s.reach[..live] {
                 let d = x - r.centre;
                 let d2 = dot_add(d, d, off[v]);
                 let hit = d2.lt(r.reach2);
@@ -853,7 +871,12 @@ pub(crate) fn drive(
                 // 0. Sleep: a sleeping block runs only if its roots moved or a
                 // moving sphere's sweep reaches its box.
                 let mut boxes = [EMPTY_BOX; GROUP];
-                let mut reach = [EMPTY_BOX; GROUP];
+                let mut bounds = [BlockBounds {
+                    swept: EMPTY_BOX,
+                    roots: EMPTY_BOX,
+                    arc: &[],
+                    stretch_factor: k.stretch_factor,
+                }; GROUP];
                 let mut runs = [true; GROUP];
                 for g in 0..n {
                     let (b, r) = (t * per_task + first + g, (first + g) * verts);
@@ -869,19 +892,18 @@ pub(crate) fn drive(
                         // 1. (box) The block's swept box.
                         boxes[g] = block_box(s, &st, b, &k);
                     }
-                    // 1. (reach) With the box the strain limit keeps it in.
-                    let rest_len = &s.rest_len[b * verts..(b + 1) * verts];
-                    reach[g] = boxes[g].union(block_reach_aabb(
-                        st.pos[0],
-                        rest_len,
-                        k.stretch_factor,
-                        s.active[b],
-                    ));
+                    // 1. (reach) And the reach the strain limit leaves it.
+                    bounds[g] = BlockBounds {
+                        swept: boxes[g],
+                        roots: roots_aabb(st.pos[0], s.active[b]),
+                        arc: &s.rest_arc[b * verts..(b + 1) * verts],
+                        stretch_factor: k.stretch_factor,
+                    };
                 }
                 // 1. Broad phase: the group's swept block boxes against the rig.
                 if runs[..n].iter().any(|&r| r) {
-                    select_candidates(
-                        &reach[..n],
+                    select_strand_candidates(
+                        &bounds[..n],
                         k.margin,
                         spheres_local,
                         &mut scratch.candidates,
