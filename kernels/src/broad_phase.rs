@@ -106,7 +106,7 @@ pub(crate) fn roots_aabb(roots: Vec3x8, active: f32x8) -> Aabb {
 /// What the broad phase knows of one block: its swept box
 /// ([`block_sweep_aabb`]) and the reach the strain limit leaves it, the
 /// roots' box (`roots`) and the rest arc length from the root to each
-/// vertex in lanes (`arc`, `Strands::rest_arc`) with the limit's
+/// vertex, longest over the lanes (`arc`, `Strands::reach_arc`), with the limit's
 /// `stretch_factor`: vertex `v` stays within `stretch_factor arc(v)` of
 /// its root. The swept box extrapolates the last step's velocity and misses
 /// hair that a whipping root turns round within one step (measured: a
@@ -117,7 +117,7 @@ pub(crate) fn roots_aabb(roots: Vec3x8, active: f32x8) -> Aabb {
 pub(crate) struct BlockBounds<'a> {
     pub swept: Aabb,
     pub roots: Aabb,
-    pub arc: &'a [f32x8],
+    pub arc: &'a [f32],
     pub stretch_factor: f32,
 }
 
@@ -125,8 +125,7 @@ impl BlockBounds<'_> {
     /// The roots' box grown by the reach of vertex `v` (the tip's: the
     /// block's whole reach).
     fn reach(&self, v: usize) -> Aabb {
-        let longest = self.arc[v].to_array().into_iter().fold(0.0, f32::max);
-        let r = Vec3::splat(longest * self.stretch_factor);
+        let r = Vec3::splat(self.arc[v] * self.stretch_factor);
         Aabb {
             min: self.roots.min - r,
             max: self.roots.max + r,
@@ -304,7 +303,7 @@ mod tests {
             min: Vec3::ZERO,
             max: Vec3::ZERO,
         };
-        let arc: Vec<f32x8> = (0..8).map(|v| f32x8::splat(0.1 * v as f32)).collect();
+        let arc: Vec<f32> = (0..8).map(|v| 0.1 * v as f32).collect();
         let b = BlockBounds {
             swept: roots,
             roots,

@@ -896,7 +896,7 @@ pub(crate) fn drive(
                     bounds[g] = BlockBounds {
                         swept: boxes[g],
                         roots: roots_aabb(st.pos[0], s.active[b]),
-                        arc: &s.rest_arc[b * verts..(b + 1) * verts],
+                        arc: &s.reach_arc[b * verts..(b + 1) * verts],
                         stretch_factor: k.stretch_factor,
                     };
                 }

@@ -52,6 +52,9 @@ pub struct Strands {
     pub(crate) bend_len: Vec<f32x8>,
     /// Rest arc length from the root to vertex v.
     pub(crate) rest_arc: Vec<f32x8>,
+    /// Per block and vertex: the longest rest arc from the root over the
+    /// block's lanes (the broad phase's reach).
+    pub(crate) reach_arc: Vec<f32>,
     /// Shape-keeping weight 1 - arc(v) / arc(tip): 1 at the root, 0 at the tip.
     pub(crate) shape_weight: Vec<f32x8>,
     /// Per block: all bits set in lanes that hold a real strand.
@@ -178,6 +181,9 @@ impl Strands {
             }
         }
         s.fill_mass_shares();
+        for (r, a) in s.reach_arc.iter_mut().zip(&s.rest_arc) {
+            *r = a.to_array().into_iter().fold(0.0, f32::max);
+        }
         Ok(s)
     }
 
@@ -202,6 +208,7 @@ impl Strands {
             bend_share: vec![[f32x8::ZERO; 2]; n],
             bend_len: vec![f32x8::ZERO; n],
             rest_arc: vec![f32x8::ZERO; n],
+            reach_arc: vec![0.0; n],
             shape_weight: vec![f32x8::ZERO; n],
             active: Vec::with_capacity(blocks),
             max_rest_segment: 0.0,
