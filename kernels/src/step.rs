@@ -461,9 +461,12 @@ fn project<T: Lane>(c: &mut Chain<'_, T>, s: &mut ChainScratch<T>, a1: T) {
         let n = blended(madd(d, a1, qfix[v]), e, min_cos);
         (len, e, n)
     };
-    // Forward elimination.
+    // Forward elimination. Row v reads `e_v . n_{v-1}`, `e_v . n_v` and
+    // `e_v . n_{v+1}`: the first two are taken when `n_v` is known, the last
+    // when `n_{v+1}` is, so only two segments' directions are live.
     let (mut len, mut e, mut n) = dir(pos, 0);
-    let mut n_prev = V3::zero();
+    let mut sub_dot = dot(e, V3::zero());
+    let mut diag_dot = dot(e, n);
     let mut cp_prev = zero;
     let mut dp_prev = zero;
     for v in 0..segs {
@@ -472,8 +475,8 @@ fn project<T: Lane>(c: &mut Chain<'_, T>, s: &mut ChainScratch<T>, a1: T) {
         } else {
             (zero, V3::zero(), V3::zero())
         };
-        let sub = -(w[v] * dot(e, n_prev));
-        let diag = (w[v] + w[v + 1]) * dot(e, n);
+        let sub = -(w[v] * sub_dot);
+        let diag = (w[v] + w[v + 1]) * diag_dot;
         let sup = -(w[v + 1] * dot(e, n_next));
         let rhs = rest_len[v] - len;
         let pivot = sub.mul_add(-cp_prev, diag);
@@ -484,7 +487,8 @@ fn project<T: Lane>(c: &mut Chain<'_, T>, s: &mut ChainScratch<T>, a1: T) {
         cp[v] = cp_prev;
         dp[v] = dp_prev;
         sn[v] = n;
-        n_prev = n;
+        sub_dot = dot(e_next, n);
+        diag_dot = dot(e_next, n_next);
         (len, e, n) = (len_next, e_next, n_next);
     }
     // Back substitution, moving vertices as the multipliers become known.
