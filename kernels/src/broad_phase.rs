@@ -84,12 +84,19 @@ pub(crate) fn block_sweep_aabb(
         Vec3x8::splat(Vec3::INFINITY),
         Vec3x8::splat(Vec3::NEG_INFINITY),
     );
+    // Every lane, then the inactive ones masked out once (the same box:
+    // a lane's min and max do not depend on the others).
+    let all = active | !active;
     for (x, p) in pos.iter().zip(prev) {
         let ahead = *x + (*x - *p) + g + root_move;
-        grow_box(&mut lo, &mut hi, *x, active);
-        grow_box(&mut lo, &mut hi, ahead, active);
+        grow_box(&mut lo, &mut hi, *x, all);
+        grow_box(&mut lo, &mut hi, ahead, all);
     }
-    fold_box(lo, hi)
+    let inf = Vec3x8::splat(Vec3::INFINITY);
+    fold_box(
+        Vec3x8::select(active, lo, inf),
+        Vec3x8::select(active, hi, -inf),
+    )
 }
 
 /// The box of the active lanes' roots (a block's `pos[0]` on entry to the

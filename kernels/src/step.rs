@@ -572,8 +572,10 @@ fn local_shape<T: Lane>(c: &mut Chain<'_, T>, s: &ChainScratch<T>, k: &Setup) {
             V3::select(ok, turned, rest)
         };
         let err = pos[v] + target - pos[v + 1];
-        let live = w[v + 1].gt(zero);
-        pos[v + 1] = V3::select(live, madd(err, stiff, pos[v + 1]), pos[v + 1]);
+        // A pinned child moves by err * 0 (a select of the positions would
+        // compile to masked stores, slow on AMD).
+        let pull = T::select(w[v + 1].gt(zero), stiff, zero);
+        pos[v + 1] = madd(err, pull, pos[v + 1]);
     }
 }
 
