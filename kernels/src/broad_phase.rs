@@ -1,11 +1,13 @@
 //! Broad phase: which rig spheres can touch a block of eight strands.
 //!
 //! Users of TressFX and Unity's hair ask for rigs of hundreds of spheres.
-//! Each block's bounding box, grown by the pearl
-//! radius plus a slack of one rest segment (how far a constraint sweep can
-//! reasonably carry a vertex after the box was taken), is tested against
-//! every sphere once per step; only the spheres that can touch it enter the
-//! block's narrow phase. A non-finite sphere never passes the test.
+//! Once per step each block is tested against every sphere, with a slack of
+//! the pearl radius plus one rest segment: first its swept box (the last
+//! step's motion extrapolated), then, if that misses, the reach the strain
+//! limit leaves it (vertex `v` within `(1 + max_stretch) arc(v)` of its
+//! root's target), which also gives the first vertex that may touch the
+//! sphere. Only those spheres enter the block's narrow phase, from that
+//! vertex on. A non-finite sphere never passes the test.
 
 use crate::lanes::Vec3x8;
 use crate::Sphere;

@@ -7,9 +7,10 @@
 //! (the numbers are the step comments of [`step_chain`]):
 //!
 //! 1. **Broad phase** (once per step): the boxes of a group of four blocks,
-//!    swept over the step's predicted motion, against every rig sphere
-//!    (`broad_phase.rs`; the group's union first, then each block's box);
-//!    only the spheres near a block enter its narrow phase.
+//!    swept over the step's predicted motion, and the reach the strain
+//!    limit leaves them, against every rig sphere (`broad_phase.rs`; the
+//!    group's union first, then each block); only the spheres near a block
+//!    enter its narrow phase, from the first vertex that may touch them.
 //! 2. **Prediction** (per substep): the root moves on the straight line from
 //!    where it was to its target; free vertices take a position-Verlet step
 //!    `x* = x + d^(1/n) (x - x_prev) + g h^2` (Yip 2011's damping `d` spread

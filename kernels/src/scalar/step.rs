@@ -6,7 +6,8 @@
 //! The numbered steps are those of `step.rs`'s header:
 //!
 //! 1. Broad phase: the swept boxes of a group of four blocks (the scalar
-//!    twin of `block_sweep_aabb`) against the rig, once per step.
+//!    twin of `block_sweep_aabb`) and their reach against the rig, once
+//!    per step.
 //! 2. Prediction: root path, Verlet per substep, fixed direction part.
 //! 3. Shape: local (TressFX 4) and global shape constraints.
 //! 4. Projection of the length constraints (tridiagonal, blended directions),
