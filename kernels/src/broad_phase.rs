@@ -101,23 +101,26 @@ pub(crate) fn block_sweep_aabb(
     )
 }
 
-/// The box of the active lanes' roots (a block's `pos[0]` on entry to the
-/// step: where `set_roots` put them).
-pub(crate) fn roots_aabb(roots: Vec3x8, active: f32x8) -> Aabb {
+/// The box of the active lanes' roots over the step: where they were
+/// (`from`, a block's `prev[0]` on entry to the step) and their targets
+/// (`to`, its `pos[0]`: where `set_roots` put them); the substeps move them
+/// on the straight line between.
+pub(crate) fn roots_aabb(from: Vec3x8, to: Vec3x8, active: f32x8) -> Aabb {
     let (mut lo, mut hi) = (
         Vec3x8::splat(Vec3::INFINITY),
         Vec3x8::splat(Vec3::NEG_INFINITY),
     );
-    grow_box(&mut lo, &mut hi, roots, active);
+    grow_box(&mut lo, &mut hi, from, active);
+    grow_box(&mut lo, &mut hi, to, active);
     fold_box(lo, hi)
 }
 
 /// What the broad phase knows of one block: its swept box
 /// ([`block_sweep_aabb`]) and the reach the strain limit leaves it, the
-/// roots' box (`roots`) and the rest arc length from the root to each
-/// vertex, longest over the lanes (`arc`, `Strands::reach_arc`), with the limit's
-/// `stretch_factor`: vertex `v` stays within `stretch_factor arc(v)` of
-/// its root. The swept box extrapolates the last step's velocity and misses
+/// roots' box over the step (`roots`, [`roots_aabb`]) and the rest arc
+/// length from the root to each vertex, longest over the lanes (`arc`,
+/// `Strands::reach_arc`), with the limit's `stretch_factor`: vertex `v`
+/// stays within `stretch_factor arc(v)` of its root. The swept box extrapolates the last step's velocity and misses
 /// hair that a whipping root turns round within one step (measured: a
 /// strand left 3.4 cm inside a sphere whipped at 4 m/s with dt 1/15 s); the
 /// reach does not, and tells the narrow phase from which vertex on a sphere

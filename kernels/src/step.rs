@@ -902,7 +902,7 @@ pub(crate) fn drive(
                     // 1. (reach) And the reach the strain limit leaves it.
                     bounds[g] = BlockBounds {
                         swept: boxes[g],
-                        roots: roots_aabb(st.pos[0], s.active[b]),
+                        roots: roots_aabb(st.prev[0], st.pos[0], s.active[b]),
                         arc: &s.reach_arc[b * verts..(b + 1) * verts],
                         stretch_factor: k.stretch_factor,
                     };
