@@ -1,11 +1,13 @@
 //! Broad phase: which rig spheres can touch a block of eight strands.
 //!
 //! Users of TressFX and Unity's hair ask for rigs of hundreds of spheres.
-//! Each block's bounding box, grown by the pearl
-//! radius plus a slack of one rest segment (how far a constraint sweep can
-//! reasonably carry a vertex after the box was taken), is tested against
-//! every sphere once per step; only the spheres that can touch it enter the
-//! block's narrow phase. A non-finite sphere never passes the test.
+//! Once per step each block is tested against every sphere, with a slack of
+//! the pearl radius plus one rest segment: first its swept box (the last
+//! step's motion extrapolated), then, if that misses, the reach the strain
+//! limit leaves it (vertex `v` within `(1 + max_stretch) arc(v)` of its
+//! root's target), which also gives the first vertex that may touch the
+//! sphere. Only those spheres enter the block's narrow phase, from that
+//! vertex on. A non-finite sphere never passes the test.
 
 use crate::lanes::Vec3x8;
 use crate::Sphere;
@@ -84,12 +86,86 @@ pub(crate) fn block_sweep_aabb(
         Vec3x8::splat(Vec3::INFINITY),
         Vec3x8::splat(Vec3::NEG_INFINITY),
     );
+    // Every lane, then the inactive ones masked out once (the same box:
+    // a lane's min and max do not depend on the others).
+    let all = active | !active;
     for (x, p) in pos.iter().zip(prev) {
         let ahead = *x + (*x - *p) + g + root_move;
-        grow_box(&mut lo, &mut hi, *x, active);
-        grow_box(&mut lo, &mut hi, ahead, active);
+        grow_box(&mut lo, &mut hi, *x, all);
+        grow_box(&mut lo, &mut hi, ahead, all);
     }
+    let inf = Vec3x8::splat(Vec3::INFINITY);
+    fold_box(
+        Vec3x8::select(active, lo, inf),
+        Vec3x8::select(active, hi, -inf),
+    )
+}
+
+/// The box of the active lanes' roots over the step: where they were
+/// (`from`, a block's `prev[0]` on entry to the step) and their targets
+/// (`to`, its `pos[0]`: where `set_roots` put them); the substeps move them
+/// on the straight line between.
+pub(crate) fn roots_aabb(from: Vec3x8, to: Vec3x8, active: f32x8) -> Aabb {
+    let (mut lo, mut hi) = (
+        Vec3x8::splat(Vec3::INFINITY),
+        Vec3x8::splat(Vec3::NEG_INFINITY),
+    );
+    grow_box(&mut lo, &mut hi, from, active);
+    grow_box(&mut lo, &mut hi, to, active);
     fold_box(lo, hi)
+}
+
+/// What the broad phase knows of one block: its swept box
+/// ([`block_sweep_aabb`]) and the reach the strain limit leaves it, the
+/// roots' box over the step (`roots`, [`roots_aabb`]) and the rest arc
+/// length from the root to each vertex, longest over the lanes (`arc`,
+/// `Strands::reach_arc`), with the limit's `stretch_factor`: vertex `v`
+/// stays within `stretch_factor arc(v)` of its root. The swept box extrapolates the last step's velocity and misses
+/// hair that a whipping root turns round within one step (measured: a
+/// strand left 3.4 cm inside a sphere whipped at 4 m/s with dt 1/15 s); the
+/// reach does not, and tells the narrow phase from which vertex on a sphere
+/// can be touched.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BlockBounds<'a> {
+    pub swept: Aabb,
+    pub roots: Aabb,
+    pub arc: &'a [f32],
+    pub stretch_factor: f32,
+}
+
+impl BlockBounds<'_> {
+    /// The roots' box grown by the reach of vertex `v` (the tip's: the
+    /// block's whole reach).
+    fn reach(&self, v: usize) -> Aabb {
+        let r = Vec3::splat(self.arc[v] * self.stretch_factor);
+        Aabb {
+            min: self.roots.min - r,
+            max: self.roots.max + r,
+        }
+    }
+
+    /// The first vertex that may touch sphere `s` this step: 0 if the swept
+    /// box is near it, else the first whose reach is, None if none.
+    fn first_vertex(&self, s: &[f32; 4], margin: f32) -> Option<usize> {
+        if near(&self.swept, s, margin) {
+            return Some(0);
+        }
+        let tip = self.arc.len().checked_sub(1)?;
+        if !near(&self.reach(tip), s, margin) {
+            return None;
+        }
+        // The reach grows with v: the first vertex that reaches, by bisection.
+        let (mut lo, mut hi) = (0, tip);
+        while lo < hi {
+            let mid = (lo + hi) / 2;
+            if near(&self.reach(mid), s, margin) {
+                hi = mid;
+            } else {
+                lo = mid + 1;
+            }
+        }
+        Some(lo)
+    }
 }
 
 fn fold_box(lo: Vec3x8, hi: Vec3x8) -> Aabb {
@@ -109,11 +185,13 @@ fn fold_box(lo: Vec3x8, hi: Vec3x8) -> Aabb {
 }
 
 /// A rig sphere (local centre, radius) that may touch a group of blocks,
-/// with bit `b` set in `blocks` for each block `b` of the group it may touch.
+/// with bit `b` set in `blocks` for each block `b` of the group it may touch
+/// and `first[b]` the first vertex of block `b` that may touch it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Candidate {
     pub sphere: [f32; 4],
     pub blocks: u32,
+    pub first: [u32; crate::step::GROUP],
 }
 
 impl Candidate {
@@ -133,7 +211,8 @@ fn near(aabb: &Aabb, s: &[f32; 4], margin: f32) -> bool {
 }
 
 /// Writes into `out` the spheres near the union of `boxes` (one box per
-/// block of a group), each with the blocks whose own box it is near.
+/// block of a group, at most 32: a patch's column blocks), each with the
+/// blocks whose own box it is near (every vertex of those may touch it).
 pub(crate) fn select_candidates(
     boxes: &[Aabb],
     margin: f32,
@@ -154,7 +233,57 @@ pub(crate) fn select_candidates(
             .filter(|(_, b)| near(b, s, margin))
             .fold(0u32, |m, (k, _)| m | 1 << k);
         if blocks != 0 {
-            out.push(Candidate { sphere: *s, blocks });
+            out.push(Candidate {
+                sphere: *s,
+                blocks,
+                first: [0; crate::step::GROUP],
+            });
+        }
+    }
+}
+
+/// The strands' broad phase: writes into `out` the spheres that may touch
+/// a group of blocks (at most [`crate::step::GROUP`]): near the union of
+/// the blocks' swept boxes and reaches first, then per block (see
+/// [`BlockBounds::first_vertex`]).
+pub(crate) fn select_strand_candidates(
+    blocks: &[BlockBounds<'_>],
+    margin: f32,
+    spheres: &[[f32; 4]],
+    out: &mut Vec<Candidate>,
+) {
+    out.clear();
+    let Some(union) = blocks
+        .iter()
+        .map(|b| {
+            let tip = b.arc.len().saturating_sub(1);
+            b.swept.union(if b.arc.is_empty() {
+                b.swept
+            } else {
+                b.reach(tip)
+            })
+        })
+        .reduce(Aabb::union)
+    else {
+        return;
+    };
+    for s in spheres {
+        if !near(&union, s, margin) {
+            continue;
+        }
+        let mut c = Candidate {
+            sphere: *s,
+            blocks: 0,
+            first: [0; crate::step::GROUP],
+        };
+        for (k, b) in blocks.iter().enumerate().take(crate::step::GROUP) {
+            if let Some(v) = b.first_vertex(s, margin) {
+                c.blocks |= 1 << k;
+                c.first[k] = v as u32;
+            }
+        }
+        if c.blocks != 0 {
+            out.push(c);
         }
     }
 }
@@ -163,6 +292,49 @@ pub(crate) fn select_candidates(
 mod tests {
     use super::*;
     use crate::lanes::LANES;
+
+    /// A block known by its swept box alone.
+    fn swept(b: Aabb) -> BlockBounds<'static> {
+        BlockBounds {
+            swept: b,
+            roots: b,
+            arc: &[],
+            stretch_factor: 1.0,
+        }
+    }
+
+    #[test]
+    fn a_sphere_beyond_the_swept_box_within_reach_is_a_candidate_from_the_first_vertex_that_reaches_it(
+    ) {
+        // Roots at the origin, vertices 10 cm apart along the arc; the swept
+        // box is the roots' own. A sphere of 5 cm at 0.5 m: vertex v reaches
+        // 0.1 v (1.01 with the limit), plus the 5 cm radius and 1 cm margin,
+        // so vertex 5 (0.505 + 0.06 in the box's corner-free x direction)
+        // is the first; a sphere at 2 m is out of every vertex's reach.
+        let roots = Aabb {
+            min: Vec3::ZERO,
+            max: Vec3::ZERO,
+        };
+        let arc: Vec<f32> = (0..8).map(|v| 0.1 * v as f32).collect();
+        let b = BlockBounds {
+            swept: roots,
+            roots,
+            arc: &arc,
+            stretch_factor: 1.01,
+        };
+        let spheres = [
+            [0.5, 0.0, 0.0, 0.05],
+            [2.0, 0.0, 0.0, 0.05],
+            [0.0, 0.0, 0.0, 0.05],
+        ];
+        let mut out = Vec::new();
+        select_strand_candidates(&[b], 0.01, &spheres, &mut out);
+        assert_eq!(out.len(), 2);
+        assert_eq!((out[0].sphere, out[0].blocks), (spheres[0], 1));
+        // 0.1 v 1.01 + 0.06 >= 0.5 first at v = 5 (0.565; v = 4: 0.464).
+        assert_eq!(out[0].first[0], 5);
+        assert_eq!((out[1].sphere, out[1].first[0]), (spheres[2], 0));
+    }
 
     #[test]
     fn candidates_are_the_spheres_near_the_box() {
@@ -193,6 +365,12 @@ mod tests {
         assert!(out
             .iter()
             .all(|c| c.blocks == 0b10 && c.touches(1) && !c.touches(0)));
+        // The strands' form, blocks known by their swept boxes alone: the
+        // same spheres, every vertex of the near block.
+        select_strand_candidates(&[swept(far), swept(aabb)], 0.1, &spheres, &mut out);
+        let picked: Vec<[f32; 4]> = out.iter().map(|c| c.sphere).collect();
+        assert_eq!(picked, vec![spheres[0], spheres[2]]);
+        assert!(out.iter().all(|c| c.blocks == 0b10 && c.first[1] == 0));
     }
 
     #[test]

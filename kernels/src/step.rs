@@ -7,9 +7,10 @@
 //! (the numbers are the step comments of [`step_chain`]):
 //!
 //! 1. **Broad phase** (once per step): the boxes of a group of four blocks,
-//!    swept over the step's predicted motion, against every rig sphere
-//!    (`broad_phase.rs`; the group's union first, then each block's box);
-//!    only the spheres near a block enter its narrow phase.
+//!    swept over the step's predicted motion, and the reach the strain
+//!    limit leaves them, against every rig sphere (`broad_phase.rs`; the
+//!    group's union first, then each block); only the spheres near a block
+//!    enter its narrow phase, from the first vertex that may touch them.
 //! 2. **Prediction** (per substep): the root moves on the straight line from
 //!    where it was to its target; free vertices take a position-Verlet step
 //!    `x* = x + d^(1/n) (x - x_prev) + g h^2` (Yip 2011's damping `d` spread
@@ -62,7 +63,10 @@
 //! [`Lane::recip`]), which read the same tables in both widths, so the SIMD
 //! and scalar paths agree bit for bit on x86-64 with AVX.
 
-use crate::broad_phase::{block_sweep_aabb, select_candidates, spheres_to_local, Aabb, Candidate};
+use crate::broad_phase::{
+    block_sweep_aabb, roots_aabb, select_strand_candidates, spheres_to_local, Aabb, BlockBounds,
+    Candidate,
+};
 use crate::constraints::{BLOWN_UP, MIN_LENGTH};
 use crate::lanes::{Lane, Vec3x8, LANES, V3};
 use crate::strands::{rest_pose, BlockSleep, Scratch};
@@ -191,7 +195,9 @@ pub(crate) struct Chain<'a, T: Lane> {
     pub shape_weight: &'a [T],
 }
 
-/// Per-chain scratch, `V` entries each, sized when the strands are built.
+/// Per-chain scratch, `V` entries each, sized when the strands are built
+/// (`reach` holds one entry per rig sphere: the step reserves it when the
+/// rig grows).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct ChainScratch<T: Lane> {
     qfix: Vec<V3<T>>,
@@ -200,6 +206,14 @@ pub(crate) struct ChainScratch<T: Lane> {
     dp: Vec<T>,
     rvec: Vec<V3<T>>,
     rdir: Vec<V3<T>>,
+    /// Per segment: 0 where both ends are free, +inf where one is pinned
+    /// (added to a pearl's squared distance, it keeps the pearl out of
+    /// every sphere).
+    pearl_off: Vec<T>,
+    /// Per vertex: 0 if free, +inf if pinned (the same for vertices).
+    vertex_off: Vec<T>,
+    /// The step's candidate spheres of this block, splatted.
+    reach: Vec<Reach<T>>,
 }
 
 impl<T: Lane> ChainScratch<T> {
@@ -211,28 +225,72 @@ impl<T: Lane> ChainScratch<T> {
             dp: vec![T::splat(0.0); verts],
             rvec: vec![V3::zero(); verts],
             rdir: vec![V3::zero(); verts],
+            pearl_off: vec![T::splat(0.0); verts],
+            vertex_off: vec![T::splat(0.0); verts],
+            reach: Vec::new(),
         }
+    }
+
+    /// Room for the candidates of a rig of `spheres` spheres (allocates only
+    /// when the rig grew).
+    pub(crate) fn reserve_spheres(&mut self, spheres: usize) {
+        self.reach.reserve(spheres.saturating_sub(self.reach.len()));
     }
 }
 
 /// A rig sphere grown by the pearl radius, splatted.
-#[derive(Clone, Copy)]
-struct Reach<T: Lane> {
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Reach<T: Lane> {
     centre: V3<T>,
     reach: T,
     reach2: T,
+    /// The first vertex of the block that may touch it (broad phase).
+    first: usize,
 }
 
 impl<T: Lane> Reach<T> {
     #[inline(always)]
-    fn new(s: [f32; 4], r: f32) -> Self {
+    fn new(s: [f32; 4], r: f32, first: u32) -> Self {
         let reach = T::splat(s[3] + r);
         Reach {
             centre: V3::splat(Vec3::new(s[0], s[1], s[2])),
             reach,
             reach2: reach * reach,
+            first: first as usize,
         }
     }
+}
+
+/// `a s + c`, fused (`Lane::mul_add`).
+#[inline(always)]
+fn madd<T: Lane>(a: V3<T>, s: T, c: V3<T>) -> V3<T> {
+    V3::new(
+        a.x.mul_add(s, c.x),
+        a.y.mul_add(s, c.y),
+        a.z.mul_add(s, c.z),
+    )
+}
+
+/// `a . b + c` as `x x' + (y y' + (z z' + c))`, fused.
+#[inline(always)]
+fn dot_add<T: Lane>(a: V3<T>, b: V3<T>, c: T) -> T {
+    a.x.mul_add(b.x, a.y.mul_add(b.y, a.z.mul_add(b.z, c)))
+}
+
+/// `a . b` as `x x' + (y y' + z z')`, fused.
+#[inline(always)]
+fn dot<T: Lane>(a: V3<T>, b: V3<T>) -> T {
+    a.x.mul_add(b.x, a.y.mul_add(b.y, a.z * b.z))
+}
+
+/// `a x b`, each component `p q - (r s)` fused.
+#[inline(always)]
+fn cross<T: Lane>(a: V3<T>, b: V3<T>) -> V3<T> {
+    V3::new(
+        a.y.mul_add(b.z, -(a.z * b.y)),
+        a.z.mul_add(b.x, -(a.x * b.z)),
+        a.x.mul_add(b.y, -(a.y * b.x)),
+    )
 }
 
 /// `m * v` as `x_axis v.x + y_axis v.y + z_axis v.z`.
@@ -244,9 +302,15 @@ fn rotate<T: Lane>(m: &Mat3, v: V3<T>) -> V3<T> {
 /// `|d|` and `d / |d|`, lengths clamped to [`MIN_LENGTH`].
 #[inline(always)]
 fn length_dir<T: Lane>(d: V3<T>) -> (T, V3<T>) {
-    let d2 = d.dot(d).max(T::splat(MIN_LENGTH * MIN_LENGTH));
+    let d2 = dot(d, d).max(T::splat(MIN_LENGTH * MIN_LENGTH));
     let r = d2.inv_sqrt();
     (d2 * r, d * r)
+}
+
+/// 0 where `free`, +inf elsewhere.
+#[inline(always)]
+fn offset_unless<T: Lane>(free: T::Mask) -> T {
+    T::select(free, T::splat(0.0), T::splat(f32::INFINITY))
 }
 
 /// Advances one chain (or eight, in lanes) by one step; returns the lanes
@@ -269,21 +333,49 @@ pub(crate) fn step_chain<T: Lane>(
     let a1 = T::splat(k.direction[0]);
     let a0 = T::splat(k.direction[1]);
     let am = T::splat(k.direction[2]);
-    let root_from = c.prev[0];
-    let root_to = c.pos[0];
+    let (pos, prev, w) = (&mut c.pos[..verts], &mut c.prev[..verts], &c.w[..verts]);
+    let root_from = prev[0];
+    let root_to = pos[0];
     // 2. (set-up) Previous positions one substep back: the step's velocity
     // (x - x_prev) / dt, over h.
     let inv_n = T::splat(1.0 / n as f32);
-    c.pos[0] = root_from;
+    pos[0] = root_from;
     for v in 1..verts {
-        let x = c.pos[v];
-        c.prev[v] = x - (x - c.prev[v]) * inv_n;
+        let x = pos[v];
+        prev[v] = x - (x - prev[v]) * inv_n;
     }
     // 3. (set-up) The rest vectors in the groom frame's current orientation.
     if k.local_shape > 0.0 {
         for v in 0..segs {
             s.rvec[v] = rotate(&k.rotation, c.rest_vec[v]);
             s.rdir[v] = rotate(&k.rotation, c.rest_dir[v]);
+        }
+    }
+    // 5., 6. (set-up) This block's candidate spheres, splatted, and the
+    // pinned vertices and segments kept out of the collisions.
+    s.reach.clear();
+    s.reach.extend(
+        spheres
+            .iter()
+            .filter(|sp| sp.touches(block))
+            .map(|sp| Reach::new(sp.sphere, k.pearl_radius, sp.first[block])),
+    );
+    // In the order of the first vertex that may touch them (rig order among
+    // equals: a stable insertion sort, the lists are short), so that the
+    // spheres a vertex meets are a prefix.
+    for i in 1..s.reach.len() {
+        let mut j = i;
+        while j > 0 && s.reach[j - 1].first > s.reach[j].first {
+            s.reach.swap(j - 1, j);
+            j -= 1;
+        }
+    }
+    let (pearl_off, vertex_off) = (&mut s.pearl_off[..verts], &mut s.vertex_off[..verts]);
+    for v in 0..verts {
+        let free = w[v].gt(zero);
+        vertex_off[v] = offset_unless::<T>(free);
+        if v > 0 {
+            pearl_off[v - 1] = offset_unless::<T>(free & w[v - 1].gt(zero));
         }
     }
     for sub in 0..n {
@@ -295,48 +387,54 @@ pub(crate) fn step_chain<T: Lane>(
         } else {
             root_from + (root_to - root_from) * T::splat((sub + 1) as f32 / n as f32)
         };
-        let mut x_last = c.pos[0];
-        let mut p_last = c.prev[0];
+        let qfix = &mut s.qfix[..verts];
+        let mut x_last = pos[0];
+        let mut p_last = prev[0];
         for v in 0..verts {
-            let x = c.pos[v];
-            let xp = c.prev[v];
+            let x = pos[v];
+            let xp = prev[v];
             if v > 0 {
-                s.qfix[v - 1] = (x - x_last) * a0 + (xp - p_last) * am;
+                qfix[v - 1] = madd(x - x_last, a0, (xp - p_last) * am);
             }
-            let moved = x + (x - xp) * d + g;
+            let moved = madd(x - xp, d, x + g);
             let pinned = if v == 0 { root } else { x };
-            c.pos[v] = V3::select(c.w[v].gt(zero), moved, pinned);
-            c.prev[v] = x;
+            pos[v] = V3::select(w[v].gt(zero), moved, pinned);
+            prev[v] = x;
             x_last = x;
             p_last = xp;
         }
+        let mut c = Chain {
+            pos: &mut *pos,
+            prev: &mut *prev,
+            ..*c
+        };
         // 3. Shape: local (TressFX 4), then global.
         if k.local_shape > 0.0 {
-            local_shape(c, s, k);
+            local_shape(&mut c, s, k);
         }
         if k.shape > 0.0 {
-            global_shape(c, k);
+            global_shape(&mut c, k);
         }
         // 4. Projections of the length constraints (and bending).
         for _ in 0..k.iterations {
-            project(c, s, a1);
+            project(&mut c, s, a1);
             if k.bend > 0.0 {
-                bend(c, T::splat(k.bend));
+                bend(&mut c, T::splat(k.bend));
             }
         }
         // 5. Pearls, 6. strain limit with push-out.
-        pearls(c, k, spheres, block);
+        pearls(&mut c, k, s);
         let rounds = if sub + 1 == n { 2 } else { 1 };
-        strain_limit_and_collide(c, k, spheres, block, rounds);
+        strain_limit_and_collide(&mut c, k, s, rounds);
     }
     // 7. Velocity over the step, and the guard.
     let nn = T::splat(n as f32);
     let big = T::splat(BLOWN_UP);
     let mut ok = T::all_lanes();
     for v in 0..verts {
-        let x = c.pos[v];
-        let back = x - (x - c.prev[v]) * nn;
-        c.prev[v] = V3::select(c.w[v].gt(zero), back, x);
+        let x = pos[v];
+        let back = x - (x - prev[v]) * nn;
+        prev[v] = V3::select(w[v].gt(zero), back, x);
         ok = ok & x.finite() & x.x.abs().lt(big) & x.y.abs().lt(big) & x.z.abs().lt(big);
     }
     ok
@@ -346,54 +444,65 @@ pub(crate) fn step_chain<T: Lane>(
 /// blended directions (tridiagonal solve, Thomas algorithm).
 #[inline(always)]
 fn project<T: Lane>(c: &mut Chain<'_, T>, s: &mut ChainScratch<T>, a1: T) {
-    let segs = c.pos.len() - 1;
+    let verts = c.pos.len();
+    let segs = verts - 1;
     let zero = T::splat(0.0);
     let min_cos = T::splat(MIN_DIRECTION_COSINE);
     let tiny = T::splat(1.0e-12);
-    let w = c.w;
-    let dir = |pos: &[V3<T>], qfix: &[V3<T>], v: usize| -> (T, V3<T>, V3<T>) {
+    let (pos, w, rest_len) = (&mut c.pos[..verts], &c.w[..verts], &c.rest_len[..verts]);
+    let (qfix, sn, cp, dp) = (
+        &s.qfix[..verts],
+        &mut s.n[..verts],
+        &mut s.cp[..verts],
+        &mut s.dp[..verts],
+    );
+    let dir = |pos: &[V3<T>], v: usize| -> (T, V3<T>, V3<T>) {
         let d = pos[v + 1] - pos[v];
         let (len, e) = length_dir(d);
-        let n = blended(d * a1 + qfix[v], e, min_cos);
+        let n = blended(madd(d, a1, qfix[v]), e, min_cos);
         (len, e, n)
     };
-    // Forward elimination.
-    let (mut len, mut e, mut n) = dir(c.pos, &s.qfix, 0);
-    let mut n_prev = V3::zero();
+    // Forward elimination. Row v reads `e_v . n_{v-1}`, `e_v . n_v` and
+    // `e_v . n_{v+1}`: the first two are taken when `n_v` is known, the last
+    // when `n_{v+1}` is, so only two segments' directions are live.
+    let (mut len, mut e, mut n) = dir(pos, 0);
+    let mut sub_dot = dot(e, V3::zero());
+    let mut diag_dot = dot(e, n);
     let mut cp_prev = zero;
     let mut dp_prev = zero;
     for v in 0..segs {
         let (len_next, e_next, n_next) = if v + 1 < segs {
-            dir(c.pos, &s.qfix, v + 1)
+            dir(pos, v + 1)
         } else {
             (zero, V3::zero(), V3::zero())
         };
-        let sub = -(w[v] * e.dot(n_prev));
-        let diag = (w[v] + w[v + 1]) * e.dot(n);
-        let sup = -(w[v + 1] * e.dot(n_next));
-        let rhs = c.rest_len[v] - len;
-        let pivot = diag - sub * cp_prev;
+        let sub = -(w[v] * sub_dot);
+        let diag = (w[v] + w[v + 1]) * diag_dot;
+        let sup = -(w[v + 1] * dot(e, n_next));
+        let rhs = rest_len[v] - len;
+        let pivot = sub.mul_add(-cp_prev, diag);
         let live = pivot.gt(tiny);
         let inv = pivot.max(tiny).recip();
         cp_prev = T::select(live, sup * inv, zero);
-        dp_prev = T::select(live, (rhs - sub * dp_prev) * inv, zero);
-        s.cp[v] = cp_prev;
-        s.dp[v] = dp_prev;
-        s.n[v] = n;
-        n_prev = n;
+        dp_prev = T::select(live, sub.mul_add(-dp_prev, rhs) * inv, zero);
+        cp[v] = cp_prev;
+        dp[v] = dp_prev;
+        sn[v] = n;
+        sub_dot = dot(e_next, n);
+        diag_dot = dot(e_next, n_next);
         (len, e, n) = (len_next, e_next, n_next);
     }
     // Back substitution, moving vertices as the multipliers become known.
     let mut lambda_next = zero;
     let mut n_next = V3::zero();
     for v in (0..segs).rev() {
-        let lambda = s.dp[v] - s.cp[v] * lambda_next;
-        let n = s.n[v];
-        c.pos[v + 1] = c.pos[v + 1] + (n * lambda - n_next * lambda_next) * w[v + 1];
+        let lambda = cp[v].mul_add(-lambda_next, dp[v]);
+        let n = sn[v];
+        pos[v + 1] = madd(madd(n_next, -lambda_next, n * lambda), w[v + 1], pos[v + 1]);
         lambda_next = lambda;
         n_next = n;
     }
-    c.pos[0] = c.pos[0] - n_next * (lambda_next * w[0]);
+    pos[0] = madd(n_next, -(lambda_next * w[0]), pos[0]);
 }
 
 /// The constraint direction: `q` itself (the multiplier absorbs its scale),
@@ -401,8 +510,8 @@ fn project<T: Lane>(c: &mut Chain<'_, T>, s: &mut ChainScratch<T>, a1: T) {
 /// is below `min_cos` (`e.q < min_cos |q|`, tested squared).
 #[inline(always)]
 fn blended<T: Lane>(q: V3<T>, e: V3<T>, min_cos: T) -> V3<T> {
-    let eq = e.dot(q);
-    let q2 = q.dot(q);
+    let eq = dot(e, q);
+    let q2 = dot(q, q);
     let bad = eq.lt(T::splat(0.0))
         | (eq * eq).lt(min_cos * min_cos * q2)
         | q2.lt(T::splat(MIN_LENGTH * MIN_LENGTH));
@@ -417,14 +526,13 @@ fn bend<T: Lane>(c: &mut Chain<'_, T>, stiffness: T) {
     let verts = c.pos.len();
     for v in 0..verts.saturating_sub(2) {
         let delta = c.pos[v + 2] - c.pos[v];
-        let inv = delta
-            .dot(delta)
+        let inv = dot(delta, delta)
             .max(T::splat(MIN_LENGTH * MIN_LENGTH))
             .inv_sqrt();
-        let k = stiffness * (T::splat(1.0) - c.bend_len[v] * inv);
+        let k = stiffness * c.bend_len[v].mul_add(-inv, T::splat(1.0));
         let share = c.bend_share[v];
-        c.pos[v] = c.pos[v] + delta * (k * share[0]);
-        c.pos[v + 2] = c.pos[v + 2] - delta * (k * share[1]);
+        c.pos[v] = madd(delta, k * share[0], c.pos[v]);
+        c.pos[v + 2] = madd(delta, -(k * share[1]), c.pos[v + 2]);
     }
 }
 
@@ -438,29 +546,37 @@ fn bend<T: Lane>(c: &mut Chain<'_, T>, stiffness: T) {
 /// mohawk (65 % tip drift at stiffness 1).
 #[inline(always)]
 fn local_shape<T: Lane>(c: &mut Chain<'_, T>, s: &ChainScratch<T>, k: &Setup) {
-    let segs = c.pos.len() - 1;
+    let verts = c.pos.len();
+    let segs = verts - 1;
     let zero = T::splat(0.0);
     let one = T::splat(1.0);
     let eps = T::splat(1.0e-6);
     let stiff = T::splat(k.local_shape);
+    let (pos, w) = (&mut c.pos[..verts], &c.w[..verts]);
+    let (rvec, rdir) = (&s.rvec[..verts], &s.rdir[..verts]);
     for v in 0..segs {
-        let rest = s.rvec[v];
+        let rest = rvec[v];
         let target = if v == 0 {
             rest
         } else {
-            let a = s.rdir[v - 1];
-            let (_, b) = length_dir(c.pos[v] - c.pos[v - 1]);
-            let cos = a.dot(b);
-            let axis = a.cross(b);
+            let a = rdir[v - 1];
+            let (_, b) = length_dir(pos[v] - pos[v - 1]);
+            let cos = dot(a, b);
+            let axis = cross(a, b);
             let denom = one + cos;
             let ok = denom.gt(eps);
-            let turned =
-                rest * cos + axis.cross(rest) + axis * (axis.dot(rest) * denom.max(eps).recip());
+            let turned = madd(
+                axis,
+                dot(axis, rest) * denom.max(eps).recip(),
+                madd(rest, cos, cross(axis, rest)),
+            );
             V3::select(ok, turned, rest)
         };
-        let err = c.pos[v] + target - c.pos[v + 1];
-        let live = c.w[v + 1].gt(zero);
-        c.pos[v + 1] = V3::select(live, c.pos[v + 1] + err * stiff, c.pos[v + 1]);
+        let err = pos[v] + target - pos[v + 1];
+        // A pinned child moves by err * 0 (a select of the positions would
+        // compile to masked stores, slow on AMD).
+        let pull = T::select(w[v + 1].gt(zero), stiff, zero);
+        pos[v + 1] = madd(err, pull, pos[v + 1]);
     }
 }
 
@@ -472,7 +588,7 @@ fn global_shape<T: Lane>(c: &mut Chain<'_, T>, k: &Setup) {
     let root = c.pos[0];
     for v in 1..c.pos.len() {
         let target = root + rotate(&k.rotation, c.rest_offset[v]);
-        let pulled = c.pos[v] + (target - c.pos[v]) * (stiff * c.shape_weight[v]);
+        let pulled = madd(target - c.pos[v], stiff * c.shape_weight[v], c.pos[v]);
         c.pos[v] = V3::select(c.w[v].gt(zero), pulled, c.pos[v]);
     }
 }
@@ -482,31 +598,26 @@ fn global_shape<T: Lane>(c: &mut Chain<'_, T>, k: &Setup) {
 /// `x_i += w_i (1-t) s n`, `x_{i+1} += w_{i+1} t s n`. Segments with a pinned
 /// end carry none (the root sits inside the collision skin).
 #[inline(always)]
-fn pearls<T: Lane>(c: &mut Chain<'_, T>, k: &Setup, spheres: &[Candidate], block: usize) {
+fn pearls<T: Lane>(c: &mut Chain<'_, T>, k: &Setup, s: &ChainScratch<T>) {
     let verts = c.pos.len();
-    let zero = T::splat(0.0);
-    for sp in spheres.iter().filter(|sp| sp.touches(block)) {
-        let r = Reach::<T>::new(sp.sphere, k.pearl_radius);
+    let (pos, w, off) = (&mut c.pos[..verts], &c.w[..verts], &s.pearl_off[..verts]);
+    for r in &s.reach {
         for j in 1..=k.pearls {
             let tt = j as f32 / (k.pearls + 1) as f32;
             let t = T::splat(tt);
             let u = T::splat(1.0 - tt);
-            for v in 0..verts - 1 {
-                let p = c.pos[v] * u + c.pos[v + 1] * t;
+            for v in r.first.saturating_sub(1)..verts - 1 {
+                let p = madd(pos[v], u, pos[v + 1] * t);
                 let d = p - r.centre;
-                let d2 = d.dot(d);
-                let both = c.w[v].gt(zero) & c.w[v + 1].gt(zero);
-                let hit = d2.lt(r.reach2) & both;
+                let d2 = dot_add(d, d, off[v]);
+                let hit = d2.lt(r.reach2);
                 if T::any(hit) {
                     let (dist, nrm) = outward(d, d2);
-                    let denom = c.w[v] * (u * u) + c.w[v + 1] * (t * t);
+                    let denom = w[v].mul_add(u * u, w[v + 1] * (t * t));
                     let push = (r.reach - dist) * denom.max(T::splat(1.0e-12)).recip();
-                    c.pos[v] = V3::select(hit, c.pos[v] + nrm * (c.w[v] * u * push), c.pos[v]);
-                    c.pos[v + 1] = V3::select(
-                        hit,
-                        c.pos[v + 1] + nrm * (c.w[v + 1] * t * push),
-                        c.pos[v + 1],
-                    );
+                    pos[v] = V3::select(hit, madd(nrm, w[v] * u * push, pos[v]), pos[v]);
+                    pos[v + 1] =
+                        V3::select(hit, madd(nrm, w[v + 1] * t * push, pos[v + 1]), pos[v + 1]);
                 }
             }
         }
@@ -522,46 +633,52 @@ fn pearls<T: Lane>(c: &mut Chain<'_, T>, k: &Setup, spheres: &[Candidate], block
 fn strain_limit_and_collide<T: Lane>(
     c: &mut Chain<'_, T>,
     k: &Setup,
-    spheres: &[Candidate],
-    block: usize,
+    s: &ChainScratch<T>,
     rounds: usize,
 ) {
+    let verts = c.pos.len();
     let zero = T::splat(0.0);
     let factor = T::splat(k.stretch_factor);
     let shrink = T::splat(k.shrink_factor);
     let mu = T::splat(k.friction);
-    for v in 1..c.pos.len() {
-        let limit = c.rest_len[v - 1] * factor;
-        let floor = c.rest_len[v - 1] * shrink;
-        let free = c.w[v].gt(zero);
+    let (pos, prev) = (&mut c.pos[..verts], &mut c.prev[..verts]);
+    let (w, rest_len, off) = (&c.w[..verts], &c.rest_len[..verts], &s.vertex_off[..verts]);
+    let mut live = 0;
+    for v in 1..verts {
+        while live < s.reach.len() && s.reach[live].first <= v {
+            live += 1;
+        }
+        let limit = rest_len[v - 1] * factor;
+        let floor = rest_len[v - 1] * shrink;
+        let free = w[v].gt(zero);
+        let mut x = pos[v];
         for _ in 0..rounds {
-            let d = c.pos[v] - c.pos[v - 1];
-            let d2 = d.dot(d);
+            let d = x - pos[v - 1];
+            let d2 = dot(d, d);
             let long = d2.gt(limit * limit);
             let short = d2.lt(floor * floor);
             let fix = (long | short) & free;
             if T::any(fix) {
                 let target = T::select(long, limit, floor);
                 let inv = d2.max(T::splat(MIN_LENGTH * MIN_LENGTH)).inv_sqrt();
-                let pulled = c.pos[v - 1] + d * (target * inv);
-                c.pos[v] = V3::select(fix, pulled, c.pos[v]);
+                x = V3::select(fix, madd(d, target * inv, pos[v - 1]), x);
             }
-            for sp in spheres.iter().filter(|sp| sp.touches(block)) {
-                let r = Reach::<T>::new(sp.sphere, k.pearl_radius);
-                let d = c.pos[v] - r.centre;
-                let d2 = d.dot(d);
-                let hit = d2.lt(r.reach2) & free;
+            for r in &s.reach[..live] {
+                let d = x - r.centre;
+                let d2 = dot_add(d, d, off[v]);
+                let hit = d2.lt(r.reach2);
                 if T::any(hit) {
                     let (dist, nrm) = outward(d, d2);
-                    c.pos[v] = V3::select(hit, c.pos[v] + nrm * (r.reach - dist), c.pos[v]);
+                    x = V3::select(hit, madd(nrm, r.reach - dist, x), x);
                     if k.friction > 0.0 {
-                        let vel = c.pos[v] - c.prev[v];
-                        let tang = vel - nrm * vel.dot(nrm);
-                        c.prev[v] = V3::select(hit, c.prev[v] + tang * mu, c.prev[v]);
+                        let vel = x - prev[v];
+                        let tang = madd(nrm, -dot(vel, nrm), vel);
+                        prev[v] = V3::select(hit, madd(tang, mu, prev[v]), prev[v]);
                     }
                 }
             }
         }
+        pos[v] = x;
     }
 }
 
@@ -706,7 +823,7 @@ pub(crate) fn drive(
     // (allocates only when the rig grows).
     for t in &mut scratch.tasks {
         t.candidates.clear();
-        t.candidates.reserve(spheres.len());
+        t.reserve_spheres(spheres.len());
     }
     scratch.movers.clear();
     scratch.movers.reserve(spheres.len());
@@ -761,6 +878,12 @@ pub(crate) fn drive(
                 // 0. Sleep: a sleeping block runs only if its roots moved or a
                 // moving sphere's sweep reaches its box.
                 let mut boxes = [EMPTY_BOX; GROUP];
+                let mut bounds = [BlockBounds {
+                    swept: EMPTY_BOX,
+                    roots: EMPTY_BOX,
+                    arc: &[],
+                    stretch_factor: k.stretch_factor,
+                }; GROUP];
                 let mut runs = [true; GROUP];
                 for g in 0..n {
                     let (b, r) = (t * per_task + first + g, (first + g) * verts);
@@ -776,11 +899,18 @@ pub(crate) fn drive(
                         // 1. (box) The block's swept box.
                         boxes[g] = block_box(s, &st, b, &k);
                     }
+                    // 1. (reach) And the reach the strain limit leaves it.
+                    bounds[g] = BlockBounds {
+                        swept: boxes[g],
+                        roots: roots_aabb(st.prev[0], st.pos[0], s.active[b]),
+                        arc: &s.reach_arc[b * verts..(b + 1) * verts],
+                        stretch_factor: k.stretch_factor,
+                    };
                 }
                 // 1. Broad phase: the group's swept block boxes against the rig.
                 if runs[..n].iter().any(|&r| r) {
-                    select_candidates(
-                        &boxes[..n],
+                    select_strand_candidates(
+                        &bounds[..n],
                         k.margin,
                         spheres_local,
                         &mut scratch.candidates,

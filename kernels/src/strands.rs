@@ -52,6 +52,9 @@ pub struct Strands {
     pub(crate) bend_len: Vec<f32x8>,
     /// Rest arc length from the root to vertex v.
     pub(crate) rest_arc: Vec<f32x8>,
+    /// Per block and vertex: the longest rest arc from the root over the
+    /// block's lanes (the broad phase's reach).
+    pub(crate) reach_arc: Vec<f32>,
     /// Shape-keeping weight 1 - arc(v) / arc(tip): 1 at the root, 0 at the tip.
     pub(crate) shape_weight: Vec<f32x8>,
     /// Per block: all bits set in lanes that hold a real strand.
@@ -128,6 +131,15 @@ impl BlockSleep {
 }
 
 impl Scratch {
+    /// Room for the candidate spheres of a rig of `spheres` spheres in
+    /// every buffer that holds them (allocates only when the rig grew).
+    pub(crate) fn reserve_spheres(&mut self, spheres: usize) {
+        self.candidates
+            .reserve(spheres.saturating_sub(self.candidates.len()));
+        self.chain.reserve_spheres(spheres);
+        self.lane.reserve_spheres(spheres);
+    }
+
     fn new(verts: usize) -> Scratch {
         Scratch {
             candidates: Vec::new(),
@@ -169,6 +181,9 @@ impl Strands {
             }
         }
         s.fill_mass_shares();
+        for (r, a) in s.reach_arc.iter_mut().zip(&s.rest_arc) {
+            *r = a.to_array().into_iter().fold(0.0, f32::max);
+        }
         Ok(s)
     }
 
@@ -193,6 +208,7 @@ impl Strands {
             bend_share: vec![[f32x8::ZERO; 2]; n],
             bend_len: vec![f32x8::ZERO; n],
             rest_arc: vec![f32x8::ZERO; n],
+            reach_arc: vec![0.0; n],
             shape_weight: vec![f32x8::ZERO; n],
             active: Vec::with_capacity(blocks),
             max_rest_segment: 0.0,
@@ -586,8 +602,7 @@ impl Strands {
             .reserve(spheres.saturating_sub(sc.rig_prev.len()));
         sc.movers.reserve(spheres.saturating_sub(sc.movers.len()));
         for t in &mut sc.tasks {
-            t.candidates
-                .reserve(spheres.saturating_sub(t.candidates.len()));
+            t.reserve_spheres(spheres);
         }
     }
 

@@ -6,7 +6,8 @@
 //! The numbered steps are those of `step.rs`'s header:
 //!
 //! 1. Broad phase: the swept boxes of a group of four blocks (the scalar
-//!    twin of `block_sweep_aabb`) against the rig, once per step.
+//!    twin of `block_sweep_aabb`) and their reach against the rig, once
+//!    per step.
 //! 2. Prediction: root path, Verlet per substep, fixed direction part.
 //! 3. Shape: local (TressFX 4) and global shape constraints.
 //! 4. Projection of the length constraints (tridiagonal, blended directions),
@@ -41,6 +42,11 @@ pub(crate) struct LaneBuffers {
 }
 
 impl LaneBuffers {
+    /// Room for the candidate spheres of a rig of `spheres` spheres.
+    pub(crate) fn reserve_spheres(&mut self, spheres: usize) {
+        self.chain.reserve_spheres(spheres);
+    }
+
     pub(crate) fn new(verts: usize) -> Self {
         LaneBuffers {
             pos: vec![V3::zero(); verts],

@@ -1,0 +1,72 @@
+//! The strand step's cost on the TressFX mohawk (2,226 strands x 32
+//! vertices) at the defaults, all blocks awake: a harness for timing and
+//! for counting instructions with callgrind.
+//!
+//! `cargo run --release -p coif-kernels --example step_cost -- [SHAPE] [SCALAR] [STEPS]`
+//! (defaults 0 0 10): `local_shape_stiffness` = SHAPE, the scalar twin if
+//! SCALAR is 1. The rig is the bench's (two 8 cm spheres tangent under the
+//! scalp and 14 distractors, `scene::rig_with_distractors`); the set settles
+//! for 30 steps, sleeping is off (every block is stepped), then STEPS steps
+//! run in `measured_steps`. Prints the time per vertex-step and a hash of
+//! the positions (SIMD and scalar print the same). Instruction counts in
+//! the README:
+//!
+//! ```text
+//! valgrind --tool=callgrind --toggle-collect='*measured_steps*' \
+//!     target/release/examples/step_cost 0 0 5
+//! ```
+//!
+//! divided by 5 steps x 4 substeps x 71,232 vertices.
+
+use coif_geometry::groom;
+use coif_geometry::scene::{rig_with_distractors, scalp_spheres};
+use coif_kernels::{scalar, step, SimParams, Sphere, Strands};
+use std::time::Instant;
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let arg = |i: usize, d: f32| args.get(i).and_then(|a| a.parse().ok()).unwrap_or(d);
+    let (shape, use_scalar, steps) = (arg(1, 0.0), arg(2, 0.0) == 1.0, arg(3, 10.0) as usize);
+    let Some(path) = coif_testkit::groom_path("ratboy_mohawk.tfx") else {
+        std::process::exit(1);
+    };
+    let g = groom::load(&std::fs::read(path).expect("read the groom")).expect("parse the groom");
+    let (pts, v) = g.uniform_points(0.01).expect("uniform points");
+    let near = scalp_spheres(&pts, v, 2, 0.08);
+    let rig = rig_with_distractors(&near[..2], near[0].center, 0.1, 14);
+    let params = SimParams {
+        local_shape_stiffness: shape,
+        sleep_speed: 0.0,
+        ..Default::default()
+    };
+    let mut s = Strands::from_polylines(&pts, v).expect("strands");
+    for _ in 0..30 {
+        step(&mut s, &params, &rig);
+    }
+    let t = Instant::now();
+    measured_steps(&mut s, &params, &rig, steps, use_scalar);
+    let per_step = t.elapsed().as_secs_f64() / steps.max(1) as f64;
+    let hash = s.positions().iter().fold(0u64, |h, p| {
+        [p.x, p.y, p.z].iter().fold(h, |h, c| {
+            h.wrapping_mul(0x100_0000_01b3) ^ c.to_bits() as u64
+        })
+    });
+    println!(
+        "local shape {shape}, {}: {:.3} ms per step, {:.2} ns per vertex-step, positions hash {hash:016x}",
+        if use_scalar { "scalar" } else { "SIMD" },
+        per_step * 1e3,
+        per_step * 1e9 / pts.len() as f64,
+    );
+}
+
+/// The steps counted (callgrind `--toggle-collect='*measured_steps*'`).
+#[inline(never)]
+fn measured_steps(s: &mut Strands, p: &SimParams, rig: &[Sphere], steps: usize, use_scalar: bool) {
+    for _ in 0..steps {
+        if use_scalar {
+            scalar::step(s, p, rig);
+        } else {
+            step(s, p, rig);
+        }
+    }
+}
