@@ -565,10 +565,20 @@ fn lod_case(size: Size) -> Case {
     }
 }
 
-/// `draw_strands` over the render hairs of the built-in head at 512 x 512:
-/// 512 hairs in cache, every hair (about 27,000) streaming.
-fn raster_case(size: Size) -> Case {
-    use coif::render::{hair, sort::DepthOrder, Framebuffer};
+/// The render hairs of the built-in head at 512 x 512 after one frame,
+/// sorted back to front: 512 hairs in cache, every hair (about 27,000)
+/// streaming.
+struct RasterInput {
+    camera: coif::render::Camera,
+    vertices: Vec<coif::render::ShadedVertex>,
+    verts: usize,
+    order: coif::render::sort::DepthOrder,
+    frame: coif::render::Framebuffer,
+    opacity: f32,
+}
+
+fn raster_input(size: Size) -> RasterInput {
+    use coif::render::{sort::DepthOrder, Framebuffer};
     let guides = if size == Size::Quick { 512 } else { 2048 };
     let FrameScene { pipeline, .. } = frame_scene(guides);
     let (_, verts) = pipeline.render_vertices();
@@ -584,48 +594,56 @@ fn raster_case(size: Size) -> Case {
     let mut order = DepthOrder::with_capacity(hairs);
     order.sort(&camera, &vertices, verts);
     let settings = pipeline.settings();
-    let mut fb = Framebuffer::new(settings.width, settings.height);
-    let opacity = settings.hair_opacity;
+    RasterInput {
+        camera,
+        vertices,
+        verts,
+        order,
+        frame: Framebuffer::new(settings.width, settings.height),
+        opacity: settings.hair_opacity,
+    }
+}
+
+/// `draw_strands` (the direct reference) over [`raster_input`].
+fn raster_case(size: Size) -> Case {
+    let mut r = raster_input(size);
     Case {
-        elements: hairs * (verts - 1),
+        elements: r.order.len() * (r.verts - 1),
         run: Box::new(move || {
-            fb.clear_gradient(Vec3::ZERO, Vec3::ONE);
-            black_box(hair::draw_shaded(
-                &mut fb, &camera, &vertices, verts, &order, opacity,
+            r.frame.clear_gradient(Vec3::ZERO, Vec3::ONE);
+            black_box(coif::render::hair::draw_shaded(
+                &mut r.frame,
+                &r.camera,
+                &r.vertices,
+                r.verts,
+                &r.order,
+                r.opacity,
             ));
         }),
     }
 }
 
 /// The frame's binned rasteriser (`HairRaster::draw`, SIMD, on the calling
-/// thread) over the same hairs as [`raster_case`].
+/// thread) over [`raster_input`].
 fn binned_raster_case(size: Size) -> Case {
     use coif::base::tasks::Serial;
-    use coif::render::{raster::HairRaster, sort::DepthOrder, Framebuffer};
-    let guides = if size == Size::Quick { 512 } else { 2048 };
-    let FrameScene { pipeline, .. } = frame_scene(guides);
-    let (_, verts) = pipeline.render_vertices();
-    let all = pipeline.shaded_vertices();
-    let hairs = match size {
-        Size::Cache => 512.min(all.len() / verts),
-        _ => all.len() / verts,
-    };
-    let vertices = all[..hairs * verts].to_vec();
-    let camera = pipeline
-        .camera()
-        .shifted(pipeline.strands().origin().as_vec3());
-    let mut order = DepthOrder::with_capacity(hairs);
-    order.sort(&camera, &vertices, verts);
-    let settings = pipeline.settings();
-    let mut fb = Framebuffer::new(settings.width, settings.height);
-    let mut raster =
-        HairRaster::new(settings.width, settings.height, vertices.len()).expect("raster buffers");
-    let opacity = settings.hair_opacity;
+    use coif::render::raster::HairRaster;
+    let mut r = raster_input(size);
+    let (w, h) = (r.frame.width(), r.frame.height());
+    let mut raster = HairRaster::new(w, h, r.vertices.len()).expect("raster buffers");
     Case {
-        elements: hairs * (verts - 1),
+        elements: r.order.len() * (r.verts - 1),
         run: Box::new(move || {
-            fb.clear_gradient(Vec3::ZERO, Vec3::ONE);
-            black_box(raster.draw(&mut fb, &camera, &vertices, verts, &order, opacity, &Serial));
+            r.frame.clear_gradient(Vec3::ZERO, Vec3::ONE);
+            black_box(raster.draw(
+                &mut r.frame,
+                &r.camera,
+                &r.vertices,
+                r.verts,
+                &r.order,
+                r.opacity,
+                &Serial,
+            ));
         }),
     }
 }
