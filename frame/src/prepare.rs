@@ -74,7 +74,7 @@ pub(crate) fn shade_group(
 ) {
     let r_len = blend.verts();
     let hairs = blend.hairs().min(LANES);
-    if r_len == 0 || out.len() < hairs * r_len {
+    if r_len == 0 || out.len() < hairs.saturating_mul(r_len) {
         return;
     }
     let light = ctx.light;
@@ -132,12 +132,15 @@ pub(crate) fn shade_group(
         ]);
         for (l, row) in rows.iter().take(hairs).enumerate() {
             let v = row.to_array();
-            out[l * r_len + r] = ShadedVertex {
+            let vertex = ShadedVertex {
                 position: [v[0], v[1], v[2]],
                 width: v[3],
                 color: [v[4], v[5], v[6]],
                 strand_parameter: v[7],
             };
+            // SAFETY: l < hairs and r < r_len, so l r_len + r <
+            // hairs r_len <= out.len() (checked at the top).
+            unsafe { *out.get_unchecked_mut(l * r_len + r) = vertex };
         }
     }
 }

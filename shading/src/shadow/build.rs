@@ -310,23 +310,39 @@ impl Pass {
     /// sample of `points` per texel.
     fn depth(&self, z0: &mut [f32], src: &impl Source, units: Range<usize>) {
         let n = self.n;
+        let Some(top) = self.top_texel(z0.len()) else {
+            return;
+        };
+        let z0 = z0.as_mut_ptr();
         src.samples(self, units, move |sp| {
             let z = sp.z.to_array();
+            let t0 = clamped_t0(sp, top);
             for l in sp.lanes() {
-                let (t, zl) = (sp.t0[l], z[l]);
-                // `t0` is clamped so that its four texels are in the map.
-                if let Some(quad) = z0.get_mut(t..t + n + 2) {
-                    // Neither z0 (infinity or a depth) nor a sample's depth
-                    // is NaN, so this compare is `f32::min` (one
-                    // instruction, no NaN handling).
-                    let min = |d: &mut f32| *d = if zl < *d { zl } else { *d };
-                    min(&mut quad[0]);
-                    min(&mut quad[1]);
-                    min(&mut quad[n]);
-                    min(&mut quad[n + 1]);
-                }
+                let (t, zl) = (t0[l] as usize, z[l]);
+                // Neither z0 (infinity or a depth) nor a sample's depth
+                // is NaN, so this compare is `f32::min` (one
+                // instruction, no NaN handling).
+                let min = |o: usize| {
+                    // SAFETY: t <= top = n^2 - n - 2 and o <= n + 1, so
+                    // t + o < n^2 <= z0.len() (`top_texel`).
+                    let d = unsafe { &mut *z0.add(t + o) };
+                    *d = if zl < *d { zl } else { *d };
+                };
+                min(0);
+                min(1);
+                min(n);
+                min(n + 1);
             }
         });
+    }
+
+    /// The largest lower-left texel of a splat, `n^2 - n - 2`, as lanes,
+    /// when a map of `len` values (the depth map or one plane group) holds
+    /// the `n^2` texels (`None` otherwise, and for maps under two texels a
+    /// side, which the raster never splats into).
+    fn top_texel(&self, len: usize) -> Option<i32x8> {
+        (self.n >= 2 && len >= self.nn && self.nn <= i32::MAX as usize)
+            .then(|| i32x8::splat((self.nn - self.n - 2) as i32))
     }
 
     /// Texels no sample reached start their layers at the near plane.
@@ -380,38 +396,53 @@ impl Pass {
         units: Range<usize>,
         interval: impl Fn(f32x8) -> i32x8,
     ) {
-        let (n, nn, offsets, layering) = (self.n, self.nn, self.offsets(), self.layering);
+        let (nn, offsets, layering) = (self.nn, self.offsets(), self.layering);
         let nn4 = i32x8::splat((4 * nn).min(i32::MAX as usize) as i32);
         let flat_fits = self.flat_fits;
+        let Some(top) = self.top_texel(z0.len()) else {
+            return;
+        };
         src.samples(self, units, move |sp| {
             // Each corner's plane interval, relative to its own z0,
-            // gathered lane by lane (every lane's `t0` is clamped
-            // into the map, also the inactive lanes').
-            let mut base = [[0.0f32; LANES]; 4];
-            for (l, &t) in sp.t0.iter().enumerate() {
-                if let Some(quad) = z0.get(t..t + n + 2) {
-                    base[0][l] = quad[0];
-                    base[1][l] = quad[1];
-                    base[2][l] = quad[n];
-                    base[3][l] = quad[n + 1];
-                }
-            }
+            // gathered lane by lane (every lane's `t0` is in the map,
+            // also the inactive lanes').
+            let t0 = clamped_t0(sp, top);
+            let base: [[f32; LANES]; 4] = std::array::from_fn(|c| {
+                std::array::from_fn(|l| {
+                    // SAFETY: t0 <= top = n^2 - n - 2 and an offset is at
+                    // most n + 1, so the texel is below n^2 <= z0.len()
+                    // (`top_texel`).
+                    unsafe { *z0.get_unchecked(t0[l] as usize + offsets[c]) }
+                })
+            });
             let w = sp.weights.map(|w| w.to_array());
             if flat_fits {
                 // Each corner's float index into the flat map,
                 // (slice / 4) 4 n^2 + 4 (t0 + o) + slice % 4, in
                 // i32 lanes; the same deposits in the same order.
+                // Clamped into the map (a no-op: the interval is below
+                // the layer count and t0 in the map), so the adds below
+                // need no bounds check.
+                let flat = texels.as_flattened_mut();
+                let last = i32x8::splat(flat.len().saturating_sub(1) as i32);
                 let index: [[i32; LANES]; 4] = std::array::from_fn(|c| {
                     let s = interval(sp.z - f32x8::new(base[c]));
                     let t = sp.t0_x8 + i32x8::splat(offsets[c] as i32);
                     let group: i32x8 = s >> 2;
                     let texel: i32x8 = t << 2;
-                    (group * nn4 + texel + (s & i32x8::splat(3))).to_array()
+                    (group * nn4 + texel + (s & i32x8::splat(3)))
+                        .max(i32x8::ZERO)
+                        .min(last)
+                        .to_array()
                 });
-                let flat = texels.as_flattened_mut();
+                if flat.is_empty() {
+                    return;
+                }
                 for l in sp.lanes() {
                     for c in 0..4 {
-                        flat[index[c][l] as usize] += w[c][l];
+                        // SAFETY: 0 <= index <= flat.len() - 1 (clamped
+                        // above; flat is not empty).
+                        unsafe { *flat.get_unchecked_mut(index[c][l] as usize) += w[c][l] };
                     }
                 }
             } else {
@@ -425,6 +456,14 @@ impl Pass {
             }
         });
     }
+}
+
+/// Each lane's lower-left texel clamped into `[0, top]`: a no-op on the
+/// raster's splats (already clamped so), repeated so that the unchecked
+/// map reads of the passes stay in the map whatever a source passes.
+#[inline(always)]
+fn clamped_t0(sp: &SplatX8, top: i32x8) -> [i32; LANES] {
+    sp.t0_x8.max(i32x8::ZERO).min(top).to_array()
 }
 
 /// Light-space bounding box `(min, max)` of the finite points (SIMD twin

@@ -172,8 +172,22 @@ impl OpacityShadowMap {
     #[inline(always)]
     fn texel_planes_x8(&self, a: &[i32; LANES], b: &[i32; LANES]) -> [f32x8; 8] {
         let mut rows = [f32x8::ZERO; LANES];
+        // The corners are clamped into the map by construction; clamped
+        // again here (a no-op) so that the reads need no bounds check.
+        let Some(last) = self.texels.len().checked_sub(1) else {
+            return rows;
+        };
+        let last = i32x8::splat(last.min(i32::MAX as usize) as i32);
+        let in_map = |i: &[i32; LANES]| i32x8::new(*i).max(i32x8::ZERO).min(last).to_array();
+        let (a, b) = (in_map(a), in_map(b));
         for (l, row) in rows.iter_mut().enumerate() {
-            let (x, y) = (self.texels[a[l] as usize], self.texels[b[l] as usize]);
+            // SAFETY: 0 <= a[l], b[l] <= texels.len() - 1 (clamped above).
+            let (x, y) = unsafe {
+                (
+                    *self.texels.get_unchecked(a[l] as usize),
+                    *self.texels.get_unchecked(b[l] as usize),
+                )
+            };
             *row = f32x8::new([x[0], x[1], x[2], x[3], y[0], y[1], y[2], y[3]]);
         }
         f32x8::transpose(rows)
