@@ -129,20 +129,44 @@ impl PixelProfile {
     }
 }
 
+/// A [`PixelProfile`]'s constants in lanes: splatted from one profile
+/// ([`PixelProfile::lanes`]), or one segment's profile per lane
+/// ([`SegmentsX8`]).
+#[derive(Clone, Copy, Debug)]
+struct ProfileLanes<T> {
+    half: T,
+    plateau: T,
+    ramp: T,
+    height: T,
+    ramp_area: T,
+    ramp_curve: T,
+}
+
+impl PixelProfile {
+    /// The profile's constants splatted to every lane.
+    #[inline(always)]
+    fn lanes<T: Lane>(&self) -> ProfileLanes<T> {
+        ProfileLanes {
+            half: T::splat(self.half),
+            plateau: T::splat(self.plateau),
+            ramp: T::splat(self.ramp),
+            height: T::splat(self.height),
+            ramp_area: T::splat(self.ramp_area),
+            ramp_curve: T::splat(self.ramp_curve),
+        }
+    }
+}
+
 /// `G(x) - 1/2` of `profile` in every lane (see [`PixelProfile`]): the
 /// branch-free form, one generic body for `f32` and `f32x8`.
 #[inline(always)]
-fn centred_cumulative<T: Lane>(profile: &PixelProfile, x: T) -> T {
+fn centred_cumulative<T: Lane>(profile: &ProfileLanes<T>, x: T) -> T {
     // 1. a = |x|; q = clamp(h - a, 0, r)
     let a = x.abs();
-    let q = (T::splat(profile.half) - a)
-        .max(T::splat(0.0))
-        .min(T::splat(profile.ramp));
+    let q = (profile.half - a).max(T::splat(0.0)).min(profile.ramp);
     // 2. S(a) = H min(a, p) + (H r / 2 - (H / (2 r)) q q)
-    let ramp = T::splat(profile.ramp_area) - (T::splat(profile.ramp_curve) * q) * q;
-    let s = a
-        .min(T::splat(profile.plateau))
-        .mul_add(T::splat(profile.height), ramp);
+    let ramp = profile.ramp_area - (profile.ramp_curve * q) * q;
+    let s = a.min(profile.plateau).mul_add(profile.height, ramp);
     // 3. The sign of x.
     T::select(x.lt(T::splat(0.0)), -s, s)
 }
@@ -152,6 +176,12 @@ fn centred_cumulative<T: Lane>(profile: &PixelProfile, x: T) -> T {
 /// The scalar (`f32`) and eight-lane (`f32x8`) forms round the same way.
 #[inline(always)]
 pub fn coverage_lanes<T: Lane>(profile: &PixelProfile, distance: T, width_px: T) -> T {
+    coverage_in(&profile.lanes(), distance, width_px)
+}
+
+/// [`coverage_lanes`] with the profile's constants in lanes.
+#[inline(always)]
+fn coverage_in<T: Lane>(profile: &ProfileLanes<T>, distance: T, width_px: T) -> T {
     let half_width = T::splat(0.5) * width_px;
     let cov = centred_cumulative(profile, distance + half_width)
         - centred_cumulative(profile, distance - half_width);
@@ -191,7 +221,7 @@ pub struct Segment {
 /// [`Segment`] as a plane of eight lanes.
 #[derive(Clone, Copy, Debug)]
 pub struct SegmentsX8 {
-    f: [[f32; 8]; 32],
+    f: [f32x8; 32],
     drawn: u32,
 }
 
@@ -203,7 +233,8 @@ impl SegmentsX8 {
         if l >= 8 || self.drawn >> l & 1 == 0 {
             return None;
         }
-        let f = |i: usize| self.f[i][l];
+        let fields: &[[f32; 8]; 32] = bytemuck::cast_ref(&self.f);
+        let f = |i: usize| fields[i][l];
         let end = |i: usize| ScreenVertex {
             x: f(i),
             y: f(i + 1),
@@ -235,6 +266,79 @@ impl SegmentsX8 {
             y0: f(30),
             y1: f(31),
         })
+    }
+
+    /// The lanes that [`SegmentsX8::lane`] gives a segment for.
+    #[inline(always)]
+    pub fn drawn(&self) -> u32 {
+        self.drawn
+    }
+
+    /// Whether every drawn lane's [`Segment::walk`] is a band walk (both
+    /// ends within [`BAND_REACH`] of the origin).
+    #[inline(always)]
+    pub fn near(&self) -> bool {
+        let reach = f32x8::splat(BAND_REACH);
+        let near = [0, 1, 7, 8]
+            .map(|i| self.f[i].abs().simd_le(reach))
+            .into_iter()
+            .fold(f32x8::splat(f32::from_bits(u32::MAX)), |a, b| a & b);
+        !near.to_bitmask() & self.drawn == 0
+    }
+
+    /// Lanes whose [`Segment::walk`] is [`Walk::BandColumns`] (`|e_x| >
+    /// |e_y|`), as a mask.
+    #[inline(always)]
+    pub fn columns(&self) -> f32x8 {
+        self.f[14].abs().simd_gt(self.f[15].abs())
+    }
+
+    /// [`Segment::float_bounds`] lane by lane.
+    #[inline(always)]
+    pub fn float_bounds(&self) -> [f32x8; 4] {
+        [self.f[28], self.f[29], self.f[30], self.f[31]]
+    }
+
+    /// [`Segment::band`] lane by lane, each lane's own segment, rows or
+    /// `columns` (a mask): the same operations, so the same bits.
+    #[inline(always)]
+    pub fn band(&self, c: f32x8, columns: f32x8) -> (f32x8, f32x8) {
+        let f = &self.f;
+        let pick = |col: usize, row: usize| columns.select(f[col], f[row]);
+        band_in(
+            c,
+            [pick(1, 0), pick(0, 1), pick(15, 14), pick(27, 26), f[25]],
+        )
+    }
+
+    /// [`Segment::fragment`] lane by lane, each lane's own segment at its
+    /// pixel centre `(xc, yc)`: the same operations, so the same bits.
+    #[inline(always)]
+    pub fn fragment(&self, xc: f32x8, yc: f32x8, opacity: f32) -> Fragment<f32x8> {
+        let f = &self.f;
+        let lanes = SegmentLanes {
+            ax: f[0],
+            ay: f[1],
+            ex: f[14],
+            ey: f[15],
+            inv_len2: f[17],
+            inv_len: f[18],
+            width: f[3],
+            dwidth: f[10] - f[3],
+            depth: f[2],
+            ddepth: f[9] - f[2],
+            color: [f[4], f[5], f[6]],
+            dcolor: [f[11] - f[4], f[12] - f[5], f[13] - f[6]],
+            profile: ProfileLanes {
+                half: f[19],
+                plateau: f[20],
+                ramp: f[21],
+                height: f[22],
+                ramp_area: f[23],
+                ramp_curve: f[24],
+            },
+        };
+        lanes.fragment(xc, yc, f32x8::splat(opacity))
     }
 }
 
@@ -410,7 +514,7 @@ impl Segment {
             y1,
         ];
         SegmentsX8 {
-            f: fields.map(|v| v.to_array()),
+            f: fields,
             drawn: drawn.to_bitmask(),
         }
     }
@@ -508,15 +612,8 @@ impl Segment {
         } else {
             (self.a.x, self.a.y, self.ex, self.inv_ey)
         };
-        // dist = (ex py - ey px) / len within [-radius, radius] (with x
-        // and y exchanged for columns: the same slab).
-        let py = (c + T::splat(0.5)) - T::splat(ay);
-        let exy = T::splat(ex) * py;
-        let u = (exy - T::splat(self.radius_len)) * T::splat(inv_ey);
-        let v = (exy + T::splat(self.radius_len)) * T::splat(inv_ey);
-        let xa = ((u.min(v) + T::splat(ax)) - T::splat(0.5 + SPAN_MARGIN)).ceil();
-        let xb = ((u.max(v) + T::splat(ax)) - T::splat(0.5 - SPAN_MARGIN)).floor() + T::splat(1.0);
-        (xa, xb)
+        let s = T::splat;
+        band_in(c, [ax, ay, ex, inv_ey, self.radius_len].map(s))
     }
 
     /// The fragment of the pixels with centres `(xc, yc)` (`x + 0.5`,
@@ -547,32 +644,92 @@ impl Segment {
     #[inline(always)]
     pub fn fragment<T: Lane>(&self, xc: T, yc: T, opacity: f32) -> Fragment<T> {
         let (a, b) = (&self.a, &self.b);
+        let s = T::splat;
+        let lanes = SegmentLanes {
+            ax: s(a.x),
+            ay: s(a.y),
+            ex: s(self.ex),
+            ey: s(self.ey),
+            inv_len2: s(self.inv_len2),
+            inv_len: s(self.inv_len),
+            width: s(a.width_px),
+            dwidth: s(b.width_px - a.width_px),
+            depth: s(a.depth),
+            ddepth: s(b.depth - a.depth),
+            color: [a.color.x, a.color.y, a.color.z].map(s),
+            dcolor: [
+                b.color.x - a.color.x,
+                b.color.y - a.color.y,
+                b.color.z - a.color.z,
+            ]
+            .map(s),
+            profile: self.profile.lanes(),
+        };
+        lanes.fragment(xc, yc, s(opacity))
+    }
+}
+
+/// What [`Segment::fragment`] reads, in lanes: one segment splatted, or
+/// one segment per lane ([`SegmentsX8::fragment`]). The differences
+/// `b - a` are formed before (in `f32` or per lane: the same bits).
+#[derive(Clone, Copy, Debug)]
+struct SegmentLanes<T> {
+    ax: T,
+    ay: T,
+    ex: T,
+    ey: T,
+    inv_len2: T,
+    inv_len: T,
+    width: T,
+    dwidth: T,
+    depth: T,
+    ddepth: T,
+    color: [T; 3],
+    dcolor: [T; 3],
+    profile: ProfileLanes<T>,
+}
+
+impl<T: Lane> SegmentLanes<T> {
+    /// The body of [`Segment::fragment`].
+    #[inline(always)]
+    fn fragment(&self, xc: T, yc: T, opacity: T) -> Fragment<T> {
         // 1. Position relative to a; t along the segment.
-        let py = yc - T::splat(a.y);
-        let px = xc - T::splat(a.x);
-        let t = (px * T::splat(self.ex) + py * T::splat(self.ey)) * T::splat(self.inv_len2);
+        let py = yc - self.ay;
+        let px = xc - self.ax;
+        let t = (px * self.ex + py * self.ey) * self.inv_len2;
         // 2. Signed distance from the line: cross(e, p) / |e|.
-        let dist = (T::splat(self.ex) * py - T::splat(self.ey) * px) * T::splat(self.inv_len);
+        let dist = (self.ex * py - self.ey * px) * self.inv_len;
         // 3. Coverage of the strip, width interpolated along it.
-        let width = T::splat(a.width_px) + t * T::splat(b.width_px - a.width_px);
-        let alpha = coverage_lanes(&self.profile, dist, width) * T::splat(opacity);
+        let width = self.width + t * self.dwidth;
+        let alpha = coverage_in(&self.profile, dist, width) * opacity;
         // 4. Depth along the segment (tested against the opaque surfaces
         // by the caller).
-        let z = T::splat(a.depth) + t * T::splat(b.depth - a.depth);
+        let z = self.depth + t * self.ddepth;
         let mask = !t.lt(T::splat(0.0)) & t.lt(T::splat(1.0)) & alpha.gt(T::splat(0.0));
         // 5. Colour along the segment.
-        let lerp = |ca: f32, cb: f32| T::splat(ca) + T::splat(cb - ca) * t;
+        let lerp = |i: usize| self.color[i] + self.dcolor[i] * t;
         Fragment {
             mask,
             alpha,
             depth: z,
-            color: V3::new(
-                lerp(a.color.x, b.color.x),
-                lerp(a.color.y, b.color.y),
-                lerp(a.color.z, b.color.z),
-            ),
+            color: V3::new(lerp(0), lerp(1), lerp(2)),
         }
     }
+}
+
+/// The body of [`Segment::band`] with the constants `[a_x, a_y, e_x,
+/// 1 / e_y, radius |e|]` in lanes (x and y exchanged for columns).
+#[inline(always)]
+fn band_in<T: Rounding>(c: T, [ax, ay, ex, inv_ey, radius_len]: [T; 5]) -> (T, T) {
+    // dist = (ex py - ey px) / len within [-radius, radius] (with x
+    // and y exchanged for columns: the same slab).
+    let py = (c + T::splat(0.5)) - ay;
+    let exy = ex * py;
+    let u = (exy - radius_len) * inv_ey;
+    let v = (exy + radius_len) * inv_ey;
+    let xa = ((u.min(v) + ax) - T::splat(0.5 + SPAN_MARGIN)).ceil();
+    let xb = ((u.max(v) + ax) - T::splat(0.5 - SPAN_MARGIN)).floor() + T::splat(1.0);
+    (xa, xb)
 }
 
 /// How the tiled rasterisers ([`crate::raster`]) walk a segment's pixels
