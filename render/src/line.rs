@@ -299,6 +299,26 @@ impl SegmentsX8 {
         [self.f[28], self.f[29], self.f[30], self.f[31]]
     }
 
+    /// The lines (rows, or columns where `columns` is set) whose pixel
+    /// centres can be drawn, `[lo, hi)` as whole floats lane by lane: a
+    /// drawn centre `a + t e + d n` has `0 <= t <= 1` and `|d| <=
+    /// radius`, so its coordinate along the major axis lies within
+    /// `radius |e_minor| / |e|` of the ends' range; widened by
+    /// [`SPAN_MARGIN`] as the band is (the same rounding argument). Not
+    /// clipped to the bounds. Tighter than the bounds' reach `w_max / 2 +
+    /// 0.75` on the major axis: about one line less at each end of a
+    /// steep thin hair.
+    #[inline(always)]
+    pub fn lines(&self, columns: f32x8) -> (f32x8, f32x8) {
+        let (f, s) = (&self.f, f32x8::splat);
+        let pick = |col: usize, row: usize| columns.select(f[col], f[row]);
+        let (a, b, minor) = (pick(0, 1), pick(7, 8), pick(15, 14));
+        let reach = f[25] * minor.abs() * f[17];
+        let lo = ((a.fast_min(b) - reach) - s(0.5 + SPAN_MARGIN)).ceil();
+        let hi = ((a.fast_max(b) + reach) - s(0.5 - SPAN_MARGIN)).floor() + s(1.0);
+        (lo, hi)
+    }
+
     /// [`Segment::band`] lane by lane, each lane's own segment, rows or
     /// `columns` (a mask): the same operations, so the same bits.
     #[inline(always)]

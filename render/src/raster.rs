@@ -1182,11 +1182,10 @@ fn draw_lanes<const DEPTH: bool>(
     let bit = i32x8::new([1, 2, 4, 8, 16, 32, 64, 128]);
     let drawn = (i32x8::splat(segments.drawn() as i32) & bit).simd_eq(bit);
     let drawn: f32x8 = bytemuck::cast(drawn);
-    let lo = pick(x0, y0).fast_max(pick(s(tx), s(ty)));
-    let hi = drawn.select(
-        pick(x1, y1).fast_min(pick(s(tx1), s(ty1))),
-        s(f32::NEG_INFINITY),
-    );
+    let (near_lo, near_hi) = segments.lines(columns);
+    let lo = pick(x0, y0).fast_max(pick(s(tx), s(ty))).fast_max(near_lo);
+    let hi = pick(x1, y1).fast_min(pick(s(tx1), s(ty1))).fast_min(near_hi);
+    let hi = drawn.select(hi, s(f32::NEG_INFINITY));
     let (cross_lo, cross_hi) = (pick(s(ty), s(tx)), pick(s(ty1), s(tx1)));
     // Each lane's line, its next candidate c and the end of its band.
     let mut line = lo - s(1.0);
