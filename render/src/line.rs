@@ -310,13 +310,9 @@ impl SegmentsX8 {
     /// steep thin hair.
     #[inline(always)]
     pub fn lines(&self, columns: f32x8) -> (f32x8, f32x8) {
-        let (f, s) = (&self.f, f32x8::splat);
+        let f = &self.f;
         let pick = |col: usize, row: usize| columns.select(f[col], f[row]);
-        let (a, b, minor) = (pick(0, 1), pick(7, 8), pick(15, 14));
-        let reach = f[25] * minor.abs() * f[17];
-        let lo = ((a.fast_min(b) - reach) - s(0.5 + SPAN_MARGIN)).ceil();
-        let hi = ((a.fast_max(b) + reach) - s(0.5 - SPAN_MARGIN)).floor() + s(1.0);
-        (lo, hi)
+        lines_in([pick(0, 1), pick(7, 8), pick(15, 14), f[25], f[17]])
     }
 
     /// [`Segment::band`] lane by lane, each lane's own segment, rows or
@@ -614,6 +610,20 @@ impl Segment {
         }
     }
 
+    /// The lines of a band walk (rows, or columns for `columns`) whose
+    /// pixel centres can be drawn, `[lo, hi)` as whole floats, not
+    /// clipped to the bounds: one lane of [`SegmentsX8::lines`] (see
+    /// there).
+    #[inline(always)]
+    pub fn lines(&self, columns: bool) -> (f32, f32) {
+        let (a, b, minor) = if columns {
+            (self.a.x, self.b.x, self.ey)
+        } else {
+            (self.a.y, self.b.y, self.ex)
+        };
+        lines_in([a, b, minor, self.radius_len, self.inv_len2])
+    }
+
     /// The candidate band of [`Walk::BandRows`] (`columns` false: the
     /// pixels `[xa, xb)` of the rows `c`) or [`Walk::BandColumns`] (the
     /// pixel rows `[ya, yb)` of the columns `c`), one line per lane, as
@@ -735,6 +745,16 @@ impl<T: Lane> SegmentLanes<T> {
             color: V3::new(lerp(0), lerp(1), lerp(2)),
         }
     }
+}
+
+/// The body of [`Segment::lines`] with `[a, b, e_minor, radius |e|,
+/// 1 / |e|^2]` in lanes (`a`, `b` the ends' major coordinates).
+#[inline(always)]
+fn lines_in<T: Rounding>([a, b, minor, radius_len, inv_len2]: [T; 5]) -> (T, T) {
+    let reach = radius_len * minor.abs() * inv_len2;
+    let lo = ((a.min(b) - reach) - T::splat(0.5 + SPAN_MARGIN)).ceil();
+    let hi = ((a.max(b) + reach) - T::splat(0.5 - SPAN_MARGIN)).floor() + T::splat(1.0);
+    (lo, hi)
 }
 
 /// The body of [`Segment::band`] with the constants `[a_x, a_y, e_x,
@@ -918,8 +938,42 @@ mod tests {
         assert_eq!(p.coverage(0.0, f32::NAN), 0.0);
     }
 
+    /// Lane `l` of `x8`'s lines, bands and fragments (rows and columns,
+    /// pixel centres around the segment) against `one`'s, bit for bit.
+    fn lanes_match_the_segment(x8: &SegmentsX8, l: usize, one: &Segment) {
+        let lane = |v: f32x8| v.to_array()[l].to_bits();
+        for columns in [false, true] {
+            let mask = f32x8::splat(if columns { 1.0 } else { 0.0 }).simd_gt(f32x8::ZERO);
+            let (lo, hi) = x8.lines(mask);
+            let (want_lo, want_hi) = one.lines(columns);
+            assert_eq!([lane(lo), lane(hi)], [want_lo, want_hi].map(f32::to_bits));
+            for c in [-3.0f32, 0.0, 17.0, 60.0] {
+                let (a, b) = x8.band(f32x8::splat(c), mask);
+                let (want_a, want_b) = one.band(c, columns);
+                assert_eq!([lane(a), lane(b)], [want_a, want_b].map(f32::to_bits));
+            }
+        }
+        let [x0, _, y0, _] = one.float_bounds();
+        for (dx, dy) in [(0.5f32, 0.5f32), (1.5, 2.5), (3.5, 0.5), (2.5, 4.5)] {
+            let (x, y) = (x0 + dx, y0 + dy);
+            let f = x8.fragment(f32x8::splat(x), f32x8::splat(y), 0.8);
+            let want = one.fragment(x, y, 0.8);
+            assert_eq!(f.mask.to_bitmask() >> l & 1 != 0, want.mask);
+            let got = [f.alpha, f.depth, f.color.x, f.color.y, f.color.z].map(lane);
+            let want = [
+                want.alpha,
+                want.depth,
+                want.color.x,
+                want.color.y,
+                want.color.z,
+            ];
+            assert_eq!(got, want.map(f32::to_bits));
+        }
+    }
+
     #[test]
     fn eight_segment_set_up_has_the_bits_of_the_scalar_one() {
+        // Every field, and the lane-by-lane lines, bands and fragments.
         // Random ends (some off the frame), axis-aligned and diagonal
         // segments, lengths from below the 1e-6 px cut-off up, widths 0
         // to 4 px; in chunks of 1 to 8 so that absent lanes are covered.
@@ -965,6 +1019,9 @@ mod tests {
                 let one = Segment::new(&screen[k], &screen[k + 1], 100, 100);
                 let got = x8.lane(l);
                 assert_eq!(format!("{one:?}"), format!("{got:?}"), "segment {k}");
+                if let Some(one) = one {
+                    lanes_match_the_segment(&x8, l, &one);
+                }
                 if one.is_some() {
                     some += 1;
                 } else {

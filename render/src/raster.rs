@@ -740,17 +740,25 @@ pub(crate) struct TileArea {
 }
 
 impl TileArea {
-    /// The frame rows (`columns` false) or columns `[lo, hi)` of the tile
-    /// that `seg`'s bounds cross, as whole floats.
+    /// The frame rows or columns `[lo, hi)` of the tile that `seg`
+    /// walks with `walk`, as whole floats: those its bounds cross, and
+    /// for a band walk only those where a drawn pixel centre can lie
+    /// ([`Segment::lines`]).
     #[inline(always)]
-    pub fn lines(&self, seg: &Segment, columns: bool) -> (f32, f32) {
+    pub fn lines(&self, seg: &Segment, walk: Walk) -> (f32, f32) {
+        let columns = walk == Walk::BandColumns;
         let [x0, x1, y0, y1] = seg.float_bounds();
         let (lo, hi, start, len) = if columns {
             (x0, x1, self.x0, self.columns)
         } else {
             (y0, y1, self.y0, self.rows)
         };
-        (lo.max(start as f32), hi.min((start + len) as f32))
+        let (lo, hi) = (lo.max(start as f32), hi.min((start + len) as f32));
+        if walk == Walk::Rows {
+            return (lo, hi);
+        }
+        let (near_lo, near_hi) = seg.lines(columns);
+        (lo.max(near_lo), hi.min(near_hi))
     }
 
     /// The tile's frame columns (`columns` false) or rows `[lo, hi)`
@@ -1085,7 +1093,12 @@ fn draw_lines<const WALK: u8, const DEPTH: bool>(
     const { assert!(WALK <= BAND_COLUMNS) };
     let columns = WALK == BAND_COLUMNS;
     let s = f32x8::splat;
-    let (lo, hi) = area.lines(seg, columns);
+    let walk = match WALK {
+        ROWS => Walk::Rows,
+        BAND_ROWS => Walk::BandRows,
+        _ => Walk::BandColumns,
+    };
+    let (lo, hi) = area.lines(seg, walk);
     let (cross_lo, cross_hi) = area.cross(columns);
     // Tile index of pixel (x, y): (y - y0) TILE + (x - x0), exact in f32.
     let (x0, y0) = (area.x0 as f32, area.y0 as f32);
@@ -1184,7 +1197,9 @@ fn draw_lanes<const DEPTH: bool>(
     let drawn: f32x8 = bytemuck::cast(drawn);
     let (near_lo, near_hi) = segments.lines(columns);
     let lo = pick(x0, y0).fast_max(pick(s(tx), s(ty))).fast_max(near_lo);
-    let hi = pick(x1, y1).fast_min(pick(s(tx1), s(ty1))).fast_min(near_hi);
+    let hi = pick(x1, y1)
+        .fast_min(pick(s(tx1), s(ty1)))
+        .fast_min(near_hi);
     let hi = drawn.select(hi, s(f32::NEG_INFINITY));
     let (cross_lo, cross_hi) = (pick(s(ty), s(tx)), pick(s(ty1), s(tx1)));
     // Each lane's line, its next candidate c and the end of its band.
