@@ -27,8 +27,11 @@ use glam::Vec3;
 use wide::f32x8;
 
 /// A projected hair vertex: pixel position, view depth, width in pixels and
-/// linear-RGB colour.
+/// linear-RGB colour. Seven `f32` in this order, nothing between them
+/// (`repr(C)`: [`Segment::new_x8`] reads two consecutive vertices as 14
+/// floats).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
 pub struct ScreenVertex {
     /// Pixel column (x right).
     pub x: f32,
@@ -454,20 +457,25 @@ impl Segment {
         width: usize,
         height: usize,
     ) -> SegmentsX8 {
-        let mut v = [[0.0f32; 8]; 14];
+        // Each lane's two ends are 14 consecutive floats: its floats 0..8
+        // and 6..14 as rows, transposed to planes.
+        const { assert!(std::mem::size_of::<ScreenVertex>() == 7 * 4) };
+        let (mut head, mut tail) = ([f32x8::ZERO; 8], [f32x8::ZERO; 8]);
         let mut present = [0.0f32; 8];
         for (l, &k) in first.iter().take(8).enumerate() {
-            let (a, b) = (&screen[k as usize], &screen[k as usize + 1]);
-            let ends = [
-                a.x, a.y, a.depth, a.width_px, a.color.x, a.color.y, a.color.z, b.x, b.y, b.depth,
-                b.width_px, b.color.x, b.color.y, b.color.z,
-            ];
-            for (plane, value) in v.iter_mut().zip(ends) {
-                plane[l] = value;
+            let pair = &screen[k as usize..k as usize + 2];
+            let p = pair.as_ptr() as *const f32;
+            // SAFETY: `ScreenVertex` is `repr(C)`, seven `f32` and no
+            // padding (asserted above): `pair` is 14 floats, and both
+            // reads (floats 0..8 and 6..14) lie within them.
+            unsafe {
+                head[l] = f32x8::new(std::ptr::read_unaligned(p as *const [f32; 8]));
+                tail[l] = f32x8::new(std::ptr::read_unaligned(p.add(6) as *const [f32; 8]));
             }
             present[l] = 1.0;
         }
-        let [ax, ay, ad, aw, ar, ag, ab, bx, by, bd, bw, br, bg, bb] = v.map(f32x8::new);
+        let [ax, ay, ad, aw, ar, ag, _, _] = f32x8::transpose(head);
+        let [ab, bx, by, bd, bw, br, bg, bb] = f32x8::transpose(tail);
         let s = f32x8::splat;
         // 1. Length: above 1e-12 and finite (NaN fails both).
         let (ex, ey) = (bx - ax, by - ay);
