@@ -25,12 +25,14 @@
 //!    that matters: the lists give every pixel its segments in exactly the
 //!    reference's order).
 //! 5. **Rasterise** tile by tile: the tile's colour and depth are copied
-//!    into a tile-local buffer (16 KiB, in L1); its list's segments are set
-//!    up eight at a time ([`Segment::new_x8`]) and each is walked along its
-//!    major axis ([`Segment::walk`]), eight rows (or columns) per `f32x8`,
-//!    the `k`-th candidate pixel of every line ([`Segment::band`]) in pass
-//!    `k`, with the exact-area coverage of [`Segment::fragment`]; the drawn
-//!    lanes are depth-tested and blended one by one (one
+//!    into a tile-local buffer (64 KiB); its list's segments are set up
+//!    eight at a time ([`Segment::new_x8`]) and drawn one per lane
+//!    ([`draw_lanes`]): each lane walks its segment's lines along the
+//!    segment's major axis ([`Segment::walk`], [`Segment::lines`]) and
+//!    each line's candidate pixels ([`Segment::band`]), pass `k`
+//!    evaluating every lane's `k`-th candidate with the exact-area
+//!    coverage of [`Segment::fragment`]; the drawn pixels are then
+//!    depth-tested and blended segment by segment in list order (one
 //!    pixel at a time in [`crate::scalar::draw`]), and the tile is copied
 //!    back. The candidates contain every pixel the reference draws, so
 //!    the bits are the reference's ([`crate::line::Walk`]).
@@ -77,9 +79,9 @@ const MAX_BIN_TASKS: usize = 16;
 /// Fewest strands a tile-range or binning task takes.
 const MIN_TASK_STRANDS: usize = 64;
 
-/// Tile side in pixels: a tile's colour and depth (4 x 32 x 32 floats,
-/// 16 KiB) stay in L1 while its segments are drawn. 32 was the fastest of
-/// 16, 32 and 64 on the default scene (`render/README.md`).
+/// Tile side in pixels: a tile's colour and depth are 4 x 64 x 64 floats
+/// (64 KiB, in L2). 64 was faster than 32 on the default scene (1.12
+/// instead of 1.27 tile entries per segment: `render/README.md`).
 pub const TILE: usize = 64;
 const TILE_PIXELS: usize = TILE * TILE;
 const TILE_GROUPS: usize = TILE_PIXELS / 8;
@@ -979,18 +981,15 @@ pub fn project_x8(camera: &Camera, vertices: &[ShadedVertex]) -> [ScreenVertex; 
 /// Lane `l` holds `l as f32`.
 const LANE_INDEX: f32x8 = f32x8::new([0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
 
-/// Step 5 for one tile, eight pixels at a time: every segment of `list`
-/// in order, walked along its major axis ([`Segment::walk`]): eight rows
-/// (or columns) per register, each lane one line with its candidate
-/// pixels ([`Segment::band`], or the reference's [`Segment::row_spans`]
-/// for a segment with a far end) clipped to the tile; pass `k` evaluates
-/// the `k`-th candidate of every lane at once ([`Segment::fragment`])
-/// until no lane has candidates left. A thin hair's band across its
-/// major axis is at most three pixels, so a segment costs at most three
-/// passes per eight lines and no per-pixel bookkeeping (a first version
-/// packed the span pixels eight to a register one by one). The drawn
-/// lanes are depth-tested and blended one by one; the pixels of one
-/// segment are distinct, so their order does not matter.
+/// Step 5 for one tile: the segments of `list` eight at a time, set up
+/// at once ([`Segment::new_x8`]) and drawn one per lane
+/// ([`draw_lanes`]: each lane walks its own segment's lines along its
+/// major axis and each line's candidates, one candidate per pass, then
+/// the eight segments' fragments are blended segment by segment in list
+/// order). Eight segments that need more passes, or that hold one with
+/// an end beyond [`crate::line::BAND_REACH`], are walked one by one
+/// ([`draw_lines`]: eight lines of a segment per register). The pixels
+/// of one segment are distinct, so their order changes no bit.
 pub(crate) fn draw_tile(
     tile: &mut TileBuffer,
     area: &TileArea,
