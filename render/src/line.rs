@@ -27,8 +27,11 @@ use glam::Vec3;
 use wide::f32x8;
 
 /// A projected hair vertex: pixel position, view depth, width in pixels and
-/// linear-RGB colour.
+/// linear-RGB colour. Seven `f32` in this order, nothing between them
+/// (`repr(C)`: [`Segment::new_x8`] reads two consecutive vertices as 14
+/// floats).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C)]
 pub struct ScreenVertex {
     /// Pixel column (x right).
     pub x: f32,
@@ -129,20 +132,44 @@ impl PixelProfile {
     }
 }
 
+/// A [`PixelProfile`]'s constants in lanes: splatted from one profile
+/// ([`PixelProfile::lanes`]), or one segment's profile per lane
+/// ([`SegmentsX8`]).
+#[derive(Clone, Copy, Debug)]
+struct ProfileLanes<T> {
+    half: T,
+    plateau: T,
+    ramp: T,
+    height: T,
+    ramp_area: T,
+    ramp_curve: T,
+}
+
+impl PixelProfile {
+    /// The profile's constants splatted to every lane.
+    #[inline(always)]
+    fn lanes<T: Lane>(&self) -> ProfileLanes<T> {
+        ProfileLanes {
+            half: T::splat(self.half),
+            plateau: T::splat(self.plateau),
+            ramp: T::splat(self.ramp),
+            height: T::splat(self.height),
+            ramp_area: T::splat(self.ramp_area),
+            ramp_curve: T::splat(self.ramp_curve),
+        }
+    }
+}
+
 /// `G(x) - 1/2` of `profile` in every lane (see [`PixelProfile`]): the
 /// branch-free form, one generic body for `f32` and `f32x8`.
 #[inline(always)]
-fn centred_cumulative<T: Lane>(profile: &PixelProfile, x: T) -> T {
+fn centred_cumulative<T: Lane>(profile: &ProfileLanes<T>, x: T) -> T {
     // 1. a = |x|; q = clamp(h - a, 0, r)
     let a = x.abs();
-    let q = (T::splat(profile.half) - a)
-        .max(T::splat(0.0))
-        .min(T::splat(profile.ramp));
+    let q = (profile.half - a).max(T::splat(0.0)).min(profile.ramp);
     // 2. S(a) = H min(a, p) + (H r / 2 - (H / (2 r)) q q)
-    let ramp = T::splat(profile.ramp_area) - (T::splat(profile.ramp_curve) * q) * q;
-    let s = a
-        .min(T::splat(profile.plateau))
-        .mul_add(T::splat(profile.height), ramp);
+    let ramp = profile.ramp_area - (profile.ramp_curve * q) * q;
+    let s = a.min(profile.plateau).mul_add(profile.height, ramp);
     // 3. The sign of x.
     T::select(x.lt(T::splat(0.0)), -s, s)
 }
@@ -152,6 +179,12 @@ fn centred_cumulative<T: Lane>(profile: &PixelProfile, x: T) -> T {
 /// The scalar (`f32`) and eight-lane (`f32x8`) forms round the same way.
 #[inline(always)]
 pub fn coverage_lanes<T: Lane>(profile: &PixelProfile, distance: T, width_px: T) -> T {
+    coverage_in(&profile.lanes(), distance, width_px)
+}
+
+/// [`coverage_lanes`] with the profile's constants in lanes.
+#[inline(always)]
+fn coverage_in<T: Lane>(profile: &ProfileLanes<T>, distance: T, width_px: T) -> T {
     let half_width = T::splat(0.5) * width_px;
     let cov = centred_cumulative(profile, distance + half_width)
         - centred_cumulative(profile, distance - half_width);
@@ -191,7 +224,7 @@ pub struct Segment {
 /// [`Segment`] as a plane of eight lanes.
 #[derive(Clone, Copy, Debug)]
 pub struct SegmentsX8 {
-    f: [[f32; 8]; 32],
+    f: [f32x8; 32],
     drawn: u32,
 }
 
@@ -203,7 +236,8 @@ impl SegmentsX8 {
         if l >= 8 || self.drawn >> l & 1 == 0 {
             return None;
         }
-        let f = |i: usize| self.f[i][l];
+        let fields: &[[f32; 8]; 32] = bytemuck::cast_ref(&self.f);
+        let f = |i: usize| fields[i][l];
         let end = |i: usize| ScreenVertex {
             x: f(i),
             y: f(i + 1),
@@ -235,6 +269,95 @@ impl SegmentsX8 {
             y0: f(30),
             y1: f(31),
         })
+    }
+
+    /// The lanes that [`SegmentsX8::lane`] gives a segment for.
+    #[inline(always)]
+    pub fn drawn(&self) -> u32 {
+        self.drawn
+    }
+
+    /// Whether every drawn lane's [`Segment::walk`] is a band walk (both
+    /// ends within [`BAND_REACH`] of the origin).
+    #[inline(always)]
+    pub fn near(&self) -> bool {
+        let reach = f32x8::splat(BAND_REACH);
+        let near = [0, 1, 7, 8]
+            .map(|i| self.f[i].abs().simd_le(reach))
+            .into_iter()
+            .fold(f32x8::splat(f32::from_bits(u32::MAX)), |a, b| a & b);
+        !near.to_bitmask() & self.drawn == 0
+    }
+
+    /// Lanes whose [`Segment::walk`] is [`Walk::BandColumns`] (`|e_x| >
+    /// |e_y|`), as a mask.
+    #[inline(always)]
+    pub fn columns(&self) -> f32x8 {
+        self.f[14].abs().simd_gt(self.f[15].abs())
+    }
+
+    /// [`Segment::float_bounds`] lane by lane.
+    #[inline(always)]
+    pub fn float_bounds(&self) -> [f32x8; 4] {
+        [self.f[28], self.f[29], self.f[30], self.f[31]]
+    }
+
+    /// The lines (rows, or columns where `columns` is set) whose pixel
+    /// centres can be drawn, `[lo, hi)` as whole floats lane by lane: a
+    /// drawn centre `a + t e + d n` has `0 <= t <= 1` and `|d| <=
+    /// radius`, so its coordinate along the major axis lies within
+    /// `radius |e_minor| / |e|` of the ends' range; widened by
+    /// [`SPAN_MARGIN`] as the band is (the same rounding argument). Not
+    /// clipped to the bounds. Tighter than the bounds' reach `w_max / 2 +
+    /// 0.75` on the major axis: about one line less at each end of a
+    /// steep thin hair.
+    #[inline(always)]
+    pub fn lines(&self, columns: f32x8) -> (f32x8, f32x8) {
+        let f = &self.f;
+        let pick = |col: usize, row: usize| columns.select(f[col], f[row]);
+        lines_in([pick(0, 1), pick(7, 8), pick(15, 14), f[25], f[17]])
+    }
+
+    /// [`Segment::band`] lane by lane, each lane's own segment, rows or
+    /// `columns` (a mask): the same operations, so the same bits.
+    #[inline(always)]
+    pub fn band(&self, c: f32x8, columns: f32x8) -> (f32x8, f32x8) {
+        let f = &self.f;
+        let pick = |col: usize, row: usize| columns.select(f[col], f[row]);
+        band_in(
+            c,
+            [pick(1, 0), pick(0, 1), pick(15, 14), pick(27, 26), f[25]],
+        )
+    }
+
+    /// [`Segment::fragment`] lane by lane, each lane's own segment at its
+    /// pixel centre `(xc, yc)`: the same operations, so the same bits.
+    #[inline(always)]
+    pub fn fragment(&self, xc: f32x8, yc: f32x8, opacity: f32) -> Fragment<f32x8> {
+        let f = &self.f;
+        let lanes = SegmentLanes {
+            ax: f[0],
+            ay: f[1],
+            ex: f[14],
+            ey: f[15],
+            inv_len2: f[17],
+            inv_len: f[18],
+            width: f[3],
+            dwidth: f[10] - f[3],
+            depth: f[2],
+            ddepth: f[9] - f[2],
+            color: [f[4], f[5], f[6]],
+            dcolor: [f[11] - f[4], f[12] - f[5], f[13] - f[6]],
+            profile: ProfileLanes {
+                half: f[19],
+                plateau: f[20],
+                ramp: f[21],
+                height: f[22],
+                ramp_area: f[23],
+                ramp_curve: f[24],
+            },
+        };
+        lanes.fragment(xc, yc, f32x8::splat(opacity))
     }
 }
 
@@ -334,20 +457,25 @@ impl Segment {
         width: usize,
         height: usize,
     ) -> SegmentsX8 {
-        let mut v = [[0.0f32; 8]; 14];
+        // Each lane's two ends are 14 consecutive floats: its floats 0..8
+        // and 6..14 as rows, transposed to planes.
+        const { assert!(std::mem::size_of::<ScreenVertex>() == 7 * 4) };
+        let (mut head, mut tail) = ([f32x8::ZERO; 8], [f32x8::ZERO; 8]);
         let mut present = [0.0f32; 8];
         for (l, &k) in first.iter().take(8).enumerate() {
-            let (a, b) = (&screen[k as usize], &screen[k as usize + 1]);
-            let ends = [
-                a.x, a.y, a.depth, a.width_px, a.color.x, a.color.y, a.color.z, b.x, b.y, b.depth,
-                b.width_px, b.color.x, b.color.y, b.color.z,
-            ];
-            for (plane, value) in v.iter_mut().zip(ends) {
-                plane[l] = value;
+            let pair = &screen[k as usize..k as usize + 2];
+            let p = pair.as_ptr() as *const f32;
+            // SAFETY: `ScreenVertex` is `repr(C)`, seven `f32` and no
+            // padding (asserted above): `pair` is 14 floats, and both
+            // reads (floats 0..8 and 6..14) lie within them.
+            unsafe {
+                head[l] = f32x8::new(std::ptr::read_unaligned(p as *const [f32; 8]));
+                tail[l] = f32x8::new(std::ptr::read_unaligned(p.add(6) as *const [f32; 8]));
             }
             present[l] = 1.0;
         }
-        let [ax, ay, ad, aw, ar, ag, ab, bx, by, bd, bw, br, bg, bb] = v.map(f32x8::new);
+        let [ax, ay, ad, aw, ar, ag, _, _] = f32x8::transpose(head);
+        let [ab, bx, by, bd, bw, br, bg, bb] = f32x8::transpose(tail);
         let s = f32x8::splat;
         // 1. Length: above 1e-12 and finite (NaN fails both).
         let (ex, ey) = (bx - ax, by - ay);
@@ -410,7 +538,7 @@ impl Segment {
             y1,
         ];
         SegmentsX8 {
-            f: fields.map(|v| v.to_array()),
+            f: fields,
             drawn: drawn.to_bitmask(),
         }
     }
@@ -490,6 +618,20 @@ impl Segment {
         }
     }
 
+    /// The lines of a band walk (rows, or columns for `columns`) whose
+    /// pixel centres can be drawn, `[lo, hi)` as whole floats, not
+    /// clipped to the bounds: one lane of [`SegmentsX8::lines`] (see
+    /// there).
+    #[inline(always)]
+    pub fn lines(&self, columns: bool) -> (f32, f32) {
+        let (a, b, minor) = if columns {
+            (self.a.x, self.b.x, self.ey)
+        } else {
+            (self.a.y, self.b.y, self.ex)
+        };
+        lines_in([a, b, minor, self.radius_len, self.inv_len2])
+    }
+
     /// The candidate band of [`Walk::BandRows`] (`columns` false: the
     /// pixels `[xa, xb)` of the rows `c`) or [`Walk::BandColumns`] (the
     /// pixel rows `[ya, yb)` of the columns `c`), one line per lane, as
@@ -508,15 +650,8 @@ impl Segment {
         } else {
             (self.a.x, self.a.y, self.ex, self.inv_ey)
         };
-        // dist = (ex py - ey px) / len within [-radius, radius] (with x
-        // and y exchanged for columns: the same slab).
-        let py = (c + T::splat(0.5)) - T::splat(ay);
-        let exy = T::splat(ex) * py;
-        let u = (exy - T::splat(self.radius_len)) * T::splat(inv_ey);
-        let v = (exy + T::splat(self.radius_len)) * T::splat(inv_ey);
-        let xa = ((u.min(v) + T::splat(ax)) - T::splat(0.5 + SPAN_MARGIN)).ceil();
-        let xb = ((u.max(v) + T::splat(ax)) - T::splat(0.5 - SPAN_MARGIN)).floor() + T::splat(1.0);
-        (xa, xb)
+        let s = T::splat;
+        band_in(c, [ax, ay, ex, inv_ey, self.radius_len].map(s))
     }
 
     /// The fragment of the pixels with centres `(xc, yc)` (`x + 0.5`,
@@ -547,32 +682,102 @@ impl Segment {
     #[inline(always)]
     pub fn fragment<T: Lane>(&self, xc: T, yc: T, opacity: f32) -> Fragment<T> {
         let (a, b) = (&self.a, &self.b);
+        let s = T::splat;
+        let lanes = SegmentLanes {
+            ax: s(a.x),
+            ay: s(a.y),
+            ex: s(self.ex),
+            ey: s(self.ey),
+            inv_len2: s(self.inv_len2),
+            inv_len: s(self.inv_len),
+            width: s(a.width_px),
+            dwidth: s(b.width_px - a.width_px),
+            depth: s(a.depth),
+            ddepth: s(b.depth - a.depth),
+            color: [a.color.x, a.color.y, a.color.z].map(s),
+            dcolor: [
+                b.color.x - a.color.x,
+                b.color.y - a.color.y,
+                b.color.z - a.color.z,
+            ]
+            .map(s),
+            profile: self.profile.lanes(),
+        };
+        lanes.fragment(xc, yc, s(opacity))
+    }
+}
+
+/// What [`Segment::fragment`] reads, in lanes: one segment splatted, or
+/// one segment per lane ([`SegmentsX8::fragment`]). The differences
+/// `b - a` are formed before (in `f32` or per lane: the same bits).
+#[derive(Clone, Copy, Debug)]
+struct SegmentLanes<T> {
+    ax: T,
+    ay: T,
+    ex: T,
+    ey: T,
+    inv_len2: T,
+    inv_len: T,
+    width: T,
+    dwidth: T,
+    depth: T,
+    ddepth: T,
+    color: [T; 3],
+    dcolor: [T; 3],
+    profile: ProfileLanes<T>,
+}
+
+impl<T: Lane> SegmentLanes<T> {
+    /// The body of [`Segment::fragment`].
+    #[inline(always)]
+    fn fragment(&self, xc: T, yc: T, opacity: T) -> Fragment<T> {
         // 1. Position relative to a; t along the segment.
-        let py = yc - T::splat(a.y);
-        let px = xc - T::splat(a.x);
-        let t = (px * T::splat(self.ex) + py * T::splat(self.ey)) * T::splat(self.inv_len2);
+        let py = yc - self.ay;
+        let px = xc - self.ax;
+        let t = (px * self.ex + py * self.ey) * self.inv_len2;
         // 2. Signed distance from the line: cross(e, p) / |e|.
-        let dist = (T::splat(self.ex) * py - T::splat(self.ey) * px) * T::splat(self.inv_len);
+        let dist = (self.ex * py - self.ey * px) * self.inv_len;
         // 3. Coverage of the strip, width interpolated along it.
-        let width = T::splat(a.width_px) + t * T::splat(b.width_px - a.width_px);
-        let alpha = coverage_lanes(&self.profile, dist, width) * T::splat(opacity);
+        let width = self.width + t * self.dwidth;
+        let alpha = coverage_in(&self.profile, dist, width) * opacity;
         // 4. Depth along the segment (tested against the opaque surfaces
         // by the caller).
-        let z = T::splat(a.depth) + t * T::splat(b.depth - a.depth);
+        let z = self.depth + t * self.ddepth;
         let mask = !t.lt(T::splat(0.0)) & t.lt(T::splat(1.0)) & alpha.gt(T::splat(0.0));
         // 5. Colour along the segment.
-        let lerp = |ca: f32, cb: f32| T::splat(ca) + T::splat(cb - ca) * t;
+        let lerp = |i: usize| self.color[i] + self.dcolor[i] * t;
         Fragment {
             mask,
             alpha,
             depth: z,
-            color: V3::new(
-                lerp(a.color.x, b.color.x),
-                lerp(a.color.y, b.color.y),
-                lerp(a.color.z, b.color.z),
-            ),
+            color: V3::new(lerp(0), lerp(1), lerp(2)),
         }
     }
+}
+
+/// The body of [`Segment::lines`] with `[a, b, e_minor, radius |e|,
+/// 1 / |e|^2]` in lanes (`a`, `b` the ends' major coordinates).
+#[inline(always)]
+fn lines_in<T: Rounding>([a, b, minor, radius_len, inv_len2]: [T; 5]) -> (T, T) {
+    let reach = radius_len * minor.abs() * inv_len2;
+    let lo = ((a.min(b) - reach) - T::splat(0.5 + SPAN_MARGIN)).ceil();
+    let hi = ((a.max(b) + reach) - T::splat(0.5 - SPAN_MARGIN)).floor() + T::splat(1.0);
+    (lo, hi)
+}
+
+/// The body of [`Segment::band`] with the constants `[a_x, a_y, e_x,
+/// 1 / e_y, radius |e|]` in lanes (x and y exchanged for columns).
+#[inline(always)]
+fn band_in<T: Rounding>(c: T, [ax, ay, ex, inv_ey, radius_len]: [T; 5]) -> (T, T) {
+    // dist = (ex py - ey px) / len within [-radius, radius] (with x
+    // and y exchanged for columns: the same slab).
+    let py = (c + T::splat(0.5)) - ay;
+    let exy = ex * py;
+    let u = (exy - radius_len) * inv_ey;
+    let v = (exy + radius_len) * inv_ey;
+    let xa = ((u.min(v) + ax) - T::splat(0.5 + SPAN_MARGIN)).ceil();
+    let xb = ((u.max(v) + ax) - T::splat(0.5 - SPAN_MARGIN)).floor() + T::splat(1.0);
+    (xa, xb)
 }
 
 /// How the tiled rasterisers ([`crate::raster`]) walk a segment's pixels
@@ -741,8 +946,42 @@ mod tests {
         assert_eq!(p.coverage(0.0, f32::NAN), 0.0);
     }
 
+    /// Lane `l` of `x8`'s lines, bands and fragments (rows and columns,
+    /// pixel centres around the segment) against `one`'s, bit for bit.
+    fn lanes_match_the_segment(x8: &SegmentsX8, l: usize, one: &Segment) {
+        let lane = |v: f32x8| v.to_array()[l].to_bits();
+        for columns in [false, true] {
+            let mask = f32x8::splat(if columns { 1.0 } else { 0.0 }).simd_gt(f32x8::ZERO);
+            let (lo, hi) = x8.lines(mask);
+            let (want_lo, want_hi) = one.lines(columns);
+            assert_eq!([lane(lo), lane(hi)], [want_lo, want_hi].map(f32::to_bits));
+            for c in [-3.0f32, 0.0, 17.0, 60.0] {
+                let (a, b) = x8.band(f32x8::splat(c), mask);
+                let (want_a, want_b) = one.band(c, columns);
+                assert_eq!([lane(a), lane(b)], [want_a, want_b].map(f32::to_bits));
+            }
+        }
+        let [x0, _, y0, _] = one.float_bounds();
+        for (dx, dy) in [(0.5f32, 0.5f32), (1.5, 2.5), (3.5, 0.5), (2.5, 4.5)] {
+            let (x, y) = (x0 + dx, y0 + dy);
+            let f = x8.fragment(f32x8::splat(x), f32x8::splat(y), 0.8);
+            let want = one.fragment(x, y, 0.8);
+            assert_eq!(f.mask.to_bitmask() >> l & 1 != 0, want.mask);
+            let got = [f.alpha, f.depth, f.color.x, f.color.y, f.color.z].map(lane);
+            let want = [
+                want.alpha,
+                want.depth,
+                want.color.x,
+                want.color.y,
+                want.color.z,
+            ];
+            assert_eq!(got, want.map(f32::to_bits));
+        }
+    }
+
     #[test]
     fn eight_segment_set_up_has_the_bits_of_the_scalar_one() {
+        // Every field, and the lane-by-lane lines, bands and fragments.
         // Random ends (some off the frame), axis-aligned and diagonal
         // segments, lengths from below the 1e-6 px cut-off up, widths 0
         // to 4 px; in chunks of 1 to 8 so that absent lanes are covered.
@@ -788,6 +1027,9 @@ mod tests {
                 let one = Segment::new(&screen[k], &screen[k + 1], 100, 100);
                 let got = x8.lane(l);
                 assert_eq!(format!("{one:?}"), format!("{got:?}"), "segment {k}");
+                if let Some(one) = one {
+                    lanes_match_the_segment(&x8, l, &one);
+                }
                 if one.is_some() {
                     some += 1;
                 } else {

@@ -25,12 +25,14 @@
 //!    that matters: the lists give every pixel its segments in exactly the
 //!    reference's order).
 //! 5. **Rasterise** tile by tile: the tile's colour and depth are copied
-//!    into a tile-local buffer (16 KiB, in L1); its list's segments are set
-//!    up eight at a time ([`Segment::new_x8`]) and each is walked along its
-//!    major axis ([`Segment::walk`]), eight rows (or columns) per `f32x8`,
-//!    the `k`-th candidate pixel of every line ([`Segment::band`]) in pass
-//!    `k`, with the exact-area coverage of [`Segment::fragment`]; the drawn
-//!    lanes are depth-tested and blended one by one (one
+//!    into a tile-local buffer (64 KiB); its list's segments are set up
+//!    eight at a time ([`Segment::new_x8`]) and drawn one per lane
+//!    ([`draw_lanes`]): each lane walks its segment's lines along the
+//!    segment's major axis ([`Segment::walk`], [`Segment::lines`]) and
+//!    each line's candidate pixels ([`Segment::band`]), pass `k`
+//!    evaluating every lane's `k`-th candidate with the exact-area
+//!    coverage of [`Segment::fragment`]; the drawn pixels are then
+//!    depth-tested and blended segment by segment in list order (one
 //!    pixel at a time in [`crate::scalar::draw`]), and the tile is copied
 //!    back. The candidates contain every pixel the reference draws, so
 //!    the bits are the reference's ([`crate::line::Walk`]).
@@ -55,13 +57,13 @@
 //! frames agree bit for bit (the tests compare them on the default scene).
 
 use super::hair::NEAR;
-use super::line::{blend, ScreenVertex, Segment, Walk};
+use super::line::{blend, ScreenVertex, Segment, SegmentsX8, Walk};
 use super::sort::DepthOrder;
 use super::{Camera, Framebuffer, Pixel, ShadedVertex};
 use coif_base::tasks::{for_each_chunk_mut, DisjointMut, Executor};
 use glam::Vec3;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use wide::f32x8;
+use wide::{f32x8, i32x8};
 
 /// Vertices projected per task (a multiple of eight lanes): enough work per
 /// task (about 0.1 ms) that a job system's cost per task stays small.
@@ -77,10 +79,10 @@ const MAX_BIN_TASKS: usize = 16;
 /// Fewest strands a tile-range or binning task takes.
 const MIN_TASK_STRANDS: usize = 64;
 
-/// Tile side in pixels: a tile's colour and depth (4 x 32 x 32 floats,
-/// 16 KiB) stay in L1 while its segments are drawn. 32 was the fastest of
-/// 16, 32 and 64 on the default scene (`render/README.md`).
-pub const TILE: usize = 32;
+/// Tile side in pixels: a tile's colour and depth are 4 x 64 x 64 floats
+/// (64 KiB, in L2). 64 was faster than 32 on the default scene (1.12
+/// instead of 1.27 tile entries per segment: `render/README.md`).
+pub const TILE: usize = 64;
 const TILE_PIXELS: usize = TILE * TILE;
 const TILE_GROUPS: usize = TILE_PIXELS / 8;
 
@@ -740,17 +742,25 @@ pub(crate) struct TileArea {
 }
 
 impl TileArea {
-    /// The frame rows (`columns` false) or columns `[lo, hi)` of the tile
-    /// that `seg`'s bounds cross, as whole floats.
+    /// The frame rows or columns `[lo, hi)` of the tile that `seg`
+    /// walks with `walk`, as whole floats: those its bounds cross, and
+    /// for a band walk only those where a drawn pixel centre can lie
+    /// ([`Segment::lines`]).
     #[inline(always)]
-    pub fn lines(&self, seg: &Segment, columns: bool) -> (f32, f32) {
+    pub fn lines(&self, seg: &Segment, walk: Walk) -> (f32, f32) {
+        let columns = walk == Walk::BandColumns;
         let [x0, x1, y0, y1] = seg.float_bounds();
         let (lo, hi, start, len) = if columns {
             (x0, x1, self.x0, self.columns)
         } else {
             (y0, y1, self.y0, self.rows)
         };
-        (lo.max(start as f32), hi.min((start + len) as f32))
+        let (lo, hi) = (lo.max(start as f32), hi.min((start + len) as f32));
+        if walk == Walk::Rows {
+            return (lo, hi);
+        }
+        let (near_lo, near_hi) = seg.lines(columns);
+        (lo.max(near_lo), hi.min(near_hi))
     }
 
     /// The tile's frame columns (`columns` false) or rows `[lo, hi)`
@@ -971,18 +981,15 @@ pub fn project_x8(camera: &Camera, vertices: &[ShadedVertex]) -> [ScreenVertex; 
 /// Lane `l` holds `l as f32`.
 const LANE_INDEX: f32x8 = f32x8::new([0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
 
-/// Step 5 for one tile, eight pixels at a time: every segment of `list`
-/// in order, walked along its major axis ([`Segment::walk`]): eight rows
-/// (or columns) per register, each lane one line with its candidate
-/// pixels ([`Segment::band`], or the reference's [`Segment::row_spans`]
-/// for a segment with a far end) clipped to the tile; pass `k` evaluates
-/// the `k`-th candidate of every lane at once ([`Segment::fragment`])
-/// until no lane has candidates left. A thin hair's band across its
-/// major axis is at most three pixels, so a segment costs at most three
-/// passes per eight lines and no per-pixel bookkeeping (a first version
-/// packed the span pixels eight to a register one by one). The drawn
-/// lanes are depth-tested and blended one by one; the pixels of one
-/// segment are distinct, so their order does not matter.
+/// Step 5 for one tile: the segments of `list` eight at a time, set up
+/// at once ([`Segment::new_x8`]) and drawn one per lane
+/// ([`draw_lanes`]: each lane walks its own segment's lines along its
+/// major axis and each line's candidates, one candidate per pass, then
+/// the eight segments' fragments are blended segment by segment in list
+/// order). Eight segments that need more passes, or that hold one with
+/// an end beyond [`crate::line::BAND_REACH`], are walked one by one
+/// ([`draw_lines`]: eight lines of a segment per register). The pixels
+/// of one segment are distinct, so their order changes no bit.
 pub(crate) fn draw_tile(
     tile: &mut TileBuffer,
     area: &TileArea,
@@ -991,6 +998,7 @@ pub(crate) fn draw_tile(
     opacity: f32,
 ) {
     let (mut planes, opaque) = tile.planes();
+    let mut passes = [Pass::default(); MAX_PASSES];
     for (c, first) in list.chunks(8).enumerate() {
         // The next chunk's ends, from memory (the lists visit strands
         // back to front, far apart in `screen`), while this one draws.
@@ -999,6 +1007,15 @@ pub(crate) fn draw_tile(
         }
         // 5a. Set up eight segments at once (the bits of `Segment::new`).
         let segments = Segment::new_x8(screen, first, area.width, area.height);
+        if segments.near() {
+            let done = match opaque {
+                false => draw_lanes::<false>(&segments, area, &mut planes, opacity, &mut passes),
+                true => draw_lanes::<true>(&segments, area, &mut planes, opacity, &mut passes),
+            };
+            if done {
+                continue;
+            }
+        }
         for l in 0..first.len() {
             let Some(seg) = segments.lane(l) else {
                 continue;
@@ -1075,7 +1092,12 @@ fn draw_lines<const WALK: u8, const DEPTH: bool>(
     const { assert!(WALK <= BAND_COLUMNS) };
     let columns = WALK == BAND_COLUMNS;
     let s = f32x8::splat;
-    let (lo, hi) = area.lines(seg, columns);
+    let walk = match WALK {
+        ROWS => Walk::Rows,
+        BAND_ROWS => Walk::BandRows,
+        _ => Walk::BandColumns,
+    };
+    let (lo, hi) = area.lines(seg, walk);
     let (cross_lo, cross_hi) = area.cross(columns);
     // Tile index of pixel (x, y): (y - y0) TILE + (x - x0), exact in f32.
     let (x0, y0) = (area.x0 as f32, area.y0 as f32);
@@ -1124,4 +1146,110 @@ fn draw_lines<const WALK: u8, const DEPTH: bool>(
         }
         first += 8.0;
     }
+}
+
+/// The most passes [`draw_lanes`] holds before it gives the eight
+/// segments back to the one-segment walk (a thin hair needs about 20).
+const MAX_PASSES: usize = 32;
+
+/// One pass of [`draw_lanes`]: the fragment of every lane's candidate
+/// pixel (tile index, depth, alpha, colour).
+#[derive(Clone, Copy, Default)]
+struct Pass {
+    index: [i32; 8],
+    z: [f32; 8],
+    alpha: [f32; 8],
+    color: [[f32; 8]; 3],
+}
+
+/// 5b-5d for eight segments at once, one per lane (all band walks):
+/// each lane walks its own segment's lines (rows, or columns where
+/// `|e_x| > |e_y|`) and each line's candidates ([`SegmentsX8::band`],
+/// clipped to the tile as in [`draw_lines`]), one candidate per pass
+/// ([`SegmentsX8::fragment`]), the constants staying in their lanes. The
+/// passes are kept, then blended segment by segment in list order (each
+/// segment's pixels are distinct: their order changes no bit). Returns
+/// false, having blended nothing, when the segments need more than
+/// [`MAX_PASSES`] passes (wide or long segments: the caller walks them
+/// one by one).
+#[inline(always)]
+fn draw_lanes<const DEPTH: bool>(
+    segments: &SegmentsX8,
+    area: &TileArea,
+    planes: &mut TilePlanes<'_>,
+    opacity: f32,
+    passes: &mut [Pass; MAX_PASSES],
+) -> bool {
+    let s = f32x8::splat;
+    let columns = segments.columns();
+    // The tile's lines and cross range per lane (`TileArea::lines`,
+    // `TileArea::cross`); lanes without a segment get no line.
+    let [x0, x1, y0, y1] = segments.float_bounds();
+    let pick = |c: f32x8, r: f32x8| columns.select(c, r);
+    let (tx, ty) = (area.x0 as f32, area.y0 as f32);
+    let (tx1, ty1) = (
+        (area.x0 + area.columns) as f32,
+        (area.y0 + area.rows) as f32,
+    );
+    let bit = i32x8::new([1, 2, 4, 8, 16, 32, 64, 128]);
+    let drawn = (i32x8::splat(segments.drawn() as i32) & bit).simd_eq(bit);
+    let drawn: f32x8 = bytemuck::cast(drawn);
+    let (near_lo, near_hi) = segments.lines(columns);
+    let lo = pick(x0, y0).fast_max(pick(s(tx), s(ty))).fast_max(near_lo);
+    let hi = pick(x1, y1)
+        .fast_min(pick(s(tx1), s(ty1)))
+        .fast_min(near_hi);
+    let hi = drawn.select(hi, s(f32::NEG_INFINITY));
+    let (cross_lo, cross_hi) = (pick(s(ty), s(tx)), pick(s(ty1), s(tx1)));
+    // Each lane's line, its next candidate c and the end of its band.
+    let mut line = lo - s(1.0);
+    let (mut c, mut cb) = (f32x8::ZERO, f32x8::ZERO);
+    let mut n = 0;
+    let mut lane_passes = i32x8::ZERO;
+    loop {
+        // 5b. Lanes past their band move to their next line with a
+        // non-empty band, while they have lines left.
+        let mut next = !c.simd_lt(cb) & (line + s(1.0)).simd_lt(hi);
+        while next.any() {
+            line = next.select(line + s(1.0), line);
+            let (ca, band_end) = segments.band(line, columns);
+            c = next.select(ca.fast_max(cross_lo), c);
+            cb = next.select(band_end.fast_min(cross_hi), cb);
+            next = next & !c.simd_lt(cb) & (line + s(1.0)).simd_lt(hi);
+        }
+        let live = c.simd_lt(cb) & line.simd_lt(hi);
+        if live.none() {
+            break;
+        }
+        if n == MAX_PASSES {
+            return false;
+        }
+        // 5c. Every live lane's candidate pixel.
+        let centre = line + s(0.5);
+        let xc = pick(centre, c + s(0.5));
+        let yc = pick(c + s(0.5), centre);
+        let f = segments.fragment(xc, yc, opacity);
+        let hit = live & f.mask;
+        let (x, y) = (pick(line, c), pick(c, line));
+        let index = ((y - s(ty)) * s(TILE as f32) + (x - s(tx))).trunc_int();
+        let pass = &mut passes[n];
+        pass.index = index.to_array();
+        pass.z = f.depth.to_array();
+        pass.alpha = f.alpha.to_array();
+        pass.color = [f.color.x, f.color.y, f.color.z].map(|v| v.to_array());
+        lane_passes |= bytemuck::cast::<f32x8, i32x8>(hit) & i32x8::splat(1 << n);
+        n += 1;
+        c += s(1.0);
+    }
+    // 5d. Depth test and blend, segment by segment in list order.
+    for (l, bits) in lane_passes.to_array().into_iter().enumerate() {
+        let mut bits = bits as u32;
+        while bits != 0 {
+            let p = &passes[bits.trailing_zeros() as usize];
+            bits &= bits - 1;
+            let rgb = [p.color[0][l], p.color[1][l], p.color[2][l]];
+            planes.blend::<DEPTH>(p.index[l] as usize, p.z[l], p.alpha[l], rgb);
+        }
+    }
+    true
 }

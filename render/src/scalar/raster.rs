@@ -56,7 +56,7 @@ pub(crate) fn draw_tile(
         let walk = seg.walk();
         let columns = walk == Walk::BandColumns;
         // 5b. The candidates of each row (column), clipped to the tile.
-        let (lo, hi) = area.lines(&seg, columns);
+        let (lo, hi) = area.lines(&seg, walk);
         let (cross_lo, cross_hi) = area.cross(columns);
         let mut line = lo;
         while line < hi {
