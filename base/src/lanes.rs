@@ -360,106 +360,6 @@ impl Lane for f32x8 {
     }
 }
 
-/// Sixteen lanes as two [`f32x8`] halves: every [`Lane`] operation is
-/// applied to each half as [`f32x8`] does it, so a body written over `Lane`
-/// gives, lane by lane, the same bits at `F32x16` as at `f32x8` (and `f32`).
-/// Its use is latency hiding, not width: a root-to-tip sweep over two
-/// blocks' chains at once gives the out-of-order core two independent
-/// dependency chains per instruction stream.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct F32x16(pub f32x8, pub f32x8);
-
-macro_rules! pair_binop {
-    ($tr:ident, $f:ident) => {
-        impl std::ops::$tr for F32x16 {
-            type Output = F32x16;
-            #[inline(always)]
-            fn $f(self, o: F32x16) -> F32x16 {
-                F32x16(self.0.$f(o.0), self.1.$f(o.1))
-            }
-        }
-    };
-}
-pair_binop!(Add, add);
-pair_binop!(Sub, sub);
-pair_binop!(Mul, mul);
-pair_binop!(Div, div);
-pair_binop!(BitAnd, bitand);
-pair_binop!(BitOr, bitor);
-
-impl std::ops::Neg for F32x16 {
-    type Output = F32x16;
-    #[inline(always)]
-    fn neg(self) -> F32x16 {
-        F32x16(-self.0, -self.1)
-    }
-}
-
-impl std::ops::Not for F32x16 {
-    type Output = F32x16;
-    #[inline(always)]
-    fn not(self) -> F32x16 {
-        F32x16(!self.0, !self.1)
-    }
-}
-
-impl Lane for F32x16 {
-    type Mask = F32x16;
-    #[inline(always)]
-    fn splat(v: f32) -> F32x16 {
-        F32x16(f32x8::splat(v), f32x8::splat(v))
-    }
-    #[inline(always)]
-    fn mul_add(self, a: F32x16, b: F32x16) -> F32x16 {
-        F32x16(self.0.mul_add(a.0, b.0), self.1.mul_add(a.1, b.1))
-    }
-    #[inline(always)]
-    fn inv_sqrt(self) -> F32x16 {
-        F32x16(inv_sqrt_x8(self.0), inv_sqrt_x8(self.1))
-    }
-    #[inline(always)]
-    fn recip(self) -> F32x16 {
-        F32x16(recip_x8(self.0), recip_x8(self.1))
-    }
-    #[inline(always)]
-    fn max(self, o: F32x16) -> F32x16 {
-        F32x16(self.0.fast_max(o.0), self.1.fast_max(o.1))
-    }
-    #[inline(always)]
-    fn min(self, o: F32x16) -> F32x16 {
-        F32x16(self.0.fast_min(o.0), self.1.fast_min(o.1))
-    }
-    #[inline(always)]
-    fn abs(self) -> F32x16 {
-        F32x16(self.0.abs(), self.1.abs())
-    }
-    #[inline(always)]
-    fn gt(self, o: F32x16) -> F32x16 {
-        F32x16(self.0.simd_gt(o.0), self.1.simd_gt(o.1))
-    }
-    #[inline(always)]
-    fn lt(self, o: F32x16) -> F32x16 {
-        F32x16(self.0.simd_lt(o.0), self.1.simd_lt(o.1))
-    }
-    #[inline(always)]
-    fn select(m: F32x16, a: F32x16, b: F32x16) -> F32x16 {
-        F32x16(m.0.select(a.0, b.0), m.1.select(a.1, b.1))
-    }
-    #[inline(always)]
-    fn any(m: F32x16) -> bool {
-        (m.0 | m.1).any()
-    }
-    #[inline(always)]
-    fn finite(self) -> F32x16 {
-        F32x16(self.0.is_finite(), self.1.is_finite())
-    }
-    #[inline(always)]
-    fn all_lanes() -> F32x16 {
-        let all = <f32x8 as Lane>::all_lanes();
-        F32x16(all, all)
-    }
-}
-
 /// `1 / x` to about 2^-22 relative error without the divider: the hardware
 /// estimate (`vrcpps`, 12 bits) and one Newton-Raphson step
 /// `y' = y (2 - x y)`. [`recip`] computes the same value bit for bit, one
@@ -605,30 +505,6 @@ mod tests {
         }
         assert!(!<f32x8 as Lane>::any(!<f32x8 as Lane>::all_lanes()));
         assert!(<f32 as Lane>::any(f32::NAN.finite() | true));
-    }
-
-    #[test]
-    fn pair_lanes_give_the_bits_of_each_half_alone() {
-        fn body<L: Lane>(x: L, y: L) -> L {
-            let m = x.gt(y) | (-x).lt(L::splat(0.25)) & !y.finite();
-            let s = L::select(m, x.max(y), x.min(y).abs());
-            let v = V3::new(x, y, s);
-            let r = (v.dot(v) + L::splat(1.0)).inv_sqrt() * (x * x + L::splat(0.5)).recip();
-            L::select(L::all_lanes(), r.mul_add(x, y) / (y * y + L::splat(2.0)), x)
-        }
-        let xs = [1.5f32, -2.0, 0.2, 7.0, -0.1, 3.25, 1e-3, 40.0];
-        let ys = [-3.0f32, 0.1, 0.3, 7.0, f32::INFINITY, -5.5, 2.0, 0.0];
-        let (x, y) = (f32x8::new(xs), f32x8::new(ys));
-        let rev = |a: [f32; 8]| f32x8::new([a[7], a[6], a[5], a[4], a[3], a[2], a[1], a[0]]);
-        let pair = body(F32x16(x, rev(ys)), F32x16(y, rev(xs)));
-        let (a, b) = (body(x, y).to_array(), body(rev(ys), rev(xs)).to_array());
-        for l in 0..LANES {
-            assert_eq!(pair.0.to_array()[l].to_bits(), a[l].to_bits());
-            assert_eq!(pair.1.to_array()[l].to_bits(), b[l].to_bits());
-            assert_eq!(a[l].to_bits(), body(xs[l], ys[l]).to_bits());
-        }
-        let lo = F32x16(f32x8::splat(-1.0), f32x8::splat(1.0)).gt(F32x16::splat(0.0));
-        assert!(<F32x16 as Lane>::any(lo) && !<F32x16 as Lane>::any(lo & !lo));
     }
 
     #[test]

@@ -68,7 +68,7 @@ use crate::broad_phase::{
     Candidate,
 };
 use crate::constraints::{BLOWN_UP, MIN_LENGTH};
-use crate::lanes::{F32x16, Lane, Vec3x8, LANES, V3};
+use crate::lanes::{Lane, Vec3x8, LANES, V3};
 use crate::strands::{rest_pose, BlockSleep, Scratch};
 use crate::{SimParams, Sphere, Strands};
 use coif_base::tasks::{for_each_chunk_mut, Executor, Serial};
@@ -261,44 +261,6 @@ impl<T: Lane> Reach<T> {
     }
 }
 
-/// The lane types the step runs at: one chain (`f32`), one block
-/// (`f32x8`) or two blocks ([`F32x16`], each half one block's eight).
-pub(crate) trait StepLane: Lane {
-    /// Blocks in lanes: 1, or 2 for [`F32x16`].
-    const HALVES: usize;
-    /// `v` in the lanes of half `h`, `-inf` in the others.
-    fn half_only(v: Self, h: usize) -> Self;
-}
-
-impl StepLane for f32 {
-    const HALVES: usize = 1;
-    #[inline(always)]
-    fn half_only(v: f32, _: usize) -> f32 {
-        v
-    }
-}
-
-impl StepLane for f32x8 {
-    const HALVES: usize = 1;
-    #[inline(always)]
-    fn half_only(v: f32x8, _: usize) -> f32x8 {
-        v
-    }
-}
-
-impl StepLane for F32x16 {
-    const HALVES: usize = 2;
-    #[inline(always)]
-    fn half_only(v: F32x16, h: usize) -> F32x16 {
-        let closed = f32x8::splat(f32::NEG_INFINITY);
-        if h == 0 {
-            F32x16(v.0, closed)
-        } else {
-            F32x16(closed, v.1)
-        }
-    }
-}
-
 /// `a s + c`, fused (`Lane::mul_add`).
 #[inline(always)]
 fn madd<T: Lane>(a: V3<T>, s: T, c: V3<T>) -> V3<T> {
@@ -355,12 +317,12 @@ fn offset_unless<T: Lane>(free: T::Mask) -> T {
 /// that stayed finite and within [`BLOWN_UP`] (the caller restores the
 /// others). On entry `pos[0]` is the root's target and `prev[0]` where it was.
 #[inline(always)]
-pub(crate) fn step_chain<T: StepLane>(
+pub(crate) fn step_chain<T: Lane>(
     c: &mut Chain<'_, T>,
     s: &mut ChainScratch<T>,
     k: &Setup,
     spheres: &[Candidate],
-    blocks: [usize; 2],
+    block: usize,
 ) -> T::Mask {
     let verts = c.pos.len();
     let segs = verts - 1;
@@ -390,33 +352,17 @@ pub(crate) fn step_chain<T: StepLane>(
         }
     }
     // 5., 6. (set-up) This block's candidate spheres, splatted, and the
-    // pinned vertices and segments kept out of the collisions. With two
-    // blocks in lanes (`F32x16`), a sphere near both from the same first
-    // vertex enters once; otherwise once per half that meets it, closed to
-    // the other half's lanes (a squared reach of -inf: never hit). Every
-    // test a lane makes is then the one its block makes alone.
+    // pinned vertices and segments kept out of the collisions.
     s.reach.clear();
-    for sp in spheres {
-        let near = [
-            sp.touches(blocks[0]),
-            T::HALVES == 2 && sp.touches(blocks[1]),
-        ];
-        let first = [sp.first[blocks[0]], sp.first[blocks[1]]];
-        if near[0] && near[1] && first[0] == first[1] {
-            s.reach
-                .push(Reach::new(sp.sphere, k.pearl_radius, first[0]));
-            continue;
-        }
-        for h in (0..2).filter(|&h| near[h]) {
-            let mut r = Reach::new(sp.sphere, k.pearl_radius, first[h]);
-            r.reach2 = T::half_only(r.reach2, h);
-            s.reach.push(r);
-        }
-    }
+    s.reach.extend(
+        spheres
+            .iter()
+            .filter(|sp| sp.touches(block))
+            .map(|sp| Reach::new(sp.sphere, k.pearl_radius, sp.first[block])),
+    );
     // In the order of the first vertex that may touch them (rig order among
     // equals: a stable insertion sort, the lists are short), so that the
-    // spheres a vertex meets are a prefix (and each half's spheres keep
-    // the order they have in its block alone).
+    // spheres a vertex meets are a prefix.
     for i in 1..s.reach.len() {
         let mut j = i;
         while j > 0 && s.reach[j - 1].first > s.reach[j].first {
@@ -779,152 +725,25 @@ pub fn step_with(
         spheres,
         executor,
         |s, st, b, k| block_sweep_aabb(st.pos, st.prev, k.gravity_dt2, s.active[b]),
-        |strands, mut gs, scratch, k| {
-            // The running blocks two by two (two chains in flight per
-            // sweep), an odd one alone.
-            let mut bad = [0u32; GROUP];
-            let mut order = [0usize; GROUP];
-            let mut m = 0;
-            for (g, &run) in gs.runs.iter().enumerate() {
-                if run {
-                    order[m] = g;
-                    m += 1;
-                }
-            }
-            for pair in order[..m].chunks(2) {
-                if let [a, b] = *pair {
-                    [bad[a], bad[b]] = step_pair(strands, &mut gs, scratch, k, [a, b]);
-                } else {
-                    let g = pair[0];
-                    let b = gs.first + g;
-                    let st = gs.block(g, strands.verts);
-                    let r = b * strands.verts..(b + 1) * strands.verts;
-                    // 2.-7.
-                    let mut c = Chain {
-                        pos: st.pos,
-                        prev: st.prev,
-                        w: &strands.inv_mass[r.clone()],
-                        rest_len: &strands.rest_len[r.clone()],
-                        rest_vec: &strands.rest_vec[r.clone()],
-                        rest_dir: &strands.rest_dir[r.clone()],
-                        rest_offset: &strands.rest_offset[r.clone()],
-                        bend_len: &strands.bend_len[r.clone()],
-                        bend_share: &strands.bend_share[r.clone()],
-                        shape_weight: &strands.shape_weight[r],
-                    };
-                    let ok: f32x8 =
-                        step_chain(&mut c, &mut scratch.chain, k, &scratch.candidates, [g, g]);
-                    bad[g] = (!ok).to_bitmask();
-                }
-            }
-            bad
+        |strands, st, scratch, k, b, g| {
+            let r = b * strands.verts..(b + 1) * strands.verts;
+            // 2.-7.
+            let mut c = Chain {
+                pos: st.pos,
+                prev: st.prev,
+                w: &strands.inv_mass[r.clone()],
+                rest_len: &strands.rest_len[r.clone()],
+                rest_vec: &strands.rest_vec[r.clone()],
+                rest_dir: &strands.rest_dir[r.clone()],
+                rest_offset: &strands.rest_offset[r.clone()],
+                bend_len: &strands.bend_len[r.clone()],
+                bend_share: &strands.bend_share[r.clone()],
+                shape_weight: &strands.shape_weight[r],
+            };
+            let ok: f32x8 = step_chain(&mut c, &mut scratch.chain, k, &scratch.candidates, g);
+            (!ok).to_bitmask()
         },
     );
-}
-
-/// Two blocks' per-vertex data side by side ([`F32x16`]: block `a` in the
-/// low half, `b` in the high one), sized when the strands are built.
-#[derive(Clone, Debug, Default)]
-pub(crate) struct PairBuffers {
-    pos: Vec<V3<F32x16>>,
-    prev: Vec<V3<F32x16>>,
-    w: Vec<F32x16>,
-    rest_len: Vec<F32x16>,
-    rest_vec: Vec<V3<F32x16>>,
-    rest_dir: Vec<V3<F32x16>>,
-    rest_offset: Vec<V3<F32x16>>,
-    bend_len: Vec<F32x16>,
-    bend_share: Vec<[F32x16; 2]>,
-    shape_weight: Vec<F32x16>,
-    pub(crate) chain: ChainScratch<F32x16>,
-}
-
-impl PairBuffers {
-    pub(crate) fn new(verts: usize) -> Self {
-        PairBuffers {
-            pos: vec![V3::zero(); verts],
-            prev: vec![V3::zero(); verts],
-            w: vec![F32x16::default(); verts],
-            rest_len: vec![F32x16::default(); verts],
-            rest_vec: vec![V3::zero(); verts],
-            rest_dir: vec![V3::zero(); verts],
-            rest_offset: vec![V3::zero(); verts],
-            bend_len: vec![F32x16::default(); verts],
-            bend_share: vec![[F32x16::default(); 2]; verts],
-            shape_weight: vec![F32x16::default(); verts],
-            chain: ChainScratch::new(verts),
-        }
-    }
-}
-
-#[inline(always)]
-fn join3(a: Vec3x8, b: Vec3x8) -> V3<F32x16> {
-    V3::new(F32x16(a.x, b.x), F32x16(a.y, b.y), F32x16(a.z, b.z))
-}
-
-/// Steps 2.-7. for blocks `g[0]` and `g[1]` of the group in one sweep
-/// ([`F32x16`]): the same arithmetic per lane as each block alone, with
-/// two independent chains for the core to overlap. Returns each block's
-/// bad lanes. Only the data the step's options read is copied in.
-fn step_pair(
-    s: &Strands,
-    gs: &mut GroupState<'_>,
-    scratch: &mut Scratch,
-    k: &Setup,
-    g: [usize; 2],
-) -> [u32; 2] {
-    let verts = s.verts;
-    let pb = &mut scratch.pair;
-    let (ra, rb) = (g[0] * verts, g[1] * verts);
-    let (ia, ib) = ((gs.first + g[0]) * verts, (gs.first + g[1]) * verts);
-    let pair1 = |x: &[f32x8], v: usize| F32x16(x[ia + v], x[ib + v]);
-    let pair3 = |x: &[Vec3x8], v: usize| join3(x[ia + v], x[ib + v]);
-    for v in 0..verts {
-        pb.pos[v] = join3(gs.pos[ra + v], gs.pos[rb + v]);
-        pb.prev[v] = join3(gs.prev[ra + v], gs.prev[rb + v]);
-        pb.w[v] = pair1(&s.inv_mass, v);
-        pb.rest_len[v] = pair1(&s.rest_len, v);
-    }
-    if k.local_shape > 0.0 {
-        for v in 0..verts {
-            pb.rest_vec[v] = pair3(&s.rest_vec, v);
-            pb.rest_dir[v] = pair3(&s.rest_dir, v);
-        }
-    }
-    if k.shape > 0.0 {
-        for v in 0..verts {
-            pb.rest_offset[v] = pair3(&s.rest_offset, v);
-            pb.shape_weight[v] = pair1(&s.shape_weight, v);
-        }
-    }
-    if k.bend > 0.0 {
-        for v in 0..verts {
-            pb.bend_len[v] = pair1(&s.bend_len, v);
-            let (a, b) = (s.bend_share[ia + v], s.bend_share[ib + v]);
-            pb.bend_share[v] = [F32x16(a[0], b[0]), F32x16(a[1], b[1])];
-        }
-    }
-    let mut c = Chain {
-        pos: &mut pb.pos,
-        prev: &mut pb.prev,
-        w: &pb.w,
-        rest_len: &pb.rest_len,
-        rest_vec: &pb.rest_vec,
-        rest_dir: &pb.rest_dir,
-        rest_offset: &pb.rest_offset,
-        bend_len: &pb.bend_len,
-        bend_share: &pb.bend_share,
-        shape_weight: &pb.shape_weight,
-    };
-    let ok: F32x16 = step_chain(&mut c, &mut pb.chain, k, &scratch.candidates, g);
-    for v in 0..verts {
-        let (x, p) = (pb.pos[v], pb.prev[v]);
-        gs.pos[ra + v] = V3::new(x.x.0, x.y.0, x.z.0);
-        gs.pos[rb + v] = V3::new(x.x.1, x.y.1, x.z.1);
-        gs.prev[ra + v] = V3::new(p.x.0, p.y.0, p.z.0);
-        gs.prev[rb + v] = V3::new(p.x.1, p.y.1, p.z.1);
-    }
-    [(!ok.0).to_bitmask(), (!ok.1).to_bitmask()]
 }
 
 /// What a step writes in one block: its `V` positions and previous
@@ -932,28 +751,6 @@ fn step_pair(
 pub(crate) struct BlockState<'a> {
     pub pos: &'a mut [Vec3x8],
     pub prev: &'a mut [Vec3x8],
-}
-
-/// What a step writes in one group of blocks, and which of them run.
-pub(crate) struct GroupState<'a> {
-    /// The group's positions and previous positions, block after block.
-    pub pos: &'a mut [Vec3x8],
-    pub prev: &'a mut [Vec3x8],
-    /// Per block of the group: stepped now (not asleep).
-    pub runs: &'a [bool],
-    /// The set's index of the group's first block.
-    pub first: usize,
-}
-
-impl GroupState<'_> {
-    /// Block `g` of the group (`verts` vertices).
-    pub(crate) fn block(&mut self, g: usize, verts: usize) -> BlockState<'_> {
-        let r = g * verts..(g + 1) * verts;
-        BlockState {
-            pos: &mut self.pos[r.clone()],
-            prev: &mut self.prev[r],
-        }
-    }
 }
 
 /// One task's share of a step: the positions of its blocks and its buffers.
@@ -1012,7 +809,7 @@ pub(crate) fn drive(
     spheres: &[Sphere],
     executor: &dyn Executor,
     block_box: impl Fn(&Strands, &BlockState<'_>, usize, &Setup) -> Aabb + Sync,
-    group: impl Fn(&Strands, GroupState<'_>, &mut Scratch, &Setup) -> [u32; GROUP] + Sync,
+    block: impl Fn(&Strands, &mut BlockState<'_>, &mut Scratch, &Setup, usize, usize) -> u32 + Sync,
 ) {
     let k = Setup::new(strands, params);
     if strands.params_seen.as_ref() != Some(params) {
@@ -1119,34 +916,6 @@ pub(crate) fn drive(
                         &mut scratch.candidates,
                     );
                 }
-                let mut moved = [false; GROUP];
-                for (g, &run) in runs.iter().enumerate().take(n) {
-                    let (b, r) = (t * per_task + first + g, (first + g) * verts);
-                    if !run {
-                        continue;
-                    }
-                    let st = BlockState {
-                        pos: &mut pos[r..r + verts],
-                        prev: &mut prev[r..r + verts],
-                    };
-                    moved[g] = roots_moved(&st, s.active[b]);
-                    if k.sleep {
-                        scratch.start[g * verts..(g + 1) * verts].copy_from_slice(st.pos);
-                    }
-                }
-                // 2.-7. The group's running blocks.
-                let span = first * verts..(first + n) * verts;
-                let bad = group(
-                    s,
-                    GroupState {
-                        pos: &mut pos[span.clone()],
-                        prev: &mut prev[span],
-                        runs: &runs[..n],
-                        first: t * per_task + first,
-                    },
-                    scratch,
-                    &k,
-                );
                 for (g, &run) in runs.iter().enumerate().take(n) {
                     let (b, r) = (t * per_task + first + g, (first + g) * verts);
                     if !run {
@@ -1157,14 +926,17 @@ pub(crate) fn drive(
                         pos: &mut pos[r..r + verts],
                         prev: &mut prev[r..r + verts],
                     };
-                    let moved = moved[g];
-                    let start = &scratch.start[g * verts..(g + 1) * verts];
-                    scratch.restored += restore_lanes(s, &mut st, b, bad[g]);
+                    let moved = roots_moved(&st, s.active[b]);
+                    if k.sleep {
+                        scratch.start.copy_from_slice(st.pos);
+                    }
+                    let bad = block(s, &mut st, scratch, &k, b, g);
+                    scratch.restored += restore_lanes(s, &mut st, b, bad);
                     // 8. Stillness: a block still for `still_steps` steps in a
                     // row (roots included) falls asleep at rest.
                     let still = k.sleep
                         && !moved
-                        && block_is_still(st.pos, start, s.active[b], k.still_move2);
+                        && block_is_still(st.pos, &scratch.start, s.active[b], k.still_move2);
                     let sl = &mut sleep[first + g];
                     sl.stepped = true;
                     sl.still = if still { sl.still.saturating_add(1) } else { 0 };

@@ -99,9 +99,7 @@ pub(crate) struct Scratch {
     pub(crate) chain: crate::step::ChainScratch<f32x8>,
     /// The scalar step's copy of one lane.
     pub(crate) lane: crate::scalar::LaneBuffers,
-    /// The SIMD step's two blocks in one sweep.
-    pub(crate) pair: crate::step::PairBuffers,
-    /// The group's positions at the start of its step (sleeping on).
+    /// A block's positions at the start of its step (sleeping on).
     pub(crate) start: Vec<Vec3x8>,
     /// Strands this task restored in the last step.
     pub(crate) restored: u64,
@@ -139,8 +137,6 @@ impl Scratch {
         self.candidates
             .reserve(spheres.saturating_sub(self.candidates.len()));
         self.chain.reserve_spheres(spheres);
-        // Each half's list: a sphere near both blocks enters twice.
-        self.pair.chain.reserve_spheres(2 * spheres);
         self.lane.reserve_spheres(spheres);
     }
 
@@ -149,8 +145,7 @@ impl Scratch {
             candidates: Vec::new(),
             chain: crate::step::ChainScratch::new(verts),
             lane: crate::scalar::LaneBuffers::new(verts),
-            pair: crate::step::PairBuffers::new(verts),
-            start: vec![Vec3x8::ZERO; crate::step::GROUP * verts],
+            start: vec![Vec3x8::ZERO; verts],
             restored: 0,
         }
     }

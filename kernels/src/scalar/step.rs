@@ -19,7 +19,7 @@
 
 use super::broad_phase::block_sweep_aabb;
 use crate::lanes::{Vec3x8, V3};
-use crate::step::{drive, step_chain, Chain, ChainScratch, GROUP};
+use crate::step::{drive, step_chain, Chain, ChainScratch};
 use crate::{SimParams, Sphere, Strands};
 use coif_base::tasks::{Executor, Serial};
 use wide::f32x8;
@@ -92,50 +92,45 @@ pub fn step_with(
         spheres,
         executor,
         |s, st, b, k| block_sweep_aabb(st.pos, st.prev, k.gravity_dt2, s.lanes_in_block(b)),
-        |strands, mut gs, scratch, k| {
-            let verts = strands.verts;
-            let mut bad = [0u32; GROUP];
-            for g in (0..gs.runs.len()).filter(|&g| gs.runs[g]) {
-                let (b, base) = (gs.first + g, (gs.first + g) * verts);
-                let st = gs.block(g, verts);
-                for l in 0..strands.lanes_in_block(b) {
-                    let lb = &mut scratch.lane;
-                    for v in 0..verts {
-                        let i = base + v;
-                        lb.pos[v] = lane3(&st.pos[v], l);
-                        lb.prev[v] = lane3(&st.prev[v], l);
-                        lb.w[v] = lane1(&strands.inv_mass[i], l);
-                        lb.rest_len[v] = lane1(&strands.rest_len[i], l);
-                        lb.rest_vec[v] = lane3(&strands.rest_vec[i], l);
-                        lb.rest_dir[v] = lane3(&strands.rest_dir[i], l);
-                        lb.rest_offset[v] = lane3(&strands.rest_offset[i], l);
-                        lb.bend_len[v] = lane1(&strands.bend_len[i], l);
-                        let sh = strands.bend_share[i];
-                        lb.bend_share[v] = [lane1(&sh[0], l), lane1(&sh[1], l)];
-                        lb.shape_weight[v] = lane1(&strands.shape_weight[i], l);
-                    }
-                    // 2.-7.
-                    let mut c = Chain {
-                        pos: &mut lb.pos,
-                        prev: &mut lb.prev,
-                        w: &lb.w,
-                        rest_len: &lb.rest_len,
-                        rest_vec: &lb.rest_vec,
-                        rest_dir: &lb.rest_dir,
-                        rest_offset: &lb.rest_offset,
-                        bend_len: &lb.bend_len,
-                        bend_share: &lb.bend_share,
-                        shape_weight: &lb.shape_weight,
-                    };
-                    let ok: bool =
-                        step_chain(&mut c, &mut lb.chain, k, &scratch.candidates, [g, g]);
-                    for v in 0..verts {
-                        st.pos[v].set_lane(l, lb.pos[v].to_vec3());
-                        st.prev[v].set_lane(l, lb.prev[v].to_vec3());
-                    }
-                    if !ok {
-                        bad[g] |= 1 << l;
-                    }
+        |strands, st, scratch, k, b, g| {
+            let (verts, base) = (strands.verts, b * strands.verts);
+            let mut bad = 0u32;
+            for l in 0..strands.lanes_in_block(b) {
+                let lb = &mut scratch.lane;
+                for v in 0..verts {
+                    let i = base + v;
+                    lb.pos[v] = lane3(&st.pos[v], l);
+                    lb.prev[v] = lane3(&st.prev[v], l);
+                    lb.w[v] = lane1(&strands.inv_mass[i], l);
+                    lb.rest_len[v] = lane1(&strands.rest_len[i], l);
+                    lb.rest_vec[v] = lane3(&strands.rest_vec[i], l);
+                    lb.rest_dir[v] = lane3(&strands.rest_dir[i], l);
+                    lb.rest_offset[v] = lane3(&strands.rest_offset[i], l);
+                    lb.bend_len[v] = lane1(&strands.bend_len[i], l);
+                    let sh = strands.bend_share[i];
+                    lb.bend_share[v] = [lane1(&sh[0], l), lane1(&sh[1], l)];
+                    lb.shape_weight[v] = lane1(&strands.shape_weight[i], l);
+                }
+                // 2.-7.
+                let mut c = Chain {
+                    pos: &mut lb.pos,
+                    prev: &mut lb.prev,
+                    w: &lb.w,
+                    rest_len: &lb.rest_len,
+                    rest_vec: &lb.rest_vec,
+                    rest_dir: &lb.rest_dir,
+                    rest_offset: &lb.rest_offset,
+                    bend_len: &lb.bend_len,
+                    bend_share: &lb.bend_share,
+                    shape_weight: &lb.shape_weight,
+                };
+                let ok: bool = step_chain(&mut c, &mut lb.chain, k, &scratch.candidates, g);
+                for v in 0..verts {
+                    st.pos[v].set_lane(l, lb.pos[v].to_vec3());
+                    st.prev[v].set_lane(l, lb.prev[v].to_vec3());
+                }
+                if !ok {
+                    bad |= 1 << l;
                 }
             }
             bad
