@@ -4,7 +4,8 @@
 //! and rigs of {1, 16, 256} spheres (head, neck, and the rest of a body rig
 //! a body length away: the broad phase keeps the 254 far ones out of the
 //! narrow phase), plus the default with local shape constraints on
-//! (`shape1`). Throughput is in vertex-steps per second.
+//! (`shape1`). Throughput is in vertex-steps per second. Sleeping is off
+//! (`sleep_speed` 0) throughout: these are the costs of awake hair.
 //!
 //! The `step/threads` group runs the 10,000 x 32 head (16 spheres, one
 //! pearl, local shape on) on `Serial` and on rayon pools of 1 and 2
@@ -86,6 +87,10 @@ fn bench_set(c: &mut Criterion, name: &str, pts: &[Vec3], verts: usize, make_rig
             iterations,
             pearls_per_segment: pearls,
             local_shape_stiffness: shape,
+            // Every block awake: the cost of stepping hair, not of
+            // skipping it (a draped set falls asleep; `benches/crowd.rs`
+            // measures sleeping).
+            sleep_speed: 0.0,
             ..Default::default()
         };
         // Start from a draped state, as in a running game.
@@ -225,6 +230,8 @@ fn threads(c: &mut Criterion) {
     let params = SimParams {
         pearls_per_segment: 1,
         local_shape_stiffness: 1.0,
+        // Every block awake (see `bench_set`).
+        sleep_speed: 0.0,
         ..Default::default()
     };
     let mut settled = Strands::from_polylines(&pts, verts).unwrap();
