@@ -119,12 +119,17 @@ pub fn draw_spheres(
     draw_spheres_with(frame, camera, spheres, shading, &transmittance, &Serial)
 }
 
-/// Rows of pixels a task of [`draw_spheres_with`] casts.
-const HEAD_ROWS: usize = 16;
+/// Fewest rows of pixels a task of [`draw_spheres_with`] casts.
+const HEAD_ROWS: usize = 4;
 
-/// [`draw_spheres`] with bands of 16 rows as tasks on
-/// `executor`: every pixel's ray depends on that pixel alone, so the bytes
-/// are the same with any number of threads.
+/// Most tasks [`draw_spheres_with`] makes.
+const HEAD_TASKS: usize = 64;
+
+/// [`draw_spheres`] with bands of rows as tasks on `executor` (at least 4
+/// rows each, at most 64 tasks: rows through the middle of the head cost
+/// more, so the bands are short for the work to spread evenly): every
+/// pixel's ray depends on that pixel alone, so the bytes are the same with
+/// any number of threads.
 pub fn draw_spheres_with(
     frame: &mut Framebuffer,
     camera: &Camera,
@@ -141,11 +146,12 @@ pub fn draw_spheres_with(
         return 0;
     }
     let covered = AtomicUsize::new(0);
+    let band_rows = HEAD_ROWS.max((y1 - y0).div_ceil(HEAD_TASKS));
     let rows = &mut frame.pixels[y0 * width..y1 * width];
-    for_each_chunk_mut(executor, rows, HEAD_ROWS * width, &|band_index, band| {
+    for_each_chunk_mut(executor, rows, band_rows * width, &|band_index, band| {
         let mut here = 0;
         for (r, row) in band.chunks_mut(width).enumerate() {
-            let y = y0 + band_index * HEAD_ROWS + r;
+            let y = y0 + band_index * band_rows + r;
             for (x, pixel) in row.iter_mut().enumerate().take(x1).skip(x0) {
                 let dir = camera.ray_direction(x as f32 + 0.5, y as f32 + 0.5);
                 let mut best: Option<(f32, usize)> = None;
