@@ -311,23 +311,24 @@ impl HairRaster {
         }
         let chunk = PROJECT_CHUNK.max(n.div_ceil(MAX_TASKS).next_multiple_of(8));
         let vertices = &job.vertices[..n];
-        let planes = self
-            .planes
-            .each_mut()
-            .map(|p| DisjointMut::new(&mut p[..n]));
+        // The planes hold eight entries past the capacity, so every task
+        // writes whole groups of eight.
+        let planes = self.planes.each_mut().map(|p| DisjointMut::new(&mut p[..]));
         for_each_chunk_mut(executor, &mut self.screen[..n], chunk, &|t, out| {
-            let (start, len) = (t * chunk, out.len());
-            // SAFETY: task t alone writes vertices [start, start + len) of
-            // the planes, as it alone holds that chunk of `screen`.
+            let (start, len) = (t * chunk, out.len().next_multiple_of(8));
+            // SAFETY: task t alone writes entries [start, start + len) of
+            // the planes: `chunk` is a multiple of eight, so only the last
+            // task's range is rounded up, into the padding.
             let [px, py, pd, pw] = planes.each_ref().map(|p| unsafe { p.range(start, len) });
             let chunks = out.chunks_mut(8).zip(vertices[start..].chunks(8));
             for (c, (dst, v)) in chunks.enumerate() {
-                let p = project_x8(job.camera, v);
-                dst.copy_from_slice(&p[..dst.len()]);
-                for (l, v) in dst.iter().enumerate() {
-                    let k = 8 * c + l;
-                    (px[k], py[k], pd[k], pw[k]) = (v.x, v.y, v.depth, v.width_px);
-                }
+                let p = project_planes_x8(job.camera, v);
+                let at = 8 * c..8 * c + 8;
+                px[at.clone()].copy_from_slice(p[0].as_array());
+                py[at.clone()].copy_from_slice(p[1].as_array());
+                pd[at.clone()].copy_from_slice(p[2].as_array());
+                pw[at].copy_from_slice(p[3].as_array());
+                dst.copy_from_slice(&screen_rows(p)[..dst.len()]);
             }
         });
     }
@@ -359,22 +360,27 @@ impl HairRaster {
                 let mut drawn_here = 0;
                 for (s, strand) in out.chunks_mut(vps).enumerate() {
                     let base = first + s * vps;
-                    let (mut at, mut ranges) = (usize::MAX, TileRects::default());
-                    for (j, rect) in strand[..vps - 1].iter_mut().enumerate() {
-                        let k = base + j;
-                        let (drawn, r) = if simd {
-                            if at == usize::MAX || k >= at + 8 {
-                                at = k;
-                                ranges = this.tile_rects_x8(k);
+                    let segments = &mut strand[..vps - 1];
+                    if simd {
+                        for (c, rects8) in segments.chunks_mut(8).enumerate() {
+                            let r = this.tile_rects_x8(base + 8 * c);
+                            let lanes = rects8.len();
+                            drawn_here += (r.drawn & ((1u32 << lanes) - 1)).count_ones() as usize;
+                            for (l, rect) in rects8.iter_mut().enumerate() {
+                                *rect = r.rect(l);
                             }
-                            ranges.lane(k - at)
-                        } else {
+                        }
+                    } else {
+                        for (j, rect) in segments.iter_mut().enumerate() {
+                            let k = base + j;
                             let (a, b) = (&this.screen[k], &this.screen[k + 1]);
                             let drawn = valid(a) && valid(b);
-                            (drawn, drawn.then(|| this.tile_rect(a, b)).flatten())
-                        };
-                        drawn_here += drawn as usize;
-                        *rect = if drawn { r.unwrap_or_default() } else { [0; 4] };
+                            drawn_here += drawn as usize;
+                            *rect = match drawn.then(|| this.tile_rect(a, b)).flatten() {
+                                Some(r) => r,
+                                None => [0; 4],
+                            };
+                        }
                     }
                     strand[vps - 1] = [0; 4];
                 }
@@ -551,11 +557,12 @@ impl HairRaster {
             (y0 * inv).floor(),
             ((y1 - one) * inv).floor() + one,
         ]
-        .map(|v| some.select(v, f32x8::ZERO).trunc_int().to_array());
+        .map(|v| (some & drawn).select(v, f32x8::ZERO).trunc_int());
+        // Tile numbers below 65,536 ([`HairRaster::with_bin_capacity`]).
+        let pack = |lo: i32x8, hi: i32x8| bytemuck::cast::<i32x8, [u32; 8]>(lo | (hi << 16));
         TileRects {
             drawn: drawn.to_bitmask(),
-            some: some.to_bitmask(),
-            tiles,
+            packed: [pack(tiles[0], tiles[1]), pack(tiles[2], tiles[3])],
         }
     }
 
@@ -696,22 +703,17 @@ pub(crate) enum Path {
 struct TileRects {
     /// Lanes whose two ends are valid.
     drawn: u32,
-    /// Lanes with a non-empty range.
-    some: u32,
-    /// `[x0, x1, y0, y1]`, lane by lane.
-    tiles: [[i32; 8]; 4],
+    /// Per lane `x0 | x1 << 16` and `y0 | y1 << 16` of its tiles
+    /// `[x0, x1) x [y0, y1)`; zero (no tile) when the lane draws nothing.
+    packed: [[u32; 8]; 2],
 }
 
 impl TileRects {
-    /// Lane `l` as `(both ends valid, tile range)`.
+    /// Lane `l`'s tiles as `[x0, x1, y0, y1]`.
     #[inline(always)]
-    fn lane(&self, l: usize) -> (bool, Option<[u16; 4]>) {
-        let drawn = self.drawn >> l & 1 != 0;
-        let some = self.some >> l & 1 != 0;
-        let t = &self.tiles;
-        // Tile numbers below 65,536 ([`HairRaster::with_bin_capacity`]).
-        let rect = [t[0][l], t[1][l], t[2][l], t[3][l]].map(|v| v as u16);
-        (drawn, some.then_some(rect))
+    fn rect(&self, l: usize) -> [u16; 4] {
+        let [x, y] = [self.packed[0][l], self.packed[1][l]];
+        [x as u16, (x >> 16) as u16, y as u16, (y >> 16) as u16]
     }
 }
 
@@ -925,18 +927,27 @@ pub fn project(camera: &Camera, v: &ShadedVertex) -> ScreenVertex {
 /// [`Camera::project`] in the same order (no fused multiply-add): the
 /// same bits as [`project`] vertex by vertex.
 pub fn project_x8(camera: &Camera, vertices: &[ShadedVertex]) -> [ScreenVertex; 8] {
+    screen_rows(project_planes_x8(camera, vertices))
+}
+
+/// [`project_x8`] as planes: pixel `x`, `y`, view depth, width in pixels,
+/// red, green, blue; an invalid lane holds a NaN depth and zeros
+/// elsewhere (as the invalid [`ScreenVertex`] of [`project`]). The eight
+/// vertices (eight floats each) come into lanes by one 8 x 8 transpose.
+#[inline(always)]
+fn project_planes_x8(camera: &Camera, vertices: &[ShadedVertex]) -> [f32x8; 7] {
     let (eye, forward, right, down, focal) = camera.basis();
-    let mut f = [[0.0f32; 8]; 7];
-    let mut present = [0.0f32; 8];
-    for (l, v) in vertices.iter().take(8).enumerate() {
-        let [x, y, z] = v.position;
-        let [r, g, b] = v.color;
-        for (plane, value) in f.iter_mut().zip([x, y, z, v.width, r, g, b]) {
-            plane[l] = value;
-        }
-        present[l] = 1.0;
-    }
-    let [x, y, z, width, r, g, b] = f.map(f32x8::new);
+    let n = vertices.len().min(8);
+    let rows: [f32x8; 8] = if n == 8 {
+        let rows: &[[f32; 8]] = bytemuck::cast_slice(&vertices[..8]);
+        std::array::from_fn(|l| f32x8::new(rows[l]))
+    } else {
+        std::array::from_fn(|l| match vertices.get(l) {
+            Some(v) => f32x8::new(bytemuck::cast(*v)),
+            None => f32x8::ZERO,
+        })
+    };
+    let [x, y, z, width, r, g, b, _] = f32x8::transpose(rows);
     let s = f32x8::splat;
     // 1. Depth along the view direction, as `Vec3::dot`: (x + y) + z.
     let (dx, dy, dz) = (x - s(eye.x), y - s(eye.y), z - s(eye.z));
@@ -957,23 +968,33 @@ pub fn project_x8(camera: &Camera, vertices: &[ShadedVertex]) -> [ScreenVertex; 
         & b.is_finite()
         & width_px.is_finite()
         & width_px.simd_ge(f32x8::ZERO)
-        & f32x8::new(present).simd_gt(f32x8::ZERO);
-    let bits = ok.to_bitmask();
-    let planes = [px, py, depth, width_px, r, g, b].map(|v| v.to_array());
-    std::array::from_fn(|l| {
-        if bits >> l & 1 == 0 {
-            return ScreenVertex {
-                depth: f32::NAN,
-                ..ScreenVertex::default()
-            };
-        }
-        let p = |i: usize| planes[i][l];
+        & LANE_INDEX.simd_lt(s(n as f32));
+    let zero = f32x8::ZERO;
+    [
+        ok.select(px, zero),
+        ok.select(py, zero),
+        ok.select(depth, s(f32::NAN)),
+        ok.select(width_px, zero),
+        ok.select(r, zero),
+        ok.select(g, zero),
+        ok.select(b, zero),
+    ]
+}
+
+/// The eight [`ScreenVertex`]es of [`project_planes_x8`]'s planes (one
+/// 8 x 8 transpose back).
+#[inline(always)]
+fn screen_rows(planes: [f32x8; 7]) -> [ScreenVertex; 8] {
+    let [x, y, d, w, r, g, b] = planes;
+    let rows = f32x8::transpose([x, y, d, w, r, g, b, f32x8::ZERO]);
+    rows.map(|row| {
+        let a = row.to_array();
         ScreenVertex {
-            x: p(0),
-            y: p(1),
-            depth: p(2),
-            width_px: p(3),
-            color: Vec3::new(p(4), p(5), p(6)),
+            x: a[0],
+            y: a[1],
+            depth: a[2],
+            width_px: a[3],
+            color: Vec3::new(a[4], a[5], a[6]),
         }
     })
 }
