@@ -376,10 +376,10 @@ impl HairRaster {
                             let (a, b) = (&this.screen[k], &this.screen[k + 1]);
                             let drawn = valid(a) && valid(b);
                             drawn_here += drawn as usize;
-                            *rect = match drawn.then(|| this.tile_rect(a, b)).flatten() {
-                                Some(r) => r,
-                                None => [0; 4],
-                            };
+                            *rect = drawn
+                                .then(|| this.tile_rect(a, b))
+                                .flatten()
+                                .unwrap_or_default();
                         }
                     }
                     strand[vps - 1] = [0; 4];
