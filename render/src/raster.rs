@@ -57,13 +57,13 @@
 //! frames agree bit for bit (the tests compare them on the default scene).
 
 use super::hair::NEAR;
-use super::line::{blend, ScreenVertex, Segment, SegmentsX8, Walk};
+use super::line::{ScreenVertex, Segment, SegmentsX8, Walk};
 use super::sort::DepthOrder;
 use super::{Camera, Framebuffer, Pixel, ShadedVertex};
 use coif_base::tasks::{for_each_chunk_mut, DisjointMut, Executor};
 use glam::Vec3;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use wide::{f32x8, i32x8};
+use wide::{f32x4, f32x8, i32x8};
 
 /// Vertices projected per task (a multiple of eight lanes): enough work per
 /// task (about 0.1 ms) that a job system's cost per task stays small.
@@ -84,7 +84,6 @@ const MIN_TASK_STRANDS: usize = 64;
 /// instead of 1.27 tile entries per segment: `render/README.md`).
 pub const TILE: usize = 64;
 const TILE_PIXELS: usize = TILE * TILE;
-const TILE_GROUPS: usize = TILE_PIXELS / 8;
 
 /// Why a [`HairRaster`] cannot be built.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -790,15 +789,14 @@ impl TileArea {
     }
 }
 
-/// A tile's colour and depth as planes of `f32x8` (row-major, [`TILE`]
-/// pixels per row); lanes outside the frame are never drawn.
+/// A tile's pixels, row-major ([`TILE`] pixels per row), each as one
+/// `f32x4` (red, green, blue, depth): a fragment's depth test and blend
+/// read and write one 16-byte slot. Slots outside the frame are never
+/// drawn.
 #[derive(Clone, Copy)]
 #[repr(C)]
 pub(crate) struct TileBuffer {
-    pub r: [f32x8; TILE_GROUPS],
-    pub g: [f32x8; TILE_GROUPS],
-    pub b: [f32x8; TILE_GROUPS],
-    pub depth: [f32x8; TILE_GROUPS],
+    pub pixels: [f32x4; TILE_PIXELS],
     /// Whether any pixel of the tile holds an opaque depth (not
     /// `+inf`); without one, every fragment passes the depth test (a
     /// segment's depth is finite) and the tile body skips it.
@@ -809,31 +807,19 @@ impl TileBuffer {
     /// A buffer of zeros (one per task, reused for its tiles).
     fn zeroed() -> TileBuffer {
         TileBuffer {
-            r: [f32x8::ZERO; TILE_GROUPS],
-            g: [f32x8::ZERO; TILE_GROUPS],
-            b: [f32x8::ZERO; TILE_GROUPS],
-            depth: [f32x8::ZERO; TILE_GROUPS],
+            pixels: [f32x4::ZERO; TILE_PIXELS],
             opaque: false,
         }
     }
 
-    /// The buffer as flat planes, and whether it holds an opaque depth.
+    /// The buffer's pixels, and whether it holds an opaque depth.
     #[inline(always)]
     pub fn planes(&mut self) -> (TilePlanes<'_>, bool) {
-        let TileBuffer {
-            r,
-            g,
-            b,
-            depth,
-            opaque,
-        } = self;
+        let opaque = self.opaque;
         let planes = TilePlanes {
-            depth: bytemuck::cast_slice(&depth[..]),
-            r: bytemuck::cast_slice_mut(&mut r[..]),
-            g: bytemuck::cast_slice_mut(&mut g[..]),
-            b: bytemuck::cast_slice_mut(&mut b[..]),
+            pixels: &mut self.pixels[..],
         };
-        (planes, *opaque)
+        (planes, opaque)
     }
 
     /// Copies the tile's pixels out of the frame.
@@ -843,23 +829,13 @@ impl TileBuffer {
     /// No other task reads or writes this tile's pixels meanwhile.
     #[inline]
     unsafe fn load(&mut self, pixels: &DisjointMut<'_, Pixel>, area: &TileArea) {
-        let planes: [&mut [f32]; 4] = [
-            bytemuck::cast_slice_mut(&mut self.r),
-            bytemuck::cast_slice_mut(&mut self.g),
-            bytemuck::cast_slice_mut(&mut self.b),
-            bytemuck::cast_slice_mut(&mut self.depth),
-        ];
-        let [r, g, b, depth] = planes;
         let mut opaque = false;
         for y in 0..area.rows {
             // SAFETY: the tile's pixels are this task's alone (the caller).
             let src = unsafe { area.row(pixels, y) };
             let at = y * TILE;
-            for (x, p) in src.iter().enumerate() {
-                r[at + x] = p.color.x;
-                g[at + x] = p.color.y;
-                b[at + x] = p.color.z;
-                depth[at + x] = p.depth;
+            for (dst, p) in self.pixels[at..at + src.len()].iter_mut().zip(src.iter()) {
+                *dst = f32x4::new([p.color.x, p.color.y, p.color.z, p.depth]);
                 opaque |= p.depth != f32::INFINITY;
             }
         }
@@ -873,15 +849,13 @@ impl TileBuffer {
     /// As [`TileBuffer::load`].
     #[inline]
     unsafe fn store(&self, pixels: &DisjointMut<'_, Pixel>, area: &TileArea) {
-        let r: &[f32] = bytemuck::cast_slice(&self.r);
-        let g: &[f32] = bytemuck::cast_slice(&self.g);
-        let b: &[f32] = bytemuck::cast_slice(&self.b);
         for y in 0..area.rows {
             // SAFETY: as in `load`.
             let dst = unsafe { area.row(pixels, y) };
             let at = y * TILE;
-            for (x, p) in dst.iter_mut().enumerate() {
-                p.color = Vec3::new(r[at + x], g[at + x], b[at + x]);
+            for (p, src) in dst.iter_mut().zip(&self.pixels[at..]) {
+                let [r, g, b, _] = src.to_array();
+                p.color = Vec3::new(r, g, b);
             }
         }
     }
@@ -1076,26 +1050,26 @@ const ROWS: u8 = 0;
 const BAND_ROWS: u8 = 1;
 const BAND_COLUMNS: u8 = 2;
 
-/// The tile's depth and colour planes as flat slices (row-major, [`TILE`]
-/// pixels per row).
+/// The tile's pixels as a flat slice (row-major, [`TILE`] pixels per
+/// row, each red, green, blue, depth).
 pub(crate) struct TilePlanes<'a> {
-    pub depth: &'a [f32],
-    pub r: &'a mut [f32],
-    pub g: &'a mut [f32],
-    pub b: &'a mut [f32],
+    pub pixels: &'a mut [f32x4],
 }
 
 impl TilePlanes<'_> {
     /// 5d. The depth test (when `DEPTH`: skipped for a tile without
     /// opaque depth) and the blend of one fragment at index `i` (taken
-    /// modulo the tile's size).
+    /// modulo the tile's size): each colour channel `c + alpha (colour -
+    /// c)` ([`blend`]'s operations, lane by lane, so the same bits), the
+    /// depth kept.
     #[inline(always)]
     pub fn blend<const DEPTH: bool>(&mut self, i: usize, z: f32, alpha: f32, [r, g, b]: [f32; 3]) {
-        let i = i % TILE_PIXELS;
-        if !DEPTH || z < self.depth[i] {
-            self.r[i] = blend(self.r[i], r, alpha);
-            self.g[i] = blend(self.g[i], g, alpha);
-            self.b[i] = blend(self.b[i], b, alpha);
+        let p = &mut self.pixels[i % TILE_PIXELS];
+        let depth = p.to_array()[3];
+        if !DEPTH || z < depth {
+            let colour = f32x4::new([r, g, b, depth]);
+            let keep = f32x4::new([0.0, 0.0, 0.0, f32::from_bits(u32::MAX)]);
+            *p = keep.select(*p, *p + (colour - *p) * f32x4::splat(alpha));
         }
     }
 }
