@@ -752,8 +752,8 @@ pub const KERNELS: &[Kernel] = &[
         name: "hair raster (binned SIMD, 512^2)",
         element: "segment",
         bytes: 160.0,
-        instructions: 760.7,
-        note: "the frame's rasteriser: projection (read 32 B, write 28 B screen vertex and 16 B planes per vertex), tile ranges and binning (rects written once, read twice; 1.12 list entries of 4 B at 64 x 64 tiles), then eight segments per register, each lane walking its own segment's candidate band, fragments blended in list order by a scalar loop (about 5 per tile entry): latency and blend bound; same bits as the reference",
+        instructions: 558.1,
+        note: "the frame's rasteriser: projection (read 32 B, write 28 B screen vertex and 16 B planes per vertex), tile ranges and binning (rects written once, read twice; 1.12 list entries of 4 B at 64 x 64 tiles), then eight segments per register, each lane walking its own segment's candidate band, fragments blended in list order into one 16-byte slot per pixel (about 5 per tile entry): latency bound; same bits as the reference",
         make: binned_raster_case,
     },
     Kernel {
