@@ -209,7 +209,7 @@ impl HairRaster {
     /// every segment blended with `alpha = coverage * opacity` over the
     /// frame's colour, hidden where the frame's depth (head, ribbons) is
     /// nearer: the same pixels and bits as [`crate::hair::draw_strands`]
-    /// on the same data. SIMD, eight pixels at a time; the scalar twin is
+    /// on the same data. SIMD, eight segments per register; the scalar twin is
     /// [`crate::scalar::draw`]. Every step runs as tasks on `executor`.
     ///
     /// Only the first [`HairRaster::vertex_capacity`] vertices are read;
@@ -812,14 +812,20 @@ impl TileBuffer {
         }
     }
 
-    /// The buffer's pixels, and whether it holds an opaque depth.
+    /// 5d. The depth test (when `DEPTH`: skipped for a tile without
+    /// opaque depth) and the blend of one fragment at index `i` (taken
+    /// modulo the tile's size): each colour channel `c + alpha (colour -
+    /// c)` ([`crate::line::blend`]'s operations, lane by lane, so the same
+    /// bits), the depth kept.
     #[inline(always)]
-    pub fn planes(&mut self) -> (TilePlanes<'_>, bool) {
-        let opaque = self.opaque;
-        let planes = TilePlanes {
-            pixels: &mut self.pixels[..],
-        };
-        (planes, opaque)
+    pub fn blend<const DEPTH: bool>(&mut self, i: usize, z: f32, alpha: f32, [r, g, b]: [f32; 3]) {
+        let p = &mut self.pixels[i % TILE_PIXELS];
+        let depth = p.to_array()[3];
+        if !DEPTH || z < depth {
+            let colour = f32x4::new([r, g, b, depth]);
+            let keep = f32x4::new([0.0, 0.0, 0.0, f32::from_bits(u32::MAX)]);
+            *p = keep.select(*p, *p + (colour - *p) * f32x4::splat(alpha));
+        }
     }
 
     /// Copies the tile's pixels out of the frame.
@@ -992,7 +998,7 @@ pub(crate) fn draw_tile(
     screen: &[ScreenVertex],
     opacity: f32,
 ) {
-    let (mut planes, opaque) = tile.planes();
+    let opaque = tile.opaque;
     let mut passes = [Pass::default(); MAX_PASSES];
     for (c, first) in list.chunks(8).enumerate() {
         // The next chunk's ends, from memory (the lists visit strands
@@ -1004,8 +1010,8 @@ pub(crate) fn draw_tile(
         let segments = Segment::new_x8(screen, first, area.width, area.height);
         if segments.near() {
             let done = match opaque {
-                false => draw_lanes::<false>(&segments, area, &mut planes, opacity, &mut passes),
-                true => draw_lanes::<true>(&segments, area, &mut planes, opacity, &mut passes),
+                false => draw_lanes::<false>(&segments, area, tile, opacity, &mut passes),
+                true => draw_lanes::<true>(&segments, area, tile, opacity, &mut passes),
             };
             if done {
                 continue;
@@ -1015,7 +1021,7 @@ pub(crate) fn draw_tile(
             let Some(seg) = segments.lane(l) else {
                 continue;
             };
-            let (p, o) = (&mut planes, opacity);
+            let (p, o) = (&mut *tile, opacity);
             match (seg.walk(), opaque) {
                 (Walk::BandRows, false) => draw_lines::<BAND_ROWS, false>(&seg, area, p, o),
                 (Walk::BandRows, true) => draw_lines::<BAND_ROWS, true>(&seg, area, p, o),
@@ -1050,30 +1056,6 @@ const ROWS: u8 = 0;
 const BAND_ROWS: u8 = 1;
 const BAND_COLUMNS: u8 = 2;
 
-/// The tile's pixels as a flat slice (row-major, [`TILE`] pixels per
-/// row, each red, green, blue, depth).
-pub(crate) struct TilePlanes<'a> {
-    pub pixels: &'a mut [f32x4],
-}
-
-impl TilePlanes<'_> {
-    /// 5d. The depth test (when `DEPTH`: skipped for a tile without
-    /// opaque depth) and the blend of one fragment at index `i` (taken
-    /// modulo the tile's size): each colour channel `c + alpha (colour -
-    /// c)` ([`blend`]'s operations, lane by lane, so the same bits), the
-    /// depth kept.
-    #[inline(always)]
-    pub fn blend<const DEPTH: bool>(&mut self, i: usize, z: f32, alpha: f32, [r, g, b]: [f32; 3]) {
-        let p = &mut self.pixels[i % TILE_PIXELS];
-        let depth = p.to_array()[3];
-        if !DEPTH || z < depth {
-            let colour = f32x4::new([r, g, b, depth]);
-            let keep = f32x4::new([0.0, 0.0, 0.0, f32::from_bits(u32::MAX)]);
-            *p = keep.select(*p, *p + (colour - *p) * f32x4::splat(alpha));
-        }
-    }
-}
-
 /// 5b-5d for one segment in one tile, its rows (or columns for
 /// `WALK` = [`BAND_COLUMNS`]) eight at a time, with the depth test when
 /// `DEPTH`.
@@ -1081,7 +1063,7 @@ impl TilePlanes<'_> {
 fn draw_lines<const WALK: u8, const DEPTH: bool>(
     seg: &Segment,
     area: &TileArea,
-    planes: &mut TilePlanes<'_>,
+    tile: &mut TileBuffer,
     opacity: f32,
 ) {
     const { assert!(WALK <= BAND_COLUMNS) };
@@ -1133,7 +1115,7 @@ fn draw_lines<const WALK: u8, const DEPTH: bool>(
                 while bits != 0 {
                     let l = bits.trailing_zeros() as usize;
                     bits &= bits - 1;
-                    planes.blend::<DEPTH>(index[l] as usize, z[l], alpha[l], [r[l], g[l], b[l]]);
+                    tile.blend::<DEPTH>(index[l] as usize, z[l], alpha[l], [r[l], g[l], b[l]]);
                 }
             }
             c += s(1.0);
@@ -1171,7 +1153,7 @@ struct Pass {
 fn draw_lanes<const DEPTH: bool>(
     segments: &SegmentsX8,
     area: &TileArea,
-    planes: &mut TilePlanes<'_>,
+    tile: &mut TileBuffer,
     opacity: f32,
     passes: &mut [Pass; MAX_PASSES],
 ) -> bool {
@@ -1243,7 +1225,7 @@ fn draw_lanes<const DEPTH: bool>(
             let p = &passes[bits.trailing_zeros() as usize];
             bits &= bits - 1;
             let rgb = [p.color[0][l], p.color[1][l], p.color[2][l]];
-            planes.blend::<DEPTH>(p.index[l] as usize, p.z[l], p.alpha[l], rgb);
+            tile.blend::<DEPTH>(p.index[l] as usize, p.z[l], p.alpha[l], rgb);
         }
     }
     true

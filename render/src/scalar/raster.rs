@@ -46,7 +46,7 @@ pub(crate) fn draw_tile(
     screen: &[ScreenVertex],
     opacity: f32,
 ) {
-    let (mut planes, opaque) = tile.planes();
+    let opaque = tile.opaque;
     for &k in list {
         let k = k as usize;
         // 5a. Set up the segment (its list entry guarantees it draws).
@@ -81,9 +81,9 @@ pub(crate) fn draw_tile(
                     let (x, y) = if columns { (line, c) } else { (c, line) };
                     let i = (y as i32 as usize - area.y0) * TILE + (x as i32 as usize - area.x0);
                     if opaque {
-                        planes.blend::<true>(i, f.depth, f.alpha, f.color.to_vec3().to_array());
+                        tile.blend::<true>(i, f.depth, f.alpha, f.color.to_vec3().to_array());
                     } else {
-                        planes.blend::<false>(i, f.depth, f.alpha, f.color.to_vec3().to_array());
+                        tile.blend::<false>(i, f.depth, f.alpha, f.color.to_vec3().to_array());
                     }
                 }
                 c += 1.0;
