@@ -423,17 +423,7 @@ impl HairRaster {
             counts.fill(0);
             let mut total = 0u32;
             for_segments(order, rects, vps, n, runs(t), |_, r| {
-                let area = (r[1] - r[0]) as u32 * (r[3] - r[2]) as u32;
-                if area == 1 {
-                    // Four segments in five lie in one tile.
-                    counts[r[2] as usize * tiles_x + r[0] as usize] += 1;
-                } else {
-                    for ty in r[2] as usize..r[3] as usize {
-                        for c in &mut counts[ty * tiles_x..][r[0] as usize..r[1] as usize] {
-                            *c += 1;
-                        }
-                    }
-                }
+                let area = for_each_tile(r, tiles_x, |tile| counts[tile] += 1);
                 total = total.saturating_add(area);
             });
             counts[2 * tiles] = total;
@@ -470,15 +460,7 @@ impl HairRaster {
                 }
             };
             for_segments(order, rects, vps, n, runs(t), |k, r| {
-                if r[1] - r[0] == 1 && r[3] - r[2] == 1 {
-                    put(r[2] as usize * tiles_x + r[0] as usize, k);
-                    return;
-                }
-                for ty in r[2] as usize..r[3] as usize {
-                    for tx in r[0] as usize..r[1] as usize {
-                        put(ty * tiles_x + tx, k);
-                    }
-                }
+                for_each_tile(r, tiles_x, |tile| put(tile, k));
             });
         });
         true
@@ -508,12 +490,7 @@ impl HairRaster {
                         return (i, j);
                     }
                     used += area;
-                    for ty in r[2] as usize..r[3] as usize {
-                        let row = &mut self.cursor[ty * self.tiles_x..][..self.tiles_x];
-                        for c in &mut row[r[0] as usize..r[1] as usize] {
-                            *c += 1;
-                        }
-                    }
+                    for_each_tile(r, self.tiles_x, |tile| self.cursor[tile] += 1);
                     j += 1;
                 }
             }
@@ -595,14 +572,11 @@ impl HairRaster {
                 let last = if i == to.0 { to.1 } else { vps - 1 };
                 while j < last {
                     let k = base + j;
-                    let r = self.rects[k];
-                    for ty in r[2] as usize..r[3] as usize {
-                        for tx in r[0] as usize..r[1] as usize {
-                            let c = &mut self.cursor[ty * self.tiles_x + tx];
-                            self.bins[*c as usize] = k as u32;
-                            *c += 1;
-                        }
-                    }
+                    let (cursor, bins) = (&mut self.cursor, &mut self.bins);
+                    for_each_tile(self.rects[k], self.tiles_x, |tile| {
+                        bins[cursor[tile] as usize] = k as u32;
+                        cursor[tile] += 1;
+                    });
                     j += 1;
                 }
             }
@@ -664,6 +638,25 @@ impl HairRaster {
             }
         });
     }
+}
+
+/// Calls `f(tile)` for every tile of the range `[x0, x1) x [y0, y1)` in
+/// row-major order (`tiles_x` tiles per row), a one-tile range (four
+/// segments in five) without the loops; returns the number of tiles.
+#[inline(always)]
+fn for_each_tile(r: [u16; 4], tiles_x: usize, mut f: impl FnMut(usize)) -> u32 {
+    let [x0, x1, y0, y1] = r.map(usize::from);
+    let area = (x1 - x0) * (y1 - y0);
+    if area == 1 {
+        f(y0 * tiles_x + x0);
+    } else {
+        for ty in y0..y1 {
+            for tx in x0..x1 {
+                f(ty * tiles_x + tx);
+            }
+        }
+    }
+    area as u32
 }
 
 /// Calls `f(first vertex, tile range)` for every segment of the strands at
