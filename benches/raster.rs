@@ -4,8 +4,9 @@
 //!
 //! Groups:
 //! - `raster/cache/{reference,binned-scalar,binned-simd}`: 120 short
-//!   strands (840 segments, 3-4 px each, 0.4-1.5 px wide) inside one 32 x 32
-//!   tile of a 64 x 64 frame: everything in L1/L2, the per-segment cost.
+//!   strands (840 segments, 3-4 px each, 0.4-1.5 px wide) inside a 32 x 32
+//!   region of a 64 x 64 frame (one tile): everything in L1/L2, the
+//!   per-segment cost.
 //! - `raster/frame/{reference,binned-scalar,binned-simd}`: the default
 //!   scene's last frame (835,016 segments at 512 x 512, built once
 //!   through `coif_frame`'s public API), over the frame's head and ribbons:

@@ -15,7 +15,7 @@
 //! - [`hair`]: drawing every strand's segments in that order, directly
 //!   (the reference).
 //! - [`raster`]: the binned rasteriser the frame uses: segments sorted into
-//!   screen tiles, each tile drawn in cache eight pixels at a time
+//!   screen tiles, each tile drawn in cache eight segments per register
 //!   ([`raster::HairRaster`]; scalar twin [`scalar::draw`]).
 //! - [`triangle`]: opaque triangles (edge functions, top-left rule, depth
 //!   test) and [`grid`]: a row-major grid mesh of them (the ribbon).
