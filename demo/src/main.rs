@@ -96,6 +96,10 @@ struct Cli {
     /// hairs (1 = all of them).
     #[arg(long, default_value_t = DEFAULT_SHADOW_THINNING, value_name = "K")]
     shadow_thinning: usize,
+    /// Draw the hair segments hidden behind the head too (they are culled
+    /// by default: exact, the same picture; this measures what it saves).
+    #[arg(long)]
+    no_occlusion_culling: bool,
     /// Also write the per-stage times as CSV (`stage,runs,mean_ms,last_ms`).
     #[arg(long, value_name = "PATH")]
     timings_csv: Option<PathBuf>,
@@ -373,6 +377,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         shadows: !cli.no_shadows,
         prepare: cli.prepare,
         shadow_thinning: cli.shadow_thinning.max(1),
+        occlusion_culling: !cli.no_occlusion_culling,
         ..FrameSettings::default()
     };
     let local_shape = cli
@@ -441,7 +446,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         .save_png(&cli.output)
         .map_err(|e| format!("{}: {e}", cli.output.display()))?;
     println!(
-        "{frames} frames ({:.1} s of motion at {} fps) in {:.2} s; last frame: {} hairs, {} vertices, {} segments/span, width x{:.2}, {} segments drawn",
+        "{frames} frames ({:.1} s of motion at {} fps) in {:.2} s; last frame: {} hairs, {} vertices, {} segments/span, width x{:.2}, {} segments drawn ({} of them hidden behind the head, culled)",
         frames as f32 * dt,
         cli.fps,
         total.as_secs_f64(),
@@ -449,7 +454,8 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         last.vertices,
         last.segments_per_span,
         last.width_factor,
-        last.segments
+        last.segments,
+        last.hidden_segments
     );
     println!("\nper-stage time (mean over the frames that ran each stage):");
     println!("{}", pipeline.timings());

@@ -156,8 +156,11 @@ pub struct FrameStats {
     pub segments_per_span: usize,
     /// Hair width multiplier from distance LOD.
     pub width_factor: f32,
-    /// Hair segments rasterised.
+    /// Hair segments rasterised (both ends valid).
     pub segments: usize,
+    /// Of `segments`, those left out as hidden behind the head
+    /// ([`FrameSettings::occlusion_culling`]).
+    pub hidden_segments: usize,
     /// Pixels covered by the head.
     pub head_pixels: usize,
     /// Pixels written by the ribbons (opaque triangles).
@@ -823,6 +826,14 @@ impl FramePipeline {
     /// its runs of tiles as tasks on `executor`.
     fn draw_hair(&mut self, camera: &Camera, executor: &dyn Executor) {
         let verts_per_hair = self.verts_per_hair();
+        // The head's spheres were drawn opaque (`draw_head`) and the
+        // ribbons only ever bring depths nearer: what they hide is culled.
+        let occluders: &[Sphere] = if self.settings.occlusion_culling {
+            &self.head_local
+        } else {
+            &[]
+        };
+        self.raster.set_occluders(occluders);
         self.stats.segments = self.raster.draw(
             &mut self.framebuffer,
             camera,
@@ -832,6 +843,7 @@ impl FramePipeline {
             self.settings.hair_opacity,
             executor,
         );
+        self.stats.hidden_segments = self.raster.stats().hidden;
     }
 
     /// The linear-RGB frame of the last [`FramePipeline::render`].

@@ -99,6 +99,11 @@ pub struct FrameSettings {
     /// `shadow_thinning`-th drawn interpolation group, each hair's shadow
     /// widened as many times (1 = every hair, the reference's map).
     pub shadow_thinning: usize,
+    /// The hair rasteriser leaves out segments hidden behind the head's
+    /// spheres (`coif_render::raster::HairRaster::set_occluders`): exact,
+    /// the frame's bytes do not change; `false` draws every segment (to
+    /// measure what culling saves).
+    pub occlusion_culling: bool,
 }
 
 impl Default for FrameSettings {
@@ -133,6 +138,7 @@ impl Default for FrameSettings {
             shadows: true,
             prepare: PrepareMode::Fused,
             shadow_thinning: DEFAULT_SHADOW_THINNING,
+            occlusion_culling: true,
         }
     }
 }

@@ -191,3 +191,29 @@ fn bad_frame_times_and_poses_are_ignored_not_propagated() {
         assert!(p.strands().restored_strands() == 0, "no strand blew up");
     }
 }
+
+/// Culling the hair hidden behind the head changes no byte of the
+/// picture, and does cull: the same frames with and without it, from the
+/// default view (hair on the far side behind the head) and from the side.
+#[test]
+fn culling_hair_behind_the_head_keeps_every_byte() {
+    for view in [None, Some(Vec3::X)] {
+        let settings = |occlusion_culling| FrameSettings {
+            occlusion_culling,
+            view_direction: view,
+            ..FrameSettings::small(128)
+        };
+        let (on, a) = run(settings(true), 3);
+        let (off, b) = run(settings(false), 3);
+        assert!(a.data == b.data, "view {view:?}: the pictures differ");
+        let (s_on, s_off) = (on.stats(), off.stats());
+        assert_eq!(s_on.segments, s_off.segments);
+        assert_eq!(s_off.hidden_segments, 0);
+        assert!(
+            s_on.hidden_segments > s_on.segments / 20 && s_on.hidden_segments < s_on.segments,
+            "view {view:?}: {} of {} segments culled",
+            s_on.hidden_segments,
+            s_on.segments
+        );
+    }
+}

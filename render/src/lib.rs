@@ -31,6 +31,7 @@ pub mod hair;
 pub mod head;
 pub mod image;
 pub mod line;
+pub mod occlusion;
 pub mod raster;
 pub mod scalar;
 pub mod sort;

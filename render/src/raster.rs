@@ -58,9 +58,12 @@
 
 use super::hair::NEAR;
 use super::line::{ScreenVertex, Segment, SegmentsX8, Walk};
+use super::occlusion::OccluderCones;
+pub use super::occlusion::MAX_OCCLUDERS;
 use super::sort::DepthOrder;
 use super::{Camera, Framebuffer, Pixel, ShadedVertex};
 use coif_base::tasks::{for_each_chunk_mut, DisjointMut, Executor};
+use coif_base::Sphere;
 use glam::Vec3;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use wide::{f32x4, f32x8, i32x8};
@@ -120,6 +123,9 @@ pub struct RasterStats {
     pub entries: usize,
     /// Batches the segments were drawn in (1 unless the bins overflowed).
     pub batches: usize,
+    /// Segments left out as hidden behind an occluder
+    /// ([`HairRaster::set_occluders`]), of `segments`.
+    pub hidden: usize,
 }
 
 /// The binned rasteriser's buffers, sized once: projected vertices and
@@ -147,6 +153,12 @@ pub struct HairRaster {
     task_bins: Vec<u32>,
     /// The tile lists, tile after tile: first vertex index of each segment.
     bins: Vec<u32>,
+    /// Opaque spheres already drawn into the frame, in the camera's space
+    /// ([`HairRaster::set_occluders`]).
+    occluders: [Sphere; MAX_OCCLUDERS],
+    occluder_count: usize,
+    /// The occluders' cones for the camera of the current draw.
+    cones: OccluderCones,
     stats: RasterStats,
 }
 
@@ -185,6 +197,12 @@ impl HairRaster {
             cursor: vec![0; tiles],
             task_bins: vec![0; MAX_BIN_TASKS * (2 * tiles + 1)],
             bins: vec![0; bin_capacity],
+            occluders: std::array::from_fn(|_| Sphere {
+                center: Vec3::ZERO,
+                radius: 0.0,
+            }),
+            occluder_count: 0,
+            cones: OccluderCones::default(),
             stats: RasterStats::default(),
         })
     }
@@ -197,6 +215,23 @@ impl HairRaster {
     /// Number of vertices the buffers hold.
     pub fn vertex_capacity(&self) -> usize {
         self.screen.len()
+    }
+
+    /// Declares the opaque spheres the caller has drawn into the frame
+    /// before the hair (their depth written, as
+    /// [`crate::head::draw_spheres`] does, and no depth moved farther
+    /// since), in the camera's space: the draws that follow leave out the
+    /// segments these hide (`crate::occlusion`: both ends inside a
+    /// sphere's screen disc shrunk by the segment's reach and a pixel,
+    /// and behind its centre), which changes no pixel. At most
+    /// [`MAX_OCCLUDERS`] are kept (returned); an empty slice turns culling
+    /// off. Spheres that hold the eye or cover too few pixels are ignored
+    /// at draw time.
+    pub fn set_occluders(&mut self, spheres: &[Sphere]) -> usize {
+        let n = spheres.len().min(MAX_OCCLUDERS);
+        self.occluders[..n].clone_from_slice(&spheres[..n]);
+        self.occluder_count = n;
+        n
     }
 
     /// What the last draw did.
@@ -257,6 +292,7 @@ impl HairRaster {
             return 0;
         }
         let n = job.vertices.len().min(self.screen.len());
+        self.cones = OccluderCones::new(job.camera, &self.occluders[..self.occluder_count]);
         // 1. Project every vertex once.
         self.project(job, n, executor, simd);
         // 2a. Every segment's tile range.
@@ -348,6 +384,7 @@ impl HairRaster {
         let strands = job.order.len().min(n / vps);
         let per_task = MIN_TASK_STRANDS.max(strands.div_ceil(MAX_TASKS));
         let drawn_total = AtomicUsize::new(0);
+        let hidden_total = AtomicUsize::new(0);
         let mut rects = std::mem::take(&mut self.rects);
         let this = &*self;
         for_each_chunk_mut(
@@ -356,15 +393,16 @@ impl HairRaster {
             per_task * vps,
             &|t, out| {
                 let first = t * per_task * vps;
-                let mut drawn_here = 0;
+                let (mut drawn_here, mut hidden_here) = (0, 0);
                 for (s, strand) in out.chunks_mut(vps).enumerate() {
                     let base = first + s * vps;
                     let segments = &mut strand[..vps - 1];
                     if simd {
                         for (c, rects8) in segments.chunks_mut(8).enumerate() {
                             let r = this.tile_rects_x8(base + 8 * c);
-                            let lanes = rects8.len();
-                            drawn_here += (r.drawn & ((1u32 << lanes) - 1)).count_ones() as usize;
+                            let lanes = (1u32 << rects8.len()) - 1;
+                            drawn_here += (r.drawn & lanes).count_ones() as usize;
+                            hidden_here += (r.hidden & lanes).count_ones() as usize;
                             for (l, rect) in rects8.iter_mut().enumerate() {
                                 *rect = r.rect(l);
                             }
@@ -374,8 +412,10 @@ impl HairRaster {
                             let k = base + j;
                             let (a, b) = (&this.screen[k], &this.screen[k + 1]);
                             let drawn = valid(a) && valid(b);
+                            let hidden = drawn && this.cones.any() && this.cones.hides(a, b);
                             drawn_here += drawn as usize;
-                            *rect = drawn
+                            hidden_here += hidden as usize;
+                            *rect = (drawn && !hidden)
                                 .then(|| this.tile_rect(a, b))
                                 .flatten()
                                 .unwrap_or_default();
@@ -384,9 +424,11 @@ impl HairRaster {
                     strand[vps - 1] = [0; 4];
                 }
                 drawn_total.fetch_add(drawn_here, Ordering::Relaxed);
+                hidden_total.fetch_add(hidden_here, Ordering::Relaxed);
             },
         );
         self.rects = rects;
+        self.stats.hidden = hidden_total.into_inner();
         drawn_total.into_inner()
     }
 
@@ -511,7 +553,15 @@ impl HairRaster {
         let [px, py, pd, pw] = &self.planes;
         let (ax, ay, aw) = (load(px, k), load(py, k), load(pw, k));
         let (bx, by, bw) = (load(px, k + 1), load(py, k + 1), load(pw, k + 1));
-        let drawn = !(load(pd, k).is_nan() | load(pd, k + 1).is_nan());
+        let (az, bz) = (load(pd, k), load(pd, k + 1));
+        let drawn = !(az.is_nan() | bz.is_nan());
+        // 0. Hidden behind an occluder (`crate::occlusion`; NaN lanes
+        // never are).
+        let hidden = if self.cones.any() {
+            self.cones.hides_lanes([ax, ay, az, aw], [bx, by, bz, bw]) & drawn
+        } else {
+            f32x8::ZERO
+        };
         // 1. Length: not NaN, above 1e-12 and finite.
         let (ex, ey) = (bx - ax, by - ay);
         let len2 = ex * ex + ey * ey;
@@ -533,11 +583,12 @@ impl HairRaster {
             (y0 * inv).floor(),
             ((y1 - one) * inv).floor() + one,
         ]
-        .map(|v| (some & drawn).select(v, f32x8::ZERO).trunc_int());
+        .map(|v| (some & drawn & !hidden).select(v, f32x8::ZERO).trunc_int());
         // Tile numbers below 65,536 ([`HairRaster::with_bin_capacity`]).
         let pack = |lo: i32x8, hi: i32x8| bytemuck::cast::<i32x8, [u32; 8]>(lo | (hi << 16));
         TileRects {
             drawn: drawn.to_bitmask(),
+            hidden: hidden.to_bitmask(),
             packed: [pack(tiles[0], tiles[1]), pack(tiles[2], tiles[3])],
         }
     }
@@ -695,6 +746,8 @@ pub(crate) enum Path {
 struct TileRects {
     /// Lanes whose two ends are valid.
     drawn: u32,
+    /// Lanes (of `drawn`) hidden behind an occluder, given no tile.
+    hidden: u32,
     /// Per lane `x0 | x1 << 16` and `y0 | y1 << 16` of its tiles
     /// `[x0, x1) x [y0, y1)`; zero (no tile) when the lane draws nothing.
     packed: [[u32; 8]; 2],

@@ -429,3 +429,111 @@ fn band_walks_draw_the_reference_pixels_at_every_angle() {
         assert_same(&got, &want, &format!("simd {simd}"));
     }
 }
+
+/// Hair around and behind two opaque spheres drawn into the frame: with
+/// the spheres declared as occluders the rasteriser leaves out the
+/// segments they hide, and the frame is still the reference's (which
+/// draws every segment) bit for bit, in both twins and on any executor.
+/// The strands cross the discs' rims at every angle and depth, 0.1 to 10
+/// pixels wide (beyond the widest culled reach), some from behind a sphere
+/// to in front of it.
+#[test]
+fn segments_hidden_behind_occluders_are_culled_without_changing_a_bit() {
+    use coif_base::Sphere;
+    use coif_render::head::{draw_spheres, HeadShading};
+    let spheres = [
+        Sphere {
+            center: Vec3::new(0.02, 0.0, -0.05),
+            radius: 0.12,
+        },
+        Sphere {
+            center: Vec3::new(-0.09, -0.09, -0.02),
+            radius: 0.07,
+        },
+    ];
+    let cam = camera();
+    let shading = HeadShading {
+        albedo: Vec3::new(0.7, 0.5, 0.4),
+        to_light: Vec3::new(0.3, 0.8, 0.5).normalize(),
+        light: Vec3::ONE,
+        ambient: Vec3::splat(0.1),
+    };
+    let backdrop_with_head = || {
+        let mut f = Framebuffer::new(SIZE, SIZE);
+        f.clear_gradient(Vec3::new(0.2, 0.2, 0.3), Vec3::new(0.0, 0.05, 0.1));
+        assert!(draw_spheres(&mut f, &cam, &spheres, &shading, |_| 1.0) > 2000);
+        f
+    };
+    // Straight strands through random points of a box around the spheres,
+    // in random directions, mostly behind them.
+    let (vps, count) = (12, 1500);
+    let mut rng = SplitMix64::new(21);
+    let mut vertices = Vec::with_capacity(vps * count);
+    for i in 0..count {
+        let mut p = Vec3::new(
+            rng.range(-0.25, 0.25),
+            rng.range(-0.25, 0.25),
+            rng.range(-0.3, 0.12),
+        );
+        let dir = rng.unit_vector();
+        let step = rng.range(0.002, 0.02);
+        // 0.1 to 10 px at the scene's depth (f is about 270 px).
+        let width = 0.004 * (i % 100) as f32 / 100.0 + 4e-4;
+        let color = Vec3::new(rng.range(0.1, 0.9), rng.range(0.1, 0.9), 0.2);
+        for k in 0..vps {
+            vertices.push(ShadedVertex {
+                position: p.into(),
+                width,
+                color: color.into(),
+                strand_parameter: k as f32 / (vps - 1) as f32,
+            });
+            p += dir * step;
+        }
+    }
+    let order = sorted(&vertices, vps);
+    let mut want = backdrop_with_head();
+    let n = hair::draw_shaded(&mut want, &cam, &vertices, vps, &order, 0.8);
+    let mut raster = HairRaster::new(SIZE, SIZE, vertices.len()).unwrap();
+    let mut draw = |occluders: &[Sphere], simd: bool, executor: &dyn Executor| {
+        raster.set_occluders(occluders);
+        let mut got = backdrop_with_head();
+        let m = if simd {
+            raster.draw(&mut got, &cam, &vertices, vps, &order, 0.8, executor)
+        } else {
+            scalar::draw(
+                &mut raster,
+                &mut got,
+                &cam,
+                &vertices,
+                vps,
+                &order,
+                0.8,
+                executor,
+            )
+        };
+        assert_eq!(m, n, "segments with both ends valid");
+        (got, raster.stats().hidden)
+    };
+    let (plain, none) = draw(&[], true, &Serial);
+    assert_eq!(none, 0, "no occluders, nothing culled");
+    assert_same(&plain, &want, "no occluders");
+    let mut hidden = Vec::new();
+    for simd in [true, false] {
+        for (executor, name) in [
+            (&Serial as &dyn Executor, "serial"),
+            (&Reversed(3), "reversed, split for 3 threads"),
+            (&TwoThreads, "two threads"),
+        ] {
+            let (got, h) = draw(&spheres, simd, executor);
+            assert_same(&got, &want, &format!("occluders, simd {simd}, {name}"));
+            hidden.push(h);
+        }
+    }
+    // The twins cull the same segments, a good share of them.
+    assert!(hidden.iter().all(|&h| h == hidden[0]), "{hidden:?}");
+    assert!(
+        hidden[0] > n / 10 && hidden[0] < n,
+        "{} of {n} segments culled",
+        hidden[0]
+    );
+}
