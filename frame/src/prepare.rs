@@ -93,27 +93,42 @@ pub(crate) fn shade_group(
     } else {
         0.0
     };
+    // The lanes holding one of the group's hairs.
+    let real =
+        f32x8::new(std::array::from_fn(|l| if l < hairs { 1.0 } else { 0.0 })).simd_gt(f32x8::ZERO);
     for r in 0..r_len {
         // 1. Interpolate.
         let p = blend.position_x8(r);
         let t = blend.tangent_x8(r);
         // 2. Shade.
         let wo = (eye - p).normalize_or(Vec3x8::splat(Vec3::Z));
-        let s = ctx.shader.scattering_x8(t, wi, wo);
-        // 3. Visibility: shadow map, head.
-        let transmittance = ctx.shadow.map_or(f32x8::ONE, |m| m.transmittance_x8(p));
         let head = occluded_x8(p, light.to_light, ctx.head, 1e-3);
-        let visible = head.select(f32x8::ZERO, transmittance);
-        // 4. Colour.
-        let mut direct = Vec3x8::new(
-            s.x * f32x8::splat(irradiance.x) * visible,
-            s.y * f32x8::splat(irradiance.y) * visible,
-            s.z * f32x8::splat(irradiance.z) * visible,
-        );
-        if cosine {
-            let c = t.dot(wi);
-            direct = direct * (f32x8::ONE - c * c).max(f32x8::ZERO).sqrt();
-        }
+        // A lane in the head's shadow gets no direct light (`visible` is
+        // 0 below). When every hair lane is, with finite directions (so a
+        // finite scattering value, which times 0 is 0), the model and the
+        // shadow map are not evaluated: `direct` is the zero they would
+        // give, the same bits after the ambient term is added.
+        let dark = (head | !real).all() && (t.finite() & wo.finite()).all();
+        let direct = if dark {
+            Vec3x8::ZERO
+        } else {
+            let s = ctx.shader.scattering_x8(t, wi, wo);
+            // 3. Visibility: shadow map, head.
+            let transmittance = ctx.shadow.map_or(f32x8::ONE, |m| m.transmittance_x8(p));
+            let visible = head.select(f32x8::ZERO, transmittance);
+            // 4. Colour.
+            let direct = Vec3x8::new(
+                s.x * f32x8::splat(irradiance.x) * visible,
+                s.y * f32x8::splat(irradiance.y) * visible,
+                s.z * f32x8::splat(irradiance.z) * visible,
+            );
+            if cosine {
+                let c = t.dot(wi);
+                direct * (f32x8::ONE - c * c).max(f32x8::ZERO).sqrt()
+            } else {
+                direct
+            }
+        };
         let c = (direct + Vec3x8::splat(ambient)) * tint;
         let c = Vec3x8::select(c.finite(), c, Vec3x8::splat(ambient));
         // 5. Write: the eight lanes' fields (the `ShadedVertex` order)
