@@ -7,10 +7,13 @@
 //!   strands (840 segments, 3-4 px each, 0.4-1.5 px wide) inside a 32 x 32
 //!   region of a 64 x 64 frame (one tile): everything in L1/L2, the
 //!   per-segment cost.
-//! - `raster/frame/{reference,binned-scalar,binned-simd}`: the default
-//!   scene's last frame (835,016 segments at 512 x 512, built once
-//!   through `coif_frame`'s public API), over the frame's head and ribbons:
-//!   streaming, projection, binning and tiles included.
+//! - `raster/frame/{reference,binned-scalar,binned-simd,binned-simd-culled}`:
+//!   the default scene's last frame (835,016 segments at 512 x 512, built
+//!   once through `coif_frame`'s public API), over the frame's head and
+//!   ribbons: streaming, projection, binning and tiles included;
+//!   `binned-simd-culled` declares the head's spheres as occluders
+//!   (`HairRaster::set_occluders`, as the frame pipeline does), the others
+//!   draw every segment.
 //! - `raster/sort/{comparison,radix}`: the strand sort of the default frame.
 //!
 //! Before timing, the binned frames are checked against the reference bit
@@ -20,6 +23,7 @@ use coif::base::tasks::Serial;
 use coif::frame::{motion, FramePipeline, FrameSettings, HairScene};
 use coif::geometry::scene::GrowOptions;
 use coif::kernels::rng::SplitMix64;
+use coif::kernels::Sphere;
 use coif::render::raster::HairRaster;
 use coif::render::sort::DepthOrder;
 use coif::render::{hair, scalar, Camera, Framebuffer, ShadedVertex};
@@ -33,10 +37,18 @@ struct Scene {
     vps: usize,
     order: DepthOrder,
     backdrop: Framebuffer,
+    /// Opaque spheres drawn in the backdrop (the head), for the culled run.
+    occluders: Vec<Sphere>,
 }
 
 impl Scene {
-    fn new(camera: Camera, shaded: Vec<ShadedVertex>, vps: usize, backdrop: Framebuffer) -> Scene {
+    fn new(
+        camera: Camera,
+        shaded: Vec<ShadedVertex>,
+        vps: usize,
+        backdrop: Framebuffer,
+        occluders: Vec<Sphere>,
+    ) -> Scene {
         let mut order = DepthOrder::with_capacity(shaded.len() / vps);
         order.sort(&camera, &shaded, vps);
         Scene {
@@ -45,6 +57,7 @@ impl Scene {
             vps,
             order,
             backdrop,
+            occluders,
         }
     }
 
@@ -60,8 +73,15 @@ impl Scene {
         )
     }
 
-    fn binned(&self, raster: &mut HairRaster, frame: &mut Framebuffer, simd: bool) -> usize {
+    fn binned(
+        &self,
+        raster: &mut HairRaster,
+        frame: &mut Framebuffer,
+        simd: bool,
+        culled: bool,
+    ) -> usize {
         frame.pixels.copy_from_slice(&self.backdrop.pixels);
+        raster.set_occluders(if culled { &self.occluders } else { &[] });
         let (c, v, o) = (&self.camera, &self.shaded[..], &self.order);
         if simd {
             raster.draw(frame, c, v, self.vps, o, 0.8, &Serial)
@@ -106,7 +126,7 @@ fn tile_scene() -> Scene {
     }
     let mut backdrop = Framebuffer::new(size, size);
     backdrop.clear_gradient(Vec3::splat(0.2), Vec3::splat(0.05));
-    Scene::new(camera, shaded, 8, backdrop)
+    Scene::new(camera, shaded, 8, backdrop, Vec::new())
 }
 
 /// The default scene's last frame as `cargo run --release` draws it (90
@@ -142,7 +162,8 @@ fn frame_scene() -> Scene {
     };
     let mut bare = FramePipeline::new(&scene, settings, 1.5).unwrap();
     run(&mut bare);
-    Scene::new(camera, shaded, vps, bare.framebuffer().clone())
+    let occluders = p.head_spheres().to_vec();
+    Scene::new(camera, shaded, vps, bare.framebuffer().clone(), occluders)
 }
 
 fn bench_scene(c: &mut Criterion, name: &str, s: &Scene) {
@@ -150,12 +171,12 @@ fn bench_scene(c: &mut Criterion, name: &str, s: &Scene) {
     let mut raster = HairRaster::new(w, h, s.shaded.len()).unwrap();
     let mut want = s.backdrop.clone();
     let segments = s.reference(&mut want);
-    for simd in [false, true] {
+    for (simd, culled) in [(false, false), (true, false), (true, true)] {
         let mut got = s.backdrop.clone();
-        assert_eq!(s.binned(&mut raster, &mut got, simd), segments);
+        assert_eq!(s.binned(&mut raster, &mut got, simd, culled), segments);
         assert!(
             got.pixels == want.pixels,
-            "{name}: binned (simd {simd}) differs from the reference"
+            "{name}: binned (simd {simd}, culled {culled}) differs from the reference"
         );
     }
     eprintln!("raster/{name}: {segments} segments, {:?}", raster.stats());
@@ -167,11 +188,16 @@ fn bench_scene(c: &mut Criterion, name: &str, s: &Scene) {
     }
     g.bench_function("reference", |b| b.iter(|| s.reference(&mut frame)));
     g.bench_function("binned-scalar", |b| {
-        b.iter(|| s.binned(&mut raster, &mut frame, false))
+        b.iter(|| s.binned(&mut raster, &mut frame, false, false))
     });
     g.bench_function("binned-simd", |b| {
-        b.iter(|| s.binned(&mut raster, &mut frame, true))
+        b.iter(|| s.binned(&mut raster, &mut frame, true, false))
     });
+    if !s.occluders.is_empty() {
+        g.bench_function("binned-simd-culled", |b| {
+            b.iter(|| s.binned(&mut raster, &mut frame, true, true))
+        });
+    }
     g.finish();
 }
 
