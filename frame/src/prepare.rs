@@ -16,6 +16,10 @@
 //! 5. width `lerp(root, tip, s) x width_factor`, written with `P`, `c`
 //!    and `s = r / (R - 1)` for the group's real hairs.
 //!
+//! A row whose hair lanes are all in the head's shadow skips steps 2 and
+//! 3's shadow map (its direct light is 0 whatever they give; the colour is
+//! the same bits).
+//!
 //! Nothing frame-sized is read or written besides the refined guides (a
 //! few hundred kilobytes), the shadow map and the output: the group's
 //! vertices live in registers from interpolation to the one store.

@@ -14,7 +14,10 @@
 //!    depth, width in pixels, colour; a vertex behind the near plane or
 //!    with a non-finite position, width or colour is marked invalid (its
 //!    two segments are skipped, nothing else is touched).
-//! 2. **Count**: in back-to-front strand order, each segment's pixel bounds
+//! 2. **Cull and count**: a segment hidden behind an opaque sphere the
+//!    caller drew before ([`HairRaster::set_occluders`],
+//!    `crate::occlusion`) gets no tiles, which changes no pixel. In
+//!    back-to-front strand order, each segment's pixel bounds
 //!    (the strip's reach around its ends, [`Segment::new`]) give the range
 //!    of [`TILE`] x [`TILE`] tiles it touches (eight consecutive segments
 //!    of a strand at once in the SIMD path); every tile counts it.
