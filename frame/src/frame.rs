@@ -12,7 +12,7 @@ use coif_lod::{
     self as lod, level, HairWidth, Interpolation, RefinedGuides, RenderHairs, RenderVertex,
     Visibility,
 };
-use coif_render::head::{draw_spheres_with, occluded, HeadShading};
+use coif_render::head::{draw_spheres_lanes, occluded, HeadShading};
 use coif_render::raster::HairRaster;
 use coif_render::sort::DepthOrder;
 use coif_render::{Camera, Framebuffer, RgbImage, ShadedVertex};
@@ -793,12 +793,12 @@ impl FramePipeline {
             ambient: light.ambient,
         };
         let shadow = &self.shadow;
-        self.stats.head_pixels = draw_spheres_with(
+        self.stats.head_pixels = draw_spheres_lanes(
             &mut self.framebuffer,
             camera,
             &self.head_local,
             &head_shading,
-            &|p| shadow.transmittance_at(p),
+            &|p| shadow.transmittance_x8(p),
             executor,
         );
     }

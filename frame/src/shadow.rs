@@ -24,6 +24,7 @@ use coif_base::{Vec3x8, LANES};
 use coif_lod::{Interpolation, RefinedGuides, RenderVertex};
 use coif_shading::shadow::{BuildScratch, OpacityShadowMap, ShadowSettings, StrandLanes};
 use glam::Vec3;
+use wide::f32x8;
 
 /// Texels per side of the shadow map.
 pub const SHADOW_RESOLUTION: usize = 128;
@@ -175,9 +176,18 @@ impl ShadowStage {
         }
     }
 
-    /// Transmittance at one point (the head's surface); 1 without a map.
+    /// Transmittance at one point; 1 without a map.
     pub fn transmittance_at(&self, p: Vec3) -> f32 {
         self.map.as_ref().map_or(1.0, |m| m.transmittance(p))
+    }
+
+    /// Transmittance at eight points (the head's lit pixels,
+    /// `OpacityShadowMap::transmittance_x8`: the one-point value to the
+    /// rounding of the exponential); 1 without a map.
+    pub fn transmittance_x8(&self, p: Vec3x8) -> f32x8 {
+        self.map
+            .as_ref()
+            .map_or(f32x8::ONE, |m| m.transmittance_x8(p))
     }
 }
 
