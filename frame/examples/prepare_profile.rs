@@ -80,8 +80,8 @@ fn sample_stats(p: &FramePipeline) {
             .windows(2)
             .map(|w| {
                 let d = f.to_light(w[1]) - f.to_light(w[0]);
-                ((d.x * d.x + d.y * d.y).sqrt() * pl.inv_texel)
-                    .ceil()
+                ((d.x * d.x + d.y * d.y).sqrt() * pl.inv_texel + 0.5)
+                    .floor()
                     .max(1.0) as usize
             })
             .collect();

@@ -1,9 +1,10 @@
 //! The error of the fused pass's thinned shadow map against the exact
 //! reference, for thinning k = 1 (every hair, the reference pipeline's
-//! map) to 32: `cargo run --release -p coif-frame --example shadow_thinning`.
+//! map) to 32: `cargo run --release -p coif-frame --example shadow_thinning
+//! [HAIRS_SAMPLED] [FRAMES]`.
 //!
 //! The default scene (built-in head, 512 x 512, 40 render hairs per cm^2)
-//! after 30 frames of the motion; the reference is the exact
+//! after `FRAMES` (30) frames of the motion; the reference is the exact
 //! transmittance (`coif_shading::shadow::quality`) of every drawn render
 //! hair at its real shadow radius, averaged over 16 rays on a 2 mm disk
 //! (the footprint reference of `shading/SHADOWS.md`), at every vertex of
@@ -26,7 +27,12 @@ fn main() {
         ..GrowOptions::default()
     })
     .unwrap();
-    let frames = 30;
+    // The motion's frames before the map is measured (30: 3 segments per
+    // span; the demo's last frame, 90, has 2).
+    let frames: usize = std::env::args()
+        .nth(2)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(30);
     let run = |k: usize| {
         let settings = FrameSettings {
             shadow_thinning: k,

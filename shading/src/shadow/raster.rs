@@ -8,10 +8,14 @@
 //! that starts a strand (a strand's shadow is the union of its capsules;
 //! neighbouring caps overlap, and the exact reference counts a ray through a
 //! joint once). Spread over the `n` samples
-//! (`n = ceil(|(b - a)_xy| / h)`, at least 1, a texel apart: the
-//! bilinear splats of points a texel apart along a line sum to a smooth
-//! band; half a texel apart measured the same error and built 1.6 times
-//! slower), each
+//! (`n = round(|(b - a)_xy| / h)`, at least 1, so samples lie between
+//! 2/3 of a texel and 1.5 texels apart: the bilinear splats of points
+//! about a texel apart along a line sum to a smooth band, which the
+//! bilinear lookup smooths again; half a texel apart measured the same
+//! error and built 1.6 times slower, and rounding instead of `ceil`,
+//! which put every segment's samples at most a texel apart, measured the
+//! same error against the exact reference with 30 % fewer samples on the
+//! default frame: `frame/README.md`), each
 //! deposits `A / (n h^2)`: the map then holds, per texel, the texel-averaged
 //! number of segments a ray through it crosses, which is what the exact
 //! reference counts at a point.
@@ -26,7 +30,8 @@
 //! splat is bit for bit the scalar one:
 //!
 //! 1. Segment setup: light-space ends, length across the light, sample
-//!    count `n = ceil(|d_xy| / h)` clamped to `[1, 4 res]`, `1 / n`,
+//!    count `n = round(|d_xy| / h)` (as `floor(x + 1/2)`) clamped to
+//!    `[1, 4 res]`, `1 / n`,
 //!    coverage per sample (with the cap on a piece's first segment).
 //! 2. Per round `j` and segment: `t = (j + 1/2) / n`, texel coordinates,
 //!    lower-left texel (clamped to `[0, n - 2]`) and bilinear weights times
@@ -169,11 +174,11 @@ impl Raster {
         let (zero, one, half) = (f32x8::ZERO, f32x8::ONE, f32x8::splat(0.5));
         let d = lb - la;
         let len_xy = (d.x * d.x + d.y * d.y).sqrt();
-        // The scalar's `ceil as usize` clamped to [1, 4 res]: equal for
+        // The scalar's `floor(x + 1/2) as usize` clamped to [1, 4 res]: equal for
         // the finite, non-negative lengths of finite segments (lanes
         // not sampled may hold anything; they are never deposited).
-        let n = (one * len_xy * self.inv_h)
-            .ceil()
+        let n = (one * len_xy * self.inv_h + half)
+            .floor()
             .max(one)
             .min(self.max_samples);
         let inv_n = one / n;
@@ -219,7 +224,7 @@ impl Raster {
 /// SIMD twin of [`super::scalar::raster::for_each_sample`]: per group of
 /// eight consecutive segments of a strand, the setup in `f32x8` lanes
 /// (light-space ends, length across the light, sample count `n =
-/// ceil(|d_xy| / h)` clamped to `[1, 4 res]`, `1 / n`, coverage per
+/// round(|d_xy| / h)` clamped to `[1, 4 res]`, `1 / n`, coverage per
 /// sample, start and step in texel coordinates: the scalar operations in
 /// the scalar order), then `deposit` once per round `j < max n` with lane
 /// `l` holding sample `j` of segment `k0 + l` (`t = (j + 1/2) / n`, `(u,

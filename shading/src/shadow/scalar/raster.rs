@@ -51,7 +51,8 @@ impl Setup {
         let inv_h = self.inv_h;
         let d = next_light - prev_light;
         let len_xy = (d.x * d.x + d.y * d.y).sqrt();
-        let n = ((SAMPLES_PER_TEXEL * len_xy * inv_h).ceil() as usize).clamp(1, self.max_samples);
+        let n = ((SAMPLES_PER_TEXEL * len_xy * inv_h + 0.5).floor() as usize)
+            .clamp(1, self.max_samples);
         let inv_n = 1.0 / n as f32;
         let cap = if first { self.cap_area } else { 0.0 };
         let (ua, va) = self.placement.texel_coords(prev_light.x, prev_light.y);
