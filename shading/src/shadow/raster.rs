@@ -15,7 +15,7 @@
 //! error and built 1.6 times slower, and rounding instead of `ceil`,
 //! which put every segment's samples at most a texel apart, measured the
 //! same error against the exact reference with 30 % fewer samples on the
-//! default frame: `frame/README.md`), each
+//! default frame: `shading/SHADOWS.md`), each
 //! deposits `A / (n h^2)`: the map then holds, per texel, the texel-averaged
 //! number of segments a ray through it crosses, which is what the exact
 //! reference counts at a point.
