@@ -427,6 +427,13 @@ fn rsqrt_estimate(x: f32) -> f32 {
     f32x8::splat(x).recip_sqrt().as_array()[0]
 }
 
+/// The lane mask (all bits set) of lanes `0..n`: the lanes of a block that
+/// hold one of its `n` strands or samples (`n >= LANES` sets them all).
+#[inline]
+pub fn lanes_below(n: usize) -> f32x8 {
+    f32x8::new(std::array::from_fn(|l| if l < n { 1.0 } else { 0.0 })).simd_gt(f32x8::ZERO)
+}
+
 /// Loads lanes from a slice of up to [`LANES`] values, padding with `pad`.
 #[inline]
 pub fn load_padded(values: &[f32], pad: f32) -> f32x8 {
@@ -514,6 +521,14 @@ mod tests {
         }
         for x in [-3.0f32, -0.25, 0.0, 1.5, 7.0] {
             assert_eq!(poly(x), poly(f32x8::splat(x)).to_array()[2]);
+        }
+    }
+
+    #[test]
+    fn lanes_below_masks_the_first_n_lanes() {
+        for n in 0..=LANES + 1 {
+            let m = lanes_below(n).to_bitmask();
+            assert_eq!(m, (1u32 << n.min(LANES)) - 1, "{n}");
         }
     }
 }

@@ -25,6 +25,7 @@
 //! vertices live in registers from interpolation to the one store.
 
 use super::{Light, Shader, HAIR_AMBIENT_ALBEDO};
+use coif_base::lanes::lanes_below;
 use coif_base::{Vec3x8, LANES};
 use coif_kernels::Sphere;
 use coif_lod::{GroupBlend, HairWidth};
@@ -98,8 +99,7 @@ pub(crate) fn shade_group(
         0.0
     };
     // The lanes holding one of the group's hairs.
-    let real =
-        f32x8::new(std::array::from_fn(|l| if l < hairs { 1.0 } else { 0.0 })).simd_gt(f32x8::ZERO);
+    let real = lanes_below(hairs);
     for r in 0..r_len {
         // 1. Interpolate.
         let p = blend.position_x8(r);

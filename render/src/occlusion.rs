@@ -53,9 +53,6 @@ pub const MAX_OCCLUDERS: usize = 8;
 /// the rim of the disc where most hidden hair of a distant head lies.
 pub const REACH_TIERS_PX: [f32; 2] = [2.0, 8.0];
 
-/// Largest reach (pixels) of a segment that may be culled.
-pub const MAX_REACH_PX: f32 = REACH_TIERS_PX[1];
-
 /// One draw's occluders in the camera's terms: per sphere the unit
 /// direction of its centre in the (right, down, forward) basis, `cos^2`
 /// of the shrunken cap's half-angle and the depth beyond which a point is

@@ -62,7 +62,7 @@
 use super::hair::NEAR;
 use super::line::{ScreenVertex, Segment, SegmentsX8, Walk};
 use super::occlusion::OccluderCones;
-pub use super::occlusion::MAX_OCCLUDERS;
+use super::occlusion::MAX_OCCLUDERS;
 use super::sort::DepthOrder;
 use super::{Camera, Framebuffer, Pixel, ShadedVertex};
 use coif_base::tasks::{for_each_chunk_mut, DisjointMut, Executor};

@@ -11,6 +11,7 @@ use super::raster::{for_each_sample, for_each_sample_lanes, SplatX8};
 use super::settings::{ShadowMode, ShadowSettings};
 use super::strand_lanes::StrandLanes;
 use crate::Error;
+use coif_base::lanes::lanes_below;
 use coif_base::tasks::{for_each_chunk_mut, Executor};
 use coif_base::{Vec3x8, LANES};
 use glam::Vec3;
@@ -498,8 +499,7 @@ fn lane_bounds<H: StrandLanes + ?Sized>(frame: &LightFrame, hair: &H) -> Option<
         if lanes == 0 {
             continue;
         }
-        let hair_lanes = f32x8::new(std::array::from_fn(|l| if l < lanes { 1.0 } else { 0.0 }))
-            .simd_gt(f32x8::ZERO);
+        let hair_lanes = lanes_below(lanes);
         for r in 0..hair.verts() {
             let p = row(r);
             bounds.add(p, p.finite() & hair_lanes);

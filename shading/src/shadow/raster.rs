@@ -41,6 +41,7 @@
 
 use super::light_frame::{LightFrame, MapPlacement};
 use super::strand_lanes::StrandLanes;
+use coif_base::lanes::lanes_below;
 use coif_base::{Vec3x8, LANES};
 use glam::Vec3;
 use wide::{f32x8, i32x8};
@@ -314,8 +315,7 @@ pub fn for_each_sample_lanes<H: StrandLanes + ?Sized>(
     };
     for b in blocks {
         let (lanes, row) = hair.block(b);
-        let hair_lanes = f32x8::new(std::array::from_fn(|l| if l < lanes { 1.0 } else { 0.0 }))
-            .simd_gt(f32x8::ZERO);
+        let hair_lanes = lanes_below(lanes);
         if lanes == 0 {
             continue;
         }
