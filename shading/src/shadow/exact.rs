@@ -10,8 +10,9 @@ use glam::Vec3;
 /// `p` toward the light (along `-light_dir`) passes through. Segments within
 /// `2 hair_radius` of `p` (the one `p` lies on and its neighbours) are not
 /// counted. Segments with a non-finite end are skipped; a non-finite `p` or
-/// light direction gives 1. Brute force over every segment: a reference,
-/// not a kernel.
+/// light direction gives 1. Every segment is visited (a reference, not a
+/// kernel; a box test skips the distance computation for segments the ray
+/// cannot reach, see `count_crossings_many`).
 ///
 /// In light space the ray is the half-line `{p - t z, t >= 0}`; the squared
 /// distance from a segment point `q(s) = a + s (b - a)` to it is
@@ -47,27 +48,67 @@ pub(crate) fn count_crossings(
     p: Vec3,
     own: Vec3,
 ) -> usize {
-    let pl = frame.to_light(p);
+    let mut n = [0];
+    count_crossings_many(frame, r, points, verts, own, &[frame.to_light(p)], &mut n);
+    n[0]
+}
+
+/// [`count_crossings`] for several parallel rays at once: `counts[j]`
+/// (zeroed here) becomes the number of capsules the ray from the
+/// light-space origin `origins[j]` crosses, excluding segments within
+/// `2 r` of `own`. One pass over the segments for all the rays: each
+/// segment is taken to light space once, and skipped when its light-space
+/// `x y` box, grown by `r` and a rounding margin, misses the box of the
+/// origins (a ray whose origin lies outside the grown box is farther than
+/// `r` from the segment across the light, so no count changes); the
+/// exclusion is tested once per segment. Every ray gets the count the
+/// one-ray brute force gives (tested bit for bit in `quality.rs`).
+pub(crate) fn count_crossings_many(
+    frame: &LightFrame,
+    r: f32,
+    points: &[Vec3],
+    verts: usize,
+    own: Vec3,
+    origins: &[Vec3],
+    counts: &mut [usize],
+) {
+    counts.fill(0);
+    let Some(first) = origins.first() else {
+        return;
+    };
     let (r2, exclude2) = (r * r, 4.0 * r * r);
-    let mut n = 0;
-    for strand in points.chunks_exact(verts) {
+    let (mut lo, mut hi) = (*first, *first);
+    for o in origins {
+        (lo, hi) = (lo.min(*o), hi.max(*o));
+    }
+    // The margin is far above the rounding of the distance test (about
+    // 1e-7 of the coordinates' size and of r).
+    let size = lo.abs().max(hi.abs());
+    let reach = r * 1.001 + 1e-5 * size.x.max(size.y);
+    let (lo, hi) = (lo - Vec3::splat(reach), hi + Vec3::splat(reach));
+    for strand in points.chunks_exact(verts.max(1)) {
         for (i, pair) in strand.windows(2).enumerate() {
             let (a, b) = (pair[0], pair[1]);
             if !(a.is_finite() && b.is_finite()) {
                 continue;
             }
+            let (al, bl) = (frame.to_light(a), frame.to_light(b));
+            let (smin, smax) = (al.min(bl), al.max(bl));
+            if smax.x < lo.x || smin.x > hi.x || smax.y < lo.y || smin.y > hi.y {
+                continue;
+            }
             if point_segment_distance_squared(own, a, b) < exclude2 {
                 continue;
             }
-            let (al, bl) = (frame.to_light(a), frame.to_light(b));
-            let (d2, s) = ray_segment_distance_squared(pl, al, bl);
             let next_continues = strand.get(i + 2).is_some_and(|c| c.is_finite());
-            if d2 <= r2 && !(s >= 1.0 && next_continues) {
-                n += 1;
+            for (o, n) in origins.iter().zip(counts.iter_mut()) {
+                let (d2, s) = ray_segment_distance_squared(*o, al, bl);
+                if d2 <= r2 && !(s >= 1.0 && next_continues) {
+                    *n += 1;
+                }
             }
         }
     }
-    n
 }
 
 /// Squared distance from `p` to the segment `a b`.
@@ -143,5 +184,98 @@ mod tests {
         let d =
             ray_segment_distance_squared(p, Vec3::new(0.3, 0.0, 2.0), Vec3::new(0.3, 0.0, -2.0)).0;
         assert!((d - 0.09).abs() < 1e-6);
+    }
+}
+
+#[cfg(test)]
+mod many_rays_tests {
+    use super::*;
+    use coif_base::SplitMix64;
+
+    /// The one-ray brute force the reference was before the box test: every
+    /// segment's exclusion and ray distance, for one origin.
+    fn brute_force(
+        frame: &LightFrame,
+        r: f32,
+        points: &[Vec3],
+        verts: usize,
+        origin: Vec3,
+        own: Vec3,
+    ) -> usize {
+        let mut n = 0;
+        for strand in points.chunks_exact(verts) {
+            for (i, pair) in strand.windows(2).enumerate() {
+                let (a, b) = (pair[0], pair[1]);
+                if !(a.is_finite() && b.is_finite())
+                    || point_segment_distance_squared(own, a, b) < 4.0 * r * r
+                {
+                    continue;
+                }
+                let (d2, s) =
+                    ray_segment_distance_squared(origin, frame.to_light(a), frame.to_light(b));
+                let next_continues = strand.get(i + 2).is_some_and(|c| c.is_finite());
+                if d2 <= r * r && !(s >= 1.0 && next_continues) {
+                    n += 1;
+                }
+            }
+        }
+        n
+    }
+
+    #[test]
+    fn many_rays_count_what_one_ray_at_a_time_counts() {
+        let mut rng = SplitMix64::new(11);
+        let verts = 12;
+        let r = 4e-3;
+        // A dense tuft of random walks, a few vertices not finite.
+        let mut points = Vec::new();
+        for _ in 0..150 {
+            let mut p = Vec3::new(
+                rng.range(-0.05, 0.05),
+                rng.range(-0.05, 0.05),
+                rng.range(-0.05, 0.05),
+            );
+            for _ in 0..verts {
+                points.push(p);
+                p += rng.unit_vector() * 0.01;
+            }
+        }
+        points[5] = Vec3::NAN;
+        points[verts * 7 + 11] = Vec3::new(f32::INFINITY, 0.0, 0.0);
+        for (offset, light) in [
+            (Vec3::ZERO, Vec3::new(0.3, -1.0, 0.2)),
+            (Vec3::splat(1000.0), Vec3::Z),
+        ] {
+            let shifted: Vec<Vec3> = points.iter().map(|p| *p + offset).collect();
+            let frame = LightFrame::new(light).unwrap();
+            let (mut crossed, mut compared) = (0, 0);
+            for k in (0..shifted.len()).step_by(7) {
+                let own = shifted[k];
+                if !own.is_finite() {
+                    continue;
+                }
+                // Rays over a disc of 1 cm across the light (2.5 r).
+                let origins: Vec<Vec3> = (0..16)
+                    .map(|j| {
+                        let a = j as f32 * 2.4;
+                        let rho = 0.01 * ((j as f32 + 0.5) / 16.0).sqrt();
+                        frame
+                            .to_light(own + (frame.x_axis * a.cos() + frame.y_axis * a.sin()) * rho)
+                    })
+                    .collect();
+                let mut counts = vec![usize::MAX; origins.len()];
+                count_crossings_many(&frame, r, &shifted, verts, own, &origins, &mut counts);
+                for (o, n) in origins.iter().zip(&counts) {
+                    assert_eq!(*n, brute_force(&frame, r, &shifted, verts, *o, own));
+                    crossed += n;
+                    compared += 1;
+                }
+            }
+            // The rays do cross hair (the comparison is not all zeros).
+            assert!(
+                compared > 3000 && crossed > compared,
+                "{crossed} crossings over {compared} rays"
+            );
+        }
     }
 }

@@ -13,7 +13,7 @@
 //!   and the remaining error is the map's own (slicing, self-shadowing,
 //!   texel filtering).
 
-use super::exact::count_crossings;
+use super::exact::count_crossings_many;
 use super::light_frame::LightFrame;
 use super::map::OpacityShadowMap;
 use super::settings::ShadowSettings;
@@ -58,9 +58,9 @@ impl Footprint {
 /// Builds a map with `settings` for the hair (`points`, `verts_per_strand`
 /// per strand) lit along `light_dir`, and compares its transmittance with
 /// the point reference [`super::exact_transmittance`] at every vertex of
-/// every `strand_stride`-th strand (stride 0 counts as 1). The reference is
-/// brute force (every segment per point), so keep `vertices x segments`
-/// modest, e.g. a stride of 8 to 16 for a thousand strands.
+/// every `strand_stride`-th strand (stride 0 counts as 1). The reference
+/// visits every segment per point, so its cost is `vertices x segments`:
+/// keep that modest, e.g. a stride of 8 to 16 for a thousand strands.
 pub fn shadow_error(
     settings: &ShadowSettings,
     light_dir: Vec3,
@@ -136,18 +136,24 @@ pub fn reference_transmittance(
         })
         .collect();
     let mut out = Vec::new();
+    let mut origins = vec![Vec3::ZERO; rays];
+    let mut counts = vec![0usize; rays];
     for strand in sampled_strands(points, verts_per_strand, strand_stride) {
         for &p in strand.iter().filter(|p| p.is_finite()) {
+            for (origin, &o) in origins.iter_mut().zip(&offsets) {
+                *origin = frame.to_light(p + o);
+            }
+            count_crossings_many(
+                &frame,
+                settings.hair_radius,
+                points,
+                verts_per_strand,
+                p,
+                &origins,
+                &mut counts,
+            );
             let mut sum = 0.0;
-            for &o in &offsets {
-                let n = count_crossings(
-                    &frame,
-                    settings.hair_radius,
-                    points,
-                    verts_per_strand,
-                    p + o,
-                    p,
-                );
+            for &n in &counts {
                 sum += (-settings.density * n as f32).exp();
             }
             out.push(sum / rays as f32);
