@@ -62,7 +62,7 @@ pub(crate) fn count_crossings(
 /// origins (a ray whose origin lies outside the grown box is farther than
 /// `r` from the segment across the light, so no count changes); the
 /// exclusion is tested once per segment. Every ray gets the count the
-/// one-ray brute force gives (tested bit for bit in `quality.rs`).
+/// one-ray brute force gives (tested against it below, count for count).
 pub(crate) fn count_crossings_many(
     frame: &LightFrame,
     r: f32,
@@ -161,6 +161,7 @@ fn ray_segment_distance_squared(p: Vec3, a: Vec3, b: Vec3) -> (f32, f32) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use coif_base::SplitMix64;
 
     #[test]
     fn ray_segment_distance_cases() {
@@ -185,12 +186,6 @@ mod tests {
             ray_segment_distance_squared(p, Vec3::new(0.3, 0.0, 2.0), Vec3::new(0.3, 0.0, -2.0)).0;
         assert!((d - 0.09).abs() < 1e-6);
     }
-}
-
-#[cfg(test)]
-mod many_rays_tests {
-    use super::*;
-    use coif_base::SplitMix64;
 
     /// The one-ray brute force the reference was before the box test: every
     /// segment's exclusion and ray distance, for one origin.

@@ -15,7 +15,7 @@
 //! error and built 1.6 times slower; rounding instead of `ceil`, which put
 //! every segment's samples at most a texel apart, takes 30 % fewer samples
 //! on the default frame for 0.7 % more error against the exact reference
-//! there, the same on the report's scene: `shading/SHADOWS.md`), each
+//! there, 0.9 % less on the report's scene: `shading/SHADOWS.md`), each
 //! deposits `A / (n h^2)`: the map then holds, per texel, the texel-averaged
 //! number of segments a ray through it crosses, which is what the exact
 //! reference counts at a point.
