@@ -27,22 +27,30 @@
 
 #![warn(missing_docs)]
 
-mod broad_phase;
+mod collide;
 mod constraints;
+mod drive;
 mod error;
 mod fixed_step;
+mod fused;
 pub mod measure;
 mod params;
 pub mod patch;
 pub mod scalar;
 mod step;
 mod strands;
+mod wind;
 
 pub use coif_base::{lanes, rng, tasks, Sphere, StrandBlocks, Vec3x8, LANES};
+pub use collide::narrow::{FIELD_EXIT_SPEED, ROOT_EXIT};
+pub use collide::rig::COLLIDER_JUMP;
+pub use collide::{Capsule, Colliders, Sdf, MAX_SDF_CELLS};
+pub use drive::MAX_STEP_TASKS;
 pub use error::Error;
 pub use fixed_step::FixedStep;
 pub use measure::{measure, Measures};
 pub use params::{SimParams, MAX_PEARLS_PER_SEGMENT, MAX_SUBSTEPS, SLEEP_AFTER};
 pub use patch::{Patch, Ribbon};
-pub use step::{step, step_with, MAX_STEP_TASKS};
+pub use step::{step, step_colliders, step_colliders_with, step_with};
 pub use strands::Strands;
+pub use wind::GUST_MODES;

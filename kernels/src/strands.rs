@@ -65,6 +65,8 @@ pub struct Strands {
     pub(crate) rest_rotation: Mat3,
     /// Strands restored to rest after going non-finite, since creation.
     pub(crate) restored: u64,
+    /// Simulated time in seconds (the steps' `dt` summed): the gusts' clock.
+    pub(crate) time: f64,
     /// Per block: whether it sleeps, how long it has been still.
     pub(crate) sleep: Vec<BlockSleep>,
     /// Strands the last step advanced (all of them before the first step).
@@ -77,15 +79,11 @@ pub struct Strands {
 
 /// The step's reusable buffers (no per-frame allocation once sized): the
 /// rig in local coordinates, shared, and one [`Scratch`] per task of the
-/// step (`crate::step::task_count`), sized when the set is built.
+/// step (`crate::drive::task_count`), sized when the set is built.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct StepScratch {
-    /// Rig spheres in local coordinates: centre and radius.
-    pub(crate) spheres_local: Vec<[f32; 4]>,
-    /// The rig of the last step, world space: centre and radius.
-    pub(crate) rig_prev: Vec<[f32; 4]>,
-    /// This step's moving spheres: the local box each swept since the last step.
-    pub(crate) movers: Vec<crate::broad_phase::Aabb>,
+    /// The colliders in local coordinates, this step's and the last one's.
+    pub(crate) rig: crate::collide::rig::LocalRig,
     /// Task `t`'s buffers.
     pub(crate) tasks: Vec<Scratch>,
 }
@@ -93,8 +91,8 @@ pub(crate) struct StepScratch {
 /// One task's buffers (no per-frame allocation once sized).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Scratch {
-    /// Spheres that may touch the current group of blocks.
-    pub(crate) candidates: Vec<crate::broad_phase::Candidate>,
+    /// Colliders that may touch the current group of blocks.
+    pub(crate) candidates: Vec<crate::collide::broad_phase::ShapeCandidate>,
     /// The SIMD step's per-chain scratch.
     pub(crate) chain: crate::step::ChainScratch<f32x8>,
     /// The scalar step's copy of one lane.
@@ -117,7 +115,7 @@ pub(crate) struct BlockSleep {
     pub(crate) stepped: bool,
     /// The block's swept box when it fell asleep: while it sleeps (roots
     /// still, zero velocity) this is what `block_sweep_aabb` would give.
-    pub(crate) bounds: crate::broad_phase::Aabb,
+    pub(crate) bounds: crate::collide::broad_phase::Aabb,
 }
 
 impl BlockSleep {
@@ -126,18 +124,20 @@ impl BlockSleep {
         still: 0,
         asleep: false,
         stepped: true,
-        bounds: crate::step::EMPTY_BOX,
+        bounds: crate::drive::EMPTY_BOX,
     };
 }
 
 impl Scratch {
-    /// Room for the candidate spheres of a rig of `spheres` spheres in
-    /// every buffer that holds them (allocates only when the rig grew).
-    pub(crate) fn reserve_spheres(&mut self, spheres: usize) {
+    /// Room for the candidates of `counts` colliders (spheres, capsules,
+    /// fields) in every buffer that holds
+    /// them (allocates only when a kind grew).
+    pub(crate) fn reserve(&mut self, counts: [usize; 3]) {
+        let n = counts.iter().sum::<usize>();
         self.candidates
-            .reserve(spheres.saturating_sub(self.candidates.len()));
-        self.chain.reserve_spheres(spheres);
-        self.lane.reserve_spheres(spheres);
+            .reserve(n.saturating_sub(self.candidates.len()));
+        self.chain.reserve(counts);
+        self.lane.reserve(counts);
     }
 
     fn new(verts: usize) -> Scratch {
@@ -154,10 +154,8 @@ impl Scratch {
 impl StepScratch {
     fn new(blocks: usize, verts: usize) -> StepScratch {
         StepScratch {
-            spheres_local: Vec::new(),
-            rig_prev: Vec::new(),
-            movers: Vec::new(),
-            tasks: vec![Scratch::new(verts); crate::step::task_count(blocks)],
+            rig: Default::default(),
+            tasks: vec![Scratch::new(verts); crate::drive::task_count(blocks)],
         }
     }
 }
@@ -214,6 +212,7 @@ impl Strands {
             max_rest_segment: 0.0,
             rest_rotation: Mat3::IDENTITY,
             restored: 0,
+            time: 0.0,
             sleep: vec![BlockSleep::AWAKE; blocks],
             awake: strand_count,
             params_seen: None,
@@ -595,14 +594,20 @@ impl Strands {
     /// that not even the first step allocates (a step otherwise sizes them
     /// itself, once, when the rig grows).
     pub fn reserve_rig(&mut self, spheres: usize) {
+        self.reserve_counts([spheres, 0, 0]);
+    }
+
+    /// Sizes the step's collider buffers for `colliders` (spheres, capsules
+    /// and fields), so that not even the first step allocates.
+    pub fn reserve_colliders(&mut self, colliders: &crate::Colliders<'_>) {
+        self.reserve_counts(crate::collide::counts(colliders));
+    }
+
+    fn reserve_counts(&mut self, counts: [usize; 3]) {
         let sc = &mut self.scratch;
-        sc.spheres_local
-            .reserve(spheres.saturating_sub(sc.spheres_local.len()));
-        sc.rig_prev
-            .reserve(spheres.saturating_sub(sc.rig_prev.len()));
-        sc.movers.reserve(spheres.saturating_sub(sc.movers.len()));
+        sc.rig.reserve(counts);
         for t in &mut sc.tasks {
-            t.reserve_spheres(spheres);
+            t.reserve(counts);
         }
     }
 

@@ -1,7 +1,7 @@
 //! `Patch`: one cloth grid in SIMD lanes (columns in lanes, see `mod.rs`).
 
 use super::pairs::{mass_share, partner, PairSet};
-use crate::broad_phase::Candidate;
+use crate::collide::broad_phase::Candidate;
 use crate::lanes::{Vec3x8, LANES};
 use crate::Error;
 use glam::{DVec3, Vec3};
@@ -88,7 +88,7 @@ pub struct Patch {
 pub(crate) struct PatchScratch {
     pub spheres_local: Vec<[f32; 4]>,
     pub candidates: Vec<Candidate>,
-    pub boxes: Vec<crate::broad_phase::Aabb>,
+    pub boxes: Vec<crate::collide::broad_phase::Aabb>,
     /// Partner positions of one row, one entry per column block (two rows
     /// for shear passes).
     pub partner_a: Vec<Vec3x8>,

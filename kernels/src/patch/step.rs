@@ -57,7 +57,7 @@
 use super::grid::{Patch, PatchScratch};
 use super::pairs::gather_row;
 use super::row_limit::limit_row;
-use crate::broad_phase::{block_aabb, select_candidates, spheres_to_local, Candidate};
+use crate::collide::broad_phase::{block_aabb, select_candidates, spheres_to_local, Candidate};
 use crate::constraints::{
     collide_pearls, collide_vertex, distance_constraint, inv_len, outward, Reach, StepSetup,
     BLOWN_UP, STRAIN_COLLIDE_ROUNDS,

@@ -1,10 +1,10 @@
-//! Scalar twin of the broad phase's block box (`crate::broad_phase`).
+//! Scalar twin of the broad phase's block box (`crate::collide::broad_phase`).
 
-use crate::broad_phase::Aabb;
+use crate::collide::broad_phase::Aabb;
 use crate::lanes::{Vec3x8, LANES};
 use glam::Vec3;
 
-/// The box of [`crate::broad_phase::block_aabb`], one lane and one vertex at
+/// The box of [`crate::collide::broad_phase::block_aabb`], one lane and one vertex at
 /// a time: the lanes `0 .. lanes` are the active ones (the scalar twin).
 pub(crate) fn block_aabb(pos: &[Vec3x8], lanes: usize) -> Aabb {
     let mut b = Aabb {
@@ -21,7 +21,7 @@ pub(crate) fn block_aabb(pos: &[Vec3x8], lanes: usize) -> Aabb {
     b
 }
 
-/// The scalar twin of [`crate::broad_phase::block_sweep_aabb`]: the same
+/// The scalar twin of [`crate::collide::broad_phase::block_sweep_aabb`]: the same
 /// points in the same arithmetic order, lane by lane (lanes `0 .. lanes`).
 pub(crate) fn block_sweep_aabb(pos: &[Vec3x8], prev: &[Vec3x8], g_dt2: Vec3, lanes: usize) -> Aabb {
     let mut b = Aabb {

@@ -11,4 +11,4 @@ mod step;
 
 pub(crate) use constraints::{dot, inv_len, outward, push_out};
 pub(crate) use step::LaneBuffers;
-pub use step::{step, step_with};
+pub use step::{step, step_colliders, step_colliders_with, step_with};

@@ -18,9 +18,10 @@
 //!    beyond 10^6 m is restored).
 
 use super::broad_phase::block_sweep_aabb;
+use crate::drive::drive;
 use crate::lanes::{Vec3x8, V3};
-use crate::step::{drive, step_chain, Chain, ChainScratch};
-use crate::{SimParams, Sphere, Strands};
+use crate::step::{step_chain, Chain, ChainScratch};
+use crate::{Colliders, SimParams, Sphere, Strands};
 use coif_base::tasks::{Executor, Serial};
 use wide::f32x8;
 
@@ -38,13 +39,14 @@ pub(crate) struct LaneBuffers {
     bend_len: Vec<f32>,
     bend_share: Vec<[f32; 2]>,
     shape_weight: Vec<f32>,
+    arc: Vec<f32>,
     chain: ChainScratch<f32>,
 }
 
 impl LaneBuffers {
-    /// Room for the candidate spheres of a rig of `spheres` spheres.
-    pub(crate) fn reserve_spheres(&mut self, spheres: usize) {
-        self.chain.reserve_spheres(spheres);
+    /// Room for the candidates of `counts` colliders.
+    pub(crate) fn reserve(&mut self, counts: [usize; 3]) {
+        self.chain.reserve(counts);
     }
 
     pub(crate) fn new(verts: usize) -> Self {
@@ -59,6 +61,7 @@ impl LaneBuffers {
             bend_len: vec![0.0; verts],
             bend_share: vec![[0.0; 2]; verts],
             shape_weight: vec![0.0; verts],
+            arc: vec![0.0; verts],
             chain: ChainScratch::new(verts),
         }
     }
@@ -72,10 +75,11 @@ fn lane1(a: &f32x8, l: usize) -> f32 {
     a.as_array()[l]
 }
 
-/// Advances every strand by one fixed step of `params.dt`, one lane at a
-/// time, on the calling thread ([`step_with`] on [`Serial`]).
+/// Advances every strand by one fixed step of `params.dt` against rig
+/// spheres, one lane at a time, on the calling thread (the twin of
+/// [`crate::step`]).
 pub fn step(strands: &mut Strands, params: &SimParams, spheres: &[Sphere]) {
-    step_with(strands, params, spheres, &Serial);
+    step_colliders_with(strands, params, &Colliders::spheres(spheres), &Serial);
 }
 
 /// [`step`] with its blocks handed out as tasks to `executor`, as
@@ -86,13 +90,29 @@ pub fn step_with(
     spheres: &[Sphere],
     executor: &dyn Executor,
 ) {
+    step_colliders_with(strands, params, &Colliders::spheres(spheres), executor);
+}
+
+/// The twin of [`crate::step_colliders`]: every collider, one lane at a
+/// time, on the calling thread.
+pub fn step_colliders(strands: &mut Strands, params: &SimParams, colliders: &Colliders<'_>) {
+    step_colliders_with(strands, params, colliders, &Serial);
+}
+
+/// The twin of [`crate::step_colliders_with`].
+pub fn step_colliders_with(
+    strands: &mut Strands,
+    params: &SimParams,
+    colliders: &Colliders<'_>,
+    executor: &dyn Executor,
+) {
     drive(
         strands,
         params,
-        spheres,
+        colliders,
         executor,
         |s, st, b, k| block_sweep_aabb(st.pos, st.prev, k.gravity_dt2, s.lanes_in_block(b)),
-        |strands, st, scratch, k, b, g| {
+        |strands, st, scratch, world, k, b, g| {
             let (verts, base) = (strands.verts, b * strands.verts);
             let mut bad = 0u32;
             for l in 0..strands.lanes_in_block(b) {
@@ -110,6 +130,7 @@ pub fn step_with(
                     let sh = strands.bend_share[i];
                     lb.bend_share[v] = [lane1(&sh[0], l), lane1(&sh[1], l)];
                     lb.shape_weight[v] = lane1(&strands.shape_weight[i], l);
+                    lb.arc[v] = lane1(&strands.rest_arc[i], l);
                 }
                 // 2.-7.
                 let mut c = Chain {
@@ -123,8 +144,9 @@ pub fn step_with(
                     bend_len: &lb.bend_len,
                     bend_share: &lb.bend_share,
                     shape_weight: &lb.shape_weight,
+                    arc: &lb.arc,
                 };
-                let ok: bool = step_chain(&mut c, &mut lb.chain, k, &scratch.candidates, g);
+                let ok: bool = step_chain(&mut c, &mut lb.chain, k, world, &scratch.candidates, g);
                 for v in 0..verts {
                     st.pos[v].set_lane(l, lb.pos[v].to_vec3());
                     st.prev[v].set_lane(l, lb.prev[v].to_vec3());

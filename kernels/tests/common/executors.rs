@@ -180,3 +180,16 @@ unsafe impl Executor for SpinPool {
         }
     }
 }
+
+/// Serial, the reverse order, two and three scoped threads and a rayon
+/// pool of two: the executors the "same bytes on any thread count" tests
+/// run a step on.
+pub fn all() -> Vec<Box<dyn Executor>> {
+    vec![
+        Box::new(coif_kernels::tasks::Serial),
+        Box::new(Reverse),
+        Box::new(Scoped(2)),
+        Box::new(Scoped(3)),
+        Box::new(coif_kernels::tasks::Rayon::new(2).expect("a rayon pool")),
+    ]
+}

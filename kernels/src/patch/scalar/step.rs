@@ -9,7 +9,7 @@
 //! range attachments and 5 strain limits, max distance and push-out (row by
 //! row), 6 pearls, 7 guard.
 
-use crate::broad_phase::{select_candidates, spheres_to_local, Candidate};
+use crate::collide::broad_phase::{select_candidates, spheres_to_local, Candidate};
 use crate::constraints::{StepSetup, BLOWN_UP, STRAIN_COLLIDE_ROUNDS};
 use crate::lanes::{inv_sqrt, LANES};
 use crate::patch::grid::Patch;

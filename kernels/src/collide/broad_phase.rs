@@ -1,14 +1,20 @@
-//! Broad phase: which rig spheres can touch a block of eight strands.
+//! Broad phase: which colliders can touch a block of eight strands (and,
+//! for cloth patches, which rig spheres a column block).
 //!
-//! Users of TressFX and Unity's hair ask for rigs of hundreds of spheres.
-//! Once per step each block is tested against every sphere, with a slack of
+//! Users of TressFX and Unity's hair ask for rigs of hundreds of colliders
+//! (Unity caps them at 8). Once per step each block is tested against every
+//! collider, with a slack of
 //! the pearl radius plus one rest segment: first its swept box (the last
 //! step's motion extrapolated), then, if that misses, the reach the strain
 //! limit leaves it (vertex `v` within `(1 + max_stretch) arc(v)` of its
 //! root's target), which also gives the first vertex that may touch the
-//! sphere. Only those spheres enter the block's narrow phase, from that
-//! vertex on. A non-finite sphere never passes the test.
+//! collider. Only those colliders enter the block's narrow phase, from that
+//! vertex on. A still sphere is tested as a sphere against the box; a
+//! moving sphere, a capsule and a field by the box they sweep over the step
+//! (`rig.rs`), grown by the slack. A non-finite sphere never passes the
+//! test (invalid capsules never reach it).
 
+use super::rig::LocalRig;
 use crate::lanes::Vec3x8;
 use crate::Sphere;
 use glam::{DVec3, Vec3};
@@ -144,21 +150,22 @@ impl BlockBounds<'_> {
         }
     }
 
-    /// The first vertex that may touch sphere `s` this step: 0 if the swept
-    /// box is near it, else the first whose reach is, None if none.
-    fn first_vertex(&self, s: &[f32; 4], margin: f32) -> Option<usize> {
-        if near(&self.swept, s, margin) {
+    /// The first vertex that may touch a collider this step (`near` tells
+    /// whether a box, grown by the slack, may touch it): 0 if the swept box
+    /// is near it, else the first whose reach is, None if none.
+    fn first_vertex(&self, near: impl Fn(&Aabb) -> bool) -> Option<usize> {
+        if near(&self.swept) {
             return Some(0);
         }
         let tip = self.arc.len().checked_sub(1)?;
-        if !near(&self.reach(tip), s, margin) {
+        if !near(&self.reach(tip)) {
             return None;
         }
         // The reach grows with v: the first vertex that reaches, by bisection.
         let (mut lo, mut hi) = (0, tip);
         while lo < hi {
             let mid = (lo + hi) / 2;
-            if near(&self.reach(mid), s, margin) {
+            if near(&self.reach(mid)) {
                 hi = mid;
             } else {
                 lo = mid + 1;
@@ -191,7 +198,7 @@ fn fold_box(lo: Vec3x8, hi: Vec3x8) -> Aabb {
 pub(crate) struct Candidate {
     pub sphere: [f32; 4],
     pub blocks: u32,
-    pub first: [u32; crate::step::GROUP],
+    pub first: [u32; crate::drive::GROUP],
 }
 
 impl Candidate {
@@ -236,21 +243,59 @@ pub(crate) fn select_candidates(
             out.push(Candidate {
                 sphere: *s,
                 blocks,
-                first: [0; crate::step::GROUP],
+                first: [0; crate::drive::GROUP],
             });
         }
     }
 }
 
-/// The strands' broad phase: writes into `out` the spheres that may touch
-/// a group of blocks (at most [`crate::step::GROUP`]): near the union of
+/// True if the boxes are at most `margin` apart; false for a non-finite box.
+pub(crate) fn boxes_near(a: &Aabb, b: &Aabb, margin: f32) -> bool {
+    let gap = (a.min - b.max).max(b.min - a.max).max(Vec3::ZERO);
+    a.min.is_finite()
+        && a.max.is_finite()
+        && b.min.is_finite()
+        && b.max.is_finite()
+        && gap.length_squared() <= margin * margin
+}
+
+/// Which kind of collider a strand candidate is (its index is in the
+/// step's [`LocalRig`] list of that kind).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Kind {
+    Sphere,
+    Capsule,
+    Field,
+}
+
+/// A collider that may touch a group of blocks: bit `b` of `blocks` for
+/// each block of the group it may touch, `first[b]` the first vertex of
+/// block `b` that may touch it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct ShapeCandidate {
+    pub kind: Kind,
+    pub index: u32,
+    pub blocks: u32,
+    pub first: [u32; crate::drive::GROUP],
+}
+
+impl ShapeCandidate {
+    #[inline(always)]
+    pub(crate) fn touches(&self, block: usize) -> bool {
+        self.blocks & (1 << block) != 0
+    }
+}
+
+/// The strands' broad phase: writes into `out` the colliders that may touch
+/// a group of blocks (at most [`crate::drive::GROUP`]): near the union of
 /// the blocks' swept boxes and reaches first, then per block (see
-/// [`BlockBounds::first_vertex`]).
+/// [`BlockBounds::first_vertex`]); spheres, then capsules, then fields,
+/// each in the rig's order.
 pub(crate) fn select_strand_candidates(
     blocks: &[BlockBounds<'_>],
     margin: f32,
-    spheres: &[[f32; 4]],
-    out: &mut Vec<Candidate>,
+    rig: &LocalRig,
+    out: &mut Vec<ShapeCandidate>,
 ) {
     out.clear();
     let Some(union) = blocks
@@ -267,24 +312,61 @@ pub(crate) fn select_strand_candidates(
     else {
         return;
     };
-    for s in spheres {
-        if !near(&union, s, margin) {
-            continue;
+    for (i, s) in rig.spheres.iter().enumerate() {
+        if s.still() {
+            let sphere = [s.to[0].x, s.to[0].y, s.to[0].z, s.radius];
+            add(out, blocks, &union, Kind::Sphere, i, |b: &Aabb| {
+                near(b, &sphere, margin)
+            });
+        } else {
+            let swept = s.swept_box();
+            add(out, blocks, &union, Kind::Sphere, i, |b: &Aabb| {
+                boxes_near(b, &swept, margin)
+            });
         }
-        let mut c = Candidate {
-            sphere: *s,
-            blocks: 0,
-            first: [0; crate::step::GROUP],
-        };
-        for (k, b) in blocks.iter().enumerate().take(crate::step::GROUP) {
-            if let Some(v) = b.first_vertex(s, margin) {
-                c.blocks |= 1 << k;
-                c.first[k] = v as u32;
-            }
+    }
+    for (i, c) in rig.capsules.iter().enumerate() {
+        let swept = c.swept_box();
+        add(out, blocks, &union, Kind::Capsule, i, |b: &Aabb| {
+            boxes_near(b, &swept, margin)
+        });
+    }
+    for (i, f) in rig.fields.iter().enumerate() {
+        let swept = f.swept;
+        add(out, blocks, &union, Kind::Field, i, |b: &Aabb| {
+            boxes_near(b, &swept, margin)
+        });
+    }
+}
+
+/// Adds collider `index` of `kind` to `out` if it is `near` the group's
+/// `union` and then some block of it, with the first vertex per block.
+#[inline(always)]
+fn add(
+    out: &mut Vec<ShapeCandidate>,
+    blocks: &[BlockBounds<'_>],
+    union: &Aabb,
+    kind: Kind,
+    index: usize,
+    near: impl Fn(&Aabb) -> bool,
+) {
+    if !near(union) {
+        return;
+    }
+    let mut c = ShapeCandidate {
+        kind,
+        index: index as u32,
+        blocks: 0,
+        first: [0; crate::drive::GROUP],
+    };
+    for (k, b) in blocks.iter().enumerate().take(crate::drive::GROUP) {
+        if let Some(v) = b.first_vertex(&near) {
+            c.blocks |= 1 << k;
+            c.first[k] = v as u32;
         }
-        if c.blocks != 0 {
-            out.push(c);
-        }
+    }
+    if c.blocks != 0 {
+        out.push(c);
     }
 }
 
@@ -292,6 +374,24 @@ pub(crate) fn select_strand_candidates(
 mod tests {
     use super::*;
     use crate::lanes::LANES;
+
+    /// A rig of still spheres `[x, y, z, r]`, local frame.
+    fn rig(spheres: &[[f32; 4]]) -> LocalRig {
+        let mut r = LocalRig::default();
+        for s in spheres {
+            let c = Vec3::new(s[0], s[1], s[2]);
+            r.spheres.push(super::super::rig::LocalCapsule {
+                from: [c; 2],
+                to: [c; 2],
+                radius: s[3],
+            });
+        }
+        r
+    }
+
+    fn chosen(out: &[ShapeCandidate], spheres: &[[f32; 4]]) -> Vec<[f32; 4]> {
+        out.iter().map(|c| spheres[c.index as usize]).collect()
+    }
 
     /// A block known by its swept box alone.
     fn swept(b: Aabb) -> BlockBounds<'static> {
@@ -328,12 +428,15 @@ mod tests {
             [0.0, 0.0, 0.0, 0.05],
         ];
         let mut out = Vec::new();
-        select_strand_candidates(&[b], 0.01, &spheres, &mut out);
+        select_strand_candidates(&[b], 0.01, &rig(&spheres), &mut out);
         assert_eq!(out.len(), 2);
-        assert_eq!((out[0].sphere, out[0].blocks), (spheres[0], 1));
+        assert_eq!((chosen(&out, &spheres)[0], out[0].blocks), (spheres[0], 1));
         // 0.1 v 1.01 + 0.06 >= 0.5 first at v = 5 (0.565; v = 4: 0.464).
         assert_eq!(out[0].first[0], 5);
-        assert_eq!((out[1].sphere, out[1].first[0]), (spheres[2], 0));
+        assert_eq!(
+            (chosen(&out, &spheres)[1], out[1].first[0]),
+            (spheres[2], 0)
+        );
     }
 
     #[test]
@@ -367,9 +470,15 @@ mod tests {
             .all(|c| c.blocks == 0b10 && c.touches(1) && !c.touches(0)));
         // The strands' form, blocks known by their swept boxes alone: the
         // same spheres, every vertex of the near block.
-        select_strand_candidates(&[swept(far), swept(aabb)], 0.1, &spheres, &mut out);
-        let picked: Vec<[f32; 4]> = out.iter().map(|c| c.sphere).collect();
-        assert_eq!(picked, vec![spheres[0], spheres[2]]);
+        let mut strand_out = Vec::new();
+        select_strand_candidates(
+            &[swept(far), swept(aabb)],
+            0.1,
+            &rig(&spheres),
+            &mut strand_out,
+        );
+        assert_eq!(chosen(&strand_out, &spheres), vec![spheres[0], spheres[2]]);
+        let out = strand_out;
         assert!(out.iter().all(|c| c.blocks == 0b10 && c.first[1] == 0));
     }
 

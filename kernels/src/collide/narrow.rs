@@ -1,0 +1,459 @@
+//! The narrow phase in lanes: pearls and vertex push-out against spheres,
+//! capsules and mesh fields, Coulomb friction, and the roots rule. Written
+//! over [`Lane`]: the SIMD step runs it at `f32x8`, the scalar twin at
+//! `f32`, one lane at a time, in the same order.
+//!
+//! **Contact** (every substep): a point `x` within `R + r` of a sphere or
+//! capsule (`r` the pearl radius), or with field distance below `r`, is
+//! pushed along the outward normal to the skin. For a capsule the distance
+//! is to the closest point of its axis, `a + t (b - a)`,
+//! `t = clamp(((x - a) . (b - a)) / |b - a|^2, 0, 1)` (Ericson 2005,
+//! 5.1.2); for a field it is the trilinear distance and its gradient
+//! (`sdf/`).
+//!
+//! **Coulomb friction, position-based** (Macklin, Muller, Chentanez, Kim
+//! 2014, "Unified particle physics for real-time applications", 6.1): after
+//! the push by depth `d` along `n`, the vertex's tangential motion over the
+//! substep relative to the collider's surface,
+//! `dx_t = (x - x_prev) - (c - c_prev)` less its `n` component, is removed
+//! whole while `|dx_t| <= mu_s d` (static: the vertex sticks), and by
+//! `dx_t min(mu_k d / |dx_t|, 1)` otherwise (kinetic). On a plane tilted by
+//! `theta` gravity gives `d = g cos(theta) h^2` and `|dx_t| = g sin(theta)
+//! h^2` per substep, so hair holds exactly when `mu_s > tan(theta)`.
+//!
+//! **Roots on or in a collider**: a strand whose root sits inside a
+//! collider's skin (a scalp that is part of the body mesh, a head sphere
+//! that cuts the roots) is allowed, at vertex `v`, the depth
+//! `max(0, depth_root - arc(v) / ROOT_EXIT_SLOPE)`...: see [`ROOT_EXIT`].
+//!
+//! **Deep in a field** (after a teleport or a fast bone): the push per
+//! substep is at most `FIELD_EXIT_SPEED h`, and a vertex pushed by that
+//! much gains no velocity from it (its previous position moves with it), so
+//! hair found deep inside leaves at that speed and is never shot out.
+
+use super::rig::{LocalCapsule, LocalField};
+use super::sdf::{Sdf, SdfLane};
+use crate::fused::{dot, dot_add, madd};
+use crate::lanes::{Lane, V3};
+use glam::{Mat3, Vec3};
+
+/// The roots rule: vertex `v` of a strand whose root lies `depth_root`
+/// inside a collider's skin may lie `max(0, depth_root - ROOT_EXIT arc(v))`
+/// inside it, where `arc(v)` is its rest arc length from the root: the
+/// depth a strand leaving the surface at `asin(ROOT_EXIT)` would have. So a
+/// root on the scalp (depth about the pearl radius) lets its first
+/// millimetres lie in the skin, a root 1 cm inside lets the strand come
+/// out over its first `1 / ROOT_EXIT` cm, and a root outside changes
+/// nothing. Measured on Sintel's groom on her bust and on the mohawk under
+/// a head sphere that cuts its roots (crate README, "Roots on or in a
+/// collider").
+pub const ROOT_EXIT: f32 = 0.5;
+
+/// The fastest a vertex found deep inside a mesh field is moved out, m/s:
+/// at most `FIELD_EXIT_SPEED h` per substep of `h`, with no velocity left
+/// from it (crate README, "Deep inside a field").
+pub const FIELD_EXIT_SPEED: f32 = 1.0;
+
+/// Per-step constants of the contacts.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ContactSetup {
+    pub pearl_radius: f32,
+    /// Kinetic and static Coulomb coefficients.
+    pub friction: f32,
+    pub static_friction: f32,
+    /// Either coefficient is above zero.
+    pub friction_on: bool,
+    /// Largest push out of a field per substep.
+    pub field_push: f32,
+}
+
+/// Distance and outward unit normal; 0 and +y where the point sits on the
+/// centre.
+#[inline(always)]
+pub(crate) fn outward<T: Lane>(d: V3<T>, d2: T) -> (T, V3<T>) {
+    let tiny = T::splat(1.0e-30);
+    let d2c = d2.max(tiny);
+    let r = d2c.inv_sqrt();
+    let on = d2.gt(tiny);
+    let nrm = V3::select(on, d * r, V3::splat(Vec3::Y));
+    (T::select(on, d2c * r, T::splat(0.0)), nrm)
+}
+
+/// The skin's reach at rest arc `arc` under the roots rule.
+#[inline(always)]
+fn reach_at<T: Lane>(reach: T, root_depth: T, arc: T) -> T {
+    let allowed = arc
+        .mul_add(T::splat(-ROOT_EXIT), root_depth)
+        .max(T::splat(0.0));
+    reach - allowed
+}
+
+/// Coulomb friction on a pushed point: `x` after a push of `depth` along
+/// `n`, `xp` where it was one substep ago, `motion` the collider surface's
+/// motion over the substep.
+#[inline(always)]
+fn coulomb<T: Lane>(
+    x: V3<T>,
+    xp: V3<T>,
+    n: V3<T>,
+    depth: T,
+    motion: V3<T>,
+    k: &ContactSetup,
+) -> V3<T> {
+    let dx = (x - xp) - motion;
+    let tang = madd(n, -dot(dx, n), dx);
+    let t2 = dot(tang, tang);
+    let hold = T::splat(k.static_friction) * depth;
+    let sticks = t2.lt(hold * hold) | t2.lt(T::splat(1.0e-30));
+    let inv = t2.max(T::splat(1.0e-30)).inv_sqrt();
+    let slide = (T::splat(k.friction) * depth * inv).min(T::splat(1.0));
+    let share = T::select(sticks, T::splat(1.0), slide);
+    madd(tang, -share, x)
+}
+
+/// A sphere (`CAPSULE = false`) or capsule in lanes over one step.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ShapeReach<T: Lane> {
+    from: [Vec3; 2],
+    to: [Vec3; 2],
+    /// The ends now (this substep), the axis and `1 / |axis|^2` (0 for a
+    /// point).
+    a: V3<T>,
+    ab: V3<T>,
+    inv_ab2: T,
+    /// The ends' motion over one substep.
+    a_sub: V3<T>,
+    b_sub: V3<T>,
+    reach: T,
+    reach2: T,
+    /// The first vertex of the block that may touch it (broad phase).
+    pub first: usize,
+    /// The roots rule applies to vertices `..rooted_until` (a root of the
+    /// block lies in the skin, and some lane's vertex is still allowed
+    /// depth there); 0 when no root is in the skin.
+    rooted_until: usize,
+    root_depth: T,
+}
+
+/// The vertices `..n` whose allowed depth `root_depth - ROOT_EXIT arc(v)`
+/// is above zero in some lane (`arc` grows along the strand).
+fn rooted_until<T: Lane>(root_depth: T, arc: &[T]) -> usize {
+    arc.iter()
+        .position(|&a| !T::any(a.mul_add(T::splat(ROOT_EXIT), T::splat(0.0)).lt(root_depth)))
+        .unwrap_or(arc.len())
+}
+
+impl<T: Lane> ShapeReach<T> {
+    /// From the step's local shape, for a block whose roots' targets are
+    /// `root` and whose vertices' rest arcs are `arc`.
+    #[inline(always)]
+    pub(crate) fn new(
+        s: &LocalCapsule,
+        pearl_radius: f32,
+        first: u32,
+        substeps: u32,
+        root: V3<T>,
+        arc: &[T],
+    ) -> Self {
+        let reach = T::splat(s.radius + pearl_radius);
+        let inv_n = 1.0 / substeps as f32;
+        let mut r = ShapeReach {
+            from: s.from,
+            to: s.to,
+            a: V3::splat(s.to[0]),
+            ab: V3::zero(),
+            inv_ab2: T::splat(0.0),
+            a_sub: V3::splat((s.to[0] - s.from[0]) * inv_n),
+            b_sub: V3::splat((s.to[1] - s.from[1]) * inv_n),
+            reach,
+            reach2: reach * reach,
+            first: first as usize,
+            rooted_until: 0,
+            root_depth: T::splat(0.0),
+        };
+        r.place(s.to);
+        // The roots rule: how deep the roots' targets lie in the skin.
+        let (d, _) = r.offset::<true>(root);
+        let dist2 = dot(d, d);
+        let depth = reach - dist2.max(T::splat(1.0e-30)).inv_sqrt() * dist2;
+        let inside = depth.gt(T::splat(0.0));
+        r.root_depth = T::select(inside, depth, T::splat(0.0));
+        if T::any(inside) {
+            r.rooted_until = rooted_until(r.root_depth, arc);
+        }
+        r
+    }
+
+    /// Places the ends (the axis and its inverse squared length).
+    #[inline(always)]
+    fn place(&mut self, ends: [Vec3; 2]) {
+        let ab = ends[1] - ends[0];
+        let ab2 = ab.x * ab.x + ab.y * ab.y + ab.z * ab.z;
+        self.a = V3::splat(ends[0]);
+        self.ab = V3::splat(ab);
+        self.inv_ab2 = T::splat(if ab2 > 1.0e-20 {
+            crate::lanes::recip(ab2)
+        } else {
+            0.0
+        });
+    }
+
+    /// Moves it to where it is after substep `sub` of `n` (the end of the
+    /// step on the last).
+    #[inline(always)]
+    pub(crate) fn advance(&mut self, sub: u32, n: u32) {
+        if self.from == self.to && sub > 0 {
+            return;
+        }
+        let ends = if sub + 1 >= n {
+            self.to
+        } else {
+            let f = (sub + 1) as f32 / n as f32;
+            [
+                (self.to[0] - self.from[0]).mul_add(Vec3::splat(f), self.from[0]),
+                (self.to[1] - self.from[1]).mul_add(Vec3::splat(f), self.from[1]),
+            ]
+        };
+        self.place(ends);
+    }
+
+    /// `x` less the closest point of the axis, and the axis parameter `t`
+    /// (a sphere, `CAPSULE = false`: `x - a` and 0, which is what a
+    /// capsule with `a == b` computes too, in fewer operations).
+    #[inline(always)]
+    fn offset<const CAPSULE: bool>(&self, x: V3<T>) -> (V3<T>, T) {
+        let ax = x - self.a;
+        if !CAPSULE {
+            return (ax, T::splat(0.0));
+        }
+        let t = (dot(ax, self.ab) * self.inv_ab2)
+            .max(T::splat(0.0))
+            .min(T::splat(1.0));
+        (ax - self.ab * t, t)
+    }
+
+    /// The skin's reach and its square at vertex (or segment) `v` of rest
+    /// arc `arc`.
+    #[inline(always)]
+    fn reach(&self, v: usize, arc: T) -> (T, T) {
+        if v < self.rooted_until {
+            let r = reach_at(self.reach, self.root_depth, arc);
+            (r, r * r)
+        } else {
+            (self.reach, self.reach2)
+        }
+    }
+
+    /// Pushes `x` (a free vertex unless `off` is +inf; `xp` where it was a
+    /// substep ago, `arc` its rest arc) out of the skin, with friction.
+    #[inline(always)]
+    pub(crate) fn push_vertex<const CAPSULE: bool>(
+        &self,
+        v: usize,
+        x: V3<T>,
+        xp: V3<T>,
+        off: T,
+        arc: T,
+        k: &ContactSetup,
+    ) -> V3<T> {
+        let (d, t) = self.offset::<CAPSULE>(x);
+        let d2 = dot_add(d, d, off);
+        let (reach, reach2) = self.reach(v, arc);
+        let hit = d2.lt(reach2);
+        if !T::any(hit) {
+            return x;
+        }
+        let (dist, nrm) = outward(d, d2);
+        let depth = reach - dist;
+        let mut pushed = madd(nrm, depth, x);
+        if k.friction_on {
+            let motion = if CAPSULE {
+                madd(self.b_sub - self.a_sub, t, self.a_sub)
+            } else {
+                self.a_sub
+            };
+            pushed = coulomb(pushed, xp, nrm, depth, motion, k);
+        }
+        V3::select(hit, pushed, x)
+    }
+
+    /// Every pearl of segments `first - 1 ..` against it:
+    /// `p = (1-t) x_i + t x_{i+1}`,
+    /// `s = (R + r - |p - c|) / (w_i (1-t)^2 + w_{i+1} t^2)`,
+    /// `x_i += w_i (1-t) s n`, `x_{i+1} += w_{i+1} t s n` (the Nalu demo's
+    /// point-on-segment rule, Nguyen and Donnelly 2005). `off[v]` is +inf
+    /// for segments with a pinned end.
+    #[inline(always)]
+    pub(crate) fn push_pearls<const CAPSULE: bool>(
+        &self,
+        pos: &mut [V3<T>],
+        w: &[T],
+        arc: &[T],
+        off: &[T],
+        pearls: u32,
+    ) {
+        let verts = pos.len();
+        for j in 1..=pearls {
+            let tt = j as f32 / (pearls + 1) as f32;
+            let t = T::splat(tt);
+            let u = T::splat(1.0 - tt);
+            for v in self.first.saturating_sub(1)..verts - 1 {
+                let p = madd(pos[v], u, pos[v + 1] * t);
+                let (d, _) = self.offset::<CAPSULE>(p);
+                let d2 = dot_add(d, d, off[v]);
+                let (reach, reach2) = if v < self.rooted_until {
+                    self.reach(v, arc[v].mul_add(u, arc[v + 1] * t))
+                } else {
+                    (self.reach, self.reach2)
+                };
+                let hit = d2.lt(reach2);
+                if T::any(hit) {
+                    let (dist, nrm) = outward(d, d2);
+                    let denom = w[v].mul_add(u * u, w[v + 1] * (t * t));
+                    let push = (reach - dist) * denom.max(T::splat(1.0e-12)).recip();
+                    pos[v] = V3::select(hit, madd(nrm, w[v] * u * push, pos[v]), pos[v]);
+                    pos[v + 1] =
+                        V3::select(hit, madd(nrm, w[v + 1] * t * push, pos[v + 1]), pos[v + 1]);
+                }
+            }
+        }
+    }
+}
+
+/// `m v + t` with the matrix's columns splatted.
+#[inline(always)]
+fn affine<T: Lane>(m: &[V3<T>; 3], t: V3<T>, v: V3<T>) -> V3<T> {
+    madd(m[0], v.x, madd(m[1], v.y, madd(m[2], v.z, t)))
+}
+
+fn columns<T: Lane>(m: Mat3) -> [V3<T>; 3] {
+    [
+        V3::splat(m.x_axis),
+        V3::splat(m.y_axis),
+        V3::splat(m.z_axis),
+    ]
+}
+
+/// A mesh field in lanes over one step: this substep's `mesh_from_local`
+/// and `local_from_mesh` rotation, and the surface's motion over the
+/// substep at a mesh point `p` (`dm p + dt`).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct FieldReach<T: Lane> {
+    pub field: LocalField,
+    pub first: usize,
+    mesh_from_local: [V3<T>; 3],
+    mesh_from_local_t: V3<T>,
+    local_from_mesh: [V3<T>; 3],
+    motion_m: [V3<T>; 3],
+    motion_t: V3<T>,
+    /// `local_from_mesh` after the previous substep.
+    last: glam::Affine3A,
+    rooted_until: usize,
+    root_depth: T,
+}
+
+impl<T: SdfLane> FieldReach<T> {
+    #[inline(always)]
+    pub(crate) fn new(
+        field: LocalField,
+        first: u32,
+        sdf: &Sdf,
+        k: &ContactSetup,
+        root: V3<T>,
+        arc: &[T],
+    ) -> Self {
+        let start = field.at(0.0);
+        let mut r = FieldReach {
+            field,
+            first: first as usize,
+            mesh_from_local: columns(Mat3::IDENTITY),
+            mesh_from_local_t: V3::zero(),
+            local_from_mesh: columns(Mat3::IDENTITY),
+            motion_m: columns(Mat3::ZERO),
+            motion_t: V3::zero(),
+            last: start,
+            rooted_until: 0,
+            root_depth: T::splat(0.0),
+        };
+        // The roots rule, at the end of the step.
+        r.last = field.at(1.0);
+        r.place(field.at(1.0));
+        let (d, _) = T::sample(sdf, r.to_mesh(root));
+        let depth = T::splat(k.pearl_radius) - d;
+        let inside = depth.gt(T::splat(0.0));
+        r.root_depth = T::select(inside, depth, T::splat(0.0));
+        if T::any(inside) {
+            r.rooted_until = rooted_until(r.root_depth, arc);
+        }
+        r.last = start;
+        r
+    }
+
+    fn place(&mut self, local_from_mesh: glam::Affine3A) {
+        let m = Mat3::from(local_from_mesh.matrix3);
+        let inv = m.transpose();
+        let t = Vec3::from(local_from_mesh.translation);
+        self.local_from_mesh = columns(m);
+        self.mesh_from_local = columns(inv);
+        self.mesh_from_local_t = V3::splat(-(inv * t));
+        let last_m = Mat3::from(self.last.matrix3);
+        self.motion_m = columns(m - last_m);
+        self.motion_t = V3::splat(t - Vec3::from(self.last.translation));
+        self.last = local_from_mesh;
+    }
+
+    /// Moves it to where it is after substep `sub` of `n`.
+    #[inline(always)]
+    pub(crate) fn advance(&mut self, sub: u32, n: u32) {
+        self.place(self.field.at((sub + 1) as f32 / n as f32));
+    }
+
+    #[inline(always)]
+    fn to_mesh(&self, x: V3<T>) -> V3<T> {
+        affine(&self.mesh_from_local, self.mesh_from_local_t, x)
+    }
+
+    /// Pushes `x` out of the field's skin (at most `field_push` per
+    /// substep; a vertex pushed that far keeps no velocity from it), with
+    /// friction; `prev` is its position a substep ago, moved with a deep
+    /// push.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn push_vertex(
+        &self,
+        sdf: &Sdf,
+        v: usize,
+        x: V3<T>,
+        prev: &mut V3<T>,
+        off: T,
+        arc: T,
+        k: &ContactSetup,
+    ) -> V3<T> {
+        let p = self.to_mesh(x);
+        let (d, g) = T::sample(sdf, p);
+        let reach = if v < self.rooted_until {
+            reach_at(T::splat(k.pearl_radius), self.root_depth, arc)
+        } else {
+            T::splat(k.pearl_radius)
+        };
+        let n = affine(&self.local_from_mesh, V3::zero(), g);
+        let n2 = dot(n, n);
+        // `off` is +inf for a pinned vertex: never hit.
+        let hit = (d + off).lt(reach) & n2.gt(T::splat(1.0e-12));
+        if !T::any(hit) {
+            return x;
+        }
+        let nrm = n * n2.max(T::splat(1.0e-12)).inv_sqrt();
+        let depth = reach - d;
+        let cap = T::splat(k.field_push);
+        let push = depth.min(cap);
+        let mut pushed = madd(nrm, push, x);
+        if k.friction_on {
+            let motion = affine(&self.motion_m, self.motion_t, p);
+            pushed = coulomb(pushed, *prev, nrm, push, motion, k);
+        }
+        let deep = hit & depth.gt(cap);
+        *prev = V3::select(deep, madd(nrm, push, *prev), *prev);
+        V3::select(hit, pushed, x)
+    }
+}

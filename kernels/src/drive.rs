@@ -1,0 +1,401 @@
+//! The step's driver, shared by the SIMD path and its scalar twin: the
+//! colliders to the local frame, the tasks (runs of whole groups of
+//! blocks), per group the sleep decision and the broad phase, per block
+//! the chain (`step.rs`), the guard's restore and the stillness that puts
+//! blocks to sleep.
+
+use crate::collide::broad_phase::{roots_aabb, select_strand_candidates, Aabb, BlockBounds};
+use crate::collide::Colliders;
+use crate::lanes::{Vec3x8, LANES};
+use crate::step::{Setup, StepColliders};
+use crate::strands::{rest_pose, BlockSleep, Scratch};
+use crate::{SimParams, Strands};
+use coif_base::tasks::{for_each_chunk_mut, Executor};
+use glam::Vec3;
+use wide::f32x8;
+
+/// What a step writes in one block: its `V` positions and previous
+/// positions. The rest of the set is shared read-only by every task.
+pub(crate) struct BlockState<'a> {
+    pub pos: &'a mut [Vec3x8],
+    pub prev: &'a mut [Vec3x8],
+}
+
+/// One task's share of a step: the positions of its blocks and its buffers.
+pub(crate) struct TaskParts<'a> {
+    pos: &'a mut [Vec3x8],
+    prev: &'a mut [Vec3x8],
+    sleep: &'a mut [BlockSleep],
+    scratch: &'a mut Scratch,
+}
+
+/// The most tasks one step makes, whatever the set's size (an engine's
+/// fixed-size job pool never runs dry; 64 keeps 16 cores busy with four
+/// tasks each).
+pub const MAX_STEP_TASKS: usize = 64;
+
+/// The fewest blocks a task takes (128 strands): about 0.1 ms of work at
+/// 32 vertices (about 30 ns per vertex-step), so a job system's cost per
+/// job (about a microsecond) stays near 1 %; a 2,048-guide head makes 16
+/// tasks.
+const MIN_TASK_BLOCKS: usize = 16;
+
+/// Blocks per task for a set of `blocks`: at least [`MIN_TASK_BLOCKS`],
+/// at most [`MAX_STEP_TASKS`] tasks, a whole number of [`GROUP`]s (so the
+/// broad phase's groups, and with them every result, do not depend on the
+/// split).
+pub(crate) fn task_blocks(blocks: usize) -> usize {
+    let per = blocks.div_ceil(MAX_STEP_TASKS).max(MIN_TASK_BLOCKS);
+    per.div_ceil(GROUP) * GROUP
+}
+
+/// Tasks per step for a set of `blocks`.
+pub(crate) fn task_count(blocks: usize) -> usize {
+    blocks.div_ceil(task_blocks(blocks))
+}
+
+/// The step's driver, shared by the SIMD path and its scalar twin: the
+/// colliders to local coordinates and those that moved since the last step,
+/// then per task (a run of whole groups, see [`task_blocks`]) and per group
+/// of [`GROUP`] blocks: 0. the sleep decision of each block (awake, or
+/// asleep and woken by its roots or a moving sphere, or asleep and
+/// skipped), 1. the broad phase (`block_box` gives block `b`'s swept box; a
+/// sleeping block's is the one kept when it fell asleep) and steps 2.-7. of
+/// each block of the group that runs (`block(strands, state, scratch,
+/// setup, b, g)`, which returns the lanes that went bad); those lanes are
+/// restored; 8. the block's stillness.
+///
+/// The moving state (`pos`, `prev`, the blocks' sleep) leaves the set for
+/// the step, so the tasks share the rest of it read-only and each writes
+/// only its own blocks; everything a block's sleep decision reads is its
+/// own state and the step's read-only rig (this step's and the last one's).
+/// The awake and restored counts are summed afterwards in block and task
+/// order.
+pub(crate) fn drive(
+    strands: &mut Strands,
+    params: &SimParams,
+    colliders: &Colliders<'_>,
+    executor: &dyn Executor,
+    block_box: impl Fn(&Strands, &BlockState<'_>, usize, &Setup) -> Aabb + Sync,
+    block: impl Fn(
+            &Strands,
+            &mut BlockState<'_>,
+            &mut Scratch,
+            &StepColliders<'_>,
+            &Setup,
+            usize,
+            usize,
+        ) -> u32
+        + Sync,
+) {
+    let k = Setup::new(strands, params);
+    if strands.params_seen.as_ref() != Some(params) {
+        // Other parameters: what was still may not be any more.
+        strands.wake();
+        strands.params_seen = Some(params.clone());
+    }
+    let mut scratch = std::mem::take(&mut strands.scratch);
+    // Sized for the whole set of colliders once, so that no later step
+    // allocates (allocates only when a kind grows).
+    scratch.rig.update(colliders, strands.origin);
+    for t in &mut scratch.tasks {
+        t.candidates.clear();
+        t.reserve(crate::collide::counts(colliders));
+    }
+    let mut pos = std::mem::take(&mut strands.pos);
+    let mut prev = std::mem::take(&mut strands.prev);
+    let mut sleep = std::mem::take(&mut strands.sleep);
+    {
+        let s: &Strands = strands;
+        let verts = s.verts;
+        let per_task = task_blocks(s.blocks);
+        let span = per_task * verts;
+        let mut parts: [Option<TaskParts<'_>>; MAX_STEP_TASKS] = std::array::from_fn(|_| None);
+        let chunks = pos
+            .chunks_mut(span)
+            .zip(prev.chunks_mut(span))
+            .zip(sleep.chunks_mut(per_task));
+        let mut tasks = 0;
+        for (slot, (((pos, prev), sleep), scratch)) in
+            parts.iter_mut().zip(chunks.zip(&mut scratch.tasks))
+        {
+            *slot = Some(TaskParts {
+                pos,
+                prev,
+                sleep,
+                scratch,
+            });
+            tasks += 1;
+        }
+        let world = StepColliders {
+            rig: &scratch.rig,
+            sdfs: colliders.sdfs,
+        };
+        let movers = &scratch.rig.movers;
+        for_each_chunk_mut(executor, &mut parts[..tasks], 1, &|t, part| {
+            let Some(TaskParts {
+                pos,
+                prev,
+                sleep,
+                scratch,
+            }) = part.first_mut().and_then(Option::as_mut)
+            else {
+                return;
+            };
+            scratch.restored = 0;
+            let blocks = pos.len() / verts;
+            let mut first = 0;
+            while first < blocks {
+                let n = GROUP.min(blocks - first);
+                // 0. Sleep: a sleeping block runs only if its roots moved or a
+                // moving sphere's sweep reaches its box.
+                let mut boxes = [EMPTY_BOX; GROUP];
+                let mut bounds = [BlockBounds {
+                    swept: EMPTY_BOX,
+                    roots: EMPTY_BOX,
+                    arc: &[],
+                    stretch_factor: k.stretch_factor,
+                }; GROUP];
+                let mut runs = [true; GROUP];
+                for g in 0..n {
+                    let (b, r) = (t * per_task + first + g, (first + g) * verts);
+                    let st = BlockState {
+                        pos: &mut pos[r..r + verts],
+                        prev: &mut prev[r..r + verts],
+                    };
+                    let sl = sleep[first + g];
+                    if k.sleep && sl.asleep && !roots_moved(&st, s.active[b]) {
+                        boxes[g] = sl.bounds;
+                        runs[g] = movers.iter().any(|m| {
+                            crate::collide::broad_phase::boxes_near(m, &sl.bounds, k.margin)
+                        });
+                    } else {
+                        // 1. (box) The block's swept box.
+                        boxes[g] = block_box(s, &st, b, &k);
+                    }
+                    // 1. (reach) And the reach the strain limit leaves it.
+                    bounds[g] = BlockBounds {
+                        swept: boxes[g],
+                        roots: roots_aabb(st.prev[0], st.pos[0], s.active[b]),
+                        arc: &s.reach_arc[b * verts..(b + 1) * verts],
+                        stretch_factor: k.stretch_factor,
+                    };
+                }
+                // 1. Broad phase: the group's swept block boxes against the rig.
+                if runs[..n].iter().any(|&r| r) {
+                    select_strand_candidates(
+                        &bounds[..n],
+                        k.margin,
+                        world.rig,
+                        &mut scratch.candidates,
+                    );
+                }
+                for (g, &run) in runs.iter().enumerate().take(n) {
+                    let (b, r) = (t * per_task + first + g, (first + g) * verts);
+                    if !run {
+                        sleep[first + g].stepped = false;
+                        continue;
+                    }
+                    let mut st = BlockState {
+                        pos: &mut pos[r..r + verts],
+                        prev: &mut prev[r..r + verts],
+                    };
+                    let moved = roots_moved(&st, s.active[b]);
+                    if k.sleep {
+                        scratch.start.copy_from_slice(st.pos);
+                    }
+                    let bad = block(s, &mut st, scratch, &world, &k, b, g);
+                    scratch.restored += restore_lanes(s, &mut st, b, bad);
+                    // 8. Stillness: a block still for `still_steps` steps in a
+                    // row (roots included) falls asleep at rest.
+                    let still = k.sleep
+                        && !moved
+                        && block_is_still(st.pos, &scratch.start, s.active[b], k.still_move2);
+                    let sl = &mut sleep[first + g];
+                    sl.stepped = true;
+                    sl.still = if still { sl.still.saturating_add(1) } else { 0 };
+                    sl.asleep = false;
+                    if sl.still >= k.still_steps {
+                        fall_asleep(&mut st);
+                        sl.asleep = true;
+                        sl.bounds = block_box(s, &st, b, &k);
+                    }
+                }
+                first += n;
+            }
+        });
+    }
+    strands.pos = pos;
+    strands.prev = prev;
+    strands.sleep = sleep;
+    strands.restored += scratch.tasks.iter().map(|t| t.restored).sum::<u64>();
+    strands.awake = (0..strands.blocks)
+        .filter(|&b| strands.sleep[b].stepped)
+        .map(|b| strands.lanes_in_block(b))
+        .sum();
+    scratch.rig.remember(colliders);
+    strands.scratch = scratch;
+    strands.time += params.dt as f64;
+}
+
+/// True if a root of block `b` (an active lane) was moved since the last
+/// step: `set_roots` changed its target (`pos[0]`) away from where the step
+/// left it (`prev[0]`). Any change counts, however small: a sleeping strand
+/// stays attached to its root.
+fn roots_moved(st: &BlockState<'_>, active: f32x8) -> bool {
+    let d = st.pos[0] - st.prev[0];
+    let moved = d.x.simd_ne(f32x8::ZERO) | d.y.simd_ne(f32x8::ZERO) | d.z.simd_ne(f32x8::ZERO);
+    (moved & active).any()
+}
+
+/// True if every vertex of the active lanes of a block moved at most
+/// `sqrt(still_move2)` over the step (`|x_end - x_start|^2 <= still_move2`;
+/// the displacement, not the last substep's velocity, which a vertex
+/// resting on a sphere keeps at a few cm/s while it does not move); a NaN
+/// is never still. The same code for both paths (like the guard's restore),
+/// so their sleep decisions agree by construction.
+fn block_is_still(pos: &[Vec3x8], start: &[Vec3x8], active: f32x8, still_move2: f32) -> bool {
+    let limit = f32x8::splat(still_move2);
+    let mut still = active | !active;
+    for (x, p) in pos.iter().zip(start) {
+        let d = *x - *p;
+        still &= d.dot(d).simd_le(limit) | !active;
+    }
+    still.all()
+}
+
+/// A block falls asleep at rest: previous positions = current ones.
+fn fall_asleep(st: &mut BlockState<'_>) {
+    st.prev.copy_from_slice(st.pos);
+}
+
+/// Blocks whose boxes are tested against the rig together (the union first,
+/// then each block's own box): with a 256-sphere body rig, one test per
+/// sphere per group rejects the far spheres.
+pub(crate) const GROUP: usize = 4;
+
+/// A placeholder box (never tested: only the first `n` of a group are).
+pub(crate) const EMPTY_BOX: Aabb = Aabb {
+    min: Vec3::ZERO,
+    max: Vec3::ZERO,
+};
+
+/// Restores the lanes of block `b` (its state `st`) flagged in `bad`;
+/// returns how many hold real strands (padding lanes are restored
+/// silently).
+pub(crate) fn restore_lanes(s: &Strands, st: &mut BlockState<'_>, b: usize, bad: u32) -> u64 {
+    let mut restored = 0;
+    if bad == 0 {
+        return restored;
+    }
+    let rest_offset = &s.rest_offset[b * s.verts..(b + 1) * s.verts];
+    for l in 0..LANES {
+        if bad & (1 << l) != 0 {
+            rest_pose(s.roots[b], s.rest_rotation, rest_offset, l, st.pos, st.prev);
+            if l < s.lanes_in_block(b) {
+                restored += 1;
+            }
+        }
+    }
+    restored
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::step::{step, step_with};
+    use crate::{SimParams, Sphere, Strands};
+    use coif_base::tasks::Serial;
+    use glam::Vec3;
+
+    /// Runs the tasks last first.
+    struct Reverse;
+    // SAFETY: every index once, before `run` returns.
+    unsafe impl Executor for Reverse {
+        fn threads(&self) -> usize {
+            2
+        }
+        fn run(&self, count: usize, task: &(dyn Fn(usize) + Sync)) {
+            (0..count).rev().for_each(task);
+        }
+    }
+
+    #[test]
+    fn tasks_are_whole_groups_and_at_most_max_step_tasks() {
+        for blocks in [0, 1, 5, 16, 17, 100, 1024, 1250, 5000, 100_000] {
+            let per = task_blocks(blocks);
+            assert_eq!(per % GROUP, 0, "{blocks}: whole groups");
+            assert!(per >= MIN_TASK_BLOCKS);
+            assert!(task_count(blocks) <= MAX_STEP_TASKS, "{blocks}");
+            assert!(task_count(blocks) * per >= blocks, "{blocks}: covered");
+        }
+    }
+
+    #[test]
+    fn a_lane_restored_inside_a_later_task_is_counted_once() {
+        // 200 strands: 25 blocks, two tasks; strand 163 is block 20, lane 3.
+        let (rig, params) = (head(), SimParams::default());
+        let mut runs = vec![];
+        for exec in [&Serial as &dyn Executor, &Reverse] {
+            let mut s = strands(200);
+            assert_eq!(s.scratch.tasks.len(), 2);
+            step_with(&mut s, &params, &rig, exec);
+            s.pos[20 * 12 + 7].set_lane(3, Vec3::NAN);
+            step_with(&mut s, &params, &rig, exec);
+            step_with(&mut s, &params, &rig, exec);
+            assert_eq!(s.restored_strands(), 1);
+            let p = s.positions_local();
+            assert!(p.iter().all(|x| x.is_finite()));
+            runs.push(p);
+        }
+        assert_eq!(runs[0], runs[1]);
+    }
+
+    /// The rig of the tests: one head sphere at the origin.
+    fn head() -> [Sphere; 1] {
+        [Sphere {
+            center: Vec3::ZERO,
+            radius: 0.12,
+        }]
+    }
+
+    fn strands(count: usize) -> Strands {
+        let pts: Vec<Vec3> = (0..count)
+            .flat_map(|s| (0..12).map(move |v| Vec3::new(0.01 * s as f32, 0.1, 0.01 * v as f32)))
+            .collect();
+        Strands::from_polylines(&pts, 12).unwrap()
+    }
+
+    #[test]
+    fn a_poisoned_strand_is_restored_and_no_other_strand_notices() {
+        let (rig, params) = (head(), SimParams::default());
+        for stepper in [
+            step as fn(&mut Strands, &SimParams, &[Sphere]),
+            crate::scalar::step,
+        ] {
+            let mut clean = strands(21);
+            for _ in 0..10 {
+                stepper(&mut clean, &params, &rig);
+            }
+            let mut poisoned = clean.clone();
+            // Strand 13 = block 1, lane 5: one vertex goes NaN mid-flight.
+            poisoned.pos[12 + 7].set_lane(5, Vec3::NAN);
+            stepper(&mut clean, &params, &rig);
+            stepper(&mut poisoned, &params, &rig);
+            assert_eq!(poisoned.restored_strands(), 1);
+            assert_eq!(clean.restored_strands(), 0);
+            let (a, b) = (clean.positions_local(), poisoned.positions_local());
+            for s in 0..21 {
+                for v in 0..12 {
+                    let k = s * 12 + v;
+                    if s == 13 {
+                        let rest = poisoned.pos[12].lane(5) + poisoned.rest_offset[12 + v].lane(5);
+                        assert_eq!(b[k], rest, "restored to rest at its root");
+                    } else {
+                        assert_eq!(a[k], b[k], "strand {s} vertex {v} was touched");
+                    }
+                }
+            }
+        }
+    }
+}
