@@ -184,6 +184,8 @@ impl Setup {
                 static_friction: p.static_friction.max(0.0),
                 friction_on: (p.friction > 0.0 || p.static_friction > 0.0),
                 field_push: FIELD_EXIT_SPEED * h,
+                accel_h2: accel * (h * h),
+                slop: (accel * (h * h)).length(),
             },
             gusts: Gusts::new(p, drag, h, s.time, s.origin),
             local_shape: local_shape_per_substep(p.local_shape_stiffness, h),
@@ -679,7 +681,8 @@ fn strain_limit_and_collide<T: SdfLane>(
         let free = w[v].gt(zero);
         let mut x = pos[v];
         let mut xp = prev[v];
-        for _ in 0..rounds {
+        for round in 0..rounds {
+            let friction = k.contact.friction_on && round == 0;
             let d = x - pos[v - 1];
             let d2 = dot(d, d);
             let long = d2.gt(limit * limit);
@@ -691,14 +694,14 @@ fn strain_limit_and_collide<T: SdfLane>(
                 x = V3::select(fix, madd(d, target * inv, pos[v - 1]), x);
             }
             for r in &s.spheres[..live_s] {
-                x = r.push_vertex::<false>(v, x, xp, off[v], arc[v], &k.contact);
+                x = r.push_vertex::<false>(v, x, xp, off[v], arc[v], &k.contact, friction);
             }
             for r in &s.capsules[..live_c] {
-                x = r.push_vertex::<true>(v, x, xp, off[v], arc[v], &k.contact);
+                x = r.push_vertex::<true>(v, x, xp, off[v], arc[v], &k.contact, friction);
             }
             for f in &s.fields[..live_f] {
                 if let Some(sdf) = sdfs.get(f.field.index) {
-                    x = f.push_vertex(sdf, v, x, &mut xp, off[v], arc[v], &k.contact);
+                    x = f.push_vertex(sdf, v, x, &mut xp, off[v], arc[v], &k.contact, friction);
                 }
             }
         }

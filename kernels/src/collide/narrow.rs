@@ -65,6 +65,13 @@ pub(crate) struct ContactSetup {
     pub friction_on: bool,
     /// Largest push out of a field per substep.
     pub field_push: f32,
+    /// The steady acceleration over one substep, `(gravity + drag wind)
+    /// h^2` (friction's least normal push).
+    pub accel_h2: Vec3,
+    /// How far outside the skin a vertex still counts as touching it for
+    /// friction: `|accel_h2|`, what it settles per substep under the
+    /// steady load.
+    pub slop: f32,
 }
 
 /// Distance and outward unit normal; 0 and +y where the point sits on the
@@ -88,19 +95,22 @@ fn reach_at<T: Lane>(reach: T, root_depth: T, arc: T) -> T {
     reach - allowed
 }
 
-/// Coulomb friction on a pushed point: `x` after a push of `depth` along
-/// `n`, `xp` where it was one substep ago, `motion` the collider surface's
-/// motion over the substep.
+/// Coulomb friction on a pushed point: the correction that removes its
+/// tangential motion `dx` over the substep relative to the collider's
+/// surface (`dx` = its motion less the surface's; `n` the contact normal,
+/// `depth` the normal push): all of it while `|dx_t| <= mu_s depth`, else
+/// `dx_t min(mu_k depth / |dx_t|, 1)`.
+///
+/// The normal push counted is at least the steady acceleration's push into
+/// the surface over the substep, `max(0, -a . n) h^2` (`a = gravity + drag
+/// wind`): a vertex resting on a surface is pressed by its weight however
+/// the push is shared between it and the pearls beside it (which carry
+/// none of the friction), so on a slope it holds exactly when
+/// `mu_s > tan(theta)`.
 #[inline(always)]
-fn coulomb<T: Lane>(
-    x: V3<T>,
-    xp: V3<T>,
-    n: V3<T>,
-    depth: T,
-    motion: V3<T>,
-    k: &ContactSetup,
-) -> V3<T> {
-    let dx = (x - xp) - motion;
+fn coulomb<T: Lane>(dx: V3<T>, n: V3<T>, depth: T, k: &ContactSetup) -> V3<T> {
+    let a = V3::<T>::splat(k.accel_h2);
+    let depth = depth.max(-dot(a, n));
     let tang = madd(n, -dot(dx, n), dx);
     let t2 = dot(tang, tang);
     let hold = T::splat(k.static_friction) * depth;
@@ -108,7 +118,7 @@ fn coulomb<T: Lane>(
     let inv = t2.max(T::splat(1.0e-30)).inv_sqrt();
     let slide = (T::splat(k.friction) * depth * inv).min(T::splat(1.0));
     let share = T::select(sticks, T::splat(1.0), slide);
-    madd(tang, -share, x)
+    tang * -share
 }
 
 /// A sphere (`CAPSULE = false`) or capsule in lanes over one step.
@@ -232,6 +242,16 @@ impl<T: Lane> ShapeReach<T> {
         (ax - self.ab * t, t)
     }
 
+    /// The surface's motion over the substep at axis parameter `t`.
+    #[inline(always)]
+    fn motion<const CAPSULE: bool>(&self, t: T) -> V3<T> {
+        if CAPSULE {
+            madd(self.b_sub - self.a_sub, t, self.a_sub)
+        } else {
+            self.a_sub
+        }
+    }
+
     /// The skin's reach and its square at vertex (or segment) `v` of rest
     /// arc `arc`.
     #[inline(always)]
@@ -245,8 +265,11 @@ impl<T: Lane> ShapeReach<T> {
     }
 
     /// Pushes `x` (a free vertex unless `off` is +inf; `xp` where it was a
-    /// substep ago, `arc` its rest arc) out of the skin, with friction.
+    /// substep ago, `arc` its rest arc) out of the skin, with friction if
+    /// `friction` (once per substep: the second round of the last substep
+    /// only pushes, or friction would act five times per four substeps).
     #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn push_vertex<const CAPSULE: bool>(
         &self,
         v: usize,
@@ -255,26 +278,31 @@ impl<T: Lane> ShapeReach<T> {
         off: T,
         arc: T,
         k: &ContactSetup,
+        friction: bool,
     ) -> V3<T> {
         let (d, t) = self.offset::<CAPSULE>(x);
         let d2 = dot_add(d, d, off);
         let (reach, reach2) = self.reach(v, arc);
-        let hit = d2.lt(reach2);
-        if !T::any(hit) {
+        if !friction {
+            let hit = d2.lt(reach2);
+            if !T::any(hit) {
+                return x;
+            }
+            let (dist, nrm) = outward(d, d2);
+            return V3::select(hit, madd(nrm, reach - dist, x), x);
+        }
+        // With friction, a vertex touching the skin (within the slop: the
+        // pearls beside it may have pushed it out already) is in contact.
+        let touch = reach + T::splat(k.slop);
+        let contact = d2.lt(touch * touch);
+        if !T::any(contact) {
             return x;
         }
         let (dist, nrm) = outward(d, d2);
-        let depth = reach - dist;
-        let mut pushed = madd(nrm, depth, x);
-        if k.friction_on {
-            let motion = if CAPSULE {
-                madd(self.b_sub - self.a_sub, t, self.a_sub)
-            } else {
-                self.a_sub
-            };
-            pushed = coulomb(pushed, xp, nrm, depth, motion, k);
-        }
-        V3::select(hit, pushed, x)
+        let depth = (reach - dist).max(T::splat(0.0));
+        let pushed = madd(nrm, depth, x);
+        let held = pushed + coulomb((pushed - xp) - self.motion::<CAPSULE>(t), nrm, depth, k);
+        V3::select(contact, held, x)
     }
 
     /// Every pearl of segments `first - 1 ..` against it:
@@ -282,7 +310,10 @@ impl<T: Lane> ShapeReach<T> {
     /// `s = (R + r - |p - c|) / (w_i (1-t)^2 + w_{i+1} t^2)`,
     /// `x_i += w_i (1-t) s n`, `x_{i+1} += w_{i+1} t s n` (the Nalu demo's
     /// point-on-segment rule, Nguyen and Donnelly 2005). `off[v]` is +inf
-    /// for segments with a pinned end.
+    /// for segments with a pinned end. No friction here: a pearl's
+    /// correction shared by the two ends of every segment over-corrects
+    /// the vertices between (measured: a strand resting on a slope crept
+    /// uphill); the vertices carry it (`push_vertex`).
     #[inline(always)]
     pub(crate) fn push_pearls<const CAPSULE: bool>(
         &self,
@@ -428,6 +459,7 @@ impl<T: SdfLane> FieldReach<T> {
         off: T,
         arc: T,
         k: &ContactSetup,
+        friction: bool,
     ) -> V3<T> {
         let p = self.to_mesh(x);
         let (d, g) = T::sample(sdf, p);
@@ -448,9 +480,9 @@ impl<T: SdfLane> FieldReach<T> {
         let cap = T::splat(k.field_push);
         let push = depth.min(cap);
         let mut pushed = madd(nrm, push, x);
-        if k.friction_on {
+        if friction {
             let motion = affine(&self.motion_m, self.motion_t, p);
-            pushed = coulomb(pushed, *prev, nrm, push, motion, k);
+            pushed = pushed + coulomb((pushed - *prev) - motion, nrm, push, k);
         }
         let deep = hit & depth.gt(cap);
         *prev = V3::select(deep, madd(nrm, push, *prev), *prev);
