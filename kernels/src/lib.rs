@@ -28,6 +28,7 @@
 #![warn(missing_docs)]
 
 mod broad_phase;
+mod collide;
 mod constraints;
 mod error;
 mod fixed_step;
@@ -39,6 +40,7 @@ mod step;
 mod strands;
 
 pub use coif_base::{lanes, rng, tasks, Sphere, StrandBlocks, Vec3x8, LANES};
+pub use collide::{Sdf, MARGIN_CELLS, MAX_SDF_CELLS};
 pub use error::Error;
 pub use fixed_step::FixedStep;
 pub use measure::{measure, Measures};
