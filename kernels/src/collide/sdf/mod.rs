@@ -169,7 +169,9 @@ impl Sdf {
 
     /// The gradient of [`Sdf::distance`] at a world point, in the world frame
     /// (the trilinear interpolant's derivative, not normalised; outside the
-    /// box plus the unit direction away from it).
+    /// box the derivative of the outside value: the clamped point's
+    /// gradient along the unclamped axes plus the unit direction away from
+    /// the box).
     pub fn gradient(&self, p: Vec3) -> Vec3 {
         self.distance_and_gradient(p).1
     }
