@@ -31,13 +31,6 @@ use super::{Grid, Sdf};
 use crate::lanes::{Lane, V3};
 use wide::{f32x8, i32x8};
 
-/// Offsets of a cell's eight corners from its lowest node, x fastest.
-#[inline(always)]
-fn corner_offsets(g: &Grid) -> [i32; 8] {
-    let (sx, sy) = (g.dims.x as i32, (g.dims.x * g.dims.y) as i32);
-    [0, 1, sx, sx + 1, sy, sy + 1, sy + sx, sy + sx + 1]
-}
-
 /// Signed distance and its gradient (d/dp of the trilinear interpolant, mesh
 /// frame, not normalised) at points given in the MESH frame, one lane or
 /// eight. The strand step calls this per vertex per substep; it allocates
@@ -63,7 +56,7 @@ impl SdfLane for f32 {
     #[inline(always)]
     fn corners(g: &Grid, base: f32) -> [f32; 8] {
         let b = (base as i32).clamp(0, g.max_base);
-        corner_offsets(g).map(|o| g.values[(b + o) as usize])
+        g.corners.map(|o| g.values[(b + o) as usize])
     }
 }
 
@@ -78,7 +71,7 @@ impl SdfLane for f32x8 {
             .trunc_int()
             .max(i32x8::splat(0))
             .min(i32x8::splat(g.max_base));
-        corner_offsets(g).map(|o| gather(&g.values, b + i32x8::splat(o)))
+        g.corners.map(|o| gather(&g.values, b + i32x8::splat(o)))
     }
 }
 
@@ -160,25 +153,31 @@ pub(crate) fn sample<T: SdfLane>(g: &Grid, p: V3<T>) -> (T, V3<T>) {
     let gy = lerp(c10 - c00, c11 - c01, f.z);
     let gz = c1 - c0;
 
-    // Outside the box: + |o| cell, and the outward unit direction.
+    let g_in = V3::new(gx, gy, gz) * inv;
+
+    // Outside the box: + |o| cell, and the outward unit direction. Skipped
+    // when no lane is outside (the usual case); the selects below make the
+    // inside lanes the same bits either way.
     let o = u - uc;
     let m = o.x.abs().max(o.y.abs()).max(o.z.abs());
     let out = m.gt(T::splat(1e-6));
+    if !T::any(out) {
+        return (inside, g_in);
+    }
     let one = T::splat(1.0);
     let s = o * T::select(out, m, one).recip();
     let s2 = T::select(out, s.length_squared(), one);
     let il = s2.inv_sqrt();
-    let dir = V3::select(out, s * il, V3::zero());
-    let away = T::select(out, m * (s2 * il) * T::splat(g.cell), zero);
-    let value = inside + away;
+    let away = m * (s2 * il) * T::splat(g.cell);
+    let value = T::select(out, inside + away, inside);
     // The trilinear term does not change along a clamped axis.
-    let g = V3::new(
+    let g_out = V3::new(
         T::select(o.x.abs().gt(zero), zero, gx),
         T::select(o.y.abs().gt(zero), zero, gy),
         T::select(o.z.abs().gt(zero), zero, gz),
-    );
-    let grad = g * inv + dir;
-    (value, grad)
+    ) * inv
+        + s * il;
+    (value, V3::select(out, g_out, g_in))
 }
 
 #[cfg(test)]

@@ -21,12 +21,12 @@ mod lookup;
 mod triangle;
 mod winding;
 
-#[allow(unused_imports)] // the strand step's entry point; used by tests now
 pub(crate) use lookup::SdfLane;
 
-use crate::lanes::V3;
+use crate::lanes::{Vec3x8, V3};
 use crate::Error;
 use glam::{Affine3A, UVec3, Vec3};
+use wide::f32x8;
 
 /// The most grid nodes (stored distances) [`Sdf::from_mesh`] accepts:
 /// `2^23` = 8,388,608, i.e. 32 MiB of `f32` values kept, and about five
@@ -61,6 +61,8 @@ pub(crate) struct Grid {
     pub stride_z: f32,
     /// The largest lowest-corner index whose cell lies in the grid.
     pub max_base: i32,
+    /// Offsets of a cell's eight corners from its lowest node, x fastest.
+    pub corners: [i32; 8],
 }
 
 impl Grid {
@@ -77,6 +79,10 @@ impl Grid {
             stride_y: dims.x as f32,
             stride_z: (dims.x * dims.y) as f32,
             max_base: max_base as i32,
+            corners: {
+                let (sx, sy) = (dims.x as i32, (dims.x * dims.y) as i32);
+                [0, 1, sx, sx + 1, sy, sy + 1, sy + sx, sy + sx + 1]
+            },
         }
     }
 
@@ -226,6 +232,22 @@ impl Sdf {
             translation: -(r * world_from_mesh.translation),
         };
         Ok(())
+    }
+
+    /// Signed distance and gradient (per metre, not normalised) at a point
+    /// in the MESH frame, no transform: the scalar lane lookup the strand
+    /// step runs ([`SdfLane`] at `f32`), for callers that keep their points
+    /// in the mesh frame. Allocates nothing.
+    pub fn sample_mesh(&self, p_mesh: Vec3) -> (f32, Vec3) {
+        let (d, g) = <f32 as SdfLane>::sample(self, V3::from_vec3(p_mesh));
+        (d, g.to_vec3())
+    }
+
+    /// [`Sdf::sample_mesh`] for eight points at once (one per lane), the
+    /// SIMD lookup: the same bits per lane as the scalar one. Allocates
+    /// nothing.
+    pub fn sample_mesh_x8(&self, p_mesh: Vec3x8) -> (f32x8, Vec3x8) {
+        <f32x8 as SdfLane>::sample(self, p_mesh)
     }
 
     /// The transform set last (world from mesh; the identity at first).
