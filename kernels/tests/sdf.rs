@@ -397,6 +397,11 @@ fn bad_meshes_are_refused_without_panic_or_huge_allocation() {
             other => panic!("{scale} {cell}: {other:?}"),
         }
     }
+    // Coordinates near the float range: refused or built, never a panic or
+    // a hang.
+    let q: Vec<Vec3> = p.iter().map(|v| *v * 3e38).collect();
+    let _ = Sdf::from_mesh(&q, &t, 1e37);
+    let _ = Sdf::from_mesh(&q, &t, f32::MAX);
     let e = Error::GridTooLarge { cells: 9, max: 8 }.to_string();
     assert!(e.contains('9') && e.contains('8'), "{e}");
 }

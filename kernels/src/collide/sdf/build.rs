@@ -239,7 +239,9 @@ pub(crate) fn build(g: &Grid, positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec
                 }
                 seen[s] = t;
                 let e2 = tris[t as usize].distance2(p);
-                if e2 < best {
+                // `best_t == NONE`: every reached node gets a triangle even
+                // if its distance overflowed, so the front always advances.
+                if e2 < best || best_t == NONE {
                     best = e2;
                     best_t = t;
                 }

@@ -29,9 +29,9 @@ use glam::{Affine3A, UVec3, Vec3};
 use wide::f32x8;
 
 /// The most grid nodes (stored distances) [`Sdf::from_mesh`] accepts:
-/// `2^23` = 8,388,608, i.e. 32 MiB of `f32` values kept, and about five
-/// times that (distances, closest triangles, winding numbers, flags)
-/// briefly while building. A 40 cm bust at 4 mm cells needs about 0.8
+/// `2^23` = 8,388,608, i.e. 32 MiB of `f32` values kept, and about three
+/// times that (squared distances, closest triangles then winding numbers,
+/// the values) briefly while building, about 100 MiB at the cap. A 40 cm bust at 4 mm cells needs about 0.8
 /// million; at 2 mm about 6 million. The cap also keeps every node index
 /// exact in an `f32`, which the SIMD lookup relies on.
 pub const MAX_SDF_CELLS: u64 = 1 << 23;
@@ -101,11 +101,24 @@ impl Grid {
 /// (inside where `w >= 1/2`), which tolerates holes. Between nodes the field
 /// is trilinear. See `kernels/SDF.md` for the construction and its measured
 /// accuracy.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct Sdf {
     grid: Grid,
     world_from_mesh: Affine3A,
     mesh_from_world: Affine3A,
+}
+
+impl std::fmt::Debug for Sdf {
+    /// The grid's shape and the transform, not the values.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let (lo, hi) = self.bounds();
+        f.debug_struct("Sdf")
+            .field("dims", &self.grid.dims)
+            .field("cell", &self.grid.cell)
+            .field("bounds", &(lo, hi))
+            .field("world_from_mesh", &self.world_from_mesh)
+            .finish_non_exhaustive()
+    }
 }
 
 impl Sdf {
