@@ -249,8 +249,8 @@ impl Sdf {
 
     /// Signed distance and gradient (per metre, not normalised) at a point
     /// in the MESH frame, no transform: the scalar lane lookup the strand
-    /// step runs ([`SdfLane`] at `f32`), for callers that keep their points
-    /// in the mesh frame. Allocates nothing.
+    /// step runs (the crate-internal `SdfLane` at `f32`), for callers that
+    /// keep their points in the mesh frame. Allocates nothing.
     pub fn sample_mesh(&self, p_mesh: Vec3) -> (f32, Vec3) {
         let (d, g) = <f32 as SdfLane>::sample(self, V3::from_vec3(p_mesh));
         (d, g.to_vec3())
