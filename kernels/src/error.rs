@@ -44,6 +44,29 @@ pub enum Error {
         /// The accepted range, in words.
         expected: &'static str,
     },
+    /// A mesh has no triangles.
+    NoTriangles,
+    /// A triangle indexes a vertex that does not exist.
+    IndexOutOfRange {
+        /// The offending triangle.
+        triangle: usize,
+        /// The index it holds.
+        index: u32,
+        /// The vertex count.
+        vertices: usize,
+    },
+    /// A grid would exceed its documented node cap.
+    GridTooLarge {
+        /// Nodes the grid would need (saturated at `u64::MAX`).
+        cells: u64,
+        /// The cap.
+        max: u64,
+    },
+    /// A transform is not finite or not rigid (rotation and translation).
+    InvalidTransform {
+        /// What is wrong, in words.
+        reason: &'static str,
+    },
 }
 
 impl fmt::Display for Error {
@@ -75,6 +98,20 @@ impl fmt::Display for Error {
                     "parameter {name} = {value} is invalid: expected {expected}"
                 )
             }
+            Error::NoTriangles => write!(f, "the mesh has no triangles"),
+            Error::IndexOutOfRange {
+                triangle,
+                index,
+                vertices,
+            } => write!(
+                f,
+                "triangle {triangle} indexes vertex {index}, but there are {vertices} vertices"
+            ),
+            Error::GridTooLarge { cells, max } => write!(
+                f,
+                "the grid would need {cells} nodes, more than the cap of {max} (cell too small for the mesh)"
+            ),
+            Error::InvalidTransform { reason } => write!(f, "invalid transform: {reason}"),
         }
     }
 }

@@ -44,7 +44,7 @@ mod wind;
 pub use coif_base::{lanes, rng, tasks, Sphere, StrandBlocks, Vec3x8, LANES};
 pub use collide::narrow::{FIELD_EXIT_SPEED, ROOT_EXIT};
 pub use collide::rig::COLLIDER_JUMP;
-pub use collide::{Capsule, Colliders, Sdf, MAX_SDF_CELLS};
+pub use collide::{Capsule, Colliders, Sdf, MARGIN_CELLS, MAX_SDF_CELLS};
 pub use drive::MAX_STEP_TASKS;
 pub use error::Error;
 pub use fixed_step::FixedStep;

@@ -107,6 +107,9 @@ pub(crate) struct Setup {
     pub contact: ContactSetup,
     /// Gusts on: `turbulence > 0` and `drag > 0`.
     pub gusts: Option<Gusts>,
+    /// `FIELD_EXIT_SPEED dt`: the most a lane that was deep in a field
+    /// keeps as its velocity over the step.
+    pub exit_move: f32,
     /// Per substep: local shape share, global shape pull, bending stiffness.
     pub local_shape: f32,
     pub shape: f32,
@@ -188,6 +191,7 @@ impl Setup {
                 slop: (accel * (h * h)).length(),
             },
             gusts: Gusts::new(p, drag, h, s.time, s.origin),
+            exit_move: FIELD_EXIT_SPEED * p.dt,
             local_shape: local_shape_per_substep(p.local_shape_stiffness, h),
             shape: per_substep(p.shape_stiffness, n),
             bend: per_substep(p.bend_stiffness, n),
@@ -327,8 +331,8 @@ pub(crate) fn step_chain<T: SdfLane>(
         prev[v] = x - (x - prev[v]) * inv_n;
     }
     if let Some(gusts) = &k.gusts {
-        for v in 0..verts {
-            s.gust[v] = gusts.offset(pos[v]);
+        for (gust, x) in s.gust.iter_mut().zip(pos.iter()) {
+            *gust = gusts.offset(*x);
         }
     }
     // 3. (set-up) The rest vectors in the groom frame's current orientation.
@@ -383,6 +387,8 @@ pub(crate) fn step_chain<T: SdfLane>(
             pearl_off[v - 1] = offset_unless::<T>(free & w[v - 1].gt(zero));
         }
     }
+    // Lanes found deep in a field this step (their speed is capped in 7.).
+    let mut deep = !T::all_lanes();
     for sub in 0..n {
         // 2. Prediction: the root on its path, Verlet for the free vertices
         // (with the gusts' pull when on), and the fixed part of the
@@ -431,15 +437,24 @@ pub(crate) fn step_chain<T: SdfLane>(
             r.push_pearls::<true>(c.pos, c.w, c.arc, &s.pearl_off, k.pearls);
         }
         let rounds = if sub + 1 == n { 2 } else { 1 };
-        strain_limit_and_collide(&mut c, k, s, world.sdfs, rounds);
+        deep = deep | strain_limit_and_collide(&mut c, k, s, world.sdfs, rounds);
     }
-    // 7. Velocity over the step, and the guard.
+    // 7. Velocity over the step (at most FIELD_EXIT_SPEED in a lane that
+    // was deep in a field: hair pulled out is not shot out), and the guard.
     let nn = T::splat(n as f32);
     let big = T::splat(BLOWN_UP);
     let mut ok = T::all_lanes();
+    let capped = T::any(deep);
+    let cap = T::splat(k.exit_move);
     for v in 0..verts {
         let x = pos[v];
-        let back = x - (x - prev[v]) * nn;
+        let mut back = x - (x - prev[v]) * nn;
+        if capped {
+            let moved = x - back;
+            let m2 = dot(moved, moved).max(T::splat(1.0e-30));
+            let scale = (cap * m2.inv_sqrt()).min(T::splat(1.0));
+            back = V3::select(deep, x - moved * scale, back);
+        }
         prev[v] = V3::select(w[v].gt(zero), back, x);
         ok = ok & x.finite() & x.x.abs().lt(big) & x.y.abs().lt(big) & x.z.abs().lt(big);
     }
@@ -649,7 +664,7 @@ fn predict<T: Lane, const GUSTS: bool>(
 /// Coulomb friction: `collide/narrow.rs`). The parent is final and outside
 /// the colliders, so the two sets meet and alternating closes in on a
 /// point of both: the limit does not pull hair into the head and the
-/// push-out does not stretch it.
+/// push-out does not stretch it. Returns the lanes found deep in a field.
 #[inline(always)]
 fn strain_limit_and_collide<T: SdfLane>(
     c: &mut Chain<'_, T>,
@@ -657,7 +672,8 @@ fn strain_limit_and_collide<T: SdfLane>(
     s: &ChainScratch<T>,
     sdfs: &[Sdf],
     rounds: usize,
-) {
+) -> T::Mask {
+    let mut deep = !T::all_lanes();
     let verts = c.pos.len();
     let zero = T::splat(0.0);
     let factor = T::splat(k.stretch_factor);
@@ -701,13 +717,17 @@ fn strain_limit_and_collide<T: SdfLane>(
             }
             for f in &s.fields[..live_f] {
                 if let Some(sdf) = sdfs.get(f.field.index) {
-                    x = f.push_vertex(sdf, v, x, &mut xp, off[v], arc[v], &k.contact, friction);
+                    let (pushed, was_deep) =
+                        f.push_vertex(sdf, v, x, &mut xp, off[v], arc[v], &k.contact, friction);
+                    x = pushed;
+                    deep = deep | was_deep;
                 }
             }
         }
         pos[v] = x;
         prev[v] = xp;
     }
+    deep
 }
 
 /// Advances every strand by one fixed step of `params.dt` (SIMD path)

@@ -22,7 +22,7 @@ pub(crate) mod rig;
 pub(crate) mod sdf;
 
 pub use capsule::Capsule;
-pub use sdf::{Sdf, MAX_SDF_CELLS};
+pub use sdf::{Sdf, MARGIN_CELLS, MAX_SDF_CELLS};
 
 use crate::Sphere;
 

@@ -28,8 +28,11 @@
 //!
 //! **Deep in a field** (after a teleport or a fast bone): the push per
 //! substep is at most `FIELD_EXIT_SPEED h`, and a vertex pushed by that
-//! much gains no velocity from it (its previous position moves with it), so
-//! hair found deep inside leaves at that speed and is never shot out.
+//! much gains no velocity from it (its previous position moves with it);
+//! a strand with a vertex that deep keeps at most `FIELD_EXIT_SPEED` as its
+//! velocity at the end of the step (`step.rs`, 7.), so hair found deep
+//! inside is never shot out, though the strain limit may pull a strand out
+//! after its parent vertices within the step.
 
 use super::rig::{LocalCapsule, LocalField};
 use super::sdf::{Sdf, SdfLane};
@@ -409,7 +412,7 @@ impl<T: SdfLane> FieldReach<T> {
         // The roots rule, at the end of the step.
         r.last = field.at(1.0);
         r.place(field.at(1.0));
-        let (d, _) = T::sample(sdf, r.to_mesh(root));
+        let (d, _) = T::sample(sdf, r.mesh_point(root));
         let depth = T::splat(k.pearl_radius) - d;
         let inside = depth.gt(T::splat(0.0));
         r.root_depth = T::select(inside, depth, T::splat(0.0));
@@ -440,14 +443,14 @@ impl<T: SdfLane> FieldReach<T> {
     }
 
     #[inline(always)]
-    fn to_mesh(&self, x: V3<T>) -> V3<T> {
+    fn mesh_point(&self, x: V3<T>) -> V3<T> {
         affine(&self.mesh_from_local, self.mesh_from_local_t, x)
     }
 
     /// Pushes `x` out of the field's skin (at most `field_push` per
     /// substep; a vertex pushed that far keeps no velocity from it), with
     /// friction; `prev` is its position a substep ago, moved with a deep
-    /// push.
+    /// push. Also returns the lanes pushed deep.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn push_vertex(
@@ -460,8 +463,8 @@ impl<T: SdfLane> FieldReach<T> {
         arc: T,
         k: &ContactSetup,
         friction: bool,
-    ) -> V3<T> {
-        let p = self.to_mesh(x);
+    ) -> (V3<T>, T::Mask) {
+        let p = self.mesh_point(x);
         let (d, g) = T::sample(sdf, p);
         let reach = if v < self.rooted_until {
             reach_at(T::splat(k.pearl_radius), self.root_depth, arc)
@@ -473,7 +476,7 @@ impl<T: SdfLane> FieldReach<T> {
         // `off` is +inf for a pinned vertex: never hit.
         let hit = (d + off).lt(reach) & n2.gt(T::splat(1.0e-12));
         if !T::any(hit) {
-            return x;
+            return (x, !T::all_lanes());
         }
         let nrm = n * n2.max(T::splat(1.0e-12)).inv_sqrt();
         let depth = reach - d;
@@ -486,6 +489,6 @@ impl<T: SdfLane> FieldReach<T> {
         }
         let deep = hit & depth.gt(cap);
         *prev = V3::select(deep, madd(nrm, push, *prev), *prev);
-        V3::select(hit, pushed, x)
+        (V3::select(hit, pushed, x), deep)
     }
 }
