@@ -2,14 +2,18 @@
 //! vertices) at the defaults, all blocks awake: a harness for timing and
 //! for counting instructions with callgrind.
 //!
-//! `cargo run --release -p coif-kernels --example step_cost -- [SHAPE] [SCALAR] [STEPS]`
-//! (defaults 0 0 10): `local_shape_stiffness` = SHAPE, the scalar twin if
-//! SCALAR is 1. The rig is the bench's (two 8 cm spheres tangent under the
-//! scalp and 14 distractors, `scene::rig_with_distractors`); the set settles
-//! for 30 steps, sleeping is off (every block is stepped), then STEPS steps
-//! run in `measured_steps`. Prints the time per vertex-step and a hash of
-//! the positions (SIMD and scalar print the same). Instruction counts in
-//! the README:
+//! `cargo run --release -p coif-kernels --example step_cost -- [SHAPE] [SCALAR] [STEPS] [SCENE]`
+//! (defaults 0 0 10 spheres): `local_shape_stiffness` = SHAPE, the scalar
+//! twin if SCALAR is 1. The rig is the bench's (two 8 cm spheres tangent
+//! under the scalp and 14 distractors, `scene::rig_with_distractors`);
+//! SCENE changes it: `spheres` (the defaults), `frictionless` (friction 0
+//! and 0), `capsules` (each sphere a capsule of its radius, 2 radii long),
+//! `wind` (the spheres in a wind of (2, 0, 1) m/s, drag 1 /s), `gusts` (and
+//! turbulence 1 m/s), `field` (the spheres and one 4 mm field of the
+//! shared Sintel bust, its head on the head sphere). The set settles for
+//! 30 steps, sleeping is off (every block is stepped), then STEPS steps run
+//! in `measured_steps`. Prints the time per vertex-step and a hash of the
+//! positions. Instruction counts in the README:
 //!
 //! ```text
 //! valgrind --tool=callgrind --toggle-collect='*measured_steps*' \
@@ -20,7 +24,8 @@
 
 use coif_geometry::groom;
 use coif_geometry::scene::{rig_with_distractors, scalp_spheres};
-use coif_kernels::{scalar, step, SimParams, Sphere, Strands};
+use coif_kernels::{scalar, step_colliders, Capsule, Colliders, Sdf, SimParams, Strands};
+use glam::{Affine3A, Vec3};
 use std::time::Instant;
 
 fn main() {
@@ -32,19 +37,62 @@ fn main() {
     };
     let g = groom::load(&std::fs::read(path).expect("read the groom")).expect("parse the groom");
     let (pts, v) = g.uniform_points(0.01).expect("uniform points");
+    let scene = args.get(4).map(String::as_str).unwrap_or("spheres");
     let near = scalp_spheres(&pts, v, 2, 0.08);
-    let rig = rig_with_distractors(&near[..2], near[0].center, 0.1, 14);
-    let params = SimParams {
+    let mut rig = rig_with_distractors(&near[..2], near[0].center, 0.1, 14);
+    let mut params = SimParams {
         local_shape_stiffness: shape,
         sleep_speed: 0.0,
         ..Default::default()
     };
+    let mut capsules = Vec::new();
+    let mut fields = Vec::new();
+    match scene {
+        "frictionless" => {
+            params.friction = 0.0;
+            params.static_friction = 0.0;
+        }
+        "capsules" => {
+            capsules = rig
+                .iter()
+                .map(|s| Capsule {
+                    a: s.center - Vec3::X * s.radius,
+                    b: s.center + Vec3::X * s.radius,
+                    radius: s.radius,
+                })
+                .collect();
+            rig.clear();
+        }
+        "wind" | "gusts" => {
+            params.wind = Vec3::new(2.0, 0.0, 1.0);
+            params.drag = 1.0;
+            if scene == "gusts" {
+                params.turbulence = 1.0;
+            }
+        }
+        "field" => {
+            let Some((positions, triangles)) = coif_testkit::sintel_bust() else {
+                std::process::exit(1);
+            };
+            let mut f = Sdf::from_mesh(&positions, &triangles, 0.004).expect("the bust's field");
+            let head = Vec3::new(0.0, 0.37, 0.0);
+            f.set_transform(Affine3A::from_translation(near[0].center - head))
+                .expect("a translation");
+            fields.push(f);
+        }
+        _ => {}
+    }
+    let colliders = Colliders {
+        spheres: &rig,
+        capsules: &capsules,
+        sdfs: &fields,
+    };
     let mut s = Strands::from_polylines(&pts, v).expect("strands");
     for _ in 0..30 {
-        step(&mut s, &params, &rig);
+        step_colliders(&mut s, &params, &colliders);
     }
     let t = Instant::now();
-    measured_steps(&mut s, &params, &rig, steps, use_scalar);
+    measured_steps(&mut s, &params, &colliders, steps, use_scalar);
     let per_step = t.elapsed().as_secs_f64() / steps.max(1) as f64;
     let hash = s.positions().iter().fold(0u64, |h, p| {
         [p.x, p.y, p.z].iter().fold(h, |h, c| {
@@ -52,7 +100,7 @@ fn main() {
         })
     });
     println!(
-        "local shape {shape}, {}: {:.3} ms per step, {:.2} ns per vertex-step, positions hash {hash:016x}",
+        "{scene}, local shape {shape}, {}: {:.3} ms per step, {:.2} ns per vertex-step, positions hash {hash:016x}",
         if use_scalar { "scalar" } else { "SIMD" },
         per_step * 1e3,
         per_step * 1e9 / pts.len() as f64,
@@ -61,12 +109,18 @@ fn main() {
 
 /// The steps counted (callgrind `--toggle-collect='*measured_steps*'`).
 #[inline(never)]
-fn measured_steps(s: &mut Strands, p: &SimParams, rig: &[Sphere], steps: usize, use_scalar: bool) {
+fn measured_steps(
+    s: &mut Strands,
+    p: &SimParams,
+    colliders: &Colliders<'_>,
+    steps: usize,
+    use_scalar: bool,
+) {
     for _ in 0..steps {
         if use_scalar {
-            scalar::step(s, p, rig);
+            scalar::step_colliders(s, p, colliders);
         } else {
-            step(s, p, rig);
+            step_colliders(s, p, colliders);
         }
     }
 }

@@ -437,7 +437,12 @@ pub(crate) fn step_chain<T: SdfLane>(
             r.push_pearls::<true>(c.pos, c.w, c.arc, &s.pearl_off, k.pearls);
         }
         let rounds = if sub + 1 == n { 2 } else { 1 };
-        deep = deep | strain_limit_and_collide(&mut c, k, s, world.sdfs, rounds);
+        deep = deep
+            | if s.fields.is_empty() {
+                strain_limit_and_collide::<T, false>(&mut c, k, s, world.sdfs, rounds)
+            } else {
+                strain_limit_and_collide::<T, true>(&mut c, k, s, world.sdfs, rounds)
+            };
     }
     // 7. Velocity over the step (at most FIELD_EXIT_SPEED in a lane that
     // was deep in a field: hair pulled out is not shot out), and the guard.
@@ -661,12 +666,14 @@ fn predict<T: Lane, const GUSTS: bool>(
 
 /// Step 6: the two-sided strain limit, root to tip, alternating `rounds`
 /// times per vertex with the push-out of every candidate collider (with
-/// Coulomb friction: `collide/narrow.rs`). The parent is final and outside
-/// the colliders, so the two sets meet and alternating closes in on a
-/// point of both: the limit does not pull hair into the head and the
-/// push-out does not stretch it. Returns the lanes found deep in a field.
+/// Coulomb friction in the first round: `collide/narrow.rs`). The parent
+/// is final and outside the colliders, so the two sets meet and
+/// alternating closes in on a point of both: the limit does not pull hair
+/// into the head and the push-out does not stretch it. Returns the lanes
+/// found deep in a field. (`FIELDS`: some field is a candidate; without,
+/// the loop carries neither the previous positions nor the deep lanes.)
 #[inline(always)]
-fn strain_limit_and_collide<T: SdfLane>(
+fn strain_limit_and_collide<T: SdfLane, const FIELDS: bool>(
     c: &mut Chain<'_, T>,
     k: &Setup,
     s: &ChainScratch<T>,
@@ -681,6 +688,7 @@ fn strain_limit_and_collide<T: SdfLane>(
     let (pos, prev) = (&mut c.pos[..verts], &mut c.prev[..verts]);
     let (w, rest_len, off) = (&c.w[..verts], &c.rest_len[..verts], &s.vertex_off[..verts]);
     let arc = &c.arc[..verts];
+    let friction = k.contact.friction_on;
     let (mut live_s, mut live_c, mut live_f) = (0, 0, 0);
     for v in 1..verts {
         while live_s < s.spheres.len() && s.spheres[live_s].first <= v {
@@ -689,17 +697,17 @@ fn strain_limit_and_collide<T: SdfLane>(
         while live_c < s.capsules.len() && s.capsules[live_c].first <= v {
             live_c += 1;
         }
-        while live_f < s.fields.len() && s.fields[live_f].first <= v {
-            live_f += 1;
+        if FIELDS {
+            while live_f < s.fields.len() && s.fields[live_f].first <= v {
+                live_f += 1;
+            }
         }
         let limit = rest_len[v - 1] * factor;
         let floor = rest_len[v - 1] * shrink;
         let free = w[v].gt(zero);
-        let mut x = pos[v];
-        let mut xp = prev[v];
-        for round in 0..rounds {
-            let friction = k.contact.friction_on && round == 0;
-            let d = x - pos[v - 1];
+        let parent = pos[v - 1];
+        let strain = |x: V3<T>| {
+            let d = x - parent;
             let d2 = dot(d, d);
             let long = d2.gt(limit * limit);
             let short = d2.lt(floor * floor);
@@ -707,25 +715,63 @@ fn strain_limit_and_collide<T: SdfLane>(
             if T::any(fix) {
                 let target = T::select(long, limit, floor);
                 let inv = d2.max(T::splat(MIN_LENGTH * MIN_LENGTH)).inv_sqrt();
-                x = V3::select(fix, madd(d, target * inv, pos[v - 1]), x);
+                V3::select(fix, madd(d, target * inv, parent), x)
+            } else {
+                x
             }
+        };
+        let mut x = strain(pos[v]);
+        let mut xp = prev[v];
+        let (o, a) = (off[v], arc[v]);
+        if friction {
             for r in &s.spheres[..live_s] {
-                x = r.push_vertex::<false>(v, x, xp, off[v], arc[v], &k.contact, friction);
+                x = r.push_vertex::<false, true>(v, x, xp, o, a, &k.contact);
             }
             for r in &s.capsules[..live_c] {
-                x = r.push_vertex::<true>(v, x, xp, off[v], arc[v], &k.contact, friction);
+                x = r.push_vertex::<true, true>(v, x, xp, o, a, &k.contact);
             }
+        } else {
+            for r in &s.spheres[..live_s] {
+                x = r.push_vertex::<false, false>(v, x, xp, o, a, &k.contact);
+            }
+            for r in &s.capsules[..live_c] {
+                x = r.push_vertex::<true, false>(v, x, xp, o, a, &k.contact);
+            }
+        }
+        if FIELDS {
             for f in &s.fields[..live_f] {
                 if let Some(sdf) = sdfs.get(f.field.index) {
                     let (pushed, was_deep) =
-                        f.push_vertex(sdf, v, x, &mut xp, off[v], arc[v], &k.contact, friction);
+                        f.push_vertex(sdf, v, x, &mut xp, o, a, &k.contact, friction);
                     x = pushed;
                     deep = deep | was_deep;
                 }
             }
         }
+        // The last substep's second round: friction acts once per substep.
+        if rounds > 1 {
+            x = strain(x);
+            for r in &s.spheres[..live_s] {
+                x = r.push_vertex::<false, false>(v, x, xp, o, a, &k.contact);
+            }
+            for r in &s.capsules[..live_c] {
+                x = r.push_vertex::<true, false>(v, x, xp, o, a, &k.contact);
+            }
+            if FIELDS {
+                for f in &s.fields[..live_f] {
+                    if let Some(sdf) = sdfs.get(f.field.index) {
+                        let (pushed, was_deep) =
+                            f.push_vertex(sdf, v, x, &mut xp, o, a, &k.contact, false);
+                        x = pushed;
+                        deep = deep | was_deep;
+                    }
+                }
+            }
+        }
         pos[v] = x;
-        prev[v] = xp;
+        if FIELDS {
+            prev[v] = xp;
+        }
     }
     deep
 }

@@ -269,11 +269,10 @@ impl<T: Lane> ShapeReach<T> {
 
     /// Pushes `x` (a free vertex unless `off` is +inf; `xp` where it was a
     /// substep ago, `arc` its rest arc) out of the skin, with friction if
-    /// `friction` (once per substep: the second round of the last substep
+    /// `FRICTION` (once per substep: the second round of the last substep
     /// only pushes, or friction would act five times per four substeps).
     #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
-    pub(crate) fn push_vertex<const CAPSULE: bool>(
+    pub(crate) fn push_vertex<const CAPSULE: bool, const FRICTION: bool>(
         &self,
         v: usize,
         x: V3<T>,
@@ -281,12 +280,11 @@ impl<T: Lane> ShapeReach<T> {
         off: T,
         arc: T,
         k: &ContactSetup,
-        friction: bool,
     ) -> V3<T> {
         let (d, t) = self.offset::<CAPSULE>(x);
         let d2 = dot_add(d, d, off);
         let (reach, reach2) = self.reach(v, arc);
-        if !friction {
+        if !FRICTION {
             let hit = d2.lt(reach2);
             if !T::any(hit) {
                 return x;
@@ -331,25 +329,43 @@ impl<T: Lane> ShapeReach<T> {
             let tt = j as f32 / (pearls + 1) as f32;
             let t = T::splat(tt);
             let u = T::splat(1.0 - tt);
-            for v in self.first.saturating_sub(1)..verts - 1 {
-                let p = madd(pos[v], u, pos[v + 1] * t);
-                let (d, _) = self.offset::<CAPSULE>(p);
-                let d2 = dot_add(d, d, off[v]);
-                let (reach, reach2) = if v < self.rooted_until {
-                    self.reach(v, arc[v].mul_add(u, arc[v + 1] * t))
-                } else {
-                    (self.reach, self.reach2)
-                };
-                let hit = d2.lt(reach2);
-                if T::any(hit) {
-                    let (dist, nrm) = outward(d, d2);
-                    let denom = w[v].mul_add(u * u, w[v + 1] * (t * t));
-                    let push = (reach - dist) * denom.max(T::splat(1.0e-12)).recip();
-                    pos[v] = V3::select(hit, madd(nrm, w[v] * u * push, pos[v]), pos[v]);
-                    pos[v + 1] =
-                        V3::select(hit, madd(nrm, w[v + 1] * t * push, pos[v + 1]), pos[v + 1]);
-                }
+            let start = self.first.saturating_sub(1);
+            // The roots rule's segments first, then the rest at one reach.
+            let rooted = self.rooted_until.clamp(start, verts - 1);
+            for v in start..rooted {
+                let reach = self.reach(v, arc[v].mul_add(u, arc[v + 1] * t));
+                self.push_pearl::<CAPSULE>(pos, w, off, v, t, u, reach);
             }
+            for v in rooted..verts - 1 {
+                self.push_pearl::<CAPSULE>(pos, w, off, v, t, u, (self.reach, self.reach2));
+            }
+        }
+    }
+
+    /// One pearl at `t` (`u = 1 - t`) of segment `v`, against the skin's
+    /// reach and its square.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn push_pearl<const CAPSULE: bool>(
+        &self,
+        pos: &mut [V3<T>],
+        w: &[T],
+        off: &[T],
+        v: usize,
+        t: T,
+        u: T,
+        (reach, reach2): (T, T),
+    ) {
+        let p = madd(pos[v], u, pos[v + 1] * t);
+        let (d, _) = self.offset::<CAPSULE>(p);
+        let d2 = dot_add(d, d, off[v]);
+        let hit = d2.lt(reach2);
+        if T::any(hit) {
+            let (dist, nrm) = outward(d, d2);
+            let denom = w[v].mul_add(u * u, w[v + 1] * (t * t));
+            let push = (reach - dist) * denom.max(T::splat(1.0e-12)).recip();
+            pos[v] = V3::select(hit, madd(nrm, w[v] * u * push, pos[v]), pos[v]);
+            pos[v + 1] = V3::select(hit, madd(nrm, w[v + 1] * t * push, pos[v + 1]), pos[v + 1]);
         }
     }
 }
