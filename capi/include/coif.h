@@ -57,13 +57,25 @@ typedef struct CoifPatch CoifPatch;
 // `coif_pbrt_table_new`, freed by `coif_pbrt_table_free`).
 typedef struct CoifPbrtTable CoifPbrtTable;
 
+// An opaque signed distance field of a closed triangle mesh (created by
+// `coif_sdf_new`, freed by `coif_sdf_free` unless moved into a set by
+// `coif_sdf_set_add`).
+typedef struct CoifSdf CoifSdf;
+
+// An opaque set of fields that one step collides with (created by
+// `coif_sdf_set_new`, freed by `coif_sdf_set_free`): it owns its fields,
+// each at the index `coif_sdf_set_add` gave it.
+typedef struct CoifSdfSet CoifSdfSet;
+
 // An opaque set of equal-length strands (created by `coif_strands_new`,
 // freed by `coif_strands_free`).
 typedef struct CoifStrands CoifStrands;
 
-// Parameters of one fixed step (`coif_step`); start from
+// Parameters of one fixed step (`coif_step`, `coif_step_colliders`); start from
 // `coif_sim_params_default()` and change the fields you need. The meaning
-// and range of every field is that of `coif_kernels::SimParams`.
+// and range of every field is that of `coif_kernels::SimParams`. The
+// fields from `static_friction` on were added after `sleep_speed` (a
+// layout change: rebuild against this header).
 typedef struct CoifSimParams {
     // Fixed step in seconds (> 0; default 1/60).
     float dt;
@@ -89,7 +101,10 @@ typedef struct CoifSimParams {
     float bend_stiffness;
     // Pull toward the rest shape at the root in [0, 1]; 0 (default) = off.
     float shape_stiffness;
-    // Contact friction in [0, 1] (default 0.3).
+    // Contact friction, Coulomb's law: the kinetic coefficient (>= 0, no
+    // upper bound; default 0.3). A vertex a collider pushes out by `d`
+    // slides against `friction d` per substep once it slides at all (see
+    // `static_friction`). 0 and 0 = frictionless.
     float friction;
     // Sleeping in m/s (>= 0): a block of 8 strands whose vertices all moved
     // slower than this for half a second of steps, with still roots and no
@@ -97,6 +112,28 @@ typedef struct CoifSimParams {
     // a sphere sweeping into its box, a teleport, a reset, other
     // parameters). 0 = never sleep. Default 0.02 (`SimParams::sleep_speed`).
     float sleep_speed;
+    // Contact friction, Coulomb's law: the static coefficient (>= 0;
+    // default 0.5). A pushed-out vertex does not slide while its motion
+    // along the surface, relative to the collider, is within
+    // `static_friction d` per substep: hair rests on a slope of angle
+    // theta exactly when `static_friction > tan(theta)`.
+    float static_friction;
+    // Air velocity in m/s, world frame (finite; default 0, 0, 0: still
+    // air). Acts only through `drag`.
+    float wind[3];
+    // Linear aerodynamic drag in 1/s (>= 0; default 0 = none): air moving
+    // at `wind` pulls a vertex moving at `v` with `drag (wind - v)`. A
+    // strand in a steady wind hangs along `gravity + drag wind`; swings
+    // decay as `exp(-drag t / 2)`. About 1 to 10 /s for hair in a clump.
+    float drag;
+    // Gusts: RMS speed in m/s of a deterministic turbulent field added to
+    // `wind` (>= 0; default 0 = none). Acts through `drag`; hair in gusts
+    // does not fall asleep.
+    float turbulence;
+    // Gusts: size of their features in metres (> 0; default 0.2).
+    float turbulence_scale;
+    // Gusts: how long a gust lasts in seconds (> 0; default 1).
+    float turbulence_period;
 } CoifSimParams;
 
 // A collision sphere of the rig, world coordinates (metres).
@@ -231,6 +268,17 @@ typedef struct CoifPbrtParams {
     // Absorption per unit radius, RGB (>= 0; default eumelanin 1.3).
     float sigma_a[3];
 } CoifPbrtParams;
+
+// A capsule collider (a bone, a limb): the points within `radius` of the
+// segment `a`-`b`, world coordinates in metres. `a == b` is a sphere.
+typedef struct CoifCapsule {
+    // One end of the axis.
+    float a[3];
+    // The other end of the axis.
+    float b[3];
+    // Radius around the axis in metres (>= 0).
+    float radius;
+} CoifCapsule;
 
 // The engine's parallel-for: calls `task(task_ctx, i)` exactly once for
 // every `i` in `0..count`, in any order, on any of its threads (the calling
@@ -944,6 +992,193 @@ enum CoifStatus coif_shade_marschner_lut_with(const struct CoifMarschnerLut *lut
                                               float *out_rgb,
                                               size_t capacity,
                                               const struct CoifExecutor *executor);
+
+// Builds the signed distance field of a closed triangle mesh:
+// `vertex_count` vertices (`xyz`: 3 floats each, mesh coordinates in
+// metres) and `triangle_count` triangles (`indices`: 3 `uint32_t` vertex
+// indices each, counter-clockwise seen from outside), sampled on a grid of
+// `cell` metres (`coif_kernels::Sdf::from_mesh`). The field starts at the
+// identity transform (mesh coordinates = world coordinates); place it with
+// `coif_sdf_set_transform`. On success `*out` is the new handle (free it
+// with `coif_sdf_free`, or move it into a set with `coif_sdf_set_add`);
+// on error `*out` is NULL. Allocates (once, at load time).
+//
+// Errors: `COIF_ERROR_NULL` (`out`, `xyz` or `indices`),
+// `COIF_ERROR_NON_FINITE` (a vertex or `cell`),
+// `COIF_ERROR_INVALID_ARGUMENT` (no vertices or no triangles, an index
+// `>= vertex_count`, `cell <= 0`, a grid over `MAX_SDF_CELLS` cells or a
+// mesh the field refuses, a misaligned pointer, a size that overflows).
+//
+// # Safety
+// `xyz` is NULL or points to `3 * vertex_count` readable floats; `indices`
+// is NULL or points to `3 * triangle_count` readable `uint32_t`; `out` is
+// NULL or points to a writable `CoifSdf *`.
+enum CoifStatus coif_sdf_new(const float *xyz,
+                             size_t vertex_count,
+                             const uint32_t *indices,
+                             size_t triangle_count,
+                             float cell,
+                             struct CoifSdf **out);
+
+// Frees a field made by `coif_sdf_new`. NULL is fine. (A field moved into
+// a set is freed with the set.)
+//
+// # Safety
+// `sdf` is NULL or a handle from `coif_sdf_new` not freed nor moved into a
+// set before; it must not be used afterwards.
+void coif_sdf_free(struct CoifSdf *sdf);
+
+// Places a field in the world: `world_from_mesh` is a 3x4 row-major rigid
+// transform, as `coif_strands_teleport` takes (12 floats, `m[0..4]` is the
+// first row: x' = m0 x + m1 y + m2 z + m3; the 3x3 part a rotation,
+// orthonormal within 1e-3 with determinant +1; the translation in metres).
+// In a set (`coif_sdf_set_transform_at`), the step moves the field on the
+// straight line from where it was at the last step to here over its
+// substeps.
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_NON_FINITE`,
+// `COIF_ERROR_INVALID_ARGUMENT` (not a rotation: scale, shear, mirror).
+//
+// # Safety
+// `sdf` is NULL or a live handle; `world_from_mesh` is NULL or points to
+// 12 readable floats.
+enum CoifStatus coif_sdf_set_transform(struct CoifSdf *sdf, const float *world_from_mesh);
+
+// Writes into `*out` the signed distance in metres from the world point
+// `p` (3 floats) to the field's surface, negative inside
+// (`Sdf::distance`, at the field's current transform). Does not allocate.
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_NON_FINITE` (a coordinate of
+// `p`), `COIF_ERROR_INVALID_ARGUMENT` (misaligned `out`).
+//
+// # Safety
+// `sdf` is NULL or a live handle; `p` is NULL or points to 3 readable
+// floats; `out` is NULL or points to a writable float.
+enum CoifStatus coif_sdf_distance(const struct CoifSdf *sdf, const float *p, float *out);
+
+// Creates an empty set of fields. On success `*out` is the new handle
+// (free it with `coif_sdf_set_free`).
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_INVALID_ARGUMENT` (misaligned).
+//
+// # Safety
+// `out` is NULL or points to a writable `CoifSdfSet *`.
+enum CoifStatus coif_sdf_set_new(struct CoifSdfSet **out);
+
+// Frees a set and every field in it. NULL is fine.
+//
+// # Safety
+// `set` is NULL or a handle from `coif_sdf_set_new` not freed before; it
+// must not be used afterwards.
+void coif_sdf_set_free(struct CoifSdfSet *set);
+
+// Moves the field `*sdf` into `set` at the next index (the set's count
+// before the call), which it keeps for the set's life: the step remembers
+// where each field was by that index. On success the set owns the field
+// and `*sdf` is set to NULL (do not free it); `*out_index` (if
+// `out_index` is not NULL) is its index. On error nothing changes and the
+// caller still owns `*sdf`. Allocates when the set grows (once, at load
+// time); a step that sees the set's count change takes every field as not
+// moving for that step.
+//
+// Errors: `COIF_ERROR_NULL` (`set`, `sdf` or `*sdf`),
+// `COIF_ERROR_INVALID_ARGUMENT` (a misaligned pointer, no memory).
+//
+// # Safety
+// `set` is NULL or a live set not in use by a step; `sdf` is NULL or
+// points to a `CoifSdf *` that is NULL or a live handle from
+// `coif_sdf_new`; `out_index` is NULL or points to a writable `size_t`.
+enum CoifStatus coif_sdf_set_add(struct CoifSdfSet *set, struct CoifSdf **sdf, size_t *out_index);
+
+// Number of fields in the set (0 for NULL).
+//
+// # Safety
+// `set` is NULL or a live set.
+size_t coif_sdf_set_count(const struct CoifSdfSet *set);
+
+// `coif_sdf_set_transform` for the field at `index` of `set` (call it
+// every frame for a field that moves, before the step). Does not allocate.
+//
+// Errors: as `coif_sdf_set_transform`, and `COIF_ERROR_INVALID_ARGUMENT`
+// for `index >= coif_sdf_set_count(set)`.
+//
+// # Safety
+// `set` is NULL or a live set not in use by a step; `world_from_mesh` is
+// NULL or points to 12 readable floats.
+enum CoifStatus coif_sdf_set_transform_at(struct CoifSdfSet *set,
+                                          size_t index,
+                                          const float *world_from_mesh);
+
+// `coif_sdf_distance` for the field at `index` of `set`.
+//
+// Errors: as `coif_sdf_distance`, and `COIF_ERROR_INVALID_ARGUMENT` for
+// `index >= coif_sdf_set_count(set)`.
+//
+// # Safety
+// `set` is NULL or a live set; `p` is NULL or points to 3 readable floats;
+// `out` is NULL or points to a writable float.
+enum CoifStatus coif_sdf_set_distance_at(const struct CoifSdfSet *set,
+                                         size_t index,
+                                         const float *p,
+                                         float *out);
+
+// Advances every strand by one fixed step of `params->dt` against every
+// collider: `sphere_count` spheres, `capsule_count` capsules (world
+// coordinates; either array may be NULL when its count is 0) and the
+// fields of `sdfs` (NULL = none), each placed by its transform; with
+// `params`' wind, drag, gusts and Coulomb friction
+// (`coif_kernels::step_colliders`), on the calling thread
+// (`coif_step_colliders_with` with a NULL executor). `coif_step(s, p,
+// spheres, n)` is this call with no capsules and no fields.
+//
+// The step remembers where each collider was at the last step by its
+// index (per kind) and moves it on the straight line to where it is now
+// over its substeps: keep each sphere, capsule and field at the same
+// index from frame to frame (a kind whose count changed is taken as not
+// moving for that step). Several strand sets may share one `CoifSdfSet`
+// (it is only read; do not change it during a step).
+//
+// Validates the parameters, spheres and capsules first; does not allocate
+// unless there are more spheres, capsules or fields than at any earlier
+// step of `s`.
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_NON_FINITE` (a NaN or infinite
+// parameter, sphere or capsule), `COIF_ERROR_INVALID_ARGUMENT` (a
+// parameter out of range, a negative radius, a misaligned array).
+//
+// # Safety
+// `s` is NULL or a live handle; `params` is NULL or readable; `spheres`
+// and `capsules` are NULL or point to their counts of readable values;
+// `sdfs` is NULL or a live set not written during the call.
+enum CoifStatus coif_step_colliders(struct CoifStrands *s,
+                                    const struct CoifSimParams *params,
+                                    const struct CoifSphere *spheres,
+                                    size_t sphere_count,
+                                    const struct CoifCapsule *capsules,
+                                    size_t capsule_count,
+                                    const struct CoifSdfSet *sdfs);
+
+// `coif_step_colliders` with the strands' blocks handed out as tasks to
+// `executor`, as `coif_step_with` does (`coif_kernels::step_colliders_with`):
+// the same bytes as `coif_step_colliders` with any executor, thread count
+// and task order. NULL `executor` runs the tasks on the calling thread.
+// Every check runs first: an error leaves the strands unchanged and `run`
+// uncalled.
+//
+// Errors: as `coif_step_colliders`, and `COIF_ERROR_NULL` for an executor
+// whose `run` is NULL, `COIF_ERROR_INVALID_ARGUMENT` for a misaligned one.
+//
+// # Safety
+// As `coif_step_colliders`; `executor` is NULL or points to a readable
+// `CoifExecutor` that keeps its contract during the call.
+enum CoifStatus coif_step_colliders_with(struct CoifStrands *s,
+                                         const struct CoifSimParams *params,
+                                         const struct CoifSphere *spheres,
+                                         size_t sphere_count,
+                                         const struct CoifCapsule *capsules,
+                                         size_t capsule_count,
+                                         const struct CoifSdfSet *sdfs,
+                                         const struct CoifExecutor *executor);
 
 #ifdef __cplusplus
 }  // extern "C"

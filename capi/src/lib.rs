@@ -4,7 +4,9 @@
 //! ([`coif_strands_new`]), moves their roots every frame
 //! ([`coif_strands_set_roots`]), advances them by one fixed step against a
 //! rig of spheres ([`coif_step`]) and reads the positions back into a buffer
-//! it owns ([`coif_strands_positions`]). The header `include/coif.h` is
+//! it owns ([`coif_strands_positions`]); [`coif_step_colliders`] steps
+//! against capsules and mesh fields too, with wind and drag
+//! ([`world`]). The header `include/coif.h` is
 //! generated from this file by cbindgen (`cbindgen.toml`); a test fails when
 //! the committed header differs from what cbindgen generates now.
 //!
@@ -30,12 +32,14 @@ pub mod lod;
 pub mod patch;
 pub mod shading;
 pub mod tasks;
+pub mod world;
 
 pub use groom::*;
 pub use lod::*;
 pub use patch::*;
 pub use shading::*;
 pub use tasks::*;
+pub use world::*;
 
 use coif_kernels::{SimParams, Sphere, Strands};
 use glam::{Affine3A, Mat3, Vec3};
@@ -71,9 +75,11 @@ pub enum CoifStatus {
     COIF_ERROR_BAD_DATA = 7,
 }
 
-/// Parameters of one fixed step (`coif_step`); start from
+/// Parameters of one fixed step (`coif_step`, `coif_step_colliders`); start from
 /// `coif_sim_params_default()` and change the fields you need. The meaning
-/// and range of every field is that of `coif_kernels::SimParams`.
+/// and range of every field is that of `coif_kernels::SimParams`. The
+/// fields from `static_friction` on were added after `sleep_speed` (a
+/// layout change: rebuild against this header).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CoifSimParams {
@@ -101,7 +107,10 @@ pub struct CoifSimParams {
     pub bend_stiffness: f32,
     /// Pull toward the rest shape at the root in [0, 1]; 0 (default) = off.
     pub shape_stiffness: f32,
-    /// Contact friction in [0, 1] (default 0.3).
+    /// Contact friction, Coulomb's law: the kinetic coefficient (>= 0, no
+    /// upper bound; default 0.3). A vertex a collider pushes out by `d`
+    /// slides against `friction d` per substep once it slides at all (see
+    /// `static_friction`). 0 and 0 = frictionless.
     pub friction: f32,
     /// Sleeping in m/s (>= 0): a block of 8 strands whose vertices all moved
     /// slower than this for half a second of steps, with still roots and no
@@ -109,6 +118,28 @@ pub struct CoifSimParams {
     /// a sphere sweeping into its box, a teleport, a reset, other
     /// parameters). 0 = never sleep. Default 0.02 (`SimParams::sleep_speed`).
     pub sleep_speed: f32,
+    /// Contact friction, Coulomb's law: the static coefficient (>= 0;
+    /// default 0.5). A pushed-out vertex does not slide while its motion
+    /// along the surface, relative to the collider, is within
+    /// `static_friction d` per substep: hair rests on a slope of angle
+    /// theta exactly when `static_friction > tan(theta)`.
+    pub static_friction: f32,
+    /// Air velocity in m/s, world frame (finite; default 0, 0, 0: still
+    /// air). Acts only through `drag`.
+    pub wind: [f32; 3],
+    /// Linear aerodynamic drag in 1/s (>= 0; default 0 = none): air moving
+    /// at `wind` pulls a vertex moving at `v` with `drag (wind - v)`. A
+    /// strand in a steady wind hangs along `gravity + drag wind`; swings
+    /// decay as `exp(-drag t / 2)`. About 1 to 10 /s for hair in a clump.
+    pub drag: f32,
+    /// Gusts: RMS speed in m/s of a deterministic turbulent field added to
+    /// `wind` (>= 0; default 0 = none). Acts through `drag`; hair in gusts
+    /// does not fall asleep.
+    pub turbulence: f32,
+    /// Gusts: size of their features in metres (> 0; default 0.2).
+    pub turbulence_scale: f32,
+    /// Gusts: how long a gust lasts in seconds (> 0; default 1).
+    pub turbulence_period: f32,
 }
 
 /// A collision sphere of the rig, world coordinates (metres).
@@ -126,7 +157,10 @@ pub struct CoifSphere {
 pub struct CoifStrands {
     pub(crate) strands: Strands,
     /// The rig converted for `coif_kernels::step`; grows only when the rig does.
-    spheres: Vec<Sphere>,
+    pub(crate) spheres: Vec<Sphere>,
+    /// The capsules converted for `coif_kernels::step_colliders`; grows
+    /// only when their count does.
+    pub(crate) capsules: Vec<coif_kernels::Capsule>,
     /// Refinement scratch of `coif_refine`, made at its first call and
     /// remade only for a finer level than any before.
     pub(crate) refined: Option<coif_lod::RefinedGuides>,
@@ -137,6 +171,7 @@ impl CoifStrands {
         CoifStrands {
             strands,
             spheres: Vec::new(),
+            capsules: Vec::new(),
             refined: None,
         }
     }
@@ -164,6 +199,12 @@ impl From<&CoifSimParams> for SimParams {
             max_substep: p.max_substep,
             stiff_mode_damping: p.stiff_mode_damping,
             sleep_speed: p.sleep_speed,
+            static_friction: p.static_friction,
+            wind: Vec3::from_array(p.wind),
+            drag: p.drag,
+            turbulence: p.turbulence,
+            turbulence_scale: p.turbulence_scale,
+            turbulence_period: p.turbulence_period,
             // Fields SimParams gains before CoifSimParams carries them keep
             // their Rust defaults (the C layout changes only deliberately).
             ..SimParams::default()
@@ -188,6 +229,12 @@ impl From<&SimParams> for CoifSimParams {
             shape_stiffness: p.shape_stiffness,
             friction: p.friction,
             sleep_speed: p.sleep_speed,
+            static_friction: p.static_friction,
+            wind: p.wind.to_array(),
+            drag: p.drag,
+            turbulence: p.turbulence,
+            turbulence_scale: p.turbulence_scale,
+            turbulence_period: p.turbulence_period,
         }
     }
 }
@@ -687,28 +734,43 @@ pub unsafe extern "C" fn coif_strands_teleport(s: *mut CoifStrands, m: *const f3
     guard(|| {
         // SAFETY: NULL or a live handle not aliased during the call.
         let h = unsafe { s.as_mut() }.ok_or(CoifStatus::COIF_ERROR_NULL)?;
-        if m.is_null() {
-            return Err(CoifStatus::COIF_ERROR_NULL);
-        }
-        if !m.is_aligned() {
-            return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
-        }
-        // SAFETY: non-NULL and aligned (checked); 12 readable floats per the
-        // caller's contract.
-        let m = unsafe { &*m.cast::<[f32; 12]>() };
-        if !m.iter().all(|v| v.is_finite()) {
-            return Err(CoifStatus::COIF_ERROR_NON_FINITE);
-        }
-        let rot = Mat3::from_cols_array(&[m[0], m[4], m[8], m[1], m[5], m[9], m[2], m[6], m[10]]);
-        let gram = rot.transpose() * rot;
-        let orthonormal = gram.abs_diff_eq(Mat3::IDENTITY, 1e-3);
-        if !orthonormal || rot.determinant() < 0.0 {
-            return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
-        }
-        let xform = Affine3A::from_mat3_translation(rot, Vec3::new(m[3], m[7], m[11]));
+        // SAFETY: NULL or 12 readable floats (the caller's contract).
+        let xform = unsafe { rigid_arg(m) }?;
         h.strands.teleport(xform)?;
         Ok(())
     })
+}
+
+/// A 3x4 row-major rigid transform (`m[0..4]` is the first row: x' = m0 x +
+/// m1 y + m2 z + m3) as an `Affine3A`: `COIF_ERROR_NULL`,
+/// `COIF_ERROR_INVALID_ARGUMENT` (misaligned; the 3x3 part not a rotation:
+/// orthonormal within 1e-3, determinant +1) or `COIF_ERROR_NON_FINITE`.
+///
+/// # Safety
+/// `m` is NULL or points to 12 readable floats.
+pub(crate) unsafe fn rigid_arg(m: *const f32) -> Result<Affine3A, CoifStatus> {
+    if m.is_null() {
+        return Err(CoifStatus::COIF_ERROR_NULL);
+    }
+    if !m.is_aligned() {
+        return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
+    }
+    // SAFETY: non-NULL and aligned (checked); 12 readable floats per the
+    // caller's contract.
+    let m = unsafe { &*m.cast::<[f32; 12]>() };
+    if !m.iter().all(|v| v.is_finite()) {
+        return Err(CoifStatus::COIF_ERROR_NON_FINITE);
+    }
+    let rot = Mat3::from_cols_array(&[m[0], m[4], m[8], m[1], m[5], m[9], m[2], m[6], m[10]]);
+    let gram = rot.transpose() * rot;
+    let orthonormal = gram.abs_diff_eq(Mat3::IDENTITY, 1e-3);
+    if !orthonormal || rot.determinant() < 0.0 {
+        return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
+    }
+    Ok(Affine3A::from_mat3_translation(
+        rot,
+        Vec3::new(m[3], m[7], m[11]),
+    ))
 }
 
 /// Puts every strand in its rest shape at its current root, at rest.
