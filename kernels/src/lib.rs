@@ -42,7 +42,7 @@ mod strands;
 mod wind;
 
 pub use coif_base::{lanes, rng, tasks, Sphere, StrandBlocks, Vec3x8, LANES};
-pub use collide::narrow::{FIELD_EXIT_SPEED, ROOT_EXIT};
+pub use collide::narrow::FIELD_EXIT_SPEED;
 pub use collide::rig::COLLIDER_JUMP;
 pub use collide::{Capsule, Colliders, Sdf, MARGIN_CELLS, MAX_SDF_CELLS};
 pub use drive::MAX_STEP_TASKS;

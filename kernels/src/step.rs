@@ -189,6 +189,11 @@ impl Setup {
                 field_push: FIELD_EXIT_SPEED * h,
                 accel_h2: accel * (h * h),
                 slop: (accel * (h * h)).length(),
+                root_exit: if p.root_exit.is_finite() {
+                    p.root_exit.max(0.0)
+                } else {
+                    f32::MAX
+                },
             },
             gusts: Gusts::new(p, drag, h, s.time, s.origin),
             exit_move: FIELD_EXIT_SPEED * p.dt,
@@ -358,6 +363,7 @@ pub(crate) fn step_chain<T: SdfLane>(
                 n,
                 root_to,
                 c.arc,
+                k.contact.root_exit,
             )),
             Kind::Capsule => s.capsules.push(ShapeReach::new(
                 &world.rig.capsules[i],
@@ -366,6 +372,7 @@ pub(crate) fn step_chain<T: SdfLane>(
                 n,
                 root_to,
                 c.arc,
+                k.contact.root_exit,
             )),
             Kind::Field => {
                 let f = world.rig.fields[i];

@@ -23,8 +23,10 @@
 //!
 //! **Roots on or in a collider**: a strand whose root sits inside a
 //! collider's skin (a scalp that is part of the body mesh, a head sphere
-//! that cuts the roots) is allowed, at vertex `v`, the depth
-//! `max(0, depth_root - arc(v) / ROOT_EXIT_SLOPE)`...: see [`ROOT_EXIT`].
+//! that cuts the roots) is allowed, at vertex `v` of rest arc `arc(v)`, the
+//! depth `max(0, depth_root - root_exit arc(v))`
+//! ([`crate::SimParams::root_exit`]): the depth a strand leaving the
+//! surface at `asin(root_exit)` would have.
 //!
 //! **Deep in a field** (after a teleport or a fast bone): the push per
 //! substep is at most `FIELD_EXIT_SPEED h`, and a vertex pushed by that
@@ -39,18 +41,6 @@ use super::sdf::{Sdf, SdfLane};
 use crate::fused::{dot, dot_add, madd};
 use crate::lanes::{Lane, V3};
 use glam::{Mat3, Vec3};
-
-/// The roots rule: vertex `v` of a strand whose root lies `depth_root`
-/// inside a collider's skin may lie `max(0, depth_root - ROOT_EXIT arc(v))`
-/// inside it, where `arc(v)` is its rest arc length from the root: the
-/// depth a strand leaving the surface at `asin(ROOT_EXIT)` would have. So a
-/// root on the scalp (depth about the pearl radius) lets its first
-/// millimetres lie in the skin, a root 1 cm inside lets the strand come
-/// out over its first `1 / ROOT_EXIT` cm, and a root outside changes
-/// nothing. Measured on Sintel's groom on her bust and on the mohawk under
-/// a head sphere that cuts its roots (crate README, "Roots on or in a
-/// collider").
-pub const ROOT_EXIT: f32 = 0.5;
 
 /// The fastest a vertex found deep inside a mesh field is moved out, m/s:
 /// at most `FIELD_EXIT_SPEED h` per substep of `h`, with no velocity left
@@ -75,6 +65,8 @@ pub(crate) struct ContactSetup {
     /// friction: `|accel_h2|`, what it settles per substep under the
     /// steady load.
     pub slop: f32,
+    /// The roots rule's slope ([`crate::SimParams::root_exit`]).
+    pub root_exit: f32,
 }
 
 /// Distance and outward unit normal; 0 and +y where the point sits on the
@@ -89,12 +81,11 @@ pub(crate) fn outward<T: Lane>(d: V3<T>, d2: T) -> (T, V3<T>) {
     (T::select(on, d2c * r, T::splat(0.0)), nrm)
 }
 
-/// The skin's reach at rest arc `arc` under the roots rule.
+/// The skin's reach at rest arc `arc` under the roots rule of slope
+/// `exit`.
 #[inline(always)]
-fn reach_at<T: Lane>(reach: T, root_depth: T, arc: T) -> T {
-    let allowed = arc
-        .mul_add(T::splat(-ROOT_EXIT), root_depth)
-        .max(T::splat(0.0));
+fn reach_at<T: Lane>(reach: T, root_depth: T, arc: T, exit: f32) -> T {
+    let allowed = arc.mul_add(T::splat(-exit), root_depth).max(T::splat(0.0));
     reach - allowed
 }
 
@@ -146,13 +137,15 @@ pub(crate) struct ShapeReach<T: Lane> {
     /// depth there); 0 when no root is in the skin.
     rooted_until: usize,
     root_depth: T,
+    /// The roots rule's slope.
+    exit: f32,
 }
 
-/// The vertices `..n` whose allowed depth `root_depth - ROOT_EXIT arc(v)`
-/// is above zero in some lane (`arc` grows along the strand).
-fn rooted_until<T: Lane>(root_depth: T, arc: &[T]) -> usize {
+/// The vertices `..n` whose allowed depth `root_depth - exit arc(v)` is
+/// above zero in some lane (`arc` grows along the strand).
+fn rooted_until<T: Lane>(root_depth: T, arc: &[T], exit: f32) -> usize {
     arc.iter()
-        .position(|&a| !T::any(a.mul_add(T::splat(ROOT_EXIT), T::splat(0.0)).lt(root_depth)))
+        .position(|&a| !T::any((a * T::splat(exit)).lt(root_depth)))
         .unwrap_or(arc.len())
 }
 
@@ -167,6 +160,7 @@ impl<T: Lane> ShapeReach<T> {
         substeps: u32,
         root: V3<T>,
         arc: &[T],
+        exit: f32,
     ) -> Self {
         let reach = T::splat(s.radius + pearl_radius);
         let inv_n = 1.0 / substeps as f32;
@@ -183,6 +177,7 @@ impl<T: Lane> ShapeReach<T> {
             first: first as usize,
             rooted_until: 0,
             root_depth: T::splat(0.0),
+            exit,
         };
         r.place(s.to);
         // The roots rule: how deep the roots' targets lie in the skin.
@@ -192,7 +187,7 @@ impl<T: Lane> ShapeReach<T> {
         let inside = depth.gt(T::splat(0.0));
         r.root_depth = T::select(inside, depth, T::splat(0.0));
         if T::any(inside) {
-            r.rooted_until = rooted_until(r.root_depth, arc);
+            r.rooted_until = rooted_until(r.root_depth, arc, exit);
         }
         r
     }
@@ -260,7 +255,7 @@ impl<T: Lane> ShapeReach<T> {
     #[inline(always)]
     fn reach(&self, v: usize, arc: T) -> (T, T) {
         if v < self.rooted_until {
-            let r = reach_at(self.reach, self.root_depth, arc);
+            let r = reach_at(self.reach, self.root_depth, arc, self.exit);
             (r, r * r)
         } else {
             (self.reach, self.reach2)
@@ -433,7 +428,7 @@ impl<T: SdfLane> FieldReach<T> {
         let inside = depth.gt(T::splat(0.0));
         r.root_depth = T::select(inside, depth, T::splat(0.0));
         if T::any(inside) {
-            r.rooted_until = rooted_until(r.root_depth, arc);
+            r.rooted_until = rooted_until(r.root_depth, arc, k.root_exit);
         }
         r.last = start;
         r
@@ -483,7 +478,7 @@ impl<T: SdfLane> FieldReach<T> {
         let p = self.mesh_point(x);
         let (d, g) = T::sample(sdf, p);
         let reach = if v < self.rooted_until {
-            reach_at(T::splat(k.pearl_radius), self.root_depth, arc)
+            reach_at(T::splat(k.pearl_radius), self.root_depth, arc, k.root_exit)
         } else {
             T::splat(k.pearl_radius)
         };
