@@ -70,7 +70,7 @@ int main(void) {
     CoifSdfSet *fields = NULL;
     CoifSimParams params = coif_sim_params_default();
     CoifCapsule shoulder = {{0.05f, 1.5f, -0.2f}, {0.05f, 1.5f, 0.2f}, 0.03f};
-    int s, v, frame, have_field = 0;
+    int s, v, frame;
     float tip_dx = 0, worst_capsule = 1e9f, worst_field = 1e9f;
     size_t index = 99;
     CoifStatus st;
@@ -91,20 +91,18 @@ int main(void) {
     octahedron(0.05f, mesh, idx);
     expect(coif_sdf_set_new(&fields), COIF_OK, "coif_sdf_set_new");
     st = coif_sdf_new(mesh, 6, idx, 8, 0.01f, &field);
-    if (st == COIF_OK) {
-        field_pose(0, m);
-        expect(coif_sdf_set_transform(field, m), COIF_OK, "coif_sdf_set_transform");
-        expect(coif_sdf_set_add(fields, &field, &index), COIF_OK, "coif_sdf_set_add");
-        check(field == NULL && index == 0, "the set took the field at index 0");
-        have_field = 1;
-        printf("world: field of 8 triangles built, in a set of %u\n",
-               (unsigned)coif_sdf_set_count(fields));
-    } else {
-        /* The kernels' placeholder field refuses every mesh; the test that
-         * runs this program knows whether the real field is there. */
-        check(field == NULL, "a refused field leaves *out NULL");
-        printf("world: field unavailable: %s\n", coif_status_message(st));
+    if (st != COIF_OK) {
+        fprintf(stderr, "world: coif_sdf_new: %s\n", coif_status_message(st));
+        coif_sdf_set_free(fields);
+        coif_strands_free(hair);
+        return 1;
     }
+    field_pose(0, m);
+    expect(coif_sdf_set_transform(field, m), COIF_OK, "coif_sdf_set_transform");
+    expect(coif_sdf_set_add(fields, &field, &index), COIF_OK, "coif_sdf_set_add");
+    check(field == NULL && index == 0, "the set took the field at index 0");
+    printf("world: field of 8 triangles built, in a set of %u\n",
+           (unsigned)coif_sdf_set_count(fields));
 
     /* Wind along +x with drag (1/s) and light gusts; Coulomb friction. */
     params.wind[0] = 2.5f;
@@ -113,10 +111,8 @@ int main(void) {
     params.friction = 0.4f;
     params.static_friction = 0.8f;
     for (frame = 0; frame < 240; frame++) {
-        if (have_field) {
-            field_pose(frame, m);
-            expect(coif_sdf_set_transform_at(fields, 0, m), COIF_OK, "set_transform_at");
-        }
+        field_pose(frame, m);
+        expect(coif_sdf_set_transform_at(fields, 0, m), COIF_OK, "set_transform_at");
         expect(coif_strands_set_roots(hair, roots, STRANDS), COIF_OK, "set_roots");
         st = coif_step_colliders(hair, &params, NULL, 0, &shoulder, 1, fields);
         expect(st, COIF_OK, "coif_step_colliders");
@@ -128,19 +124,15 @@ int main(void) {
     for (v = 0; v < POINTS; v++) {
         float d = capsule_distance(&shoulder, &out[v * 3]);
         worst_capsule = d < worst_capsule ? d : worst_capsule;
-        if (have_field) {
-            expect(coif_sdf_set_distance_at(fields, 0, &out[v * 3], &d), COIF_OK, "distance_at");
-            worst_field = d < worst_field ? d : worst_field;
-        }
+        expect(coif_sdf_set_distance_at(fields, 0, &out[v * 3], &d), COIF_OK, "distance_at");
+        worst_field = d < worst_field ? d : worst_field;
     }
     check(tip_dx > 0.03f, "the tips end downwind");
     check(worst_capsule > -0.001f, "no vertex inside the capsule");
-    check(!have_field || worst_field > -0.001f, "no vertex inside the field");
+    check(worst_field > -0.001f, "no vertex inside the field");
     printf("world: tips %.3f m downwind; nearest vertex %.4f m from the capsule\n", tip_dx,
            worst_capsule);
-    if (have_field) {
-        printf("world: nearest vertex %.4f m from the field\n", worst_field);
-    }
+    printf("world: nearest vertex %.4f m from the field\n", worst_field);
 
     /* Bad inputs: refused, nothing changes. */
     memcpy(before, out, sizeof out);
@@ -176,10 +168,8 @@ int main(void) {
         expect(coif_sdf_new(NULL, 6, idx, 8, 0.01f, &bad_field), COIF_ERROR_NULL, "NULL vertices");
         expect(coif_sdf_set_transform_at(fields, 5, m), COIF_ERROR_INVALID_ARGUMENT,
                "an index past the set");
-        if (have_field) {
-            expect(coif_sdf_set_transform_at(fields, 0, scaled), COIF_ERROR_INVALID_ARGUMENT,
-                   "a scaling transform");
-        }
+        expect(coif_sdf_set_transform_at(fields, 0, scaled), COIF_ERROR_INVALID_ARGUMENT,
+               "a scaling transform");
         expect(coif_sdf_distance(NULL, p, &d), COIF_ERROR_NULL, "NULL field");
         expect(coif_strands_positions(hair, out, POINTS), COIF_OK, "positions");
         check(memcmp(before, out, sizeof out) == 0, "refused calls changed nothing");

@@ -126,25 +126,20 @@ int main() {
         ok(coif_sdf_set_new(&raw_set), "coif_sdf_set_new");
         SdfSetPtr fields(raw_set);
         CoifSdf *raw_field = nullptr;
-        CoifStatus st = coif_sdf_new(mesh.data(), mesh.size() / 3, idx.data(), idx.size() / 3,
-                                     0.01f, &raw_field);
-        bool have_field = st == COIF_OK;
-        if (have_field) {
-            SdfPtr field(raw_field);
-            // Ownership moves into the set: release, and take it back only if
-            // the set refused it.
-            CoifSdf *moving = field.release();
-            std::size_t index = 0;
-            st = coif_sdf_set_add(fields.get(), &moving, &index);
-            field.reset(moving);  // NULL on success
-            ok(st, "coif_sdf_set_add");
-            require(!field && index == 0, "the set took the field");
-            std::printf("world.cpp: field of 8 triangles built, in a set of %zu\n",
-                        coif_sdf_set_count(fields.get()));
-        } else {
-            require(raw_field == nullptr, "a refused field leaves *out NULL");
-            std::printf("world.cpp: field unavailable: %s\n", coif_status_message(st));
-        }
+        ok(coif_sdf_new(mesh.data(), mesh.size() / 3, idx.data(), idx.size() / 3, 0.01f,
+                        &raw_field),
+           "coif_sdf_new");
+        SdfPtr field(raw_field);
+        // Ownership moves into the set: release, and take it back only if
+        // the set refused it.
+        CoifSdf *moving = field.release();
+        std::size_t index = 0;
+        CoifStatus st = coif_sdf_set_add(fields.get(), &moving, &index);
+        field.reset(moving);  // NULL on success
+        ok(st, "coif_sdf_set_add");
+        require(!field && index == 0, "the set took the field");
+        std::printf("world.cpp: field of 8 triangles built, in a set of %zu\n",
+                    coif_sdf_set_count(fields.get()));
 
         CoifSimParams params = coif_sim_params_default();
         params.wind[0] = 2.5f;
@@ -161,10 +156,8 @@ int main() {
         CoifCapsule cap{};
         for (int frame = 0; frame < 240; frame++) {
             cap = arm(frame);
-            if (have_field) {
-                auto m = pose(frame);
-                ok(coif_sdf_set_transform_at(fields.get(), 0, m.data()), "set_transform_at");
-            }
+            auto m = pose(frame);
+            ok(coif_sdf_set_transform_at(fields.get(), 0, m.data()), "set_transform_at");
             ok(coif_step_colliders(serial.get(), &params, nullptr, 0, &cap, 1, fields.get()),
                "coif_step_colliders");
             ok(coif_step_colliders_with(threaded.get(), &params, nullptr, 0, &cap, 1,
@@ -183,20 +176,16 @@ int main() {
         }
         for (std::size_t v = 0; v < kPoints; v++) {
             near_cap = std::min(near_cap, capsule_distance(cap, &out[v * 3]));
-            if (have_field) {
-                float d = 0;
-                ok(coif_sdf_set_distance_at(fields.get(), 0, &out[v * 3], &d), "distance_at");
-                near_field = std::min(near_field, d);
-            }
+            float d = 0;
+            ok(coif_sdf_set_distance_at(fields.get(), 0, &out[v * 3], &d), "distance_at");
+            near_field = std::min(near_field, d);
         }
         require(tip_dx > 0.03f, "the tips end downwind");
         require(near_cap > -0.001f, "a vertex is inside the capsule");
-        require(!have_field || near_field > -0.001f, "a vertex is inside the field");
+        require(near_field > -0.001f, "a vertex is inside the field");
         std::printf("world.cpp: tips %.3f m downwind; nearest vertex %.4f m from the capsule\n",
                     tip_dx, near_cap);
-        if (have_field) {
-            std::printf("world.cpp: nearest vertex %.4f m from the field\n", near_field);
-        }
+        std::printf("world.cpp: nearest vertex %.4f m from the field\n", near_field);
 
         // Bad inputs: refused, nothing moves.
         CoifSimParams bad = params;

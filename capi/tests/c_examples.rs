@@ -161,60 +161,27 @@ fn jobs_c_steps_on_a_pthread_pool_as_coif_step_does() {
     );
 }
 
-/// Whether the kernels' mesh field builds (the examples' octahedron): false
-/// while `kernels/src/collide/sdf/` is the placeholder, whose `from_mesh`
-/// refuses every mesh. The world examples then run without their field and
-/// must say so; with the real field they must build and use it.
-fn field_builds() -> bool {
-    use glam::Vec3;
-    let r = 0.05;
-    let v = [
-        Vec3::X * r,
-        -Vec3::X * r,
-        Vec3::Y * r,
-        -Vec3::Y * r,
-        Vec3::Z * r,
-        -Vec3::Z * r,
-    ];
-    let t = [
-        [0, 2, 4],
-        [1, 4, 2],
-        [0, 4, 3],
-        [1, 3, 4],
-        [0, 5, 2],
-        [1, 2, 5],
-        [0, 3, 5],
-        [1, 5, 3],
-    ];
-    let builds = coif_kernels::Sdf::from_mesh(&v, &t, 0.01).is_ok();
-    if !builds {
-        eprintln!("PLACEHOLDER: Sdf::from_mesh refuses the octahedron; the world examples run without their field");
-    }
-    builds
-}
-
-/// The lines both world examples print about the field.
+/// The lines both world examples print about the field: it built, went into
+/// the set, and no vertex ended inside it (the examples fail, exiting
+/// non-zero, when the field does not build).
 fn check_world_field(stdout: &str, name: &str) {
-    if field_builds() {
-        assert!(
-            stdout.contains(&format!(
-                "{name}: field of 8 triangles built, in a set of 1"
-            )),
-            "{stdout}"
-        );
-        assert!(
-            stdout.contains(&format!("{name}: nearest vertex"))
-                && stdout.contains("from the field"),
-            "{stdout}"
-        );
-    } else {
-        assert!(
-            stdout.contains(&format!(
-                "{name}: field unavailable: an argument is out of its range"
-            )),
-            "{stdout}"
-        );
-    }
+    assert!(
+        stdout.contains(&format!(
+            "{name}: field of 8 triangles built, in a set of 1"
+        )),
+        "{stdout}"
+    );
+    let prefix = format!("{name}: nearest vertex ");
+    let nearest: f32 = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix(&prefix)?.strip_suffix(" m from the field"))
+        .unwrap_or_else(|| panic!("no `{prefix}... m from the field` line:\n{stdout}"))
+        .parse()
+        .unwrap_or_else(|e| panic!("{name}: the field distance does not parse ({e}):\n{stdout}"));
+    assert!(
+        nearest > -0.001,
+        "{name}: a vertex is {nearest} m inside the field:\n{stdout}"
+    );
 }
 
 #[test]

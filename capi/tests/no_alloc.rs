@@ -9,9 +9,9 @@
 //! `coif_patch_blended`, and for the world around the hair
 //! `coif_step_colliders` and `coif_step_colliders_with` (spheres, capsules,
 //! a field set, wind, drag and gusts) with `coif_sdf_set_transform_at` and
-//! `coif_sdf_set_distance_at` (the set holds a field when the kernels'
-//! field builds; while `sdf/` is the placeholder it is empty). Counted by a global allocator (this test binary
-//! holds one test, so nothing else allocates meanwhile).
+//! `coif_sdf_set_distance_at` (the set holds one field, a closed
+//! octahedron, which must build). Counted by a global allocator (this test
+//! binary holds one test, so nothing else allocates meanwhile).
 
 use coif_capi::*;
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -156,16 +156,16 @@ fn per_frame_calls_do_not_allocate() {
         );
         assert_eq!(coif_sdf_set_new(&mut fields), CoifStatus::COIF_OK);
         let mut field: *mut CoifSdf = ptr::null_mut();
-        if coif_sdf_new(mesh.as_ptr(), 6, mesh_tris.as_ptr(), 8, 0.01, &mut field)
-            == CoifStatus::COIF_OK
-        {
-            assert_eq!(
-                coif_sdf_set_add(fields, &mut field, ptr::null_mut()),
-                CoifStatus::COIF_OK
-            );
-        } else {
-            eprintln!("PLACEHOLDER: the field does not build; the field set stays empty");
-        }
+        assert_eq!(
+            coif_sdf_new(mesh.as_ptr(), 6, mesh_tris.as_ptr(), 8, 0.01, &mut field),
+            CoifStatus::COIF_OK,
+            "the closed octahedron's field must build"
+        );
+        assert_eq!(
+            coif_sdf_set_add(fields, &mut field, ptr::null_mut()),
+            CoifStatus::COIF_OK
+        );
+        assert_eq!(coif_sdf_set_count(fields), 1);
         // Warm up: the first step against these colliders sizes their lists.
         assert_eq!(
             coif_step_colliders(
@@ -348,19 +348,11 @@ fn per_frame_calls_do_not_allocate() {
             let mut d = 0.0f32;
             let statuses = [
                 coif_strands_set_roots(world, roots.as_ptr(), STRANDS),
-                if coif_sdf_set_count(fields) == 1 {
-                    coif_sdf_set_transform_at(fields, 0, pose.as_ptr())
-                } else {
-                    CoifStatus::COIF_OK
-                },
+                coif_sdf_set_transform_at(fields, 0, pose.as_ptr()),
                 coif_step_colliders(world, &windy, sa, 2, ca, 2, fields),
                 coif_step_colliders_with(world, &windy, sa, 2, ca, 2, fields, &exec),
                 coif_step_colliders(world, &windy, ptr::null(), 0, ca, 1, ptr::null()),
-                if coif_sdf_set_count(fields) == 1 {
-                    coif_sdf_set_distance_at(fields, 0, light.as_ptr(), &mut d)
-                } else {
-                    CoifStatus::COIF_OK
-                },
+                coif_sdf_set_distance_at(fields, 0, light.as_ptr(), &mut d),
             ];
             assert_eq!(statuses, [CoifStatus::COIF_OK; 6]);
         }

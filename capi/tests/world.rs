@@ -5,12 +5,8 @@
 //! distances and steps of `Sdf::from_mesh`; every bad input is refused and
 //! changes nothing.
 //!
-//! Tests that need a field that builds (`Sdf::from_mesh` succeeding on a
-//! closed octahedron) check first whether the Rust field builds: while
-//! `kernels/src/collide/sdf/` is the placeholder (whose `from_mesh` always
-//! fails) they check that C refuses the same mesh the same way, say
-//! `PLACEHOLDER` on stderr and skip the rest; with the real field they run
-//! in full.
+//! Tests that need a field build a closed octahedron, in Rust and through
+//! C; the field must build, and every field check runs.
 
 use coif_capi::*;
 use coif_kernels::{Capsule, Colliders, Sdf, SimParams, Sphere, Strands};
@@ -363,29 +359,16 @@ fn c_octahedron(r: f32, cell: f32) -> (CoifStatus, *mut CoifSdf) {
     (st, out)
 }
 
-/// The Rust field of the octahedron, or None while the placeholder stands
-/// (then C must refuse the same mesh, leaving its handle NULL).
-fn real_field(r: f32, cell: f32) -> Option<Sdf> {
+/// The Rust field of the octahedron: a closed mesh, so it must build.
+fn real_field(r: f32, cell: f32) -> Sdf {
     let (v, t) = octahedron(r);
-    match Sdf::from_mesh(&v, &t, cell) {
-        Ok(sdf) => Some(sdf),
-        Err(e) => {
-            let (st, out) = c_octahedron(r, cell);
-            assert_eq!(st, CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
-            assert!(out.is_null());
-            eprintln!(
-                "PLACEHOLDER: Sdf::from_mesh refused a closed octahedron ({e}); skipped the rest"
-            );
-            None
-        }
-    }
+    Sdf::from_mesh(&v, &t, cell)
+        .unwrap_or_else(|e| panic!("Sdf::from_mesh refused a closed octahedron: {e}"))
 }
 
 #[test]
 fn c_fields_match_rust_fields() {
-    let Some(mut rust_field) = real_field(0.06, 0.01) else {
-        return;
-    };
+    let mut rust_field = real_field(0.06, 0.01);
     let (st, mut c_field) = c_octahedron(0.06, 0.01);
     assert_eq!(st, CoifStatus::COIF_OK);
     let probes = [
@@ -796,64 +779,62 @@ fn bad_world_inputs_are_refused_and_change_nothing() {
         assert_eq!(coif_sdf_set_count(ptr::null()), 0);
 
         // With a field that builds: bad transforms and queries change nothing.
-        if real_field(0.06, 0.01).is_some() {
-            let (st, mut f) = c_octahedron(0.06, 0.01);
-            assert_eq!(st, COIF_OK);
-            let at = [0.03f32, 0.01, 0.0];
-            let mut d0 = f32::NAN;
-            assert_eq!(coif_sdf_distance(f, at.as_ptr(), &mut d0), COIF_OK);
-            let mut scaled = m;
-            scaled[0] = 2.0;
-            let mut mirrored = m;
-            mirrored[10] = -1.0;
-            let mut nan_m = m;
-            nan_m[3] = f32::NAN;
-            let nan_p = [0.0, f32::NAN, 0.0];
-            assert_eq!(
-                coif_sdf_set_transform(f, scaled.as_ptr()),
-                COIF_ERROR_INVALID_ARGUMENT
-            );
-            assert_eq!(
-                coif_sdf_set_transform(f, mirrored.as_ptr()),
-                COIF_ERROR_INVALID_ARGUMENT
-            );
-            assert_eq!(
-                coif_sdf_set_transform(f, nan_m.as_ptr()),
-                COIF_ERROR_NON_FINITE
-            );
-            assert_eq!(coif_sdf_set_transform(f, ptr::null()), COIF_ERROR_NULL);
-            assert_eq!(
-                coif_sdf_distance(f, nan_p.as_ptr(), &mut d),
-                COIF_ERROR_NON_FINITE
-            );
-            assert_eq!(
-                coif_sdf_distance(f, at.as_ptr(), ptr::null_mut()),
-                COIF_ERROR_NULL
-            );
-            let mut d1 = f32::NAN;
-            assert_eq!(coif_sdf_distance(f, at.as_ptr(), &mut d1), COIF_OK);
-            assert_eq!(
-                d0.to_bits(),
-                d1.to_bits(),
-                "a refused transform moved the field"
-            );
-            assert_eq!(coif_sdf_set_add(set, &mut f, ptr::null_mut()), COIF_OK);
-            assert!(f.is_null());
-            assert_eq!(coif_sdf_set_count(set), 1);
-            assert_eq!(
-                coif_sdf_set_transform_at(set, 0, scaled.as_ptr()),
-                COIF_ERROR_INVALID_ARGUMENT
-            );
-            assert_eq!(
-                coif_sdf_set_transform_at(set, 1, m.as_ptr()),
-                COIF_ERROR_INVALID_ARGUMENT
-            );
-            assert_eq!(
-                coif_sdf_set_distance_at(set, 0, at.as_ptr(), &mut d1),
-                COIF_OK
-            );
-            assert_eq!(d0.to_bits(), d1.to_bits());
-        }
+        let (st, mut f) = c_octahedron(0.06, 0.01);
+        assert_eq!(st, COIF_OK);
+        let at = [0.03f32, 0.01, 0.0];
+        let mut d0 = f32::NAN;
+        assert_eq!(coif_sdf_distance(f, at.as_ptr(), &mut d0), COIF_OK);
+        let mut scaled = m;
+        scaled[0] = 2.0;
+        let mut mirrored = m;
+        mirrored[10] = -1.0;
+        let mut nan_m = m;
+        nan_m[3] = f32::NAN;
+        let nan_p = [0.0, f32::NAN, 0.0];
+        assert_eq!(
+            coif_sdf_set_transform(f, scaled.as_ptr()),
+            COIF_ERROR_INVALID_ARGUMENT
+        );
+        assert_eq!(
+            coif_sdf_set_transform(f, mirrored.as_ptr()),
+            COIF_ERROR_INVALID_ARGUMENT
+        );
+        assert_eq!(
+            coif_sdf_set_transform(f, nan_m.as_ptr()),
+            COIF_ERROR_NON_FINITE
+        );
+        assert_eq!(coif_sdf_set_transform(f, ptr::null()), COIF_ERROR_NULL);
+        assert_eq!(
+            coif_sdf_distance(f, nan_p.as_ptr(), &mut d),
+            COIF_ERROR_NON_FINITE
+        );
+        assert_eq!(
+            coif_sdf_distance(f, at.as_ptr(), ptr::null_mut()),
+            COIF_ERROR_NULL
+        );
+        let mut d1 = f32::NAN;
+        assert_eq!(coif_sdf_distance(f, at.as_ptr(), &mut d1), COIF_OK);
+        assert_eq!(
+            d0.to_bits(),
+            d1.to_bits(),
+            "a refused transform moved the field"
+        );
+        assert_eq!(coif_sdf_set_add(set, &mut f, ptr::null_mut()), COIF_OK);
+        assert!(f.is_null());
+        assert_eq!(coif_sdf_set_count(set), 1);
+        assert_eq!(
+            coif_sdf_set_transform_at(set, 0, scaled.as_ptr()),
+            COIF_ERROR_INVALID_ARGUMENT
+        );
+        assert_eq!(
+            coif_sdf_set_transform_at(set, 1, m.as_ptr()),
+            COIF_ERROR_INVALID_ARGUMENT
+        );
+        assert_eq!(
+            coif_sdf_set_distance_at(set, 0, at.as_ptr(), &mut d1),
+            COIF_OK
+        );
+        assert_eq!(d0.to_bits(), d1.to_bits());
         coif_sdf_set_free(set);
         coif_strands_free(c);
     }

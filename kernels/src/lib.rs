@@ -2,20 +2,25 @@
 //! in SIMD lanes (vertex `v` of block `b` at index `b * V + v`, lane `l` =
 //! strand `b * 8 + l`); [`step`] advances them by one fixed step and
 //! [`scalar::step`] is its scalar twin; [`step_with`] hands the blocks to a
-//! [`tasks::Executor`] as tasks (the same bytes on any number of threads). [`patch`] simulates small cloth grids
-//! (fins, ribbons) with the same code, columns in lanes.
+//! [`tasks::Executor`] as tasks (the same bytes on any number of threads).
+//! [`step_colliders`] steps against a [`Colliders`] set: spheres,
+//! [`Capsule`]s and signed distance fields of meshes ([`Sdf`]), in wind
+//! and linear drag ([`SimParams::wind`], [`SimParams::drag`], gusts) with
+//! Coulomb friction (`README.md`, "The world around the hair"). [`patch`]
+//! simulates small cloth grids (fins, ribbons) with the same code, columns
+//! in lanes.
 //!
 //! One strand step ([`step`]; `README.md` beside this crate gives every
 //! formula, its source and the measurements behind the design) runs
 //! `ceil(dt / max_substep)` substeps (default 4 of 1/240 s): 1 broad phase
-//! against the sphere rig (once per step) -> 2 Verlet prediction -> 3 local
+//! against the colliders (once per step) -> 2 Verlet prediction -> 3 local
 //! shape constraints (TressFX 4) and global shape -> 4 projection of the
 //! length constraints along blended directions by a tridiagonal (Thomas)
 //! solve per chain (fast projection, Goldenthal et al. 2007; SHAKE, Ryckaert
 //! et al. 1977; the trapezoidal rule, Newmark 1959) -> 5 pearls (Nalu's
 //! point-on-segment rule) -> 6 two-sided strain limit (Provot 1995,
-//! Follow-The-Leader order, Muller et al. 2012) alternated with the sphere
-//! push-out -> 7 velocity over the step and a guard that restores a lane
+//! Follow-The-Leader order, Muller et al. 2012) alternated with the
+//! push-out and Coulomb friction -> 7 velocity over the step and a guard that restores a lane
 //! gone non-finite. One generic body over [`lanes::Lane`] serves the SIMD
 //! path and its scalar twin. Blocks of eight strands that stay still for
 //! [`SLEEP_AFTER`] seconds sleep and are skipped until their roots, a moving

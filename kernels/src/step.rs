@@ -8,13 +8,16 @@
 //!
 //! 1. **Broad phase** (once per step): the boxes of a group of four blocks,
 //!    swept over the step's predicted motion, and the reach the strain
-//!    limit leaves them, against every rig sphere (`broad_phase.rs`; the
-//!    group's union first, then each block); only the spheres near a block
-//!    enter its narrow phase, from the first vertex that may touch them.
+//!    limit leaves them, against every collider (`collide/broad_phase.rs`;
+//!    the group's union first, then each block); only the colliders near a
+//!    block enter its narrow phase, from the first vertex that may touch
+//!    them.
 //! 2. **Prediction** (per substep): the root moves on the straight line from
 //!    where it was to its target; free vertices take a position-Verlet step
-//!    `x* = x + d^(1/n) (x - x_prev) + g h^2` (Yip 2011's damping `d` spread
-//!    over the substeps). The same pass stores the fixed part of the
+//!    `x* = x + d^(1/n) e^(-c h) (x - x_prev) + (g + c w) h^2` (Yip 2011's
+//!    damping `d` spread over the substeps; linear drag `c` toward the wind
+//!    `w`, plus the gusts' pull per vertex when on: `wind.rs`). The
+//!    colliders move to where they are after the substep. The same pass stores the fixed part of the
 //!    constraint directions, `(1/2) d_s(x_n) + (1/4 - a) d_s(x_{n-1})` with
 //!    `d_s(x) = x_{s+1} - x_s`.
 //! 3. **Shape** (optional): TressFX 4's local shape constraints, root to tip
@@ -39,14 +42,15 @@
 //!    normalised (its multiplier absorbs the scale); it falls back to `e_s`
 //!    where its cosine with `e_s` is below 1/2. With bending on, a sweep of
 //!    i..i+2 distance constraints (Jakobsen 2001) follows each projection.
-//! 5. **Pearls** against the block's spheres: `k` points per segment pushed
-//!    out by the Nalu demo's point-on-segment rule (Nguyen and Donnelly
-//!    2005).
+//! 5. **Pearls** against the block's spheres and capsules: `k` points per
+//!    segment pushed out by the Nalu demo's point-on-segment rule (Nguyen
+//!    and Donnelly 2005; `collide/narrow.rs`).
 //! 6. **Strain limit with push-out**, root to tip: each vertex is moved
 //!    along its segment until `(1 - s) l <= |x_v - x_{v-1}| <= (1 + s) l`
 //!    (Provot 1995, Follow-The-Leader order, Muller et al. 2012), then pushed
-//!    out of the spheres, with friction `x_prev += mu v_t`; one round per
-//!    substep, two on the last.
+//!    out of the spheres, capsules and fields, with Coulomb friction
+//!    (Macklin et al. 2014) and the roots rule (`collide/narrow.rs`); one
+//!    round per substep, two on the last (the second without friction).
 //! 7. **Velocity and guard** (end of step): `x_prev` is rewritten so that
 //!    `(x - x_prev) / dt` is the last substep's velocity (what `set_velocity`
 //!    and `measure::max_speed` read); a lane with a non-finite coordinate or
@@ -821,7 +825,7 @@ pub fn step_colliders(strands: &mut Strands, params: &SimParams, colliders: &Col
 }
 
 /// [`step_colliders`] with its blocks handed out as tasks to `executor`:
-/// at most [`MAX_STEP_TASKS`] tasks of whole groups of blocks, split by the
+/// at most [`crate::MAX_STEP_TASKS`] tasks of whole groups of blocks, split by the
 /// block count alone. Blocks never exchange data within a step, each task
 /// has its own buffers (sized when the set is built) and the restored
 /// count is summed after the tasks, so the result is the same bytes with
