@@ -13,8 +13,17 @@
 //! step measured on one thread (the speed-up and the projections in the
 //! README's Threads section).
 //!
+//! The `step/world` group runs the mohawk at the defaults (16 spheres) in
+//! the scenes of the world's cost goals: 16 spheres with friction and
+//! without, 16 capsules of the same radii (2 radii long) in place of the
+//! spheres, the spheres in wind and drag, in gusts, and with one 4 mm field
+//! of the shared Sintel bust (its head on the head sphere), SIMD and
+//! scalar (`kernels/examples/step_cost.rs` runs the same scenes one at a
+//! time, for callgrind).
+//!
 //! `cargo bench --bench simulation` (add `-- --quick` for a fast pass;
-//! `cargo bench --bench simulation -- step/threads` for the threads group).
+//! `cargo bench --bench simulation -- step/threads` for the threads group,
+//! `-- step/world` for the world's scenes).
 
 use coif::geometry::scene::{
     body_rig, grow_on_sphere, rig_with_distractors, scalp_spheres, GrowOptions,
@@ -23,7 +32,7 @@ use coif::groom::tfx;
 mod common;
 
 use coif::kernels::tasks::Executor;
-use coif::kernels::{self, scalar, SimParams, Sphere, Strands};
+use coif::kernels::{self, scalar, Capsule, Colliders, Sdf, SimParams, Sphere, Strands};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use glam::Vec3;
 use std::hint::black_box;
@@ -256,6 +265,99 @@ fn threads(c: &mut Criterion) {
     group.finish();
 }
 
+/// The world's scenes on the mohawk (see the module doc).
+fn world(c: &mut Criterion) {
+    let Some((pts, v, make_rig)) = mohawk() else {
+        eprintln!("skipping step/world: ../shared/data/grooms is absent");
+        return;
+    };
+    let spheres = make_rig(16);
+    let capsules: Vec<Capsule> = spheres
+        .iter()
+        .map(|s| Capsule {
+            a: s.center - Vec3::X * s.radius,
+            b: s.center + Vec3::X * s.radius,
+            radius: s.radius,
+        })
+        .collect();
+    let bust = coif_testkit::sintel_bust().map(|(p, t)| {
+        let mut f = Sdf::from_mesh(&p, &t, 0.004).expect("the bust's field");
+        f.set_transform(glam::Affine3A::from_translation(
+            spheres[0].center - Vec3::new(0.0, 0.37, 0.0),
+        ))
+        .expect("a translation");
+        f
+    });
+    let base = SimParams {
+        sleep_speed: 0.0,
+        ..Default::default()
+    };
+    let windy = SimParams {
+        wind: Vec3::new(2.0, 0.0, 1.0),
+        drag: 1.0,
+        ..base.clone()
+    };
+    let frictionless = SimParams {
+        friction: 0.0,
+        static_friction: 0.0,
+        ..base.clone()
+    };
+    let gusty = SimParams {
+        turbulence: 1.0,
+        ..windy.clone()
+    };
+    let none: [Sdf; 0] = [];
+    let fields = bust.as_slice();
+    let scenes: Vec<(&str, SimParams, Colliders<'_>)> = vec![
+        ("spheres16", base.clone(), Colliders::spheres(&spheres)),
+        (
+            "spheres16_frictionless",
+            frictionless,
+            Colliders::spheres(&spheres),
+        ),
+        (
+            "capsules16",
+            base.clone(),
+            Colliders {
+                capsules: &capsules,
+                ..Default::default()
+            },
+        ),
+        ("spheres16_wind", windy, Colliders::spheres(&spheres)),
+        ("spheres16_gusts", gusty, Colliders::spheres(&spheres)),
+        (
+            "spheres16_field",
+            base.clone(),
+            Colliders {
+                spheres: &spheres,
+                sdfs: if fields.is_empty() { &none } else { fields },
+                ..Default::default()
+            },
+        ),
+    ];
+    let mut group = c.benchmark_group("step/world");
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2));
+    group.throughput(Throughput::Elements(pts.len() as u64));
+    for (name, params, colliders) in &scenes {
+        let mut settled = Strands::from_polylines(&pts, v).unwrap();
+        for _ in 0..30 {
+            kernels::step_colliders(&mut settled, params, colliders);
+        }
+        let mut s = settled.clone();
+        group.bench_function(BenchmarkId::new("simd", name), |b| {
+            b.iter(|| kernels::step_colliders(black_box(&mut s), params, colliders))
+        });
+        let mut s = settled.clone();
+        group.bench_function(BenchmarkId::new("scalar", name), |b| {
+            b.iter(|| scalar::step_colliders(black_box(&mut s), params, colliders))
+        });
+    }
+    group.finish();
+}
+
 fn simulation(c: &mut Criterion) {
     match mohawk() {
         Some((pts, v, rig)) => bench_set(c, "mohawk_2226x32", &pts, v, &rig),
@@ -265,5 +367,5 @@ fn simulation(c: &mut Criterion) {
     bench_set(c, "synthetic_10000x32", &pts, v, &rig);
 }
 
-criterion_group!(benches, threads, simulation);
+criterion_group!(benches, threads, world, simulation);
 criterion_main!(benches);

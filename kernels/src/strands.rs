@@ -490,6 +490,9 @@ impl Strands {
         }
         self.rest_rotation = m * self.rest_rotation;
         self.wake();
+        // The colliders' record is of the old place: the next step takes
+        // them as standing still rather than sweeping from there.
+        self.scratch.rig.forget();
         self.rebase_if_far();
         Ok(())
     }
@@ -586,6 +589,9 @@ impl Strands {
             }
         }
         self.wake();
+        // A state from elsewhere (another level, a saved game): the
+        // colliders' record may be of another time.
+        self.scratch.rig.forget();
         self.rebase_if_far();
         Ok(())
     }

@@ -37,8 +37,10 @@ use crate::Sphere;
 /// that it moves them on the straight line to where they are now over its
 /// substeps and gives contact friction their motion; keep each collider at
 /// the same index from step to step (a set whose length changes is taken
-/// as not moving for that step). The record is per [`crate::Strands`], so
-/// several hair objects may share the same fields.
+/// as not moving for that step; so is every collider in the step after
+/// [`crate::Strands::teleport`] or [`crate::Strands::set_state`], and one
+/// that moved more than [`crate::COLLIDER_JUMP`]). The record is per
+/// [`crate::Strands`], so several hair objects may share the same fields.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Colliders<'a> {
     /// Rig spheres.

@@ -223,6 +223,15 @@ impl LocalRig {
         }
     }
 
+    /// Forgets the last step's colliders: the next step takes every
+    /// collider as standing still (after a teleport or a state set from
+    /// elsewhere, where the record would describe another place or time).
+    pub(crate) fn forget(&mut self) {
+        self.last_spheres.clear();
+        self.last_capsules.clear();
+        self.last_fields.clear();
+    }
+
     /// Remembers this step's colliders (world space) for the next step.
     pub(crate) fn remember(&mut self, c: &Colliders<'_>) {
         self.last_spheres.clear();
