@@ -28,9 +28,11 @@
 //! ([`crate::SimParams::root_exit`]): the depth a strand leaving the
 //! surface at `asin(root_exit)` would have.
 //!
-//! **Deep in a field** (after a teleport or a fast bone): the push per
-//! substep is at most `FIELD_EXIT_SPEED h`, and a vertex pushed by that
-//! much gains no velocity from it (its previous position moves with it);
+//! **Deep in a field** (after a teleport or a fast bone): a vertex is
+//! pushed out whole by what its motion relative to the surface over the
+//! substep can have put it in, and beyond that by at most
+//! `FIELD_EXIT_SPEED h` per substep; a vertex pushed that far gains no
+//! velocity from it (its previous position moves with it);
 //! a strand with a vertex that deep keeps at most `FIELD_EXIT_SPEED` as its
 //! velocity at the end of the step (`step.rs`, 7.), so hair found deep
 //! inside is never shot out, though the strain limit may pull a strand out
@@ -491,11 +493,16 @@ impl<T: SdfLane> FieldReach<T> {
         }
         let nrm = n * n2.max(T::splat(1.0e-12)).inv_sqrt();
         let depth = reach - d;
-        let cap = T::splat(k.field_push);
+        // What this substep's motion relative to the surface can have put
+        // it in is pushed out whole; beyond that it was found deep, and
+        // leaves at FIELD_EXIT_SPEED.
+        let motion = affine(&self.motion_m, self.motion_t, p);
+        let rel = (x - *prev) - motion;
+        let rel2 = dot(rel, rel).max(T::splat(1.0e-30));
+        let cap = T::splat(k.field_push) + rel2 * rel2.inv_sqrt();
         let push = depth.min(cap);
         let mut pushed = madd(nrm, push, x);
         if friction {
-            let motion = affine(&self.motion_m, self.motion_t, p);
             pushed = pushed + coulomb((pushed - *prev) - motion, nrm, push, k);
         }
         let deep = hit & depth.gt(cap);
