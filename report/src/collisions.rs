@@ -47,7 +47,10 @@
 //!   surface (`kernels/SDF.md`: median 0.025 mm and 95th percentile 0.1 mm
 //!   on the icosphere, 0.07 and 0.91 mm on the bust), so a point the field
 //!   puts 1 mm outside is taken as outside; the family prints the largest
-//!   field-against-exact difference it saw among the points it measured.
+//!   field-against-exact difference it saw among the points it measured
+//!   (first full run: at most 0.67 mm on the icosphere, but 1.2 mm on the
+//!   bust, so there a skipped point could lie up to 0.2 mm deeper than the
+//!   row says).
 //!
 //! Settings: `max_substep` 1/120, 1/240 (default), 1/480 s (2, 4, 8
 //! substeps: contacts at every substep, so at 60 x that many rates per
@@ -67,7 +70,11 @@
 //! so the pearl settings of a field differ in time alone; and a push out of
 //! a field is capped at `FIELD_EXIT_SPEED h` per substep (1 m/s), so a tip
 //! that lands faster, or a field that sweeps at 3 m/s, can get in: measured
-//! millimetres to centimetres at 1/240 and 1/480 s, none at 1/120 s.
+//! millimetres to centimetres at 1/240 and 1/480 s, none at 1/120 s. The
+//! rod (radius 5 mm) moves 2.5, 1.25 and 0.6 cm per substep at 3 m/s: at
+//! 1/120 and 1/240 s it jumps segments whatever the pearls (4.4-5 mm deep,
+//! about its radius); at 1/480 s one or two pearls keep it to 1.6-1.7 mm,
+//! none lets 4.4 mm in.
 
 use super::{Options, Path, Row, Timing};
 use coif::kernels::{self as kernels, scalar, Capsule, Colliders, Sdf, SimParams, Sphere, Strands};
