@@ -21,6 +21,7 @@
 
 #![warn(missing_docs)]
 
+pub mod collisions;
 pub mod csv;
 pub mod fits;
 pub mod interpolation;
@@ -36,6 +37,7 @@ pub mod sim_lod;
 pub mod simulation;
 pub mod summary;
 pub mod timing;
+pub mod wind;
 
 pub use timing::Timing;
 
@@ -111,30 +113,105 @@ impl Row {
 }
 
 /// A kernel family's measurement.
-type Family = fn(Options) -> Vec<Row>;
+type Measure = fn(Options) -> Vec<Row>;
 
-/// Measures every kernel family, in order: simulation, simulation LOD
-/// (sleeping and guide levels against their error), physics (the strand
-/// step against the analytic hanging chain), refinement, fits,
-/// interpolation, shading, shadow maps, cloth patches.
+/// A kernel family of the report: its name, the prefixes of the kernel
+/// names its rows carry (every row's kernel starts with one of them, and
+/// no other family's row does: [`family_of`]) and its measurement.
+#[derive(Clone, Copy)]
+pub struct Family {
+    /// The family's name in the progress lines, e.g. `"simulation LOD"`.
+    pub name: &'static str,
+    /// Prefixes of the kernel names it writes.
+    pub kernels: &'static [&'static str],
+    /// Measures the family's rows.
+    pub measure: Measure,
+}
+
+/// Every kernel family, in the order [`run`] measures them.
+pub const FAMILIES: [Family; 11] = [
+    Family {
+        name: "simulation",
+        kernels: &["simulation settling", "simulation whipping"],
+        measure: simulation::rows,
+    },
+    Family {
+        name: "simulation LOD",
+        kernels: &["simulation LOD "],
+        measure: sim_lod::rows,
+    },
+    Family {
+        name: "physics",
+        kernels: &["physics chain "],
+        measure: physics::rows,
+    },
+    Family {
+        name: "wind",
+        kernels: &["wind "],
+        measure: wind::rows,
+    },
+    Family {
+        name: "collisions",
+        kernels: &["collisions "],
+        measure: collisions::rows,
+    },
+    Family {
+        name: "refinement",
+        kernels: &["refinement"],
+        measure: refinement::rows,
+    },
+    Family {
+        name: "fits",
+        kernels: &["fits"],
+        measure: fits::rows,
+    },
+    Family {
+        name: "interpolation",
+        kernels: &["interpolation"],
+        measure: interpolation::rows,
+    },
+    Family {
+        name: "shading",
+        kernels: &["kajiya-kay", "marschner", "pbrt", "models vs pbrt"],
+        measure: shading::rows,
+    },
+    Family {
+        name: "shadow maps",
+        kernels: &["shadow "],
+        measure: shadow::rows,
+    },
+    Family {
+        name: "patch",
+        kernels: &["patch"],
+        measure: patch::rows,
+    },
+];
+
+/// The family whose kernel-name prefixes match `kernel` (the longest
+/// matching prefix wins), if any.
+pub fn family_of(kernel: &str) -> Option<&'static Family> {
+    FAMILIES
+        .iter()
+        .flat_map(|f| f.kernels.iter().map(move |k| (f, *k)))
+        .filter(|(_, k)| kernel.starts_with(k))
+        .max_by_key(|(_, k)| k.len())
+        .map(|(f, _)| f)
+}
+
+/// Measures every kernel family of [`FAMILIES`], in order: simulation,
+/// simulation LOD (sleeping and guide levels against their error), physics
+/// (the strand step against the analytic hanging chain), wind (equilibrium
+/// and decay against their closed forms), collisions (penetration by the
+/// exact distance), refinement, fits, interpolation, shading, shadow maps,
+/// cloth patches.
 pub fn run(options: Options) -> Vec<Row> {
     let mut rows = Vec::new();
-    let families: [(&str, Family); 9] = [
-        ("simulation", simulation::rows),
-        ("simulation LOD", sim_lod::rows),
-        ("physics", physics::rows),
-        ("refinement", refinement::rows),
-        ("fits", fits::rows),
-        ("interpolation", interpolation::rows),
-        ("shading", shading::rows),
-        ("shadow maps", shadow::rows),
-        ("patch", patch::rows),
-    ];
-    for (name, family) in families {
+    for family in &FAMILIES {
         let t0 = std::time::Instant::now();
-        rows.extend(family(options));
+        rows.extend((family.measure)(options));
         eprintln!(
-            "report: {name} measured in {:.1} s",
+            "report: {} measured in {:.1} s",
+            family.name,
             t0.elapsed().as_secs_f64()
         );
     }

@@ -86,6 +86,31 @@ restores non-finite strands). The closed form is undamped, so the amplitude the 
 takes is counted as error although it is the blend's purpose (it damps the stiff modes; mode \
 1 is the slowest, mode 2 loses more); a does not change the cost, so time differences \
 between the a settings of one n are noise.
+- **wind** (`wind equilibrium`, `wind decay`): the strand step's linear drag against two \
+closed forms that do not depend on the solver. Equilibrium: a chain of equal masses in gravity \
+g and a steady wind w with drag c hangs straight along g + c w; one strand of 32 vertices on \
+1 cm links settles for 10 s (at least 5 c L / |a|) at the default damping; error the angle in \
+degrees between tip - root and g + c w, the worst of three winds (2, 5 and 8 m/s; up to 3.4 g). \
+Decay: with damping 1 every mode of the chain obeys theta'' + c theta' + omega^2 theta = 0 and \
+decays as exp(-c t / 2); the 31-link chain started in mode 1, tip 3 degrees off; the peaks of \
+the tip's swing fitted in log against time; error |rate - c/2| / (c/2). Settings: max_substep \
+1/120, 1/240 (default), 1/480, 1/960 s at dt = 1/60 s x drag 1 and 4 per second (the setting \
+names the substeps run: more in winds beyond 2 g, `SimParams::substeps`); ns per vertex-step \
+on 32 identical strands. The blend `stiff_mode_damping` takes about a omega^2 h per second on \
+top of the drag and counts as error.
+- **collisions** (`collisions <scene> <collider>`): penetration against cost. Scenes: a curtain \
+of 64 strands of 25 vertices on 1.2 cm links falling over a still collider and draping (1.5 s), \
+and 8 x 8 hanging strands that a collider sweeps through at 3 m/s (twice out and back). \
+Colliders: a sphere, a capsule (a 16 cm bar under the curtain, a 1 cm rod through the hair), \
+the field of an icosphere (1,280 triangles, 4 mm cells) and, when the shared meshes are \
+present, the field of the Sintel bust (drape only). Error: the deepest penetration of the \
+hair's centre line into the collider's own surface at the end of any step, by the exact \
+distance: analytic point-to-segment (sphere) and segment-to-segment (capsule) distance over \
+every segment; for fields, points every 1.5 mm along every segment against the mesh itself by \
+brute force over its triangles (sign by the winding number), the points picked by the field \
+(those it puts within 1 mm of the surface, deepest first). Settings: max_substep 1/120, 1/240 \
+(default), 1/480 s x pearls per segment 0, 1 (default), 2 (fields collide with vertices only: \
+their pearl settings differ in time alone); ns per vertex-step.
 - **refinement**: segments per span; ns per guide (input) vertex; largest chord error.
 - **fits**: controls x smoothing; ns per strand; RMS distance to the noise-free curve \
 (scalar only: faer's Cholesky).

@@ -64,11 +64,53 @@ fn quick_report_rows_are_finite_and_files_are_written() {
         "shadow lookup",
         "patch",
         "patch stretch",
+        "wind equilibrium",
+        "wind decay",
+        "collisions drape sphere",
+        "collisions drape capsule",
+        "collisions drape field",
+        "collisions sweep sphere",
+        "collisions sweep capsule",
+        "collisions sweep field",
     ] {
         assert!(
             rows.iter().any(|r| r.kernel == family),
             "no rows for {family}"
         );
+    }
+    // Every family of the list has rows, and every row belongs to one.
+    for family in &report::FAMILIES {
+        assert!(
+            rows.iter()
+                .any(|r| report::family_of(&r.kernel).is_some_and(|f| f.name == family.name)),
+            "no rows of the family {}",
+            family.name
+        );
+    }
+    for r in &rows {
+        assert!(
+            report::family_of(&r.kernel).is_some(),
+            "{}: no family claims it",
+            r.kernel
+        );
+    }
+    // Wind and drag at the default max_substep: the strand hangs along
+    // g + c w within a tenth of a degree, and the swing decays at c / 2
+    // within 2 % (measured 0.001 degrees and 0.4 % at drag 4).
+    let wind = |kernel: &str| {
+        rows.iter()
+            .find(|r| r.kernel == kernel && r.is_default && r.path == Path::Simd)
+            .unwrap_or_else(|| panic!("no default {kernel} row"))
+            .error
+    };
+    assert!(wind("wind equilibrium") < 0.1);
+    assert!(wind("wind decay") < 0.02);
+    // Nothing gets into the sphere.
+    for r in rows
+        .iter()
+        .filter(|r| r.kernel.starts_with("collisions ") && r.kernel.ends_with("sphere"))
+    {
+        assert!(r.error < 1e-3, "{r:?}");
     }
     for r in &rows {
         assert!(r.is_finite(), "row not finite: {r:?}");
