@@ -326,9 +326,12 @@ pub(crate) fn select_strand_candidates(
         }
     }
     for (i, c) in rig.capsules.iter().enumerate() {
+        // Near both its swept box and a sphere holding it (each
+        // conservative; together tighter than either).
         let swept = c.swept_box();
+        let ball = c.bounding_sphere();
         add(out, blocks, &union, Kind::Capsule, i, |b: &Aabb| {
-            boxes_near(b, &swept, margin)
+            boxes_near(b, &swept, margin) && near(b, &ball, margin)
         });
     }
     for (i, f) in rig.fields.iter().enumerate() {

@@ -46,6 +46,19 @@ impl LocalCapsule {
         self
     }
 
+    /// A sphere `[x, y, z, r]` holding it over the whole step: centred
+    /// between its ends' extremes, reaching the farthest end plus the
+    /// radius (for a sphere that does not move, the sphere itself).
+    pub(crate) fn bounding_sphere(&self) -> [f32; 4] {
+        let b = self.swept_box();
+        let c = (b.min + b.max) * 0.5;
+        let far = [self.from[0], self.from[1], self.to[0], self.to[1]]
+            .iter()
+            .map(|p| (*p - c).length())
+            .fold(0.0f32, f32::max);
+        [c.x, c.y, c.z, far + self.radius]
+    }
+
     /// The box it sweeps over the step, grown by its radius.
     pub(crate) fn swept_box(&self) -> Aabb {
         let lo = self.from[0]
