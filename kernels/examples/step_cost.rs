@@ -7,7 +7,9 @@
 //! twin if SCALAR is 1. The rig is the bench's (two 8 cm spheres tangent
 //! under the scalp and 14 distractors, `scene::rig_with_distractors`);
 //! SCENE changes it: `spheres` (the defaults), `frictionless` (friction 0
-//! and 0), `capsules` (each sphere a capsule of its radius, 2 radii long),
+//! and 0), `norule` (frictionless and the roots rule off: the same bytes
+//! as the step before the world round, frictionless, so the two compare
+//! code for code), `capsules` (each sphere a capsule of its radius, 2 radii long),
 //! `wind` (the spheres in a wind of (2, 0, 1) m/s, drag 1 /s), `gusts` (and
 //! turbulence 1 m/s), `field` (the spheres and one 4 mm field of the
 //! shared Sintel bust, its head on the head sphere). The set settles for
@@ -51,6 +53,11 @@ fn main() {
         "frictionless" => {
             params.friction = 0.0;
             params.static_friction = 0.0;
+        }
+        "norule" => {
+            params.friction = 0.0;
+            params.static_friction = 0.0;
+            params.root_exit = 1.0e6;
         }
         "capsules" | "points" => {
             // `points`: capsules with a == b, the spheres' very shapes
