@@ -700,6 +700,14 @@ fn strain_limit_and_collide<T: SdfLane, const FIELDS: bool>(
     let (w, rest_len, off) = (&c.w[..verts], &c.rest_len[..verts], &s.vertex_off[..verts]);
     let arc = &c.arc[..verts];
     let friction = k.contact.friction_on;
+    // The vertices any candidate's roots rule reaches.
+    let rooted_end = s
+        .spheres
+        .iter()
+        .chain(&s.capsules)
+        .map(|r| r.rooted_until())
+        .max()
+        .unwrap_or(0);
     let (mut live_s, mut live_c, mut live_f) = (0, 0, 0);
     for v in 1..verts {
         while live_s < s.spheres.len() && s.spheres[live_s].first <= v {
@@ -734,21 +742,13 @@ fn strain_limit_and_collide<T: SdfLane, const FIELDS: bool>(
         let mut x = strain(pos[v]);
         let mut xp = prev[v];
         let (o, a) = (off[v], arc[v]);
-        if friction {
-            for r in &s.spheres[..live_s] {
-                x = r.push_vertex::<false, true>(v, x, xp, o, a, &k.contact);
-            }
-            for r in &s.capsules[..live_c] {
-                x = r.push_vertex::<true, true>(v, x, xp, o, a, &k.contact);
-            }
-        } else {
-            for r in &s.spheres[..live_s] {
-                x = r.push_vertex::<false, false>(v, x, xp, o, a, &k.contact);
-            }
-            for r in &s.capsules[..live_c] {
-                x = r.push_vertex::<true, false>(v, x, xp, o, a, &k.contact);
-            }
-        }
+        let (sp, ca) = (&s.spheres[..live_s], &s.capsules[..live_c]);
+        x = match (friction, v < rooted_end) {
+            (true, true) => push_shapes::<T, true, true>(sp, ca, v, x, xp, o, a, &k.contact),
+            (true, false) => push_shapes::<T, true, false>(sp, ca, v, x, xp, o, a, &k.contact),
+            (false, true) => push_shapes::<T, false, true>(sp, ca, v, x, xp, o, a, &k.contact),
+            (false, false) => push_shapes::<T, false, false>(sp, ca, v, x, xp, o, a, &k.contact),
+        };
         if FIELDS {
             for f in &s.fields[..live_f] {
                 if let Some(sdf) = sdfs.get(f.field.index) {
@@ -762,12 +762,11 @@ fn strain_limit_and_collide<T: SdfLane, const FIELDS: bool>(
         // The last substep's second round: friction acts once per substep.
         if rounds > 1 {
             x = strain(x);
-            for r in &s.spheres[..live_s] {
-                x = r.push_vertex::<false, false>(v, x, xp, o, a, &k.contact);
-            }
-            for r in &s.capsules[..live_c] {
-                x = r.push_vertex::<true, false>(v, x, xp, o, a, &k.contact);
-            }
+            x = if v < rooted_end {
+                push_shapes::<T, false, true>(sp, ca, v, x, xp, o, a, &k.contact)
+            } else {
+                push_shapes::<T, false, false>(sp, ca, v, x, xp, o, a, &k.contact)
+            };
             if FIELDS {
                 for f in &s.fields[..live_f] {
                     if let Some(sdf) = sdfs.get(f.field.index) {
@@ -785,6 +784,29 @@ fn strain_limit_and_collide<T: SdfLane, const FIELDS: bool>(
         }
     }
     deep
+}
+
+/// Every live sphere, then capsule, pushes vertex `v` (friction and the
+/// roots rule's test compiled in or out).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn push_shapes<T: Lane, const FRICTION: bool, const ROOTED: bool>(
+    spheres: &[ShapeReach<T>],
+    capsules: &[ShapeReach<T>],
+    v: usize,
+    mut x: V3<T>,
+    xp: V3<T>,
+    off: T,
+    arc: T,
+    k: &ContactSetup,
+) -> V3<T> {
+    for r in spheres {
+        x = r.push_vertex::<false, FRICTION, ROOTED>(v, x, xp, off, arc, k);
+    }
+    for r in capsules {
+        x = r.push_vertex::<true, FRICTION, ROOTED>(v, x, xp, off, arc, k);
+    }
+    x
 }
 
 /// Advances every strand by one fixed step of `params.dt` (SIMD path)

@@ -242,6 +242,11 @@ impl<T: Lane> ShapeReach<T> {
         (ax - self.ab * t, t)
     }
 
+    /// The vertices `..rooted_until()` fall under the roots rule.
+    pub(crate) fn rooted_until(&self) -> usize {
+        self.rooted_until
+    }
+
     /// The surface's motion over the substep at axis parameter `t`.
     #[inline(always)]
     fn motion<const CAPSULE: bool>(&self, t: T) -> V3<T> {
@@ -269,7 +274,7 @@ impl<T: Lane> ShapeReach<T> {
     /// `FRICTION` (once per substep: the second round of the last substep
     /// only pushes, or friction would act five times per four substeps).
     #[inline(always)]
-    pub(crate) fn push_vertex<const CAPSULE: bool, const FRICTION: bool>(
+    pub(crate) fn push_vertex<const CAPSULE: bool, const FRICTION: bool, const ROOTED: bool>(
         &self,
         v: usize,
         x: V3<T>,
@@ -280,7 +285,13 @@ impl<T: Lane> ShapeReach<T> {
     ) -> V3<T> {
         let (d, t) = self.offset::<CAPSULE>(x);
         let d2 = dot_add(d, d, off);
-        let (reach, reach2) = self.reach(v, arc);
+        // `ROOTED`: `v` may be below `rooted_until` (the caller's loop
+        // splits the vertices so that the rest skip the test).
+        let (reach, reach2) = if ROOTED {
+            self.reach(v, arc)
+        } else {
+            (self.reach, self.reach2)
+        };
         if !FRICTION {
             let hit = d2.lt(reach2);
             if !T::any(hit) {
