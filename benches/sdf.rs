@@ -1,6 +1,6 @@
 //! The mesh signed distance field (`coif::kernels::Sdf`): build time of the
 //! shared Sintel bust at 4 mm cells (skipped when `../shared` is absent)
-//! and of an icosphere of the same size made here (5,120 triangles, 20 cm
+//! and of an icosphere of the same size from `coif_testkit::meshes` (5,120 triangles, 20 cm
 //! across), and lookups per point, the SIMD lane lookup (eight points per
 //! call) against the scalar twin, in cache: 4,096 points near the surface
 //! of the icosphere's 1 cm field (about 27,000 nodes, 110 KB) and of the
@@ -9,73 +9,11 @@
 //! `cargo bench --bench sdf` (add `-- --quick` for a fast pass).
 
 use coif::kernels::{Sdf, Vec3x8};
+use coif_testkit::meshes::{icosphere, Mesh};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::Vec3;
 use std::hint::black_box;
 use std::time::Duration;
-
-/// Positions and triangles.
-type Mesh = (Vec<Vec3>, Vec<[u32; 3]>);
-
-/// An icosphere of radius `r`: the icosahedron subdivided `n` times.
-fn icosphere(n: u32, r: f32) -> Mesh {
-    let t = (1.0 + 5f32.sqrt()) / 2.0;
-    let mut p: Vec<Vec3> = [
-        (-1., t, 0.),
-        (1., t, 0.),
-        (-1., -t, 0.),
-        (1., -t, 0.),
-        (0., -1., t),
-        (0., 1., t),
-        (0., -1., -t),
-        (0., 1., -t),
-        (t, 0., -1.),
-        (t, 0., 1.),
-        (-t, 0., -1.),
-        (-t, 0., 1.),
-    ]
-    .iter()
-    .map(|&(x, y, z)| Vec3::new(x, y, z).normalize())
-    .collect();
-    let mut f: Vec<[u32; 3]> = vec![
-        [0, 11, 5],
-        [0, 5, 1],
-        [0, 1, 7],
-        [0, 7, 10],
-        [0, 10, 11],
-        [1, 5, 9],
-        [5, 11, 4],
-        [11, 10, 2],
-        [10, 7, 6],
-        [7, 1, 8],
-        [3, 9, 4],
-        [3, 4, 2],
-        [3, 2, 6],
-        [3, 6, 8],
-        [3, 8, 9],
-        [4, 9, 5],
-        [2, 4, 11],
-        [6, 2, 10],
-        [8, 6, 7],
-        [9, 8, 1],
-    ];
-    for _ in 0..n {
-        let mut mid = std::collections::HashMap::new();
-        let mut g = vec![];
-        for [a, b, c] in f {
-            let mut m = |i: u32, j: u32| {
-                *mid.entry((i.min(j), i.max(j))).or_insert_with(|| {
-                    p.push(((p[i as usize] + p[j as usize]) * 0.5).normalize());
-                    p.len() as u32 - 1
-                })
-            };
-            let (ab, bc, ca) = (m(a, b), m(b, c), m(c, a));
-            g.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
-        }
-        f = g;
-    }
-    (p.into_iter().map(|v| v * r).collect(), f)
-}
 
 /// 4,096 points within 2 cm of the mesh's vertices (a deterministic hash).
 fn near_points(positions: &[Vec3]) -> Vec<Vec3> {

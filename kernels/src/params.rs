@@ -193,17 +193,7 @@ impl SimParams {
     /// and exact at 1/480; 14 g, 5 degrees and 8 % short at 1/240, exact at
     /// 1/480; two or four projections per substep instead made it worse).
     pub fn substeps(&self) -> u32 {
-        let drag = if self.drag.is_finite() {
-            self.drag.max(0.0)
-        } else {
-            0.0
-        };
-        let wind = if self.wind.is_finite() {
-            self.wind
-        } else {
-            Vec3::ZERO
-        };
-        let accel = (self.gravity + wind * drag).length() as f64;
+        let accel = self.steady_acceleration().length() as f64;
         let strong = if accel.is_finite() && accel > 2.0 * STANDARD_GRAVITY {
             (accel / (2.0 * STANDARD_GRAVITY)).sqrt()
         } else {
@@ -215,6 +205,29 @@ impl SimParams {
         } else {
             1
         }
+    }
+}
+
+impl SimParams {
+    /// The drag coefficient the step uses: `drag` if finite and >= 0,
+    /// else 0.
+    pub fn effective_drag(&self) -> f32 {
+        if self.drag.is_finite() {
+            self.drag.max(0.0)
+        } else {
+            0.0
+        }
+    }
+
+    /// The steady acceleration `gravity + drag wind` (a non-finite wind
+    /// counts as still air): what a vertex at rest feels.
+    pub fn steady_acceleration(&self) -> Vec3 {
+        let wind = if self.wind.is_finite() {
+            self.wind
+        } else {
+            Vec3::ZERO
+        };
+        self.gravity + wind * self.effective_drag()
     }
 }
 

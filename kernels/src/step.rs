@@ -163,17 +163,8 @@ impl Setup {
         let a = p.stiff_mode_damping.clamp(0.0, 0.25);
         // Drag toward the air: velocity kept exp(-c h) per substep, the
         // air's pull c w added to gravity (crate README, "Wind and drag").
-        let drag = if p.drag.is_finite() {
-            p.drag.max(0.0)
-        } else {
-            0.0
-        };
-        let wind = if p.wind.is_finite() {
-            p.wind
-        } else {
-            Vec3::ZERO
-        };
-        let accel = p.gravity + wind * drag;
+        let drag = p.effective_drag();
+        let accel = p.steady_acceleration();
         Setup {
             substeps: n,
             damping: p.damping.powf(1.0 / n as f32) * (-drag * h).exp(),
