@@ -489,6 +489,10 @@ impl<T: SdfLane> FieldReach<T> {
         friction: bool,
     ) -> (V3<T>, T::Mask) {
         let p = self.mesh_point(x);
+        // The far map proves every lane out of reach: no lookup.
+        if k.pearl_radius < sdf.far_clearance() && !T::any(!T::far(sdf, p)) {
+            return (x, !T::all_lanes());
+        }
         let (d, g) = T::sample(sdf, p);
         let reach = if v < self.rooted_until {
             reach_at(T::splat(k.pearl_radius), self.root_depth, arc, k.root_exit)

@@ -121,8 +121,10 @@ struct Entry {
     c: [u32; 3],
 }
 
-/// Signed distances at every node of `g` (x fastest, then y, then z).
-pub(crate) fn build(g: &Grid, positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec<f32> {
+/// Signed distances at every node of `g` (x fastest, then y, then z), and
+/// which nodes the exact band reached (step 2: every node not reached is
+/// more than a cell from the surface).
+pub(crate) fn build(g: &Grid, positions: &[Vec3], triangles: &[[u32; 3]]) -> (Vec<f32>, Vec<bool>) {
     let dims = g.dims;
     let (nx, ny) = (dims.x as usize, dims.y as usize);
     let total = g.node_count();
@@ -162,6 +164,8 @@ pub(crate) fn build(g: &Grid, positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec
             }
         }
     }
+
+    let band: Vec<bool> = owner.iter().map(|&o| o != NONE).collect();
 
     // 3. Breadth-first closest-triangle propagation. Front entries carry
     // their coordinates (no divisions in the loop).
@@ -257,10 +261,58 @@ pub(crate) fn build(g: &Grid, positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec
     let w = winding_field(g, positions, triangles, &tris, &d2);
 
     // 5. Signed values.
-    d2.iter()
+    let values = d2
+        .iter()
         .zip(&w)
         .map(|(&e, &w)| if w >= 0.5 { -e.sqrt() } else { e.sqrt() })
-        .collect()
+        .collect();
+    (values, band)
+}
+
+/// Fine cells per side of a block of the far map.
+pub(crate) const FAR_BLOCK: u32 = 4;
+/// Nodes around a block that must be out of the band too (so that every
+/// point of the block is more than `FAR_RING - sqrt(3)/2` cells from the
+/// surface: a surface point has a node within `sqrt(3)/2` cells of it, and
+/// that node is in the band).
+pub(crate) const FAR_RING: u32 = 2;
+
+/// The far map: per block of `FAR_BLOCK^3` cells, 1 where no node of the
+/// block or of the `FAR_RING` nodes around it is in the band and the
+/// block is outside (its nodes positive), else 0. Its dimensions in blocks.
+pub(crate) fn far_map(g: &Grid, values: &[f32], band: &[bool]) -> (Vec<f32>, UVec3) {
+    let dims = g.dims;
+    let cells = dims - UVec3::ONE;
+    let blocks = (cells + UVec3::splat(FAR_BLOCK - 1)) / FAR_BLOCK;
+    let (nx, ny) = (dims.x as usize, dims.y as usize);
+    let mut far = vec![0.0f32; (blocks.x * blocks.y * blocks.z) as usize];
+    for bz in 0..blocks.z {
+        for by in 0..blocks.y {
+            for bx in 0..blocks.x {
+                let b = UVec3::new(bx, by, bz);
+                let lo = (b * FAR_BLOCK).saturating_sub(UVec3::splat(FAR_RING));
+                let hi =
+                    ((b + UVec3::ONE) * FAR_BLOCK + UVec3::splat(FAR_RING)).min(dims - UVec3::ONE);
+                let mut clear = true;
+                'scan: for z in lo.z..=hi.z {
+                    for y in lo.y..=hi.y {
+                        let row = (z as usize * ny + y as usize) * nx;
+                        for x in lo.x..=hi.x {
+                            let i = row + x as usize;
+                            if band[i] || values[i] <= 0.0 {
+                                clear = false;
+                                break 'scan;
+                            }
+                        }
+                    }
+                }
+                if clear {
+                    far[((bz * blocks.y + by) * blocks.x + bx) as usize] = 1.0;
+                }
+            }
+        }
+    }
+    (far, blocks)
 }
 
 /// The winding number at every node, exact at the coarsest level and near
@@ -421,4 +473,40 @@ fn trilinear(c: &[f32; 8], f: Vec3) -> f32 {
     let c0 = c00 + (c10 - c00) * f.y;
     let c1 = c01 + (c11 - c01) * f.y;
     c0 + (c1 - c0) * f.z
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{Sdf, SdfLane};
+    use crate::lanes::V3;
+    use coif_testkit::meshes::{brute, icosphere, open_sphere};
+    use glam::Vec3;
+
+    /// Every point the far map calls far is outside the mesh by more than
+    /// the clearance, by brute force (a closed icosphere and one with a
+    /// cap cut off, points in and around the grid); and the map is not
+    /// empty.
+    #[test]
+    fn the_far_map_only_claims_points_clear_of_the_surface() {
+        for mesh in [icosphere(3, 0.1), open_sphere(3, 0.1, 0.06)] {
+            let sdf = Sdf::from_mesh(&mesh.0, &mesh.1, 0.004).unwrap();
+            let (lo, hi) = sdf.bounds();
+            let mut rng = coif_base::rng::SplitMix64::new(3);
+            let mut far = 0;
+            for _ in 0..4000 {
+                let t = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
+                let p = lo - Vec3::splat(0.02) + (hi - lo + Vec3::splat(0.04)) * t;
+                if <f32 as SdfLane>::far(&sdf, V3::from_vec3(p)) {
+                    far += 1;
+                    let (d, w) = brute(&mesh, p);
+                    assert!(w < 0.5, "{p}: far but inside (winding {w})");
+                    assert!(
+                        d as f32 > sdf.far_clearance(),
+                        "{p}: far but {d} m from the surface"
+                    );
+                }
+            }
+            assert!(far > 400, "only {far} far points");
+        }
+    }
 }

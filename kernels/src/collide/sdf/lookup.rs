@@ -41,10 +41,36 @@ pub(crate) trait SdfLane: Lane {
     /// The eight corner values of the cells whose lowest node is `base`
     /// (an integer-valued float index, already in range), x fastest.
     fn corners(g: &Grid, base: Self) -> [Self; 8];
+    /// `table[idx]` per lane (`idx` an integer-valued float index, clamped
+    /// into the table).
+    fn fetch(table: &[f32], idx: Self) -> Self;
     /// Signed distance and gradient at `p_mesh` (the generic [`sample`]).
     #[inline(always)]
     fn sample(sdf: &Sdf, p_mesh: V3<Self>) -> (Self, V3<Self>) {
         sample(&sdf.grid, p_mesh)
+    }
+    /// Lanes whose point (mesh frame) lies in a block of the far map: more
+    /// than `far_clearance` outside the surface, so no skin thinner than
+    /// that reaches it. A NaN point is never far.
+    #[inline(always)]
+    fn far(sdf: &Sdf, p_mesh: V3<Self>) -> Self::Mask {
+        let g = &sdf.grid;
+        let inv = Self::splat(g.far_inv);
+        let zero = Self::splat(0.0);
+        let axis = |c: Self, o: f32, max: f32| {
+            ((c - Self::splat(o)) * inv)
+                .floor()
+                .max(zero)
+                .min(Self::splat(max))
+        };
+        let x = axis(p_mesh.x, g.origin.x, g.far_max.x);
+        let y = axis(p_mesh.y, g.origin.y, g.far_max.y);
+        let z = axis(p_mesh.z, g.origin.z, g.far_max.z);
+        let idx = z.mul_add(
+            Self::splat(g.far_stride_z),
+            y.mul_add(Self::splat(g.far_stride_y), x),
+        );
+        Self::fetch(&g.far, idx).gt(Self::splat(0.5)) & p_mesh.finite()
     }
 }
 
@@ -57,6 +83,14 @@ impl SdfLane for f32 {
     fn corners(g: &Grid, base: f32) -> [f32; 8] {
         let b = (base as i32).clamp(0, g.max_base);
         g.corners.map(|o| g.values[(b + o) as usize])
+    }
+    #[inline(always)]
+    fn fetch(table: &[f32], idx: f32) -> f32 {
+        let last = table.len().saturating_sub(1) as i32;
+        table
+            .get((idx as i32).clamp(0, last) as usize)
+            .copied()
+            .unwrap_or(0.0)
     }
 }
 
@@ -72,6 +106,15 @@ impl SdfLane for f32x8 {
             .max(i32x8::splat(0))
             .min(i32x8::splat(g.max_base));
         g.corners.map(|o| gather(&g.values, b + i32x8::splat(o)))
+    }
+    #[inline(always)]
+    fn fetch(table: &[f32], idx: f32x8) -> f32x8 {
+        if table.is_empty() {
+            return f32x8::ZERO;
+        }
+        let last = table.len() as i32 - 1;
+        let i = idx.trunc_int().max(i32x8::splat(0)).min(i32x8::splat(last));
+        gather(table, i)
     }
 }
 

@@ -63,6 +63,16 @@ pub(crate) struct Grid {
     pub max_base: i32,
     /// Offsets of a cell's eight corners from its lowest node, x fastest.
     pub corners: [i32; 8],
+    /// The far map (`build::far_map`): per block of `FAR_BLOCK^3` cells, 1
+    /// where every point of the block is outside and more than
+    /// `far_clearance` from the surface; its size in blocks, strides and
+    /// clamps as floats, and `1 / (FAR_BLOCK cell)`.
+    pub far: Vec<f32>,
+    pub far_max: Vec3,
+    pub far_stride_y: f32,
+    pub far_stride_z: f32,
+    pub far_inv: f32,
+    pub far_clearance: f32,
 }
 
 impl Grid {
@@ -83,11 +93,26 @@ impl Grid {
                 let (sx, sy) = (dims.x as i32, (dims.x * dims.y) as i32);
                 [0, 1, sx, sx + 1, sy, sy + 1, sy + sx, sy + sx + 1]
             },
+            far: Vec::new(),
+            far_max: Vec3::ZERO,
+            far_stride_y: 0.0,
+            far_stride_z: 0.0,
+            far_inv: 1.0 / (cell * build::FAR_BLOCK as f32),
+            far_clearance: (build::FAR_RING as f32 - 0.8661) * cell,
         }
     }
 
     pub fn node_count(&self) -> usize {
         (self.dims.x * self.dims.y * self.dims.z) as usize
+    }
+}
+
+impl Sdf {
+    /// How far outside the surface every point of a far-map block is: a
+    /// skin thinner than this never reaches such a point, and the step
+    /// skips its lookup there.
+    pub(crate) fn far_clearance(&self) -> f32 {
+        self.grid.far_clearance
     }
 }
 
@@ -167,7 +192,13 @@ impl Sdf {
         }
         let (dims, origin) = build::layout(lo, hi, cell)?;
         let mut grid = Grid::new(dims, origin, cell);
-        grid.values = build::build(&grid, positions, triangles);
+        let (values, band) = build::build(&grid, positions, triangles);
+        let (far, blocks) = build::far_map(&grid, &values, &band);
+        grid.values = values;
+        grid.far = far;
+        grid.far_max = (blocks - UVec3::ONE).as_vec3();
+        grid.far_stride_y = blocks.x as f32;
+        grid.far_stride_z = (blocks.x * blocks.y) as f32;
         Ok(Sdf {
             grid,
             world_from_mesh: Affine3A::IDENTITY,
