@@ -358,7 +358,7 @@ pub(crate) fn step_chain<T: SdfLane>(
                 n,
                 root_to,
                 c.arc,
-                k.contact.root_exit,
+                &k.contact,
             )),
             Kind::Capsule => s.capsules.push(ShapeReach::new(
                 &world.rig.capsules[i],
@@ -367,7 +367,7 @@ pub(crate) fn step_chain<T: SdfLane>(
                 n,
                 root_to,
                 c.arc,
-                k.contact.root_exit,
+                &k.contact,
             )),
             Kind::Field => {
                 let f = world.rig.fields[i];

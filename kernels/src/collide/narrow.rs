@@ -111,6 +111,10 @@ fn coulomb<T: Lane>(dx: V3<T>, n: V3<T>, depth: T, k: &ContactSetup) -> V3<T> {
     let t2 = dot(tang, tang);
     let hold = T::splat(k.static_friction) * depth;
     let sticks = t2.lt(hold * hold) | t2.lt(T::splat(1.0e-30));
+    if !T::any(!sticks) {
+        // Every lane sticks (hair at rest): no kinetic share to compute.
+        return -tang;
+    }
     let inv = t2.max(T::splat(1.0e-30)).inv_sqrt();
     let slide = (T::splat(k.friction) * depth * inv).min(T::splat(1.0));
     let share = T::select(sticks, T::splat(1.0), slide);
@@ -132,6 +136,8 @@ pub(crate) struct ShapeReach<T: Lane> {
     b_sub: V3<T>,
     reach: T,
     reach2: T,
+    /// `(reach + slop)^2`: touching, for friction.
+    touch2: T,
     /// The first vertex of the block that may touch it (broad phase).
     pub first: usize,
     /// The roots rule applies to vertices `..rooted_until` (a root of the
@@ -162,9 +168,11 @@ impl<T: Lane> ShapeReach<T> {
         substeps: u32,
         root: V3<T>,
         arc: &[T],
-        exit: f32,
+        k: &ContactSetup,
     ) -> Self {
+        let exit = k.root_exit;
         let reach = T::splat(s.radius + pearl_radius);
+        let touch = s.radius + pearl_radius + k.slop;
         let inv_n = 1.0 / substeps as f32;
         let mut r = ShapeReach {
             from: s.from,
@@ -176,6 +184,7 @@ impl<T: Lane> ShapeReach<T> {
             b_sub: V3::splat((s.to[1] - s.from[1]) * inv_n),
             reach,
             reach2: reach * reach,
+            touch2: T::splat(touch * touch),
             first: first as usize,
             rooted_until: 0,
             root_depth: T::splat(0.0),
@@ -302,8 +311,12 @@ impl<T: Lane> ShapeReach<T> {
         }
         // With friction, a vertex touching the skin (within the slop: the
         // pearls beside it may have pushed it out already) is in contact.
-        let touch = reach + T::splat(k.slop);
-        let contact = d2.lt(touch * touch);
+        let contact = if ROOTED {
+            let touch = reach + T::splat(k.slop);
+            d2.lt(touch * touch)
+        } else {
+            d2.lt(self.touch2)
+        };
         if !T::any(contact) {
             return x;
         }
