@@ -221,7 +221,8 @@ impl<T: Lane> ShapeReach<T> {
     /// step on the last).
     #[inline(always)]
     pub(crate) fn advance(&mut self, sub: u32, n: u32) {
-        if self.from == self.to && sub > 0 {
+        // A still shape stays where `new` placed it.
+        if self.from == self.to {
             return;
         }
         let ends = if sub + 1 >= n {
@@ -346,6 +347,8 @@ impl<T: Lane> ShapeReach<T> {
         pearls: u32,
     ) {
         let verts = pos.len();
+        // One length for every slice, so the loops carry no bounds checks.
+        let (w, arc, off) = (&w[..verts], &arc[..verts], &off[..verts]);
         for j in 1..=pearls {
             let tt = j as f32 / (pearls + 1) as f32;
             let t = T::splat(tt);
