@@ -134,6 +134,11 @@ typedef struct CoifSimParams {
     float turbulence_scale;
     // Gusts: how long a gust lasts in seconds (> 0; default 1).
     float turbulence_period;
+    // The roots rule (>= 0; default 0.25): a strand whose root lies
+    // `depth` inside a collider's skin may have vertex `v` up to
+    // `max(0, depth - root_exit * arc(v))` inside it (`arc(v)` its rest
+    // arc from the root), so roots on a scalp keep their groom.
+    float root_exit;
 } CoifSimParams;
 
 // A collision sphere of the rig, world coordinates (metres).

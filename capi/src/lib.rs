@@ -140,6 +140,11 @@ pub struct CoifSimParams {
     pub turbulence_scale: f32,
     /// Gusts: how long a gust lasts in seconds (> 0; default 1).
     pub turbulence_period: f32,
+    /// The roots rule (>= 0; default 0.25): a strand whose root lies
+    /// `depth` inside a collider's skin may have vertex `v` up to
+    /// `max(0, depth - root_exit * arc(v))` inside it (`arc(v)` its rest
+    /// arc from the root), so roots on a scalp keep their groom.
+    pub root_exit: f32,
 }
 
 /// A collision sphere of the rig, world coordinates (metres).
@@ -205,6 +210,7 @@ impl From<&CoifSimParams> for SimParams {
             turbulence: p.turbulence,
             turbulence_scale: p.turbulence_scale,
             turbulence_period: p.turbulence_period,
+            root_exit: p.root_exit,
             // Fields SimParams gains before CoifSimParams carries them keep
             // their Rust defaults (the C layout changes only deliberately).
             ..SimParams::default()
@@ -235,6 +241,7 @@ impl From<&SimParams> for CoifSimParams {
             turbulence: p.turbulence,
             turbulence_scale: p.turbulence_scale,
             turbulence_period: p.turbulence_period,
+            root_exit: p.root_exit,
         }
     }
 }

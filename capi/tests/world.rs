@@ -49,6 +49,7 @@ fn windy() -> CoifSimParams {
         turbulence_period: 0.7,
         friction: 0.6,
         static_friction: 1.2,
+        root_exit: 0.5,
         ..coif_sim_params_default()
     }
 }
@@ -214,6 +215,7 @@ fn new_params_travel_both_ways() {
         (5.0, 0.4, 0.15, 0.7)
     );
     assert_eq!((r.friction, r.static_friction), (0.6, 1.2));
+    assert_eq!(r.root_exit, 0.5);
     assert_eq!(CoifSimParams::from(&r), c);
     // The defaults are Rust's, and a kinetic friction above 1 is accepted.
     let d = coif_sim_params_default();
@@ -225,14 +227,16 @@ fn new_params_travel_both_ways() {
             d.static_friction,
             d.turbulence,
             d.turbulence_scale,
-            d.turbulence_period
+            d.turbulence_period,
+            d.root_exit
         ],
         [
             rd.drag,
             rd.static_friction,
             rd.turbulence,
             rd.turbulence_scale,
-            rd.turbulence_period
+            rd.turbulence_period,
+            rd.root_exit
         ]
     );
     let rough = CoifSimParams { friction: 1.5, ..d };
@@ -545,6 +549,13 @@ fn bad_world_inputs_are_refused_and_change_nothing() {
                     ..p
                 },
                 COIF_ERROR_NON_FINITE,
+            ),
+            (
+                CoifSimParams {
+                    root_exit: -1.0,
+                    ..p
+                },
+                COIF_ERROR_INVALID_ARGUMENT,
             ),
         ];
         for (bad, want) in bad_params {
