@@ -17,7 +17,8 @@
 //! the scenes of the world's cost goals: 16 spheres with friction and
 //! without, 16 capsules of the same radii (2 radii long) in place of the
 //! spheres, the spheres in wind and drag, in gusts, and with one 4 mm field
-//! of the shared Sintel bust (its head on the head sphere), SIMD and
+//! of the shared Sintel bust (its head on the head sphere, the median root
+//! on its surface), SIMD and
 //! scalar (`kernels/examples/step_cost.rs` runs the same scenes one at a
 //! time, for callgrind).
 //!
@@ -280,12 +281,21 @@ fn world(c: &mut Criterion) {
             radius: s.radius,
         })
         .collect();
+    let roots: Vec<Vec3> = pts.iter().step_by(v).copied().collect();
     let bust = coif_testkit::sintel_bust().map(|(p, t)| {
         let mut f = Sdf::from_mesh(&p, &t, 0.004).expect("the bust's field");
-        f.set_transform(glam::Affine3A::from_translation(
-            spheres[0].center - Vec3::new(0.0, 0.37, 0.0),
-        ))
-        .expect("a translation");
+        // Its head on the head sphere, then moved along y until the median
+        // root lies on its surface (as `kernels/examples/step_cost.rs`).
+        let mut at = spheres[0].center - Vec3::new(0.0, 0.37, 0.0);
+        for _ in 0..4 {
+            f.set_transform(glam::Affine3A::from_translation(at))
+                .expect("a translation");
+            let mut d: Vec<f32> = roots.iter().map(|r| f.distance(*r)).collect();
+            d.sort_by(f32::total_cmp);
+            at.y += d[d.len() / 2];
+        }
+        f.set_transform(glam::Affine3A::from_translation(at))
+            .expect("a translation");
         f
     });
     let base = SimParams {
