@@ -1,6 +1,6 @@
 //! coif-lod: the level-of-detail stage of a hair frame.
 //!
-//! - [`refine`] (one strand) and [`refine_strands`] (a whole [`Strands`] set,
+//! - [`refine`] (one strand) and [`refine_strands`] (a whole `Strands` (coif-kernels) set,
 //!   SIMD, into a caller-owned [`RefinedGuides`]): uniform cubic B-splines
 //!   with phantom ends, positions and unit tangents.
 //! - [`level`]: segments per span from projected size and a pixel budget.
@@ -51,8 +51,7 @@
 //! # assert_eq!(upload.len(), 32 * count);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
-//!
-//! [`Strands`]: coif_kernels::Strands
+
 #![warn(missing_docs)]
 
 pub mod bspline;

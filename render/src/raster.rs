@@ -30,7 +30,7 @@
 //! 5. **Rasterise** tile by tile: the tile's colour and depth are copied
 //!    into a tile-local buffer (64 KiB); its list's segments are set up
 //!    eight at a time ([`Segment::new_x8`]) and drawn one per lane
-//!    ([`draw_lanes`]): each lane walks its segment's lines along the
+//!    (`draw_lanes`): each lane walks its segment's lines along the
 //!    segment's major axis ([`Segment::walk`], [`Segment::lines`]) and
 //!    each line's candidate pixels ([`Segment::band`]), pass `k`
 //!    evaluating every lane's `k`-th candidate with the exact-area
