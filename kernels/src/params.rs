@@ -132,7 +132,7 @@ pub struct SimParams {
     /// row, with its roots still and no moving rig sphere near it, is not
     /// stepped until something moves it: its roots (any change), a rig
     /// sphere whose sweep since the last step reaches the block's box,
-    /// `teleport`, `reset_to_rest`, `set_velocity`, `set_positions`,
+    /// `teleport`, `reset_to_rest`, `set_velocity`, `set_state`,
     /// `set_rest_rotation`, `rebase` or different parameters. It wakes in
     /// the step that sees the change. A block falls asleep at rest (its
     /// velocity is zeroed). 0 = never sleep. Default 0.02: on the built-in
