@@ -28,7 +28,7 @@ pub fn run(
     let params = SimParams::default();
     let build = |skip| Crowd::standard(&scene, &settled, n, &params, skip);
     let (mut lean, mut full) = (build(true)?, build(false)?);
-    println!(
+    out!(
         "coif --crowd {n}: {} guides x {} points per character, {} characters ({} near, {} off screen, the rest far; every other one moving); setup {:.0} ms",
         full.guide_count() / n.max(1),
         full.verts_per_strand(),
@@ -54,7 +54,7 @@ pub fn run(
         add_distances(&lean, &full, &mut errors);
     }
     let ms = |d: Duration| d.as_secs_f64() * 1e3 / frames as f64;
-    println!(
+    out!(
         "{frames} frames of 1/60 s, {} thread(s): simulating everyone fully {:.2} ms per frame; with simulation LOD, off-screen following and sleeping {:.2} ms per frame ({:.1} %); strand-steps advanced {:.1} %",
         executor.threads(),
         ms(t_full),
@@ -62,10 +62,10 @@ pub fn run(
         100.0 * t_lean.as_secs_f64() / t_full.as_secs_f64().max(1e-12),
         100.0 * advanced as f64 / everyone.max(1) as f64
     );
-    println!("last frame, per character (level 0 = every guide simulated, strides {STRIDES:?}):");
+    out!("last frame, per character (level 0 = every guide simulated, strides {STRIDES:?}):");
     for i in 0..lean.len() {
         if let Some(c) = lean.character_step(i) {
-            println!(
+            out!(
                 "  {i:2}: {:<10} level {} (stride {}), {:4} of {} strands stepped",
                 if c.visible { "on screen" } else { "off screen" },
                 c.level,
@@ -75,7 +75,7 @@ pub fn run(
             );
         }
     }
-    println!("RMS distance to simulating everyone fully, over all frames:");
+    out!("RMS distance to simulating everyone fully, over all frames:");
     for (g, (sum, count)) in errors.iter().enumerate() {
         if *count == 0 {
             continue;
@@ -85,7 +85,7 @@ pub fn run(
         } else {
             format!("level {g} (stride {})", STRIDES[g])
         };
-        println!(
+        out!(
             "  {what:<20} {:.2} mm over {} character-frames",
             1e3 * (sum / *count as f64).sqrt(),
             count / full.verts_per_strand().max(1) / (full.guide_count() / n.max(1)).max(1)

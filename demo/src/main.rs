@@ -7,6 +7,20 @@
 //! frame's tasks on one rayon pool of every core (`--threads`). See
 //! `--help`.
 
+/// `println!` that ends the program quietly (exit code 0) when standard
+/// output is closed, as when it is piped into `head`: `println!` panics on
+/// a broken pipe.
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = writeln!(std::io::stdout(), $($arg)*) {
+            if e.kind() == std::io::ErrorKind::BrokenPipe {
+                std::process::exit(0);
+            }
+        }
+    }};
+}
+
 mod crowd;
 
 use clap::Parser;
@@ -391,7 +405,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         ..settings
     };
     let mut pipeline = FramePipeline::new(&scene, settings, 1.5)?;
-    println!(
+    out!(
         "coif: {what}; {} scalp triangles, {} render hairs, {} ribbons, {} shading, {}x{} px{}",
         scene.triangles.len(),
         pipeline.render_hair_count(),
@@ -405,7 +419,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             ", no hair self-shadowing (--no-shadows)"
         }
     );
-    println!(
+    out!(
         "setup (scene, settle 1.5 s, tables, buffers): {:.0} ms; {} thread{}",
         start.elapsed().as_secs_f64() * 1e3,
         executor.threads(),
@@ -435,7 +449,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         a.writer
             .finish()
             .map_err(|e| format!("{}: {e}", path.display()))?;
-        println!(
+        out!(
             "wrote {} ({animation_frames} frames, every {} of the motion)",
             path.display(),
             cli.animation_every.max(1)
@@ -445,7 +459,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         .image()
         .save_png(&cli.output)
         .map_err(|e| format!("{}: {e}", cli.output.display()))?;
-    println!(
+    out!(
         "{frames} frames ({:.1} s of motion at {} fps) in {:.2} s; last frame: {} hairs, {} vertices, {} segments/span, width x{:.2}, {} segments drawn ({} of them hidden behind the head, culled)",
         frames as f32 * dt,
         cli.fps,
@@ -457,22 +471,22 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         last.segments,
         last.hidden_segments
     );
-    println!("\nper-stage time (mean over the frames that ran each stage):");
-    println!("{}", pipeline.timings());
+    out!("\nper-stage time (mean over the frames that ran each stage):");
+    out!("{}", pipeline.timings());
     if let Some(path) = &cli.timings_csv {
         let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
         pipeline
             .timings()
             .write_csv(std::io::BufWriter::new(file))
             .map_err(|e| format!("{}: {e}", path.display()))?;
-        println!("wrote {}", path.display());
+        out!("wrote {}", path.display());
     }
-    println!("\nwrote {}", cli.output.display());
+    out!("\nwrote {}", cli.output.display());
     if let Some(path) = &cli.sheet {
         RgbImage::contact_sheet(&tiles, 3, 4, [16, 16, 16])
             .save_png(path)
             .map_err(|e| format!("{}: {e}", path.display()))?;
-        println!("wrote {} (frames {:?})", path.display(), sheet_frames);
+        out!("wrote {} (frames {:?})", path.display(), sheet_frames);
     }
     Ok(())
 }

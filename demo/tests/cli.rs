@@ -269,3 +269,29 @@ fn every_thread_count_writes_the_same_bytes() {
         );
     }
 }
+
+#[test]
+fn a_closed_pipe_ends_the_program_quietly() {
+    // `coif ... | head -1`: standard output closes after the first line.
+    use std::io::{BufRead, BufReader};
+    use std::process::Stdio;
+    let path = out_dir().join("pipe.png");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_coif"))
+        .args(["--size", "64x64", "--frames", "3", "--density", "8"])
+        .args(["--render-every", "0", "--output"])
+        .arg(&path)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run coif");
+    let mut first = String::new();
+    BufReader::new(child.stdout.take().expect("stdout"))
+        .read_line(&mut first)
+        .expect("a first line");
+    // The reader is dropped here: the pipe's read end closes.
+    let out = child.wait_with_output().expect("wait");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(first.starts_with("coif:"), "{first}");
+    assert!(out.status.success(), "{:?}: {err}", out.status);
+    assert!(!err.contains("panicked"), "{err}");
+}
