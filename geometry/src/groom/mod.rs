@@ -114,8 +114,27 @@ impl Groom {
     }
 
     /// Points of strand `i`, root first.
+    ///
+    /// # Panics
+    ///
+    /// If `i >= strand_count()`; [`Groom::get_strand`] returns `None`
+    /// instead.
     pub fn strand(&self, i: usize) -> &[Vec3] {
         &self.points[self.starts[i]..self.starts[i + 1]]
+    }
+
+    /// Points of strand `i`, root first, or `None` if there is no strand
+    /// `i` (never panics).
+    ///
+    /// ```
+    /// use coif_geometry::groom::Groom;
+    /// let groom = Groom::from_strands(vec![glam::Vec3::ZERO, glam::Vec3::Y], &[2]).unwrap();
+    /// assert_eq!(groom.get_strand(0).map(|s| s.len()), Some(2));
+    /// assert!(groom.get_strand(5).is_none());
+    /// ```
+    pub fn get_strand(&self, i: usize) -> Option<&[Vec3]> {
+        let (a, b) = (*self.starts.get(i)?, *self.starts.get(i + 1)?);
+        self.points.get(a..b)
     }
 
     /// Every point, strand after strand.
