@@ -205,20 +205,37 @@ fn main() -> ExitCode {
     }
 }
 
-/// `path` itself if it exists; else, for a bare file name, the same name in
-/// the shared groom folder beside the repository (`../shared/data/grooms`,
-/// from the working directory or from the workspace root).
-fn groom_path(path: &Path) -> PathBuf {
+/// Where `--groom PATH` is looked for, in order: `path` itself, then, for a
+/// bare file name, the same name in the shared groom folder beside the
+/// repository (`../shared/data/grooms`, from the working directory and from
+/// the workspace root).
+fn groom_candidates(path: &Path) -> Vec<PathBuf> {
+    let mut out = vec![path.to_path_buf()];
     let bare = path.parent().is_none_or(|p| p.as_os_str().is_empty());
-    if path.exists() || !bare {
-        return path.to_path_buf();
+    if bare {
+        let workspace = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        for root in [Path::new("."), workspace.as_path()] {
+            out.push(root.join("../shared/data/grooms").join(path));
+        }
     }
-    let workspace = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    [Path::new("."), workspace.as_path()]
-        .iter()
-        .map(|root| root.join("../shared/data/grooms").join(path))
-        .find(|p| p.exists())
-        .unwrap_or_else(|| path.to_path_buf())
+    out
+}
+
+/// The first of [`groom_candidates`] that exists, or an error that says
+/// where it looked and what a groom is.
+fn groom_path(path: &Path) -> Result<PathBuf, String> {
+    let candidates = groom_candidates(path);
+    if let Some(found) = candidates.iter().find(|p| p.exists()) {
+        return Ok(found.clone());
+    }
+    let looked: Vec<String> = candidates.iter().map(|p| p.display().to_string()).collect();
+    Err(format!(
+        "no groom file {}: looked at {} (a groom is a TressFX .tfx or cyHair .hair file; \
+         the shared ones, ratboy_mohawk.tfx and sintel_lite.tfx, are in shared/data/grooms \
+         beside the repository)",
+        path.display(),
+        looked.join(", ")
+    ))
 }
 
 /// Loads the groom of `--groom` or grows the built-in head; returns the
@@ -226,7 +243,7 @@ fn groom_path(path: &Path) -> PathBuf {
 fn load_scene(cli: &Cli) -> Result<(HairScene, String), Box<dyn std::error::Error>> {
     let (scene, what) = match &cli.groom {
         Some(path) => {
-            let path = &groom_path(path);
+            let path = &groom_path(path)?;
             let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
             let groom =
                 coif::groom::load(&bytes).map_err(|e| format!("{}: {e}", path.display()))?;

@@ -115,6 +115,20 @@ fn bad_options_and_files_fail_with_a_message() {
         assert!(!out.stderr.is_empty(), "{args:?}: a message on stderr");
         assert!(!image.exists(), "{args:?}: no picture");
     }
+    // A missing groom says where it was looked for and what a groom is.
+    let out = Command::new(env!("CARGO_BIN_EXE_coif"))
+        .args(["--groom", "no_such_groom.tfx", "--output"])
+        .arg(dir.join("never.png"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        err.contains("looked at no_such_groom.tfx")
+            && err.contains("shared/data/grooms/no_such_groom.tfx")
+            && err.contains(".tfx or cyHair"),
+        "{err}"
+    );
 }
 
 /// `--timings-csv` writes the per-stage table as CSV with the four totals
