@@ -106,8 +106,8 @@ pub(crate) struct Setup {
     pub stretch_factor: f32,
     pub shrink_factor: f32,
     pub pearls: u32,
-    pub pearl_radius: f32,
-    /// Contacts: friction, the push cap of fields.
+    /// Contacts: the pearl radius, friction, the push cap of fields, the
+    /// roots rule.
     pub contact: ContactSetup,
     /// Gusts on: `turbulence > 0` and `drag > 0`.
     pub gusts: Option<Gusts>,
@@ -175,7 +175,6 @@ impl Setup {
             stretch_factor: 1.0 + p.max_stretch,
             shrink_factor: (1.0 - p.max_stretch).max(0.0),
             pearls: p.pearls_per_segment.min(crate::MAX_PEARLS_PER_SEGMENT),
-            pearl_radius: p.pearl_radius,
             contact: ContactSetup {
                 pearl_radius: p.pearl_radius,
                 friction: p.friction.max(0.0),
@@ -353,7 +352,6 @@ pub(crate) fn step_chain<T: SdfLane>(
         match cand.kind {
             Kind::Sphere => s.spheres.push(ShapeReach::new(
                 &world.rig.spheres[i],
-                k.pearl_radius,
                 first,
                 n,
                 root_to,
@@ -362,7 +360,6 @@ pub(crate) fn step_chain<T: SdfLane>(
             )),
             Kind::Capsule => s.capsules.push(ShapeReach::new(
                 &world.rig.capsules[i],
-                k.pearl_radius,
                 first,
                 n,
                 root_to,

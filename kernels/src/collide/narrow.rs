@@ -163,7 +163,6 @@ impl<T: Lane> ShapeReach<T> {
     #[inline(always)]
     pub(crate) fn new(
         s: &LocalCapsule,
-        pearl_radius: f32,
         first: u32,
         substeps: u32,
         root: V3<T>,
@@ -171,8 +170,8 @@ impl<T: Lane> ShapeReach<T> {
         k: &ContactSetup,
     ) -> Self {
         let exit = k.root_exit;
-        let reach = T::splat(s.radius + pearl_radius);
-        let touch = s.radius + pearl_radius + k.slop;
+        let reach = T::splat(s.radius + k.pearl_radius);
+        let touch = s.radius + k.pearl_radius + k.slop;
         let inv_n = 1.0 / substeps as f32;
         let mut r = ShapeReach {
             from: s.from,
@@ -436,7 +435,9 @@ impl<T: SdfLane> FieldReach<T> {
         root: V3<T>,
         arc: &[T],
     ) -> Self {
-        let start = field.at(0.0);
+        // Placed at the end of the step for the roots rule; the first
+        // substep then measures the surface's motion from the step's start.
+        let end = field.at(1.0);
         let mut r = FieldReach {
             field,
             first: first as usize,
@@ -445,13 +446,11 @@ impl<T: SdfLane> FieldReach<T> {
             local_from_mesh: columns(Mat3::IDENTITY),
             motion_m: columns(Mat3::ZERO),
             motion_t: V3::zero(),
-            last: start,
+            last: end,
             rooted_until: 0,
             root_depth: T::splat(0.0),
         };
-        // The roots rule, at the end of the step.
-        r.last = field.at(1.0);
-        r.place(field.at(1.0));
+        r.place(end);
         let (d, _) = T::sample(sdf, r.mesh_point(root));
         let depth = T::splat(k.pearl_radius) - d;
         let inside = depth.gt(T::splat(0.0));
@@ -459,7 +458,7 @@ impl<T: SdfLane> FieldReach<T> {
         if T::any(inside) {
             r.rooted_until = rooted_until(r.root_depth, arc, k.root_exit);
         }
-        r.last = start;
+        r.last = field.at(0.0);
         r
     }
 
