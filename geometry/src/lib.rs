@@ -4,6 +4,8 @@
 //!   from bytes with every count and offset checked.
 //! - [`grow`]: the one strand grower: strands from roots and normals, with
 //!   optional curl.
+//! - [`mesh`]: body meshes (a character's head and shoulders) read from
+//!   Wavefront OBJ, validated, with vertex normals.
 //! - [`scalp`]: scalp triangle meshes with area-weighted vertex normals,
 //!   guides grown from their vertices.
 //! - [`scene`]: built-in scenes that need no files: hair grown on a sphere
@@ -15,5 +17,6 @@
 
 pub mod groom;
 pub mod grow;
+pub mod mesh;
 pub mod scalp;
 pub mod scene;

@@ -76,17 +76,7 @@ impl ScalpMesh {
         {
             return Err(ScalpError::IndexOutOfRange { triangle });
         }
-        let mut normals = vec![Vec3::ZERO; positions.len()];
-        for t in &triangles {
-            let [a, b, c] = t.map(|i| positions[i as usize]);
-            let n = (b - a).cross(c - a);
-            for &i in t {
-                normals[i as usize] += n;
-            }
-        }
-        for n in &mut normals {
-            *n = n.try_normalize().unwrap_or(Vec3::Y);
-        }
+        let normals = crate::mesh::vertex_normals(&positions, &triangles);
         Ok(ScalpMesh {
             positions,
             normals,
