@@ -1,11 +1,12 @@
 //! `cargo run --release`: the frame pipeline rendered to a picture.
 //!
-//! By default: the built-in sphere head with 2,048 grown guides and
-//! interpolated hair, three seconds of head motion (a turn and a nod),
-//! a bow's two silk ribbons swinging from the back of the head (cloth
-//! patches), `hair.png` (512 x 512) and a per-stage timing table, the
-//! frame's tasks on one rayon pool of every core (`--threads`). See
-//! `--help`.
+//! By default: Sintel (her bust and her groom's 228 guides, shipped in
+//! `assets/sintel`, CC BY 3.0 Blender Foundation) with interpolated hair,
+//! three seconds of motion (a head turn, then a gust of wind), the guides
+//! colliding with her bust's distance field, `hair.png` (512 x 512) and a
+//! per-stage timing table, the frame's tasks on one rayon pool of every
+//! core (`--threads`). `--scene sphere` is the built-in sphere head with
+//! grown guides and a bow's silk ribbons. See `--help`.
 
 /// `println!` that ends the program quietly (exit code 0) when standard
 /// output is closed, as when it is piped into `head`: `println!` panics on
@@ -44,16 +45,27 @@ use std::time::Instant;
     about = "Simulate, level-of-detail, shade and rasterise hair; write a PNG and a per-stage timing table."
 )]
 struct Cli {
+    /// The built-in scene: sintel (her bust and groom, the default) or
+    /// sphere (a sphere head with 2,048 grown guides and a bow's ribbons).
+    /// With --groom: sintel puts the groom on Sintel's bust, sphere on the
+    /// head proxy fitted to its roots.
+    #[arg(long, value_parser = parse_scene)]
+    scene: Option<SceneKind>,
     /// Groom file to draw (TressFX 4 .tfx or cyHair .hair, centimetres);
     /// a bare file name not found here is looked up in the shared groom
-    /// folder beside the repository (`ratboy_mohawk.tfx`); default: the
-    /// built-in sphere head with grown guides.
+    /// folder beside the repository (`ratboy_mohawk.tfx`). Without --mesh
+    /// (or --scene sintel) it gets a head proxy fitted to its roots.
     #[arg(long, value_name = "PATH")]
     groom: Option<PathBuf>,
+    /// Body mesh for --groom (Wavefront OBJ in the groom's frame and
+    /// units, centimetres): drawn under the hair, the guides collide with
+    /// its distance field.
+    #[arg(long, value_name = "PATH", requires = "groom")]
+    mesh: Option<PathBuf>,
     /// Local shape stiffness in [0, 1]: each segment keeps its groomed
-    /// direction in its parent's frame (TressFX 4). Default: 1 for a loaded
-    /// groom (it keeps its style), 0 for the built-in head (its guides grow
-    /// straight out and must drape).
+    /// direction in its parent's frame (TressFX 4). Default: 1 for Sintel
+    /// and a loaded groom (they keep their style), 0 for the sphere head
+    /// (its guides grow straight out and must drape).
     #[arg(long, value_name = "K")]
     local_shape: Option<f32>,
     /// Hair shading model: kajiya-kay, marschner (Marschner 2003 table) or
@@ -100,8 +112,11 @@ struct Cli {
     #[arg(long)]
     no_ribbon: bool,
     /// Render hairs per cm^2 (each widened to keep a real scalp's coverage).
-    #[arg(long, default_value_t = 40.0)]
-    density: f32,
+    /// Default: 20 for Sintel and grooms on a mesh (half the hairs of 40
+    /// and the same picture at 512 px: the distance LOD draws about 7,000
+    /// either way), 40 for the sphere head and grooms on a head proxy.
+    #[arg(long)]
+    density: Option<f32>,
     /// Prepare pass: fused (one pass per group of hairs) or reference
     /// (stage by stage, the shadow map from every hair).
     #[arg(long, default_value = "fused", value_parser = parse_prepare)]
@@ -153,6 +168,21 @@ fn executor(threads: usize) -> Result<Box<dyn Executor>, Box<dyn std::error::Err
     {
         eprintln!("coif: built without the rayon feature: --threads {threads} runs on one thread");
         Ok(Box::new(Serial))
+    }
+}
+
+/// The built-in scenes of `--scene`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum SceneKind {
+    Sintel,
+    Sphere,
+}
+
+fn parse_scene(s: &str) -> Result<SceneKind, String> {
+    match s {
+        "sintel" => Ok(SceneKind::Sintel),
+        "sphere" => Ok(SceneKind::Sphere),
+        _ => Err(format!("unknown scene {s:?} (sintel, sphere)")),
     }
 }
 
@@ -238,25 +268,53 @@ fn groom_path(path: &Path) -> Result<PathBuf, String> {
     ))
 }
 
-/// Loads the groom of `--groom` or grows the built-in head; returns the
-/// scene (without ribbons under `--no-ribbon`) and a line describing it.
+/// Reads a file the scene needs, saying which file failed and why.
+fn read_file(path: &Path, what: &str) -> Result<Vec<u8>, String> {
+    std::fs::read(path).map_err(|e| format!("cannot read {what} {}: {e}", path.display()))
+}
+
+/// The scene of the options: Sintel by default; `--scene sphere` the
+/// built-in sphere head; `--groom` on `--mesh`, on Sintel's bust
+/// (`--scene sintel`) or on a head proxy. Returns the scene (without
+/// ribbons under `--no-ribbon`) and a line describing it.
 fn load_scene(cli: &Cli) -> Result<(HairScene, String), Box<dyn std::error::Error>> {
     let (scene, what) = match &cli.groom {
         Some(path) => {
             let path = &groom_path(path)?;
-            let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+            let bytes = read_file(path, "groom")?;
             let groom =
                 coif::groom::load(&bytes).map_err(|e| format!("{}: {e}", path.display()))?;
-            let scene = HairScene::from_groom(&groom, cli.max_guides, 32)?;
+            let (scene, on) = match (&cli.mesh, cli.scene) {
+                (Some(mesh), _) => {
+                    let text = read_file(mesh, "mesh")?;
+                    let mesh_data = coif::geometry::mesh::TriangleMesh::from_obj(&text, 0.01)
+                        .map_err(|e| format!("{}: {e}", mesh.display()))?;
+                    let scene = HairScene::on_mesh(&groom, mesh_data, cli.max_guides, 32)
+                        .map_err(|e| format!("{} on {}: {e}", path.display(), mesh.display()))?;
+                    (scene, format!("on {}", mesh.display()))
+                }
+                (None, Some(SceneKind::Sintel)) => {
+                    let bust = HairScene::sintel()?
+                        .body
+                        .ok_or("Sintel's scene has no body")?;
+                    let scene =
+                        HairScene::on_mesh(&groom, bust.mesh().clone(), cli.max_guides, 32)?;
+                    (scene, "on Sintel's bust".to_string())
+                }
+                (None, _) => (
+                    HairScene::from_groom(&groom, cli.max_guides, 32)?,
+                    "on a head proxy".to_string(),
+                ),
+            };
             let what = format!(
-                "{} ({} strands, {} kept as guides)",
+                "{} ({} strands, {} kept as guides) {on}",
                 path.display(),
                 groom.strand_count(),
                 scene.guide_count()
             );
             (scene, what)
         }
-        None => {
+        None if cli.scene == Some(SceneKind::Sphere) => {
             let scene = HairScene::procedural(&GrowOptions {
                 strand_count: 2048,
                 curl: 0.15,
@@ -264,6 +322,15 @@ fn load_scene(cli: &Cli) -> Result<(HairScene, String), Box<dyn std::error::Erro
             })?;
             let what = format!(
                 "built-in sphere head, {} guides grown off the face",
+                scene.guide_count()
+            );
+            (scene, what)
+        }
+        None => {
+            let scene = HairScene::sintel()?;
+            let what = format!(
+                "Sintel (c) Blender Foundation | durian.blender.org, CC BY 3.0: her bust and \
+                 {} guides",
                 scene.guide_count()
             );
             (scene, what)
@@ -361,10 +428,17 @@ fn run_motion(
     let sheet_frames: Vec<usize> = (0..6).map(|k| (k * (frames - 1)) / 5).collect();
     let mut tiles = Vec::new();
     let pivot = pipeline.pivot();
+    let with_body = pipeline.body_field().is_some();
     let run_start = Instant::now();
     let mut last = Default::default();
     for f in 0..frames {
-        let pose = motion::turn_and_nod(f as f32 * dt, pivot);
+        let t = f as f32 * dt;
+        let pose = if with_body {
+            pipeline.set_wind(motion::gust(t, motion::GUST_WIND));
+            motion::turn(t, pivot)
+        } else {
+            motion::turn_and_nod(t, pivot)
+        };
         let animated = animation.as_ref().is_some_and(|a| a.wants(f));
         let wanted =
             animated || f + 1 == frames || (cli.sheet.is_some() && sheet_frames.contains(&f));
@@ -403,7 +477,9 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         width,
         height,
         shading: cli.shading,
-        render_hairs_per_cm2: cli.density,
+        render_hairs_per_cm2: cli
+            .density
+            .unwrap_or(if scene.body.is_some() { 20.0 } else { 40.0 }),
         view_direction: cli.view,
         shadows: !cli.no_shadows,
         prepare: cli.prepare,
@@ -413,10 +489,21 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     };
     let local_shape = cli
         .local_shape
-        .unwrap_or(if cli.groom.is_some() { 1.0 } else { 0.0 });
+        .unwrap_or(if cli.groom.is_some() || scene.body.is_some() {
+            1.0
+        } else {
+            0.0
+        });
+    let (drag, turbulence) = if scene.body.is_some() {
+        (motion::GUST_DRAG, motion::GUST_TURBULENCE)
+    } else {
+        (0.0, 0.0)
+    };
     let settings = FrameSettings {
         simulation: SimParams {
             local_shape_stiffness: local_shape,
+            drag,
+            turbulence,
             ..settings.simulation
         },
         ..settings

@@ -4,6 +4,16 @@
 use std::path::PathBuf;
 use std::process::Command;
 
+/// The shipped Sintel files.
+const SINTEL_GROOM: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../assets/sintel/sintel_lite.tfx"
+);
+const SINTEL_BUST: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../assets/sintel/sintel_bust.obj"
+);
+
 /// Width and height from a PNG's IHDR chunk (bytes 16..24), after checking
 /// the signature.
 fn png_size(path: &PathBuf) -> (u32, u32) {
@@ -52,12 +62,12 @@ fn the_binary_writes_the_picture_and_the_contact_sheet() {
     assert_eq!(png_size(&image), (96, 80));
     // 3 x 2 tiles of 96 x 80 with 4-pixel gaps.
     assert_eq!(png_size(&sheet), (3 * 96 + 4 * 4, 2 * 80 + 3 * 4));
+    assert!(stdout.contains("Sintel (c) Blender Foundation"), "{stdout}");
     for stage in [
         "simulate",
-        "ribbon",
         "lod",
         "shade",
-        "rasterise ribbon",
+        "rasterise body",
         "rasterise hair",
     ] {
         assert!(
@@ -72,6 +82,7 @@ fn no_ribbon_leaves_the_ribbons_out() {
     let image = out_dir().join("no_ribbon.png");
     let run = |extra: &[&str]| {
         let out = Command::new(env!("CARGO_BIN_EXE_coif"))
+            .args(["--scene", "sphere"])
             .args(["--size", "64x64", "--frames", "3", "--density", "8"])
             .args(["--render-every", "0", "--output"])
             .arg(&image)
@@ -102,6 +113,10 @@ fn bad_options_and_files_fail_with_a_message() {
         vec!["--shading", "phong"],
         vec!["--view", "0,0,0"],
         vec!["--groom", "/nonexistent/hair.tfx"],
+        vec!["--scene", "cube"],
+        vec!["--mesh", SINTEL_BUST],
+        vec!["--groom", SINTEL_GROOM, "--mesh", "/nonexistent/bust.obj"],
+        vec!["--groom", SINTEL_GROOM, "--mesh", SINTEL_GROOM],
     ] {
         let image = dir.join("never.png");
         let _ = std::fs::remove_file(&image);
@@ -129,6 +144,40 @@ fn bad_options_and_files_fail_with_a_message() {
             && err.contains(".tfx or cyHair"),
         "{err}"
     );
+}
+
+/// A missing or unreadable body mesh names the file and the reason.
+#[test]
+fn a_bad_mesh_says_which_file_and_why() {
+    let dir = out_dir();
+    let run = |mesh: &str| {
+        let out = Command::new(env!("CARGO_BIN_EXE_coif"))
+            .args(["--groom", SINTEL_GROOM, "--mesh", mesh, "--output"])
+            .arg(dir.join("never.png"))
+            .output()
+            .unwrap();
+        assert!(!out.status.success());
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    let err = run("/nonexistent/bust.obj");
+    assert!(
+        err.contains("cannot read mesh /nonexistent/bust.obj"),
+        "{err}"
+    );
+    // The groom read as an OBJ: not a mesh.
+    let err = run(SINTEL_GROOM);
+    assert!(err.contains(SINTEL_GROOM) && err.contains("OBJ"), "{err}");
+    // The right pair works, and says what it drew.
+    let out = Command::new(env!("CARGO_BIN_EXE_coif"))
+        .args(["--groom", SINTEL_GROOM, "--mesh", SINTEL_BUST])
+        .args(["--size", "48x48", "--frames", "2", "--render-every", "0"])
+        .arg("--output")
+        .arg(dir.join("on_mesh.png"))
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}");
+    assert!(stdout.contains("228 kept as guides) on "), "{stdout}");
 }
 
 /// `--timings-csv` writes the per-stage table as CSV with the four totals

@@ -7,6 +7,10 @@ use std::fmt;
 pub enum Error {
     /// Guides could not be grown (a growth option out of range).
     Geometry(coif_geometry::scalp::ScalpError),
+    /// A body mesh could not be read or is not a mesh.
+    Mesh(coif_geometry::mesh::MeshError),
+    /// A groom file could not be read.
+    Groom(coif_geometry::groom::Error),
     /// The simulation refused the guides or parameters.
     Simulation(coif_kernels::Error),
     /// LOD (interpolation, refinement) refused its input.
@@ -28,6 +32,8 @@ impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Error::Geometry(e) => write!(f, "geometry: {e}"),
+            Error::Mesh(e) => write!(f, "body mesh: {e}"),
+            Error::Groom(e) => write!(f, "groom: {e}"),
             Error::Simulation(e) => write!(f, "simulation: {e}"),
             Error::Lod(e) => write!(f, "level of detail: {e}"),
             Error::Shading(e) => write!(f, "shading: {e}"),
@@ -41,6 +47,8 @@ impl std::error::Error for Error {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
             Error::Geometry(e) => Some(e),
+            Error::Mesh(e) => Some(e),
+            Error::Groom(e) => Some(e),
             Error::Simulation(e) => Some(e),
             Error::Lod(e) => Some(e),
             Error::Shading(e) => Some(e),
@@ -70,5 +78,17 @@ impl From<coif_lod::Error> for Error {
 impl From<coif_shading::Error> for Error {
     fn from(e: coif_shading::Error) -> Self {
         Error::Shading(e)
+    }
+}
+
+impl From<coif_geometry::mesh::MeshError> for Error {
+    fn from(e: coif_geometry::mesh::MeshError) -> Self {
+        Error::Mesh(e)
+    }
+}
+
+impl From<coif_geometry::groom::Error> for Error {
+    fn from(e: coif_geometry::groom::Error) -> Self {
+        Error::Groom(e)
     }
 }

@@ -1,5 +1,6 @@
 //! The frame pipeline: one struct owning every buffer, one call per frame.
 
+use super::body::BodyStage;
 use super::motion::blend_poses;
 use super::prepare::{shade_group, GroupShading, SharedOut};
 use super::ribbon::RibbonStage;
@@ -7,7 +8,7 @@ use super::shadow::{DrawnHair, ShadowStage};
 use super::timings::{Stage, StageTimings};
 use super::{Error, FrameSettings, HairScene, PrepareMode, Shader};
 use coif_base::tasks::{Executor, Serial};
-use coif_kernels::{self as kernels, FixedStep, SimParams, Sphere, Strands};
+use coif_kernels::{self as kernels, Colliders, FixedStep, SimParams, Sphere, Strands};
 use coif_lod::{
     self as lod, level, HairWidth, Interpolation, RefinedGuides, RenderHairs, RenderVertex,
     Visibility,
@@ -116,6 +117,12 @@ fn frame_camera(settled: &[Vec3], scene: &HairScene, settings: &FrameSettings) -
         lo = lo.min((s.center - r).clamp(near_lo, near_hi));
         hi = hi.max((s.center + r).clamp(near_lo, near_hi));
     }
+    // A body is framed whole (a bust: head and shoulders).
+    if let Some(body) = &scene.body {
+        let (body_lo, body_hi) = body.mesh().bounds();
+        lo = lo.min(body_lo);
+        hi = hi.max(body_hi);
+    }
     let (focus, extent) = (0.5 * (lo + hi), 0.5 * (hi - lo).length());
     let view = settings
         .view_direction
@@ -165,6 +172,8 @@ pub struct FrameStats {
     pub head_pixels: usize,
     /// Pixels written by the ribbons (opaque triangles).
     pub ribbon_pixels: usize,
+    /// Pixels written by the body (opaque triangles).
+    pub body_pixels: usize,
 }
 
 /// One hair frame, end to end, into buffers sized once at construction:
@@ -189,6 +198,8 @@ pub struct FramePipeline {
     rig: Vec<Sphere>,
     head_local: Vec<Sphere>,
     ribbons: RibbonStage,
+    /// The body the guides collide with and the frame draws, if any.
+    body: Option<BodyStage>,
     // LOD.
     interpolation: Interpolation,
     visibility: Visibility,
@@ -238,8 +249,15 @@ impl FramePipeline {
         let fixed = FixedStep::new(params.dt, settings.max_substeps.max(1))?;
         let rest_roots: Vec<Vec3> = scene.roots().collect();
         let settle_steps = (settle_seconds.max(0.0) / params.dt).round() as usize;
+        let body = scene.body.as_ref().map(BodyStage::new);
+        let fields = body.as_ref().map(|b| std::slice::from_ref(b.field()));
+        let colliders = Colliders {
+            spheres: &scene.rig,
+            capsules: &[],
+            sdfs: fields.unwrap_or(&[]),
+        };
         for _ in 0..settle_steps {
-            kernels::step(&mut strands, &params, &scene.rig);
+            kernels::step_colliders(&mut strands, &params, &colliders);
         }
         let ribbons = RibbonStage::new(scene, &params, settle_steps)?;
         let camera = frame_camera(&strands.positions(), scene, &settings);
@@ -287,6 +305,7 @@ impl FramePipeline {
             rest_head: scene.head.clone(),
             head_local: scene.head.clone(),
             ribbons,
+            body,
             rig: scene.rig.clone(),
             roots: rest_roots.clone(),
             rest_roots,
@@ -385,7 +404,13 @@ impl FramePipeline {
             };
             self.place_head(&pose);
             if steps > 0 {
-                kernels::step_with(&mut self.strands, &self.params, &self.rig, executor);
+                let fields = self.body.as_ref().map(|b| std::slice::from_ref(b.field()));
+                let colliders = Colliders {
+                    spheres: &self.rig,
+                    capsules: &[],
+                    sdfs: fields.unwrap_or(&[]),
+                };
+                kernels::step_colliders_with(&mut self.strands, &self.params, &colliders, executor);
             }
             let ribbon_start = Instant::now();
             self.ribbons.place(&pose);
@@ -411,6 +436,9 @@ impl FramePipeline {
         }
         for (dst, s) in self.rig.iter_mut().zip(&self.rest_rig) {
             dst.center = pose.transform_point3(s.center);
+        }
+        if let Some(body) = &mut self.body {
+            body.place(pose);
         }
         // Roots are finite (checked at construction, pose checked above).
         let _ = self.strands.set_roots(&self.roots);
@@ -439,6 +467,9 @@ impl FramePipeline {
         let camera = self.camera.shifted(origin);
         let start = Instant::now();
         self.timed(Stage::Head, |p| p.draw_head(&camera, executor));
+        if self.body.is_some() {
+            self.timed(Stage::Body, |p| p.draw_body(origin, &camera));
+        }
         if !self.ribbons.is_empty() {
             self.timed(Stage::RibbonDraw, |p| p.draw_ribbons(origin, &camera));
         }
@@ -793,14 +824,38 @@ impl FramePipeline {
             ambient: light.ambient,
         };
         let shadow = &self.shadow;
+        // With a body, the head spheres are inside it and not drawn.
+        let drawn: &[Sphere] = if self.body.is_some() {
+            &[]
+        } else {
+            &self.head_local
+        };
         self.stats.head_pixels = draw_spheres_lanes(
             &mut self.framebuffer,
             camera,
-            &self.head_local,
+            drawn,
             &head_shading,
             &|p| shadow.transmittance_x8(p),
             executor,
         );
+    }
+
+    /// Stage [`Stage::Body`]: the body posed, shaded per vertex (lit as the
+    /// head, shadowed by the hair's map and the head) and rasterised as
+    /// opaque, depth-writing triangles (`body.rs`).
+    fn draw_body(&mut self, origin: Vec3, camera: &Camera) {
+        let light = self.settings.light;
+        if let Some(body) = &mut self.body {
+            body.shade(
+                &self.pose,
+                origin,
+                camera,
+                &light,
+                &self.head_local,
+                &self.shadow,
+            );
+            self.stats.body_pixels = body.draw(&mut self.framebuffer);
+        }
     }
 
     /// Stage [`Stage::RibbonDraw`]: the ribbons, opaque, depth-tested and
@@ -884,6 +939,28 @@ impl FramePipeline {
     /// The world-space camera (framed on the settled hair at rest).
     pub fn camera(&self) -> &Camera {
         &self.camera
+    }
+
+    /// The air's velocity (m/s, world space) from the next fixed step on:
+    /// the simulation's `SimParams::wind`, which pulls the hair through
+    /// `SimParams::drag` (and its gusts, `SimParams::turbulence`). A
+    /// non-finite wind is ignored.
+    pub fn set_wind(&mut self, wind: Vec3) {
+        if wind.is_finite() {
+            self.params.wind = wind;
+        }
+    }
+
+    /// The simulation's parameters (with the wind of the last
+    /// [`FramePipeline::set_wind`]).
+    pub fn params(&self) -> &SimParams {
+        &self.params
+    }
+
+    /// The body's field as placed at the last fixed step (None without a
+    /// body): what the guides collide with.
+    pub fn body_field(&self) -> Option<&kernels::Sdf> {
+        self.body.as_ref().map(|b| b.field())
     }
 
     /// The point the head turns about (for [`super::motion`]).

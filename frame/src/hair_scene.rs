@@ -1,11 +1,13 @@
 //! What a frame pipeline draws: guide strands at rest, their scalp
-//! triangles, the collision rig, the head drawn under the hair and the
-//! ribbons tied to it.
+//! triangles, the collision rig, the head or body drawn under the hair and
+//! the ribbons tied to it.
 
+use super::body::{Body, BODY_FIELD_CELL};
 use super::ribbon::bow_tails;
 use super::triangulate::{median_edge, triangulate_roots};
 use super::Error;
-use coif_geometry::groom::Groom;
+use coif_geometry::groom::{self, Groom};
+use coif_geometry::mesh::TriangleMesh;
 use coif_geometry::scene::{self, GrowOptions};
 use coif_kernels::patch::Ribbon;
 use coif_kernels::Sphere;
@@ -25,8 +27,14 @@ pub struct HairScene {
     pub triangles: Vec<[u32; 3]>,
     /// Collision spheres at rest; they follow the head.
     pub rig: Vec<Sphere>,
-    /// The spheres drawn as the head (also shadow casters for the hair).
+    /// The spheres drawn as the head (also shadow casters for the hair);
+    /// with a [`HairScene::body`], spheres inscribed in it instead, not
+    /// drawn: they cast the head's shadow on the hair and cull the hair
+    /// hidden behind it.
     pub head: Vec<Sphere>,
+    /// A character's body (mesh drawn under the hair, its field collided
+    /// with), posed with the head; None for the sphere heads.
+    pub body: Option<Body>,
     /// The point the head turns about (the top of the neck).
     pub pivot: Vec3,
     /// Centre of a sphere around the hair at rest, for framing.
@@ -47,6 +55,12 @@ pub const PROCEDURAL_RIBBON_ATTACH: Vec3 = Vec3::new(-0.85, 0.4, 0.1);
 /// Where a loaded groom's ribbons are tied: the back of the head (grooms
 /// face +z), toward the side camera.
 pub const GROOM_RIBBON_ATTACH: Vec3 = Vec3::new(-0.6, 0.5, -0.6);
+
+/// Sintel's groom and bust (`assets/sintel`, CC BY 3.0, Blender
+/// Foundation), compiled in: the default scene needs no file beside the
+/// program.
+const SINTEL_GROOM: &[u8] = include_bytes!("../../assets/sintel/sintel_lite.tfx");
+const SINTEL_BUST: &[u8] = include_bytes!("../../assets/sintel/sintel_bust.obj");
 
 /// Edges longer than this many median edges are gaps between hair patches.
 const MAX_EDGE_IN_MEDIANS: f32 = 3.0;
@@ -80,6 +94,81 @@ impl HairScene {
             head.center,
         )?;
         scene.ribbons = bow_tails(&head, PROCEDURAL_RIBBON_ATTACH);
+        Ok(scene)
+    }
+
+    /// Sintel: her groom's 228 guides (32 points each) on her bust, the
+    /// project's default character (`assets/sintel`, "Sintel (c) Blender
+    /// Foundation | durian.blender.org, CC BY 3.0"), from the copies
+    /// compiled into this crate ([`HairScene::on_mesh`]).
+    ///
+    /// # Errors
+    /// None in practice (the files are the shipped ones); the scene's
+    /// checks as [`HairScene::on_mesh`].
+    pub fn sintel() -> Result<HairScene, Error> {
+        HairScene::from_files(SINTEL_GROOM, SINTEL_BUST, 0.01, usize::MAX, 32)
+    }
+
+    /// A groom file's bytes (`.tfx` or `.hair`, centimetres) on the body
+    /// mesh of an OBJ file's text, read at `mesh_scale` (0.01 for a mesh
+    /// in centimetres): [`HairScene::on_mesh`] of the parsed pair.
+    ///
+    /// # Errors
+    /// [`Error::Groom`] and [`Error::Mesh`] for files that cannot be read,
+    /// then [`HairScene::on_mesh`]'s.
+    pub fn from_files(
+        groom_bytes: &[u8],
+        obj_text: &[u8],
+        mesh_scale: f32,
+        max_guides: usize,
+        verts_per_strand: usize,
+    ) -> Result<HairScene, Error> {
+        let groom = groom::load(groom_bytes)?;
+        let mesh = TriangleMesh::from_obj(obj_text, mesh_scale)?;
+        HairScene::on_mesh(&groom, mesh, max_guides, verts_per_strand)
+    }
+
+    /// A loaded groom (centimetres, as [`HairScene::from_groom`]) on the
+    /// body `mesh` it was made for (metres, the same frame): the guides
+    /// collide with the mesh's field ([`Body`], 4 mm cells) and no sphere;
+    /// the body is drawn instead of a head sphere. Scalp triangles are the
+    /// root directions from the centre of the sphere fitted to the roots;
+    /// the sphere inscribed in the body about that centre stands for the
+    /// head in the hair's light occlusion and occlusion culling; the head
+    /// turns about a point below it (the top of the neck). Seen from the
+    /// front left. No ribbons.
+    ///
+    /// # Errors
+    /// [`Error::Scene`] when no sphere fits the roots, the fitted centre is
+    /// not inside the body, or the roots make no scalp triangle;
+    /// [`Error::Simulation`] when the field cannot be built.
+    pub fn on_mesh(
+        groom: &Groom,
+        mesh: TriangleMesh,
+        max_guides: usize,
+        verts_per_strand: usize,
+    ) -> Result<HairScene, Error> {
+        let verts = verts_per_strand.max(2);
+        let guides = groom_guides(groom, max_guides, verts)?;
+        let roots: Vec<Vec3> = guides.iter().step_by(verts).copied().collect();
+        let fitted =
+            scene::fit_sphere(&roots).ok_or(Error::Scene("cannot fit a sphere to the roots"))?;
+        let body = Body::new(mesh, BODY_FIELD_CELL)?;
+        let head = body.inscribed_sphere(fitted.center).ok_or(Error::Scene(
+            "the centre of the sphere fitted to the roots is not inside the body mesh",
+        ))?;
+        let pivot = head.center - Vec3::Y * (1.1 * head.radius);
+        let mut scene =
+            HairScene::assemble(guides, verts, Vec::new(), vec![head], pivot, fitted.center)?;
+        // Frame the body with the hair.
+        let (mut lo, mut hi) = body.mesh().bounds();
+        for p in &scene.guides {
+            lo = lo.min(*p);
+            hi = hi.max(*p);
+        }
+        scene.focus = 0.5 * (lo + hi);
+        scene.extent = 0.5 * (hi - lo).length();
+        scene.body = Some(body);
         Ok(scene)
     }
 
@@ -159,6 +248,7 @@ impl HairScene {
             extent,
             view_direction: Vec3::new(-0.45, 0.15, 1.0).normalize(),
             ribbons: Vec::new(),
+            body: None,
         })
     }
 

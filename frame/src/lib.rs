@@ -31,6 +31,7 @@
 //! at the repository root.
 #![warn(missing_docs)]
 
+pub mod body;
 pub mod crowd;
 pub mod drape;
 mod error;

@@ -17,17 +17,51 @@ pub fn head_pose(pivot: Vec3, yaw: f32, pitch: f32, translation: Vec3) -> Affine
 /// (0-2 s, 40 degrees), then a nod (2-3 s, 20 degrees), at rest after 3 s.
 /// Smooth (C1) throughout.
 pub fn turn_and_nod(t: f32, pivot: Vec3) -> Affine3A {
-    let bump = |t: f32, start: f32, length: f32| -> f32 {
-        let s = (t - start) / length;
-        if (0.0..=1.0).contains(&s) {
-            0.5 - 0.5 * (2.0 * PI * s).cos()
-        } else {
-            0.0
-        }
-    };
     let yaw = 40f32.to_radians() * bump(t, 0.0, 2.0);
     let pitch = 20f32.to_radians() * bump(t, 2.0, 1.0);
     head_pose(pivot, yaw, pitch, Vec3::ZERO)
+}
+
+/// A smooth bump: 0 outside `[start, start + length]`, rising to 1 at its
+/// middle and back (`(1 - cos 2 pi s) / 2`), C1.
+fn bump(t: f32, start: f32, length: f32) -> f32 {
+    let s = (t - start) / length;
+    if (0.0..=1.0).contains(&s) {
+        0.5 - 0.5 * (2.0 * PI * s).cos()
+    } else {
+        0.0
+    }
+}
+
+/// The character's motion at time `t` seconds: a turn of the head (and
+/// the bust it rides on) 40 degrees to one side and back, about the
+/// vertical through `pivot` (0-2 s), at rest after. Smooth (C1).
+pub fn turn(t: f32, pivot: Vec3) -> Affine3A {
+    head_pose(
+        pivot,
+        40f32.to_radians() * bump(t, 0.5, 2.0),
+        0.0,
+        Vec3::ZERO,
+    )
+}
+
+/// The air's velocity at the height of [`gust`] in the scenes with a body
+/// (m/s: from the front and a little from the side, so that the hair blows
+/// back and aside), pulling the hair through [`GUST_DRAG`], with
+/// [`GUST_TURBULENCE`].
+pub const GUST_WIND: Vec3 = Vec3::new(6.0, 1.0, 0.0);
+/// Air drag of the scenes with a body (`SimParams::drag`, per second): a
+/// 5 m/s gust pulls the hair at about 0.8 g.
+pub const GUST_DRAG: f32 = 2.0;
+/// Turbulence of the scenes with a body (`SimParams::turbulence`, m/s):
+/// neighbouring locks move apart.
+pub const GUST_TURBULENCE: f32 = 1.5;
+
+/// A gust at time `t` seconds: the air's velocity `peak * bump`, rising
+/// from 1.6 s, strongest at 2.3 s, still by 3 s (the wind of
+/// [`crate::FramePipeline::set_wind`]).
+pub fn gust(t: f32, peak: Vec3) -> Vec3 {
+    peak * bump(t, 1.6, 1.4)
 }
 
 /// Linear blend of two rigid poses (slerp of the rotation, lerp of the

@@ -30,6 +30,9 @@ pub enum Stage {
     Raster,
     /// Inside `raster`: background and ray-cast head.
     Head,
+    /// Inside `raster`: the body mesh posed, shaded per vertex and
+    /// rasterised as opaque triangles.
+    Body,
     /// Inside `raster`: ribbons shaded per vertex and rasterised as opaque triangles.
     RibbonDraw,
     /// Inside `raster`: back-to-front strand sort.
@@ -45,7 +48,7 @@ const STAGES: usize = Stage::ALL.len();
 
 impl Stage {
     /// Every stage, in frame order.
-    pub const ALL: [Stage; 13] = [
+    pub const ALL: [Stage; 14] = [
         Stage::Simulate,
         Stage::Ribbon,
         Stage::Prepare,
@@ -55,6 +58,7 @@ impl Stage {
         Stage::Shade,
         Stage::Raster,
         Stage::Head,
+        Stage::Body,
         Stage::RibbonDraw,
         Stage::Sort,
         Stage::Hair,
@@ -73,6 +77,7 @@ impl Stage {
             Stage::Shade => "shade",
             Stage::Raster => "raster",
             Stage::Head => "head + background",
+            Stage::Body => "rasterise body",
             Stage::RibbonDraw => "rasterise ribbon",
             Stage::Sort => "sort strands",
             Stage::Hair => "rasterise hair",

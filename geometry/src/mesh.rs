@@ -242,7 +242,10 @@ mod tests {
     #[test]
     fn bad_meshes_are_refused_with_a_reason() {
         let err = |text: &str| TriangleMesh::from_obj(text.as_bytes(), 1.0).unwrap_err();
-        assert!(matches!(err("v 0 0 0\nv 1 0 0\nf 1 2 7\n"), MeshError::Obj(_)));
+        assert!(matches!(
+            err("v 0 0 0\nv 1 0 0\nf 1 2 7\n"),
+            MeshError::Obj(_)
+        ));
         assert!(matches!(err("v 0 0 x\n"), MeshError::Obj(_)));
         assert_eq!(err(""), MeshError::Empty);
         assert_eq!(err("v 0 0 0\nv 1 0 0\nv 0 1 0\n"), MeshError::Empty);
@@ -268,9 +271,15 @@ mod tests {
             }
         );
         // Binary garbage: an error, never a panic.
-        let noise: Vec<u8> = (0..4096u32).map(|i| (i.wrapping_mul(2654435761) >> 24) as u8).collect();
+        let noise: Vec<u8> = (0..4096u32)
+            .map(|i| (i.wrapping_mul(2654435761) >> 24) as u8)
+            .collect();
         assert!(TriangleMesh::from_obj(&noise, 1.0).is_err());
-        for e in [MeshError::Empty, MeshError::BadScale, MeshError::TooLarge { count: 9 }] {
+        for e in [
+            MeshError::Empty,
+            MeshError::BadScale,
+            MeshError::TooLarge { count: 9 },
+        ] {
             assert!(!e.to_string().is_empty());
         }
     }
