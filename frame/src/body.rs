@@ -42,6 +42,11 @@ use std::fmt;
 pub const BODY_FIELD_CELL: f32 = 0.004;
 /// Strength `k_s` and exponent `s` of the skin's highlight.
 pub const SKIN_SPECULAR: (f32, f32) = (0.06, 24.0);
+/// Albedo of the eyeballs (linear RGB): the whites of the eyes.
+pub const SCLERA_ALBEDO: Vec3 = Vec3::new(0.62, 0.6, 0.58);
+/// Albedo of the irises (linear RGB): dark green, pupil and iris as one
+/// disc at a portrait's distance (Sintel's eyes are green).
+pub const IRIS_ALBEDO: Vec3 = Vec3::new(0.03, 0.06, 0.04);
 
 /// A character's body: its mesh (drawn) and the mesh's signed distance
 /// field (collided with), at rest, in world metres.
@@ -49,6 +54,8 @@ pub const SKIN_SPECULAR: (f32, f32) = (0.06, 24.0);
 pub struct Body {
     mesh: TriangleMesh,
     field: Sdf,
+    eyes: Vec<Sphere>,
+    irises: Vec<Sphere>,
 }
 
 impl fmt::Debug for Body {
@@ -70,7 +77,63 @@ impl Body {
     /// a grid over `coif_kernels::MAX_SDF_CELLS`).
     pub fn new(mesh: TriangleMesh, cell: f32) -> Result<Body, Error> {
         let field = Sdf::from_mesh(mesh.positions(), mesh.triangles(), cell)?;
-        Ok(Body { mesh, field })
+        Ok(Body {
+            mesh,
+            field,
+            eyes: Vec::new(),
+            irises: Vec::new(),
+        })
+    }
+
+    /// The body with eyeballs in the eye openings of its mesh, for a head
+    /// about `head` (a sphere inside it) that faces +z. An eye opening is
+    /// a hole of the mesh ([`TriangleMesh::boundary_loops`]) of mean radius
+    /// `r` between 5 mm and 3 cm whose centre `c` lies in front of the head
+    /// (`n = normalize(c - head.center)`, `n.z > 0.5`) and not low on the
+    /// face (`n.y > -0.6`: not the mouth); its eyeball is the sphere of
+    /// radius `1.3 r` centred `r` behind the opening along `n`, which
+    /// fills 83 % of the opening's radius and bulges `0.3 r` out of it,
+    /// and its iris the sphere of radius `0.45 r` whose front lies `0.08 r`
+    /// before the eyeball's, looking straight ahead (+z). They are drawn
+    /// (ray-cast, [`SCLERA_ALBEDO`], then [`IRIS_ALBEDO`] over it) and pose
+    /// with the body; they do not collide. Meshes without such holes get
+    /// none.
+    pub fn with_eyes(mut self, head: &Sphere) -> Body {
+        let positions = self.mesh.positions();
+        let (mut eyes, mut irises) = (Vec::new(), Vec::new());
+        for members in self.mesh.boundary_loops() {
+            let points = members.iter().map(|&v| positions[v as usize]);
+            let c = points.clone().sum::<Vec3>() / members.len() as f32;
+            let r = points.map(|p| p.distance(c)).sum::<f32>() / members.len() as f32;
+            let Some(n) = (c - head.center).try_normalize() else {
+                continue;
+            };
+            if (0.005..0.03).contains(&r) && n.z > 0.5 && n.y > -0.6 {
+                let eye = Sphere {
+                    center: c - n * r,
+                    radius: 1.3 * r,
+                };
+                let front = eye.center + Vec3::Z * eye.radius;
+                irises.push(Sphere {
+                    center: front + Vec3::Z * (0.08 * r - 0.45 * r),
+                    radius: 0.45 * r,
+                });
+                eyes.push(eye);
+            }
+        }
+        self.eyes = eyes;
+        self.irises = irises;
+        self
+    }
+
+    /// The eyeballs of [`Body::with_eyes`] at rest (none by default).
+    pub fn eyes(&self) -> &[Sphere] {
+        &self.eyes
+    }
+
+    /// The irises of [`Body::with_eyes`] at rest, one per eyeball.
+    pub fn irises(&self) -> &[Sphere] {
+        &self.irises
     }
 
     /// The mesh at rest.
@@ -134,7 +197,10 @@ pub(crate) struct BodyStage {
     rest_normals: Vec<Vec3>,
     triangles: Vec<[u32; 3]>,
     field: Sdf,
-    /// Colours and projections of the last frame.
+    rest_eyes: Vec<Sphere>,
+    /// The eyeballs then the irises posed in render space, colours and
+    /// projections of the last frame.
+    eyes: Vec<Sphere>,
     colors: Vec<Vec3>,
     projected: Vec<Option<TriangleVertex>>,
 }
@@ -147,6 +213,8 @@ impl BodyStage {
             rest_normals: body.mesh.normals().to_vec(),
             triangles: body.mesh.triangles().to_vec(),
             field: body.field.clone(),
+            rest_eyes: [body.eyes.clone(), body.irises.clone()].concat(),
+            eyes: [body.eyes.clone(), body.irises.clone()].concat(),
             colors: vec![Vec3::ZERO; n],
             projected: vec![None; n],
         }
@@ -178,6 +246,9 @@ impl BodyStage {
     ) {
         let eye = camera.eye();
         let l = light.to_light;
+        for (dst, s) in self.eyes.iter_mut().zip(&self.rest_eyes) {
+            dst.center = pose.transform_point3(s.center) - origin;
+        }
         for k in 0..self.rest.len() {
             let p = pose.transform_point3(self.rest[k]) - origin;
             // Two-sided: where the mesh is open (a bust's cut arms), its
@@ -198,6 +269,12 @@ impl BodyStage {
                 color,
             });
         }
+    }
+
+    /// The eyeballs and the irises posed by the last [`BodyStage::shade`]
+    /// (render space).
+    pub(crate) fn eyes(&self) -> (&[Sphere], &[Sphere]) {
+        self.eyes.split_at(self.eyes.len() / 2)
     }
 
     /// Draws the triangles of the last [`BodyStage::shade`], opaque and

@@ -1,6 +1,6 @@
 //! The frame pipeline: one struct owning every buffer, one call per frame.
 
-use super::body::BodyStage;
+use super::body::{BodyStage, IRIS_ALBEDO, SCLERA_ALBEDO};
 use super::motion::blend_poses;
 use super::prepare::{shade_group, GroupShading, SharedOut};
 use super::ribbon::RibbonStage;
@@ -468,7 +468,7 @@ impl FramePipeline {
         let start = Instant::now();
         self.timed(Stage::Head, |p| p.draw_head(&camera, executor));
         if self.body.is_some() {
-            self.timed(Stage::Body, |p| p.draw_body(origin, &camera));
+            self.timed(Stage::Body, |p| p.draw_body(origin, &camera, executor));
         }
         if !self.ribbons.is_empty() {
             self.timed(Stage::RibbonDraw, |p| p.draw_ribbons(origin, &camera));
@@ -841,21 +841,43 @@ impl FramePipeline {
     }
 
     /// Stage [`Stage::Body`]: the body posed, shaded per vertex (lit as the
-    /// head, shadowed by the hair's map and the head) and rasterised as
-    /// opaque, depth-writing triangles (`body.rs`).
-    fn draw_body(&mut self, origin: Vec3, camera: &Camera) {
+    /// head, shadowed by the hair's map and the head), its eyeballs and
+    /// irises ray-cast (`draw_spheres_lanes`, before the triangles, which
+    /// then hide all of them but what shows through the eye openings), and its
+    /// triangles rasterised as opaque, depth-writing triangles (`body.rs`).
+    fn draw_body(&mut self, origin: Vec3, camera: &Camera, executor: &dyn Executor) {
         let light = self.settings.light;
-        if let Some(body) = &mut self.body {
-            body.shade(
-                &self.pose,
-                origin,
+        let Some(body) = &mut self.body else {
+            return;
+        };
+        body.shade(
+            &self.pose,
+            origin,
+            camera,
+            &light,
+            &self.head_local,
+            &self.shadow,
+        );
+        let shadow = &self.shadow;
+        let (eyeballs, irises) = body.eyes();
+        let mut eye_pixels = 0;
+        for (spheres, albedo) in [(eyeballs, SCLERA_ALBEDO), (irises, IRIS_ALBEDO)] {
+            let shading = HeadShading {
+                albedo,
+                to_light: light.to_light,
+                light: light.irradiance,
+                ambient: light.ambient,
+            };
+            eye_pixels += draw_spheres_lanes(
+                &mut self.framebuffer,
                 camera,
-                &light,
-                &self.head_local,
-                &self.shadow,
+                spheres,
+                &shading,
+                &|p| shadow.transmittance_x8(p),
+                executor,
             );
-            self.stats.body_pixels = body.draw(&mut self.framebuffer);
         }
+        self.stats.body_pixels = eye_pixels + body.draw(&mut self.framebuffer);
     }
 
     /// Stage [`Stage::RibbonDraw`]: the ribbons, opaque, depth-tested and

@@ -158,8 +158,14 @@ impl HairScene {
             "the centre of the sphere fitted to the roots is not inside the body mesh",
         ))?;
         let pivot = head.center - Vec3::Y * (1.1 * head.radius);
-        let mut scene =
-            HairScene::assemble(guides, verts, Vec::new(), vec![head], pivot, fitted.center)?;
+        let mut scene = HairScene::assemble(
+            guides,
+            verts,
+            Vec::new(),
+            vec![head.clone()],
+            pivot,
+            fitted.center,
+        )?;
         // Frame the body with the hair.
         let (mut lo, mut hi) = body.mesh().bounds();
         for p in &scene.guides {
@@ -168,7 +174,7 @@ impl HairScene {
         }
         scene.focus = 0.5 * (lo + hi);
         scene.extent = 0.5 * (hi - lo).length();
-        scene.body = Some(body);
+        scene.body = Some(body.with_eyes(&head));
         Ok(scene)
     }
 

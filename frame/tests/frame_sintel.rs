@@ -59,6 +59,16 @@ fn the_scene_builds_from_the_shipped_files() {
     let head = &scene.head[0];
     assert!(head.radius > 0.05 && head.radius < 0.11, "{}", head.radius);
     assert!(body.field().distance(head.center) <= -head.radius + 1e-4);
+    // Two eyes in the eye openings of the mesh, one each side, in front
+    // of the head; not the mouth, not the cuts.
+    let eyes = body.eyes();
+    assert_eq!(eyes.len(), 2, "{eyes:?}");
+    assert_eq!(body.irises().len(), 2);
+    assert!(eyes[0].center.x * eyes[1].center.x < 0.0, "{eyes:?}");
+    for e in eyes {
+        assert!(e.center.z > head.center.z && e.center.y > 0.3, "{e:?}");
+        assert!(e.radius > 0.01 && e.radius < 0.03, "{e:?}");
+    }
     // The same scene from the files on disk.
     let from_files = HairScene::from_files(
         &std::fs::read(GROOM).unwrap(),

@@ -191,6 +191,61 @@ impl TriangleMesh {
         &self.triangles
     }
 
+    /// The mesh's holes: the vertices of each connected set of boundary
+    /// edges (edges in exactly one triangle), in increasing index order,
+    /// the sets ordered by their smallest vertex. A closed mesh has none;
+    /// a bust has its cuts (chest, arms) and openings (eyes, mouth).
+    pub fn boundary_loops(&self) -> Vec<Vec<u32>> {
+        let mut edges: Vec<(u32, u32)> = self
+            .triangles
+            .iter()
+            .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+            .map(|(a, b)| (a.min(b), a.max(b)))
+            .collect();
+        edges.sort_unstable();
+        // Boundary edges: those that appear once.
+        let mut boundary = Vec::new();
+        let mut i = 0;
+        while i < edges.len() {
+            let mut j = i + 1;
+            while j < edges.len() && edges[j] == edges[i] {
+                j += 1;
+            }
+            if j - i == 1 {
+                boundary.push(edges[i]);
+            }
+            i = j;
+        }
+        // Connected sets by union-find over the boundary vertices.
+        let mut parent: Vec<u32> = (0..self.positions.len() as u32).collect();
+        fn root(parent: &mut [u32], mut x: u32) -> u32 {
+            while parent[x as usize] != x {
+                parent[x as usize] = parent[parent[x as usize] as usize];
+                x = parent[x as usize];
+            }
+            x
+        }
+        for &(a, b) in &boundary {
+            let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+            if ra != rb {
+                parent[ra.max(rb) as usize] = ra.min(rb);
+            }
+        }
+        let mut on_boundary: Vec<u32> = boundary.iter().flat_map(|&(a, b)| [a, b]).collect();
+        on_boundary.sort_unstable();
+        on_boundary.dedup();
+        let mut loops: Vec<(u32, Vec<u32>)> = Vec::new();
+        for v in on_boundary {
+            let r = root(&mut parent, v);
+            match loops.iter_mut().find(|(id, _)| *id == r) {
+                Some((_, members)) => members.push(v),
+                None => loops.push((r, vec![v])),
+            }
+        }
+        loops.sort_by_key(|(_, members)| members[0]);
+        loops.into_iter().map(|(_, members)| members).collect()
+    }
+
     /// The axis-aligned box of the vertices, `(min, max)`.
     pub fn bounds(&self) -> (Vec3, Vec3) {
         self.positions.iter().fold(
@@ -237,6 +292,33 @@ mod tests {
             let out = (*p - Vec3::ONE).normalize();
             assert!(n.dot(out) > 0.5, "{p}: {n}");
         }
+    }
+
+    #[test]
+    fn holes_are_the_boundary_loops() {
+        let closed = TriangleMesh::from_obj(CUBE.as_bytes(), 1.0).unwrap();
+        assert!(closed.boundary_loops().is_empty());
+        // Without its top (y = 1) face: one hole of the four top corners.
+        let open = CUBE.replace("f 4 8 7 3\n", "");
+        let m = TriangleMesh::from_obj(open.as_bytes(), 1.0).unwrap();
+        let loops = m.boundary_loops();
+        assert_eq!(loops.len(), 1, "{loops:?}");
+        assert_eq!(loops[0].len(), 4);
+        assert!(loops[0].iter().all(|&v| m.positions()[v as usize].y == 1.0));
+        // Two separate triangles: two holes of three.
+        let two = TriangleMesh::new(
+            vec![
+                Vec3::ZERO,
+                Vec3::X,
+                Vec3::Y,
+                Vec3::Z,
+                Vec3::ONE,
+                Vec3::X * 2.0,
+            ],
+            vec![[0, 1, 2], [3, 4, 5]],
+        )
+        .unwrap();
+        assert_eq!(two.boundary_loops(), vec![vec![0, 1, 2], vec![3, 4, 5]]);
     }
 
     #[test]
