@@ -107,7 +107,7 @@ fn no_guide_vertex_ends_inside_the_bust_over_the_default_motion() {
     let mut still = FramePipeline::new(&scene, settings(64), 1.5).unwrap();
     let pivot = p.pivot();
     let fps = 30.0;
-    let (mut worst, mut checked, mut blown) = (0.0f32, 0, 0.0f32);
+    let (mut worst, mut checked, mut blown, mut root_stretch) = (0.0f32, 0, 0.0f32, 0.0f32);
     for f in 0..96 {
         let t = f as f32 / fps;
         p.set_wind(motion::gust(t, motion::GUST_WIND));
@@ -116,6 +116,17 @@ fn no_guide_vertex_ends_inside_the_bust_over_the_default_motion() {
         still.simulate(1.0 / fps, pose);
         let positions = p.strands().positions();
         assert!(positions.iter().all(|x| x.is_finite()), "frame {f}");
+        // Roots kept on the scalp: the root segments (whose roots start
+        // inside the mesh for 5 strands) are not stretched beyond 3 % (the
+        // strain limit allows 1 %; 2.1 % measured). Segments further out,
+        // in contact with the bust, stretch more where the field's push
+        // wins over the strain limit (kernels/README.md).
+        for (k, w) in positions.windows(2).enumerate() {
+            if k % scene.verts_per_strand < 2 {
+                let rest = scene.guides[k].distance(scene.guides[k + 1]);
+                root_stretch = root_stretch.max(w[0].distance(w[1]) / rest - 1.0);
+            }
+        }
         if f % 4 == 3 {
             let field = p.body_field().unwrap();
             for x in &positions {
@@ -145,6 +156,11 @@ fn no_guide_vertex_ends_inside_the_bust_over_the_default_motion() {
     assert!(
         worst <= 2e-3,
         "deepest guide vertex {worst} m inside the bust"
+    );
+    eprintln!("deepest {worst} m, root segments stretched {root_stretch}, gust {blown} m");
+    assert!(
+        root_stretch < 0.03,
+        "a root segment stretched by {root_stretch}"
     );
     // The gust reaches the hair: a hundredth of the vertices (the free
     // ends) move by more than 5 mm (measured: 16 mm at its peak, single
