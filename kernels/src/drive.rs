@@ -6,6 +6,7 @@
 
 use crate::collide::broad_phase::{roots_aabb, select_strand_candidates, Aabb, BlockBounds};
 use crate::collide::Colliders;
+use crate::hair_grid::{GridSetup, HairGrid};
 use crate::lanes::{Vec3x8, LANES};
 use crate::step::{Setup, StepColliders};
 use crate::strands::{rest_pose, BlockSleep, Scratch};
@@ -87,6 +88,7 @@ pub(crate) fn drive(
             usize,
         ) -> u32
         + Sync,
+    hair: impl Fn(&Strands, &mut BlockState<'_>, &HairGrid, &GridSetup, usize) -> bool + Sync,
 ) {
     let k = Setup::new(strands, params);
     if strands.params_seen.as_ref() != Some(params) {
@@ -105,6 +107,18 @@ pub(crate) fn drive(
     let mut pos = std::mem::take(&mut strands.pos);
     let mut prev = std::mem::take(&mut strands.prev);
     let mut sleep = std::mem::take(&mut strands.sleep);
+    // The hair grid, between the blocks' steps: built from every block on
+    // this thread (the same sums on any thread count), read by each block
+    // in its task (`hair_grid/`).
+    let mut grid = std::mem::take(&mut strands.hair_grid);
+    let grid_setup = (params.volume_stiffness > 0.0 || params.hair_friction > 0.0).then(|| {
+        grid.build(strands, &pos, &prev, params.dt, params.hair_grid_cell);
+        GridSetup {
+            volume: params.volume_stiffness,
+            friction: params.hair_friction,
+            dt: params.dt,
+        }
+    });
     {
         let s: &Strands = strands;
         let verts = s.verts;
@@ -157,6 +171,21 @@ pub(crate) fn drive(
                     stretch_factor: k.stretch_factor,
                 }; GROUP];
                 let mut runs = [true; GROUP];
+                // The grid's volume and friction, asleep or awake: a block
+                // they move wakes.
+                if let Some(gk) = &grid_setup {
+                    for g in 0..n {
+                        let (b, r) = (t * per_task + first + g, (first + g) * verts);
+                        let mut st = BlockState {
+                            pos: &mut pos[r..r + verts],
+                            prev: &mut prev[r..r + verts],
+                        };
+                        if hair(s, &mut st, &grid, gk, b) {
+                            sleep[first + g].asleep = false;
+                            sleep[first + g].still = 0;
+                        }
+                    }
+                }
                 for g in 0..n {
                     let (b, r) = (t * per_task + first + g, (first + g) * verts);
                     let st = BlockState {
@@ -228,6 +257,7 @@ pub(crate) fn drive(
     strands.pos = pos;
     strands.prev = prev;
     strands.sleep = sleep;
+    strands.hair_grid = grid;
     strands.restored += scratch.tasks.iter().map(|t| t.restored).sum::<u64>();
     strands.awake = (0..strands.blocks)
         .filter(|&b| strands.sleep[b].stepped)

@@ -38,6 +38,7 @@ mod drive;
 mod error;
 mod fixed_step;
 mod fused;
+pub mod hair_grid;
 pub mod measure;
 mod params;
 pub mod patch;

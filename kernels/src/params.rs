@@ -102,6 +102,26 @@ pub struct SimParams {
     pub turbulence_scale: f32,
     /// Gusts: how long a gust lasts, seconds (> 0, default 1).
     pub turbulence_period: f32,
+    /// Hair-hair volume in [0, 1] (0 = off, the default): hair packed
+    /// denser than its target is pushed apart, down the gradient of the
+    /// density's excess on a grid of the hair rebuilt every step (Petrovic
+    /// et al. 2005; `hair_grid/`): each step moves a vertex by
+    /// `volume_stiffness` times a quarter cell per unit of excess gradient
+    /// (at most a quarter cell). Only compression is pushed back. The
+    /// target is the densest packing of the groomed pose away from the
+    /// roots.
+    pub volume_stiffness: f32,
+    /// Hair-hair friction in [0, 1] (0 = off, the default): the share of
+    /// each vertex's velocity relative to the hair around it (the grid's
+    /// mass-weighted velocity there) removed per step; the hair's common
+    /// motion is kept (a PIC blend, as in Petrovic et al. 2005 and
+    /// McAdams et al. 2009).
+    pub hair_friction: f32,
+    /// Cell of the hair grid in metres (default 0.015; measured in
+    /// `kernels/README.md`, "Hair against hair"). A hair whose box needs
+    /// more nodes than the grid was sized for is gridded coarser for that
+    /// step, never allocated.
+    pub hair_grid_cell: f32,
     /// TressFX-style local shape constraints in [0, 1] (TressFX 4, AMD
     /// 2017): each segment keeps its groomed direction in its parent
     /// segment's frame (the root segment in the groom frame, which follows
@@ -168,6 +188,9 @@ impl Default for SimParams {
             turbulence: 0.0,
             turbulence_scale: 0.2,
             turbulence_period: 1.0,
+            volume_stiffness: 0.0,
+            hair_friction: 0.0,
+            hair_grid_cell: 0.015,
             local_shape_stiffness: 0.0,
             max_substep: 1.0 / 240.0,
             stiff_mode_damping: 0.05,
@@ -349,6 +372,24 @@ impl SimParams {
             self.turbulence_scale,
             self.turbulence_scale > 0.0,
             "turbulence_scale > 0",
+        )?;
+        check(
+            "volume_stiffness",
+            self.volume_stiffness,
+            (0.0..=1.0).contains(&self.volume_stiffness),
+            "0 <= volume_stiffness <= 1",
+        )?;
+        check(
+            "hair_friction",
+            self.hair_friction,
+            (0.0..=1.0).contains(&self.hair_friction),
+            "0 <= hair_friction <= 1",
+        )?;
+        check(
+            "hair_grid_cell",
+            self.hair_grid_cell,
+            self.hair_grid_cell >= 1e-4 && self.hair_grid_cell <= 1.0,
+            "1e-4 <= hair_grid_cell <= 1 (metres)",
         )?;
         check(
             "turbulence_period",

@@ -75,6 +75,7 @@ use crate::collide::Colliders;
 use crate::constraints::{BLOWN_UP, MIN_LENGTH};
 use crate::drive::drive;
 use crate::fused::{cross, dot, length_dir, madd, offset_unless, rotate};
+use crate::hair_grid::apply_block;
 use crate::lanes::{Lane, V3};
 use crate::wind::Gusts;
 use crate::{SimParams, Sphere, Strands};
@@ -871,6 +872,18 @@ pub fn step_colliders_with(
             let ok: f32x8 =
                 step_chain(&mut c, &mut scratch.chain, k, world, &scratch.candidates, g);
             (!ok).to_bitmask()
+        },
+        |s, st, grid, gk, b| {
+            let r = b * s.verts..(b + 1) * s.verts;
+            let moved = apply_block::<f32x8>(
+                grid,
+                st.pos,
+                st.prev,
+                &s.inv_mass[r.clone()],
+                &s.rest_arc[r],
+                gk,
+            );
+            (moved & s.active[b]).any()
         },
     );
 }

@@ -75,6 +75,8 @@ pub struct Strands {
     pub(crate) params_seen: Option<crate::SimParams>,
     /// The step's buffers, one set per task, grown only when the rig grows.
     pub(crate) scratch: StepScratch,
+    /// The hair grid (volume and friction), sized at its first use.
+    pub(crate) hair_grid: crate::hair_grid::HairGrid,
 }
 
 /// The step's reusable buffers (no per-frame allocation once sized): the
@@ -217,6 +219,7 @@ impl Strands {
             awake: strand_count,
             params_seen: None,
             scratch: StepScratch::new(blocks, verts),
+            hair_grid: Default::default(),
         }
     }
 

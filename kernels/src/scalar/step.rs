@@ -19,6 +19,7 @@
 
 use super::broad_phase::block_sweep_aabb;
 use crate::drive::drive;
+use crate::hair_grid::apply_block;
 use crate::lanes::{Vec3x8, V3};
 use crate::step::{step_chain, Chain, ChainScratch};
 use crate::{Colliders, SimParams, Sphere, Strands};
@@ -156,6 +157,30 @@ pub fn step_colliders_with(
                 }
             }
             bad
+        },
+        |s, st, grid, gk, b| {
+            // One lane, one vertex at a time: the same body as the SIMD
+            // path's, each vertex on its own.
+            let mut moved = false;
+            for l in 0..s.lanes_in_block(b) {
+                for v in 0..s.verts {
+                    let i = b * s.verts + v;
+                    let mut x = lane3(&st.pos[v], l);
+                    let mut xp = lane3(&st.prev[v], l);
+                    let (w, arc) = (lane1(&s.inv_mass[i], l), lane1(&s.rest_arc[i], l));
+                    moved |= apply_block::<f32>(
+                        grid,
+                        std::slice::from_mut(&mut x),
+                        std::slice::from_mut(&mut xp),
+                        &[w],
+                        &[arc],
+                        gk,
+                    );
+                    st.pos[v].set_lane(l, x.to_vec3());
+                    st.prev[v].set_lane(l, xp.to_vec3());
+                }
+            }
+            moved
         },
     );
 }

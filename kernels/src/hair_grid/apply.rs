@@ -1,0 +1,156 @@
+//! Step 3 of the module doc: each vertex reads the grid's fields and moves
+//! (volume) and changes its velocity (friction); one generic body for the
+//! SIMD path (eight strands in lanes) and its scalar twin.
+//!
+//! The fields are read trilinearly: with `u = (x - origin) / cell` clamped
+//! to the grid, `i = min(floor(u), dims - 2)` and `f = u - i`, the value is
+//! `sum_c w_c F_c` over the cell's eight corners, `w_c` the products of `f`
+//! and `1 - f`, accumulated in corner order (x fastest), the same in both
+//! widths.
+
+use super::grid::HairGrid;
+use crate::lanes::{Lane, V3};
+use wide::f32x8;
+
+/// The volume push per step, in cells per unit of the excess's gradient
+/// (per cell), and its cap in cells.
+pub const PUSH: f32 = 0.75;
+
+/// What [`apply_block`] needs of the parameters, per step.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct GridSetup {
+    pub volume: f32,
+    pub friction: f32,
+    pub dt: f32,
+}
+
+/// The per-lane reads of the grid: `floor`, and the six fields of node
+/// `idx` (an integer-valued float, in range), one lane or eight.
+pub(crate) trait GridLane: Lane {
+    fn floor(self) -> Self;
+    fn node(field: &[[f32; 8]], idx: Self) -> [Self; 6];
+}
+
+impl GridLane for f32 {
+    #[inline(always)]
+    fn floor(self) -> f32 {
+        f32::floor(self)
+    }
+    #[inline(always)]
+    fn node(field: &[[f32; 8]], idx: f32) -> [f32; 6] {
+        let n = field.get(idx as usize).copied().unwrap_or([0.0; 8]);
+        [n[0], n[1], n[2], n[3], n[4], n[5]]
+    }
+}
+
+impl GridLane for f32x8 {
+    #[inline(always)]
+    fn floor(self) -> f32x8 {
+        f32x8::floor(self)
+    }
+    #[inline(always)]
+    fn node(field: &[[f32; 8]], idx: f32x8) -> [f32x8; 6] {
+        let idx = idx.to_array();
+        let mut out = [[0.0f32; 8]; 6];
+        for (l, &i) in idx.iter().enumerate() {
+            let n = field.get(i as usize).copied().unwrap_or([0.0; 8]);
+            for k in 0..6 {
+                out[k][l] = n[k];
+            }
+        }
+        out.map(f32x8::new)
+    }
+}
+
+/// The six fields at `p` (local frame), trilinearly.
+#[inline(always)]
+fn sample<T: GridLane>(g: &HairGrid, p: V3<T>) -> [T; 6] {
+    let inv = T::splat(1.0 / g.cell);
+    let zero = T::splat(0.0);
+    let max_u = (g.dims - glam::UVec3::ONE).as_vec3();
+    let max_i = (g.dims - glam::UVec3::splat(2)).as_vec3();
+    let axis = |c: T, o: f32, mu: f32, mi: f32| {
+        let u = ((c - T::splat(o)) * inv).max(zero).min(T::splat(mu));
+        let i = u.floor().min(T::splat(mi));
+        (i, u - i)
+    };
+    let (ix, fx) = axis(p.x, g.origin.x, max_u.x, max_i.x);
+    let (iy, fy) = axis(p.y, g.origin.y, max_u.y, max_i.y);
+    let (iz, fz) = axis(p.z, g.origin.z, max_u.z, max_i.z);
+    let (sx, sy) = (g.dims.x as f32, (g.dims.x * g.dims.y) as f32);
+    let base = iz.mul_add(T::splat(sy), iy.mul_add(T::splat(sx), ix));
+    let one = T::splat(1.0);
+    let (gx, gy, gz) = (one - fx, one - fy, one - fz);
+    let mut out = [zero; 6];
+    for c in 0..8 {
+        let (dx, dy, dz) = (c & 1, (c >> 1) & 1, (c >> 2) & 1);
+        let off = dx as f32 + dy as f32 * sx + dz as f32 * sy;
+        let w = if dx == 1 { fx } else { gx }
+            * if dy == 1 { fy } else { gy }
+            * if dz == 1 { fz } else { gz };
+        let node = T::node(&g.field, base + T::splat(off));
+        for k in 0..6 {
+            out[k] = w.mul_add(node[k], out[k]);
+        }
+    }
+    out
+}
+
+/// Volume and friction for one block's free vertices (`w > 0`), weighted
+/// by the root ramp of their rest arc `arc` (module doc, step 3). Returns
+/// the lanes it moved by more than `1e-6` m (position or previous
+/// position): pressure or friction from awake hair wakes a sleeping block.
+pub(crate) fn apply_block<T: GridLane>(
+    g: &HairGrid,
+    pos: &mut [V3<T>],
+    prev: &mut [V3<T>],
+    w: &[T],
+    arc: &[T],
+    k: &GridSetup,
+) -> T::Mask {
+    let mut moved = !T::all_lanes();
+    if !g.live {
+        return moved;
+    }
+    let zero = T::splat(0.0);
+    let quarter = T::splat(PUSH * g.cell);
+    let volume = T::splat(k.volume * PUSH * g.cell);
+    let friction = T::splat(k.friction);
+    let inv_ramp = T::splat(1.0 / super::ROOT_RAMP);
+    let tiny = T::splat(1.0e-12);
+    for ((x, xp), (&w, &a)) in pos.iter_mut().zip(prev.iter_mut()).zip(w.iter().zip(arc)) {
+        let free = w.gt(zero);
+        if !T::any(free) {
+            continue;
+        }
+        let ramp = (a * inv_ramp).max(zero).min(T::splat(1.0));
+        let f = sample(g, *x);
+        // Volume: down the excess's gradient, at most a quarter cell.
+        let mut d = V3::new(f[0], f[1], f[2]) * -volume;
+        let d2 = d.dot(d);
+        let cap = (quarter * d2.max(tiny).inv_sqrt()).min(T::splat(1.0));
+        d = d * (cap * ramp);
+        // Friction: the velocity toward the hair's.
+        let vel = (*x - *xp) * T::splat(1.0 / k.dt);
+        let mut dv = (V3::new(f[3], f[4], f[5]) - vel) * (friction * ramp);
+        // Volume as a velocity: along the push `n`, the vertex leaves the
+        // denser hair at least at the push's speed `|d| / dt` (a contact
+        // that separates: its normal velocity is raised, never lowered),
+        // and the solver's substeps carry it there with its strand.
+        let dl2 = d.dot(d);
+        let pushed = dl2.gt(tiny);
+        let inv_l = dl2.max(tiny).inv_sqrt();
+        let n = d * inv_l;
+        let speed = dl2 * inv_l * T::splat(1.0 / k.dt);
+        let vn = (vel + dv).dot(n);
+        let raise = (speed - vn).max(zero);
+        dv = V3::select(pushed, dv + n * raise, dv);
+        let new_x = *x;
+        let new_prev = *xp - dv * T::splat(k.dt);
+        let change = d.dot(d).max((new_prev - *xp).dot(new_prev - *xp));
+        moved = moved | (free & change.gt(tiny));
+        *x = V3::select(free, new_x, *x);
+        *xp = V3::select(free, new_prev, *xp);
+    }
+    moved
+}

@@ -1,0 +1,323 @@
+//! The grid of the hair: splat, smoothing, fields (module doc, steps 1-2).
+
+use super::{MAX_HAIR_GRID_NODES, ROOT_RAMP};
+use crate::lanes::{Vec3x8, LANES};
+use crate::Strands;
+use glam::{UVec3, Vec3};
+
+/// Empty nodes kept round the hair's box on every side (the central
+/// differences reach one node past the splat's).
+const PAD: u32 = 2;
+
+/// The grid of one step and the target density, sized once.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct HairGrid {
+    /// Per node: `[sum s, sum s vx, sum s vy, sum s vz]`; zero at every
+    /// node but this step's `touched` ones.
+    acc: Vec<[f32; 4]>,
+    /// Per node: `[de/dx, de/dy, de/dz (per cell), vx, vy, vz, 0, 0]`,
+    /// valid at the touched nodes.
+    pub(crate) field: Vec<[f32; 8]>,
+    /// The nodes this step's splat wrote, in the order it first wrote them.
+    touched: Vec<u32>,
+    /// Nodes the buffers hold (set at the first build, never grown).
+    capacity: usize,
+    /// This step's grid, in the strands' local frame.
+    pub(crate) origin: Vec3,
+    pub(crate) cell: f32,
+    pub(crate) dims: UVec3,
+    /// Whether this step's grid holds any hair.
+    pub(crate) live: bool,
+    /// Target density, weight per m^3 (`None` until the first build).
+    target: Option<f32>,
+}
+
+/// Farther than this from the strands' origin (metres), a vertex is out
+/// of the grid: a strand thrown away by a bad state (which the step's
+/// guard then restores) does not stretch the grid over every other one.
+const MAX_GRID_REACH: f32 = 1.0e4;
+/// The fastest a vertex's velocity counts in the grid (m/s): one strand
+/// gone wild does not drag the hair around it.
+const MAX_GRID_SPEED: f32 = 100.0;
+
+/// Whether `p` (local) goes into the grid: finite and within reach.
+#[inline]
+fn sane(p: Vec3) -> bool {
+    p.abs().max_element() < MAX_GRID_REACH
+}
+
+/// The weight of a vertex at rest arc `arc` from its root.
+#[inline]
+pub(crate) fn ramp(arc: f32) -> f32 {
+    (arc / ROOT_RAMP).clamp(0.0, 1.0)
+}
+
+impl HairGrid {
+    /// The target density (weight per m^3): the densest node of the
+    /// groomed pose (roots plus rest offsets under the rest rotation),
+    /// gridded at `cell` as the step grids the hair; computed once.
+    pub(crate) fn target(&mut self, s: &Strands, cell: f32) -> f32 {
+        if let Some(t) = self.target {
+            return t;
+        }
+        let mut pose = vec![Vec3x8::ZERO; s.blocks * s.verts];
+        for b in 0..s.blocks {
+            for v in 0..s.verts {
+                let root = s.roots[b];
+                let off = s.rest_offset[b * s.verts + v];
+                let mut p = Vec3x8::ZERO;
+                for l in 0..LANES {
+                    p.set_lane(l, root.lane(l) + s.rest_rotation * off.lane(l));
+                }
+                pose[b * s.verts + v] = p;
+            }
+        }
+        // The same grid as a step's, with zero velocity.
+        self.splat(s, &pose, &pose, 1.0, cell);
+        let inv_volume = 1.0 / (self.cell * self.cell * self.cell);
+        let densest = self
+            .touched
+            .iter()
+            .map(|&i| self.acc[i as usize][0])
+            .fold(0.0f32, f32::max)
+            * inv_volume;
+        // No hair away from the roots: any density is excess-free.
+        let t = if densest > 0.0 {
+            densest
+        } else {
+            f32::INFINITY
+        };
+        self.target = Some(t);
+        self.live = false;
+        t
+    }
+
+    /// Steps 1-2 of the module doc for this step's positions `pos` and
+    /// previous ones `prev` (local frame, one step of `dt` apart).
+    pub(crate) fn build(
+        &mut self,
+        s: &Strands,
+        pos: &[Vec3x8],
+        prev: &[Vec3x8],
+        dt: f32,
+        cell: f32,
+    ) {
+        let target = self.target(s, cell);
+        self.splat(s, pos, prev, dt, cell);
+        if !self.live {
+            return;
+        }
+        let inv_target = 1.0 / (target * self.cell * self.cell * self.cell);
+        let (nx, ny, nz) = (
+            self.dims.x as usize,
+            self.dims.y as usize,
+            self.dims.z as usize,
+        );
+        let acc = &self.acc;
+        let e = |i: usize| (acc[i][0] * inv_target - 1.0).max(0.0);
+        let (sy, sz) = (nx, nx * ny);
+        let _ = nz;
+        for &t in &self.touched {
+            let i = t as usize;
+            // Touched nodes lie at least PAD - 1 nodes inside the box, so
+            // every neighbour exists.
+            let g = [
+                0.5 * (e(i + 1) - e(i - 1)),
+                0.5 * (e(i + sy) - e(i - sy)),
+                0.5 * (e(i + sz) - e(i - sz)),
+            ];
+            let a = acc[i];
+            let v = [a[1] / a[0], a[2] / a[0], a[3] / a[0]];
+            self.field[i] = [g[0], g[1], g[2], v[0], v[1], v[2], 0.0, 0.0];
+        }
+    }
+
+    /// Step 1: the last step's nodes cleared, the grid's box from the
+    /// finite vertices, the cell (coarser when the box needs more nodes
+    /// than the buffers hold), and the trilinear (cloud-in-cell) splat of
+    /// weight and momentum in block, vertex and lane order.
+    fn splat(&mut self, s: &Strands, pos: &[Vec3x8], prev: &[Vec3x8], dt: f32, cell: f32) {
+        for &i in &self.touched {
+            self.acc[i as usize] = [0.0; 4];
+        }
+        self.touched.clear();
+        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for b in 0..s.blocks {
+            let lanes = s.lanes_in_block(b);
+            for x in &pos[b * s.verts..(b + 1) * s.verts] {
+                for l in 0..lanes {
+                    let p = x.lane(l);
+                    if sane(p) {
+                        lo = lo.min(p);
+                        hi = hi.max(p);
+                    }
+                }
+            }
+        }
+        self.live = lo.x <= hi.x;
+        if !self.live {
+            return;
+        }
+        let extent = hi - lo;
+        let mut cell = cell;
+        let nodes = |cell: f32| -> f64 {
+            (0..3)
+                .map(|a| ((extent[a] / cell).ceil() as f64 + 1.0 + 2.0 * PAD as f64).max(1.0))
+                .product()
+        };
+        if self.capacity == 0 {
+            // Sized once: room for the box twice as large along each axis,
+            // and for eight nodes per vertex.
+            let want = (nodes(cell) * 8.0).clamp(32.0 * 32.0 * 32.0, MAX_HAIR_GRID_NODES as f64);
+            self.capacity = want as usize;
+            self.acc = vec![[0.0; 4]; self.capacity];
+            self.field = vec![[0.0; 8]; self.capacity];
+            self.touched = Vec::with_capacity(self.capacity.min(8 * s.blocks * s.verts * LANES));
+        }
+        // (A NaN count is never small enough: the loop ends at an infinite cell.)
+        while nodes(cell).is_nan() || nodes(cell) > self.capacity as f64 {
+            cell *= 1.25;
+            if !cell.is_finite() {
+                self.live = false;
+                return;
+            }
+        }
+        let dims = UVec3::new(
+            ((extent.x / cell).ceil() as u32) + 1 + 2 * PAD,
+            ((extent.y / cell).ceil() as u32) + 1 + 2 * PAD,
+            ((extent.z / cell).ceil() as u32) + 1 + 2 * PAD,
+        );
+        self.dims = dims;
+        self.cell = cell;
+        self.origin = lo - Vec3::splat(PAD as f32 * cell);
+        let (nx, ny) = (dims.x as usize, dims.y as usize);
+        let inv_cell = 1.0 / cell;
+        let inv_dt = 1.0 / dt;
+        let max_i = (dims - UVec3::splat(2)).as_vec3();
+        let room = self.touched.capacity();
+        for b in 0..s.blocks {
+            let lanes = s.lanes_in_block(b);
+            let base = b * s.verts;
+            for v in 0..s.verts {
+                let (x, xp) = (pos[base + v], prev[base + v]);
+                let arc = s.rest_arc[base + v].to_array();
+                for (l, &arc) in arc.iter().enumerate().take(lanes) {
+                    let weight = ramp(arc);
+                    let p = x.lane(l);
+                    if weight <= 0.0 || !sane(p) {
+                        continue;
+                    }
+                    let vel = (p - xp.lane(l)) * inv_dt;
+                    let vel = if vel.is_finite() {
+                        vel.clamp_length_max(MAX_GRID_SPEED)
+                    } else {
+                        Vec3::ZERO
+                    };
+                    let u = (p - self.origin) * inv_cell;
+                    let i0 = u.floor().clamp(Vec3::ZERO, max_i);
+                    let f = (u - i0).clamp(Vec3::ZERO, Vec3::ONE);
+                    let base_node = (i0.z as usize * ny + i0.y as usize) * nx + i0.x as usize;
+                    for c in 0..8 {
+                        let (dx, dy, dz) = (c & 1, (c >> 1) & 1, (c >> 2) & 1);
+                        let w = weight
+                            * if dx == 1 { f.x } else { 1.0 - f.x }
+                            * if dy == 1 { f.y } else { 1.0 - f.y }
+                            * if dz == 1 { f.z } else { 1.0 - f.z };
+                        if w <= 0.0 {
+                            continue;
+                        }
+                        let i = base_node + dx + dy * nx + dz * nx * ny;
+                        let a = &mut self.acc[i];
+                        if a[0] == 0.0 {
+                            if self.touched.len() == room {
+                                continue;
+                            }
+                            self.touched.push(i as u32);
+                        }
+                        a[0] += w;
+                        a[1] += w * vel.x;
+                        a[2] += w * vel.y;
+                        a[3] += w * vel.z;
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One straight strand along +x, 41 vertices 5 mm apart.
+    fn line() -> Strands {
+        let pts: Vec<Vec3> = (0..41).map(|i| Vec3::X * (0.005 * i as f32)).collect();
+        Strands::from_polylines(&pts, 41).unwrap()
+    }
+
+    #[test]
+    fn the_splat_keeps_the_weight_and_the_momentum() {
+        let s = line();
+        let mut g = HairGrid::default();
+        // Everything moves at (0, 1, 0) m/s over a step of 0.1 s.
+        let prev: Vec<Vec3x8> = s
+            .pos
+            .iter()
+            .map(|p| *p - Vec3x8::splat(Vec3::Y * 0.1))
+            .collect();
+        g.build(&s, &s.pos, &prev, 0.1, 0.01);
+        assert!(g.live);
+        let n = (g.dims.x * g.dims.y * g.dims.z) as usize;
+        let total: f32 = g.acc[..n].iter().map(|a| a[0]).sum();
+        let expected: f32 = (0..41).map(|i| ramp(0.005 * i as f32)).sum();
+        assert!((total - expected).abs() < 1e-3, "{total} {expected}");
+        let py: f32 = g.acc[..n].iter().map(|a| a[2]).sum();
+        assert!((py - expected).abs() < 1e-3, "{py}");
+        // The hair's velocity is (0, 1, 0) wherever there is hair.
+        for &i in &g.touched {
+            let (a, f) = (g.acc[i as usize], g.field[i as usize]);
+            if a[0] > 1e-3 {
+                assert!((f[4] - 1.0).abs() < 1e-4 && f[3].abs() < 1e-4, "{f:?}");
+            }
+        }
+        // The groomed pose is the target: no excess anywhere.
+        assert!(g
+            .touched
+            .iter()
+            .all(|&i| g.field[i as usize][..3] == [0.0; 3]));
+    }
+
+    #[test]
+    fn a_far_strand_coarsens_the_grid_without_allocating() {
+        let pts: Vec<Vec3> = (0..16)
+            .map(|i| Vec3::X * (0.005 * (i % 8) as f32) + Vec3::Y * if i < 8 { 0.0 } else { 1.0 })
+            .collect();
+        let s = Strands::from_polylines(&pts, 8).unwrap();
+        let mut g = HairGrid::default();
+        g.build(&s, &s.pos, &s.pos, 1.0 / 60.0, 0.01);
+        let cap = g.capacity;
+        let mut far = s.pos.clone();
+        for p in &mut far {
+            let q = p.lane(1) + Vec3::Y * 5.0e3;
+            p.set_lane(1, q);
+        }
+        g.build(&s, &far, &far, 1.0 / 60.0, 0.01);
+        assert_eq!(g.capacity, cap);
+        assert!(
+            (g.dims.x * g.dims.y * g.dims.z) as usize <= cap && g.cell > 0.1,
+            "{}",
+            g.cell
+        );
+        // Beyond the grid's reach, a strand is left out: the cell is back.
+        for p in &mut far {
+            let q = p.lane(1) + Vec3::Y * 1.0e6;
+            p.set_lane(1, q);
+        }
+        g.build(&s, &far, &far, 1.0 / 60.0, 0.01);
+        assert_eq!(g.cell, 0.01);
+        // A NaN strand is left out.
+        far[3].set_lane(0, Vec3::NAN);
+        g.build(&s, &far, &far, 1.0 / 60.0, 0.01);
+        assert!(g.live && g.cell.is_finite());
+    }
+}

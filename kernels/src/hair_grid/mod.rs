@@ -1,0 +1,49 @@
+//! Hair against hair: volume and friction through a grid of the hair,
+//! rebuilt once per step, between the blocks' steps.
+//!
+//! Guide strands pass through each other; the hair they stand for has
+//! volume and rubs. Following Petrovic, Henne and Anderson 2005 ("Volumetric
+//! methods for simulation and rendering of hair", Pixar) and McAdams et al.
+//! 2009 ("Detail preserving continuum simulation of straight hair"), the
+//! step grids the hair and lets each vertex feel the hair around it:
+//!
+//! 1. **Splat** (`grid.rs`, one thread, block after block, so the sums are
+//!    the same bytes on any thread count): every vertex `i` adds its weight
+//!    `s_i` and momentum `s_i v_i` (`v_i = (x_i - x_prev_i) / dt`) to the
+//!    node nearest it, then the node arrays are smoothed by `[1 2 1] / 4`
+//!    along each axis: the vertex's footprint is the quadratic B-spline of
+//!    the nearest-grid-point splat, smooth across cells at an eighth of
+//!    trilinear's scattered writes. `s_i` ramps from 0 at the root to 1 at
+//!    [`ROOT_RAMP`] of arc length: the roots' crowd on the scalp is the
+//!    groom's, not hair to push apart.
+//! 2. **Fields** per node: the density `rho = sum s / cell^3`, its excess
+//!    `e = max(rho / rho_0 - 1, 0)` over the target `rho_0` (the densest
+//!    node of the groomed pose, gridded the same way, [`HairGrid::target`]),
+//!    the excess's gradient by central differences (per cell), and the
+//!    hair's velocity `sum s v / sum s`.
+//! 3. **Apply** (`apply.rs`, per block, in lanes, as tasks; a scalar twin):
+//!    each free vertex reads the two fields trilinearly at its position:
+//!    - volume: it moves by `-volume_stiffness cell grad(e) / 4`, at most a
+//!      quarter cell, and its previous position with it (a projection: no
+//!      velocity is added, so pushing apart cannot pump energy);
+//!    - friction: its velocity moves toward the hair's by `hair_friction`
+//!      (`v += f (v_grid - v)`, through its previous position), so
+//!      velocities relative to the neighbours decay and the common motion
+//!      stays.
+//!
+//! Only compression is pushed back (`e >= 0`); sparse hair at rest feels
+//! nothing (no excess; its velocity is its own and zero).
+
+mod apply;
+mod grid;
+
+pub(crate) use apply::{apply_block, GridSetup};
+pub(crate) use grid::HairGrid;
+
+/// Arc length (metres) over which a vertex's weight in the grid and its
+/// response ramp from 0 at the root to 1.
+pub const ROOT_RAMP: f32 = 0.02;
+
+/// The most nodes a hair grid holds (`2^20`: 32 MiB of node fields); a box
+/// that needs more is gridded coarser.
+pub const MAX_HAIR_GRID_NODES: usize = 1 << 20;
