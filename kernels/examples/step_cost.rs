@@ -11,7 +11,8 @@
 //! as the step before the world round, frictionless, so the two compare
 //! code for code), `capsules` (each sphere a capsule of its radius, 2 radii long),
 //! `wind` (the spheres in a wind of (2, 0, 1) m/s, drag 1 /s), `gusts` (and
-//! turbulence 1 m/s), `field` (the spheres and one 4 mm field of the
+//! turbulence 1 m/s), `hair` (volume and hair friction at 1; `volume`
+//! and `friction` one of them), `field` (the spheres and one 4 mm field of the
 //! shared Sintel bust, its head on the head sphere, moved up or down until
 //! the median root lies on its surface). The set settles for
 //! 30 steps, sleeping is off (every block is stepped), then STEPS steps run
@@ -80,6 +81,11 @@ fn main() {
             if scene == "gusts" {
                 params.turbulence = 1.0;
             }
+        }
+        "hair" | "volume" | "friction" => {
+            // Hair against hair: `hair` both at 1, or one of them.
+            params.volume_stiffness = if scene == "friction" { 0.0 } else { 1.0 };
+            params.hair_friction = if scene == "volume" { 0.0 } else { 1.0 };
         }
         "field" => {
             let Some((positions, triangles)) = coif_testkit::sintel_bust() else {

@@ -50,15 +50,12 @@ impl GridLane for f32x8 {
     }
     #[inline(always)]
     fn node(field: &[[f32; 8]], idx: f32x8) -> [f32x8; 6] {
-        let idx = idx.to_array();
-        let mut out = [[0.0f32; 8]; 6];
-        for (l, &i) in idx.iter().enumerate() {
-            let n = field.get(i as usize).copied().unwrap_or([0.0; 8]);
-            for k in 0..6 {
-                out[k][l] = n[k];
-            }
-        }
-        out.map(f32x8::new)
+        // A node is eight floats: one row per lane, then one transpose.
+        let rows = idx
+            .to_array()
+            .map(|i| f32x8::new(field.get(i as usize).copied().unwrap_or([0.0; 8])));
+        let [a, b, c, d, e, f, _, _] = f32x8::transpose(rows);
+        [a, b, c, d, e, f]
     }
 }
 

@@ -4,6 +4,7 @@ use super::{MAX_HAIR_GRID_NODES, ROOT_RAMP};
 use crate::lanes::{Vec3x8, LANES};
 use crate::Strands;
 use glam::{UVec3, Vec3};
+use wide::f32x8;
 
 /// Empty nodes kept round the hair's box on every side (the central
 /// differences reach one node past the splat's).
@@ -44,12 +45,6 @@ const MAX_GRID_SPEED: f32 = 100.0;
 #[inline]
 fn sane(p: Vec3) -> bool {
     p.abs().max_element() < MAX_GRID_REACH
-}
-
-/// The weight of a vertex at rest arc `arc` from its root.
-#[inline]
-pub(crate) fn ramp(arc: f32) -> f32 {
-    (arc / ROOT_RAMP).clamp(0.0, 1.0)
 }
 
 impl HairGrid {
@@ -191,42 +186,77 @@ impl HairGrid {
         self.cell = cell;
         self.origin = lo - Vec3::splat(PAD as f32 * cell);
         let (nx, ny) = (dims.x as usize, dims.y as usize);
-        let inv_cell = 1.0 / cell;
-        let inv_dt = 1.0 / dt;
+        // Eight lanes at a time: weights, velocities and the eight corner
+        // weights in f32x8, then the writes lane by lane, corner by corner.
+        let inv_cell = f32x8::splat(1.0 / cell);
+        let inv_dt = f32x8::splat(1.0 / dt);
+        let zero = f32x8::ZERO;
+        let one = f32x8::ONE;
         let max_i = (dims - UVec3::splat(2)).as_vec3();
+        let origin = Vec3x8::splat(self.origin);
+        let reach = f32x8::splat(MAX_GRID_REACH);
         let room = self.touched.capacity();
+        let offsets: [usize; 8] =
+            std::array::from_fn(|c| (c & 1) + ((c >> 1) & 1) * nx + ((c >> 2) & 1) * nx * ny);
         for b in 0..s.blocks {
             let lanes = s.lanes_in_block(b);
             let base = b * s.verts;
             for v in 0..s.verts {
                 let (x, xp) = (pos[base + v], prev[base + v]);
-                let arc = s.rest_arc[base + v].to_array();
-                for (l, &arc) in arc.iter().enumerate().take(lanes) {
-                    let weight = ramp(arc);
-                    let p = x.lane(l);
-                    if weight <= 0.0 || !sane(p) {
+                let inside =
+                    x.x.abs().simd_lt(reach) & x.y.abs().simd_lt(reach) & x.z.abs().simd_lt(reach);
+                let weight = (s.rest_arc[base + v] * f32x8::splat(1.0 / ROOT_RAMP))
+                    .max(zero)
+                    .min(one);
+                let weight = f32x8::select(inside, weight, zero);
+                if weight.simd_gt(zero).to_bitmask() == 0 {
+                    continue;
+                }
+                let vel = (x - xp) * inv_dt;
+                let speed2 = vel.dot(vel);
+                let scale = (f32x8::splat(MAX_GRID_SPEED)
+                    * speed2.max(f32x8::splat(1e-30)).sqrt().recip())
+                .min(one);
+                let vel = vel * scale;
+                let finite = vel.x.is_finite() & vel.y.is_finite() & vel.z.is_finite();
+                let vel = Vec3x8::new(
+                    f32x8::select(finite, vel.x, zero),
+                    f32x8::select(finite, vel.y, zero),
+                    f32x8::select(finite, vel.z, zero),
+                );
+                let u = (x - origin) * inv_cell;
+                let axis = |u: f32x8, m: f32| {
+                    let i = u.floor().max(zero).min(f32x8::splat(m));
+                    (i, (u - i).max(zero).min(one))
+                };
+                let (ix, fx) = axis(u.x, max_i.x);
+                let (iy, fy) = axis(u.y, max_i.y);
+                let (iz, fz) = axis(u.z, max_i.z);
+                let node = iz.mul_add(
+                    f32x8::splat((nx * ny) as f32),
+                    iy.mul_add(f32x8::splat(nx as f32), ix),
+                );
+                let (gx, gy, gz) = (one - fx, one - fy, one - fz);
+                let corner: [[f32; 8]; 8] = std::array::from_fn(|c| {
+                    (weight
+                        * if c & 1 == 1 { fx } else { gx }
+                        * if (c >> 1) & 1 == 1 { fy } else { gy }
+                        * if (c >> 2) & 1 == 1 { fz } else { gz })
+                    .to_array()
+                });
+                let (node, weight) = (node.to_array(), weight.to_array());
+                let (vx, vy, vz) = (vel.x.to_array(), vel.y.to_array(), vel.z.to_array());
+                for l in 0..lanes {
+                    if weight[l] <= 0.0 {
                         continue;
                     }
-                    let vel = (p - xp.lane(l)) * inv_dt;
-                    let vel = if vel.is_finite() {
-                        vel.clamp_length_max(MAX_GRID_SPEED)
-                    } else {
-                        Vec3::ZERO
-                    };
-                    let u = (p - self.origin) * inv_cell;
-                    let i0 = u.floor().clamp(Vec3::ZERO, max_i);
-                    let f = (u - i0).clamp(Vec3::ZERO, Vec3::ONE);
-                    let base_node = (i0.z as usize * ny + i0.y as usize) * nx + i0.x as usize;
-                    for c in 0..8 {
-                        let (dx, dy, dz) = (c & 1, (c >> 1) & 1, (c >> 2) & 1);
-                        let w = weight
-                            * if dx == 1 { f.x } else { 1.0 - f.x }
-                            * if dy == 1 { f.y } else { 1.0 - f.y }
-                            * if dz == 1 { f.z } else { 1.0 - f.z };
+                    let base_node = node[l] as usize;
+                    for (c, &off) in offsets.iter().enumerate() {
+                        let w = corner[c][l];
                         if w <= 0.0 {
                             continue;
                         }
-                        let i = base_node + dx + dy * nx + dz * nx * ny;
+                        let i = base_node + off;
                         let a = &mut self.acc[i];
                         if a[0] == 0.0 {
                             if self.touched.len() == room {
@@ -235,9 +265,9 @@ impl HairGrid {
                             self.touched.push(i as u32);
                         }
                         a[0] += w;
-                        a[1] += w * vel.x;
-                        a[2] += w * vel.y;
-                        a[3] += w * vel.z;
+                        a[1] += w * vx[l];
+                        a[2] += w * vy[l];
+                        a[3] += w * vz[l];
                     }
                 }
             }
@@ -269,7 +299,9 @@ mod tests {
         assert!(g.live);
         let n = (g.dims.x * g.dims.y * g.dims.z) as usize;
         let total: f32 = g.acc[..n].iter().map(|a| a[0]).sum();
-        let expected: f32 = (0..41).map(|i| ramp(0.005 * i as f32)).sum();
+        let expected: f32 = (0..41)
+            .map(|i| (0.005 * i as f32 / ROOT_RAMP).clamp(0.0, 1.0))
+            .sum();
         assert!((total - expected).abs() < 1e-3, "{total} {expected}");
         let py: f32 = g.acc[..n].iter().map(|a| a[2]).sum();
         assert!((py - expected).abs() < 1e-3, "{py}");
