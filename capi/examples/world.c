@@ -110,6 +110,9 @@ int main(void) {
     params.turbulence = 0.3f;
     params.friction = 0.4f;
     params.static_friction = 0.8f;
+    /* Hair against hair: volume and friction through the hair grid. */
+    params.volume_stiffness = 1.0f;
+    params.hair_friction = 1.0f;
     for (frame = 0; frame < 240; frame++) {
         field_pose(frame, m);
         expect(coif_sdf_set_transform_at(fields, 0, m), COIF_OK, "set_transform_at");

@@ -148,6 +148,8 @@ int main() {
         params.turbulence = 0.5f;
         params.turbulence_scale = 0.1f;
         params.friction = 0.5f;
+        params.volume_stiffness = 1.0f; // hair against hair, through the hair grid
+        params.hair_friction = 1.0f;
         params.static_friction = 0.9f;
 
         StrandsPtr serial = make_hair(), threaded = make_hair();

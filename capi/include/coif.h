@@ -139,6 +139,15 @@ typedef struct CoifSimParams {
     // `max(0, depth - root_exit * arc(v))` inside it (`arc(v)` its rest
     // arc from the root), so roots on a scalp keep their groom.
     float root_exit;
+    // Hair-hair volume in [0, 1] (default 0 = off): hair packed denser
+    // than its groomed pose's densest is pushed apart, through a grid of
+    // the hair rebuilt every step.
+    float volume_stiffness;
+    // Hair-hair friction in [0, 1] (default 0 = off): the share of each
+    // vertex's velocity relative to the hair around it removed per step.
+    float hair_friction;
+    // Cell of the hair grid in metres (1e-4 to 1; default 0.015).
+    float hair_grid_cell;
 } CoifSimParams;
 
 // A collision sphere of the rig, world coordinates (metres).

@@ -145,6 +145,15 @@ pub struct CoifSimParams {
     /// `max(0, depth - root_exit * arc(v))` inside it (`arc(v)` its rest
     /// arc from the root), so roots on a scalp keep their groom.
     pub root_exit: f32,
+    /// Hair-hair volume in [0, 1] (default 0 = off): hair packed denser
+    /// than its groomed pose's densest is pushed apart, through a grid of
+    /// the hair rebuilt every step.
+    pub volume_stiffness: f32,
+    /// Hair-hair friction in [0, 1] (default 0 = off): the share of each
+    /// vertex's velocity relative to the hair around it removed per step.
+    pub hair_friction: f32,
+    /// Cell of the hair grid in metres (1e-4 to 1; default 0.015).
+    pub hair_grid_cell: f32,
 }
 
 /// A collision sphere of the rig, world coordinates (metres).
@@ -211,6 +220,9 @@ impl From<&CoifSimParams> for SimParams {
             turbulence_scale: p.turbulence_scale,
             turbulence_period: p.turbulence_period,
             root_exit: p.root_exit,
+            volume_stiffness: p.volume_stiffness,
+            hair_friction: p.hair_friction,
+            hair_grid_cell: p.hair_grid_cell,
             // Fields SimParams gains before CoifSimParams carries them keep
             // their Rust defaults (the C layout changes only deliberately).
             ..SimParams::default()
@@ -242,6 +254,9 @@ impl From<&SimParams> for CoifSimParams {
             turbulence_scale: p.turbulence_scale,
             turbulence_period: p.turbulence_period,
             root_exit: p.root_exit,
+            volume_stiffness: p.volume_stiffness,
+            hair_friction: p.hair_friction,
+            hair_grid_cell: p.hair_grid_cell,
         }
     }
 }

@@ -85,6 +85,8 @@ fn header_declares_the_c_names() {
         "float static_friction;",
         "float turbulence_period;",
         "float root_exit;",
+        "float volume_stiffness;",
+        "float hair_friction;",
         "enum CoifStatus coif_sdf_new(const float *xyz,",
         "void coif_sdf_free(struct CoifSdf *sdf);",
         "enum CoifStatus coif_sdf_set_transform(struct CoifSdf *sdf, const float *world_from_mesh);",

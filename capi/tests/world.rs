@@ -50,6 +50,9 @@ fn windy() -> CoifSimParams {
         friction: 0.6,
         static_friction: 1.2,
         root_exit: 0.5,
+        volume_stiffness: 0.7,
+        hair_friction: 0.4,
+        hair_grid_cell: 0.02,
         ..coif_sim_params_default()
     }
 }
@@ -216,6 +219,10 @@ fn new_params_travel_both_ways() {
     );
     assert_eq!((r.friction, r.static_friction), (0.6, 1.2));
     assert_eq!(r.root_exit, 0.5);
+    assert_eq!(
+        (r.volume_stiffness, r.hair_friction, r.hair_grid_cell),
+        (0.7, 0.4, 0.02)
+    );
     assert_eq!(CoifSimParams::from(&r), c);
     // The defaults are Rust's, and a kinetic friction above 1 is accepted.
     let d = coif_sim_params_default();
@@ -228,7 +235,10 @@ fn new_params_travel_both_ways() {
             d.turbulence,
             d.turbulence_scale,
             d.turbulence_period,
-            d.root_exit
+            d.root_exit,
+            d.volume_stiffness,
+            d.hair_friction,
+            d.hair_grid_cell
         ],
         [
             rd.drag,
@@ -236,7 +246,10 @@ fn new_params_travel_both_ways() {
             rd.turbulence,
             rd.turbulence_scale,
             rd.turbulence_period,
-            rd.root_exit
+            rd.root_exit,
+            rd.volume_stiffness,
+            rd.hair_friction,
+            rd.hair_grid_cell
         ]
     );
     let rough = CoifSimParams { friction: 1.5, ..d };
@@ -553,6 +566,27 @@ fn bad_world_inputs_are_refused_and_change_nothing() {
             (
                 CoifSimParams {
                     root_exit: -1.0,
+                    ..p
+                },
+                COIF_ERROR_INVALID_ARGUMENT,
+            ),
+            (
+                CoifSimParams {
+                    volume_stiffness: 1.5,
+                    ..p
+                },
+                COIF_ERROR_INVALID_ARGUMENT,
+            ),
+            (
+                CoifSimParams {
+                    hair_friction: -0.1,
+                    ..p
+                },
+                COIF_ERROR_INVALID_ARGUMENT,
+            ),
+            (
+                CoifSimParams {
+                    hair_grid_cell: 0.0,
                     ..p
                 },
                 COIF_ERROR_INVALID_ARGUMENT,
