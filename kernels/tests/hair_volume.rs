@@ -317,3 +317,85 @@ fn stable_under_the_stability_matrix() {
         }
     }
 }
+
+/// Two locks of eight strands (one block each) hanging 20 cm apart fall
+/// asleep; then the second's roots move into the first. The moving lock
+/// packs the sleeping one denser than its groom: the grid's push wakes it
+/// (both blocks awake); without volume and friction it sleeps on.
+#[test]
+fn pressure_from_awake_hair_wakes_sleeping_hair() {
+    let verts = 16;
+    let lock = |x0: f32| -> Vec<Vec3> {
+        (0..8)
+            .flat_map(|i| {
+                let root = Vec3::new(x0 + (i % 4) as f32 * 0.004, 1.0, (i / 4) as f32 * 0.004);
+                (0..verts).map(move |v| root - Vec3::Y * (0.01 * v as f32))
+            })
+            .collect()
+    };
+    let pts: Vec<Vec3> = [lock(0.0), lock(0.2)].concat();
+    let run = |p: &SimParams| {
+        let mut s = Strands::from_polylines(&pts, verts).unwrap();
+        for _ in 0..240 {
+            step(&mut s, p, &[]);
+        }
+        let asleep = s.awake_strands();
+        // The second lock's roots onto the first's.
+        let roots: Vec<Vec3> = pts
+            .iter()
+            .step_by(verts)
+            .enumerate()
+            .map(|(i, r)| {
+                if i >= 8 {
+                    *r - Vec3::X * 0.2 + Vec3::Z * 0.002
+                } else {
+                    *r
+                }
+            })
+            .collect();
+        s.set_roots(&roots).unwrap();
+        step(&mut s, p, &[]);
+        step(&mut s, p, &[]);
+        (asleep, s.awake_strands())
+    };
+    let with = SimParams {
+        sleep_speed: 0.02,
+        ..on(SimParams::default().hair_grid_cell)
+    };
+    let without = SimParams {
+        sleep_speed: 0.02,
+        ..Default::default()
+    };
+    assert_eq!(run(&with), (0, 16), "both asleep, then both awake");
+    assert_eq!(run(&without), (0, 8), "only the moved lock wakes");
+}
+
+/// Simulation LOD: a level with every other guide carries the same hair,
+/// so its volume must not shrink: the draped layer is as thick (the mean
+/// distance of the vertices from the head's centre) within 10 %.
+#[test]
+fn half_the_guides_keep_the_volume() {
+    let (pts, verts, rig) = head_of_hair(1024, 24);
+    let half: Vec<Vec3> = pts.chunks(verts).step_by(2).flatten().copied().collect();
+    let thickness_with = |pts: &[Vec3], p: &SimParams| {
+        let mut s = Strands::from_polylines(pts, verts).unwrap();
+        for _ in 0..180 {
+            step(&mut s, p, &rig);
+        }
+        let c = rig[0].center;
+        let x = s.positions();
+        x.iter().map(|q| q.distance(c)).sum::<f32>() / x.len() as f32
+    };
+    let p = on(SimParams::default().hair_grid_cell);
+    let (all, some) = (thickness_with(&pts, &p), thickness_with(&half, &p));
+    let flat = thickness_with(&half, &off());
+    let r = rig[0].radius;
+    eprintln!("mean distance from the head's centre: all guides {all:.4}, half {some:.4}, half without volume {flat:.4} (head {r})");
+    // The volume is there (the layer is thicker than without) ...
+    assert!(some - r >= 1.15 * (flat - r), "{some} vs {flat}");
+    // ... and as thick with half the guides.
+    assert!(
+        ((some - r) - (all - r)).abs() <= 0.1 * (all - r),
+        "{all} vs {some}"
+    );
+}
