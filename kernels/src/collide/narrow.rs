@@ -561,10 +561,6 @@ impl<T: SdfLane> FieldReach<T> {
             return (x, !T::all_lanes());
         }
         let (d, g) = T::sample(sdf, p);
-        *ball = ClearBall {
-            centre: p,
-            radius2: T::clear_radius2(sdf, p, d, (d + off) - skin, entry),
-        };
         let reach = if v < self.rooted_until {
             reach_at(T::splat(k.pearl_radius), self.root_depth, arc, k.root_exit)
         } else {
@@ -575,8 +571,16 @@ impl<T: SdfLane> FieldReach<T> {
         // `off` is +inf for a pinned vertex: never hit.
         let hit = (d + off).lt(reach) & n2.gt(T::splat(1.0e-12));
         if !T::any(hit) {
+            *ball = ClearBall {
+                centre: p,
+                radius2: T::clear_radius2(sdf, p, d, (d + off) - skin, entry),
+            };
             return (x, !T::all_lanes());
         }
+        // A lane is pushed: its margin `d + off - pearl_radius` is below
+        // zero (`reach <= pearl_radius`), so it has no ball and the next
+        // round looks up whatever the others' balls are: none for all.
+        ball.radius2 = T::splat(-1.0);
         let nrm = n * n2.max(T::splat(1.0e-12)).inv_sqrt();
         let depth = reach - d;
         // What this substep's motion relative to the surface can have put
