@@ -50,7 +50,10 @@
 //!    (Provot 1995, Follow-The-Leader order, Muller et al. 2012), then pushed
 //!    out of the spheres, capsules and fields, with Coulomb friction
 //!    (Macklin et al. 2014) and the roots rule (`collide/narrow.rs`); one
-//!    round per substep, two on the last (the second without friction).
+//!    round per substep, two on the last (the second without friction). A
+//!    field's lookup is skipped where it cannot push: eight lanes far from
+//!    the surface, or inside the clear balls of their last lookup in this
+//!    step (`narrow::ClearBall`, `collide/sdf/slope.rs`).
 //! 7. **Velocity and guard** (end of step): `x_prev` is rewritten so that
 //!    `(x - x_prev) / dt` is the last substep's velocity (what `set_velocity`
 //!    and `measure::max_speed` read); a lane with a non-finite coordinate or
