@@ -407,6 +407,41 @@ fn columns<T: Lane>(m: Mat3) -> [V3<T>; 3] {
     ]
 }
 
+/// A ball in a field's mesh frame that the skin provably does not reach
+/// (`SdfLane::clear_radius2`): a vertex whose mesh-frame point lies inside
+/// it in every lane is not pushed, so its lookup is skipped. The strand
+/// step keeps one per vertex and candidate field (the last real lookup's),
+/// reset to [`ClearBall::none`] at every block step.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ClearBall<T: Lane> {
+    centre: V3<T>,
+    /// The radius squared; -1 for none.
+    radius2: T,
+}
+
+impl<T: Lane> ClearBall<T> {
+    /// No ball: every point is outside it.
+    pub(crate) fn none() -> Self {
+        ClearBall {
+            centre: V3::zero(),
+            radius2: T::splat(-1.0),
+        }
+    }
+
+    /// The radius squared (-1 for none).
+    #[cfg(test)]
+    pub(crate) fn radius2(&self) -> T {
+        self.radius2
+    }
+
+    /// Every lane's point lies strictly inside (a NaN point never does).
+    #[inline(always)]
+    fn holds(&self, p: V3<T>) -> bool {
+        let o = p - self.centre;
+        !T::any(!dot(o, o).lt(self.radius2))
+    }
+}
+
 /// A mesh field in lanes over one step: this substep's `mesh_from_local`
 /// and `local_from_mesh` rotation, and the surface's motion over the
 /// substep at a mesh point `p` (`dm p + dt`).
@@ -490,6 +525,11 @@ impl<T: SdfLane> FieldReach<T> {
     /// substep; a vertex pushed that far keeps no velocity from it), with
     /// friction; `prev` is its position a substep ago, moved with a deep
     /// push. Also returns the lanes pushed deep.
+    ///
+    /// `ball` is this vertex's [`ClearBall`] in this field: when its mesh
+    /// point lies inside in every lane, nothing is looked up (no lane could
+    /// be pushed: the same result); otherwise the lookup refreshes it,
+    /// round the point looked up (or proved far).
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn push_vertex(
@@ -502,10 +542,22 @@ impl<T: SdfLane> FieldReach<T> {
         arc: T,
         k: &ContactSetup,
         friction: bool,
+        ball: &mut ClearBall<T>,
     ) -> (V3<T>, T::Mask) {
         let p = self.mesh_point(x);
-        // The far map proves every lane out of reach: no lookup.
-        if k.pearl_radius < sdf.far_clearance() && !T::any(!T::far(sdf, p)) {
+        if ball.holds(p) {
+            return (x, !T::all_lanes());
+        }
+        let entry = T::block_entry(sdf, p);
+        let skin = T::splat(k.pearl_radius);
+        // The far map proves every lane out of reach: no lookup; the far
+        // clearance bounds the field from below.
+        if k.pearl_radius < sdf.far_clearance() && !T::any(!T::far(entry, p)) {
+            let d = T::splat(sdf.far_clearance());
+            *ball = ClearBall {
+                centre: p,
+                radius2: T::clear_radius2(sdf, p, d, (d + off) - skin, entry),
+            };
             return (x, !T::all_lanes());
         }
         let (d, g) = T::sample(sdf, p);
@@ -519,8 +571,16 @@ impl<T: SdfLane> FieldReach<T> {
         // `off` is +inf for a pinned vertex: never hit.
         let hit = (d + off).lt(reach) & n2.gt(T::splat(1.0e-12));
         if !T::any(hit) {
+            *ball = ClearBall {
+                centre: p,
+                radius2: T::clear_radius2(sdf, p, d, (d + off) - skin, entry),
+            };
             return (x, !T::all_lanes());
         }
+        // A lane is pushed: its margin `d + off - pearl_radius` is below
+        // zero (`reach <= pearl_radius`), so it has no ball and the next
+        // round looks up whatever the others' balls are: none for all.
+        ball.radius2 = T::splat(-1.0);
         let nrm = n * n2.max(T::splat(1.0e-12)).inv_sqrt();
         let depth = reach - d;
         // What this substep's motion relative to the surface can have put

@@ -41,7 +41,7 @@ pub(crate) struct LaneBuffers {
     bend_share: Vec<[f32; 2]>,
     shape_weight: Vec<f32>,
     arc: Vec<f32>,
-    chain: ChainScratch<f32>,
+    pub(crate) chain: ChainScratch<f32>,
 }
 
 impl LaneBuffers {

@@ -277,15 +277,22 @@ pub(crate) const FAR_BLOCK: u32 = 4;
 /// that node is in the band).
 pub(crate) const FAR_RING: u32 = 2;
 
-/// The far map: per block of `FAR_BLOCK^3` cells, 1 where no node of the
-/// block or of the `FAR_RING` nodes around it is in the band and the
-/// block is outside (its nodes positive), else 0. Its dimensions in blocks.
+/// The far map with each block's slope bound (the lookup cache's), one
+/// `f32` per block of `FAR_BLOCK^3` cells, x fastest: `+1 / L` where the
+/// block is far (no node of the block or of the `FAR_RING` nodes around it
+/// is in the band, and all are outside: positive), `-1 / L` where not, with
+/// `L = slope::slope_bound(R)` and `R` the block's `slope::block_slopes`
+/// (never 0: an unbounded slope stores the smallest normal float, a budget
+/// of nothing). Its dimensions in blocks.
 pub(crate) fn far_map(g: &Grid, values: &[f32], band: &[bool]) -> (Vec<f32>, UVec3) {
     let dims = g.dims;
     let cells = dims - UVec3::ONE;
     let blocks = (cells + UVec3::splat(FAR_BLOCK - 1)) / FAR_BLOCK;
     let (nx, ny) = (dims.x as usize, dims.y as usize);
-    let mut far = vec![0.0f32; (blocks.x * blocks.y * blocks.z) as usize];
+    let mut map = super::slope::block_slopes(values, dims, g.cell, FAR_BLOCK, blocks);
+    for r in &mut map {
+        *r = (1.0 / super::slope::slope_bound(*r)).max(f32::MIN_POSITIVE);
+    }
     for bz in 0..blocks.z {
         for by in 0..blocks.y {
             for bx in 0..blocks.x {
@@ -306,13 +313,14 @@ pub(crate) fn far_map(g: &Grid, values: &[f32], band: &[bool]) -> (Vec<f32>, UVe
                         }
                     }
                 }
-                if clear {
-                    far[((bz * blocks.y + by) * blocks.x + bx) as usize] = 1.0;
+                if !clear {
+                    let i = ((bz * blocks.y + by) * blocks.x + bx) as usize;
+                    map[i] = -map[i];
                 }
             }
         }
     }
-    (far, blocks)
+    (map, blocks)
 }
 
 /// The winding number at every node, exact at the coarsest level and near
@@ -496,7 +504,8 @@ mod tests {
             for _ in 0..4000 {
                 let t = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32());
                 let p = lo - Vec3::splat(0.02) + (hi - lo + Vec3::splat(0.04)) * t;
-                if <f32 as SdfLane>::far(&sdf, V3::from_vec3(p)) {
+                let pv = V3::from_vec3(p);
+                if <f32 as SdfLane>::far(<f32 as SdfLane>::block_entry(&sdf, pv), pv) {
                     far += 1;
                     let (d, w) = brute(&mesh, p);
                     assert!(w < 0.5, "{p}: far but inside (winding {w})");

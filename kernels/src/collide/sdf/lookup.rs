@@ -49,11 +49,14 @@ pub(crate) trait SdfLane: Lane {
     fn sample(sdf: &Sdf, p_mesh: V3<Self>) -> (Self, V3<Self>) {
         sample(&sdf.grid, p_mesh)
     }
-    /// Lanes whose point (mesh frame) lies in a block of the far map: more
-    /// than `far_clearance` outside the surface, so no skin thinner than
-    /// that reaches it. A NaN point is never far.
+    /// The far map's entry for the block of each lane's point (mesh
+    /// frame): `+1 / L` where the block is far, `-1 / L` where not, `L` the
+    /// slope bound of the block grown by one block (`build::far_map`). A
+    /// point outside the grid box reads the block of its projection onto the
+    /// box (the block index is clamped, and the grid is a whole number of
+    /// blocks); a NaN point reads some block.
     #[inline(always)]
-    fn far(sdf: &Sdf, p_mesh: V3<Self>) -> Self::Mask {
+    fn block_entry(sdf: &Sdf, p_mesh: V3<Self>) -> Self {
         let g = &sdf.grid;
         let inv = Self::splat(g.far_inv);
         let zero = Self::splat(0.0);
@@ -70,7 +73,55 @@ pub(crate) trait SdfLane: Lane {
             Self::splat(g.far_stride_z),
             y.mul_add(Self::splat(g.far_stride_y), x),
         );
-        Self::fetch(&g.far, idx).gt(Self::splat(0.5)) & p_mesh.finite()
+        Self::fetch(&g.far, idx)
+    }
+    /// Lanes whose point (mesh frame) lies in a block of the far map (from
+    /// its [`SdfLane::block_entry`]): more than `far_clearance` outside the
+    /// surface, so no skin thinner than that reaches it. A NaN point is
+    /// never far.
+    #[inline(always)]
+    fn far(entry: Self, p_mesh: V3<Self>) -> Self::Mask {
+        entry.gt(Self::splat(0.0)) & p_mesh.finite()
+    }
+    /// The squared radius of a ball round `p_mesh` (mesh frame) no point
+    /// of which the skin reaches: `d` is a lower bound of the field at
+    /// `p_mesh` (its lookup, or the far clearance), `margin` how far above
+    /// the skin that is (`d + off - pearl_radius`, `off` +inf for a pinned
+    /// vertex), `entry` the point's [`SdfLane::block_entry`]. -1 (no ball)
+    /// where the margin is not positive or not a number.
+    ///
+    /// With `L = 1 / |entry|`, the radius is
+    /// `min((margin - slack_d) / L - slack_p, cap)`:
+    /// - `L` bounds the field's slope within the block of `p_mesh` grown by
+    ///   one block (`slope.rs`), and a move shorter than a block width from
+    ///   a point of the block stays in it (after clamping to the box too:
+    ///   the clamp only shortens moves, and the point's block is its
+    ///   projection's). So `cap` is just under a block width
+    ///   (`FAR_BLOCK cell (1 - 1e-3)`: a point whose block index rounded to
+    ///   the neighbour's lies at most an ulp outside that block);
+    /// - `slack_d = 1e-6 m + 1e-5 |d|` covers the rounding of the lookup's
+    ///   arithmetic at both points (a few ulps of the values; the outside
+    ///   distance's square root estimate, a few 1e-7 relative);
+    /// - `slack_p = 1e-6 m + 4e-7 |p_mesh - origin|_1` covers the rounding
+    ///   of both points to grid units (at most about `1.2e-7 |p - origin|`
+    ///   per axis each), which moves where the interpolant is evaluated.
+    ///
+    /// So for a point `q` with `|q - p_mesh| < radius` the looked-up value
+    /// is at least `d - margin + (slack_d - rounding) > pearl_radius - off`:
+    /// the test `d + off < reach` (`reach <= pearl_radius`) fails in every
+    /// lane, and the lookup would leave the vertex as it is.
+    #[inline(always)]
+    fn clear_radius2(sdf: &Sdf, p_mesh: V3<Self>, d: Self, margin: Self, entry: Self) -> Self {
+        let g = &sdf.grid;
+        let slack_d = d.abs().mul_add(Self::splat(1.0e-5), Self::splat(1.0e-6));
+        let from = (p_mesh.x - Self::splat(g.origin.x)).abs()
+            + (p_mesh.y - Self::splat(g.origin.y)).abs()
+            + (p_mesh.z - Self::splat(g.origin.z)).abs();
+        let slack_p = from.mul_add(Self::splat(4.0e-7), Self::splat(1.0e-6));
+        let r = (margin - slack_d).mul_add(entry.abs(), -slack_p);
+        // `min` returns its second operand on NaN: a NaN radius stays NaN.
+        let r = Self::splat(g.ball_cap).min(r);
+        Self::select(r.gt(Self::splat(0.0)), r * r, Self::splat(-1.0))
     }
 }
 

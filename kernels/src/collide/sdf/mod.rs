@@ -18,6 +18,7 @@
 
 mod build;
 mod lookup;
+mod slope;
 mod triangle;
 mod winding;
 
@@ -63,16 +64,21 @@ pub(crate) struct Grid {
     pub max_base: i32,
     /// Offsets of a cell's eight corners from its lowest node, x fastest.
     pub corners: [i32; 8],
-    /// The far map (`build::far_map`): per block of `FAR_BLOCK^3` cells, 1
-    /// where every point of the block is outside and more than
-    /// `far_clearance` from the surface; its size in blocks, strides and
-    /// clamps as floats, and `1 / (FAR_BLOCK cell)`.
+    /// The far map with the slope bounds (`build::far_map`): per block of
+    /// `FAR_BLOCK^3` cells, `+1 / L` where every point of the block is
+    /// outside and more than `far_clearance` from the surface, `-1 / L`
+    /// where not, `L` the field's slope bound over the block grown by one
+    /// block (`slope.rs`); its size in blocks, strides and clamps as floats,
+    /// and `1 / (FAR_BLOCK cell)`.
     pub far: Vec<f32>,
     pub far_max: Vec3,
     pub far_stride_y: f32,
     pub far_stride_z: f32,
     pub far_inv: f32,
     pub far_clearance: f32,
+    /// The largest radius of a clear ball (`SdfLane::clear_radius2`): just
+    /// under a block width, `FAR_BLOCK cell (1 - 1e-3)`.
+    pub ball_cap: f32,
 }
 
 impl Grid {
@@ -99,6 +105,7 @@ impl Grid {
             far_stride_z: 0.0,
             far_inv: 1.0 / (cell * build::FAR_BLOCK as f32),
             far_clearance: (build::FAR_RING as f32 - 0.8661) * cell,
+            ball_cap: build::FAR_BLOCK as f32 * cell * (1.0 - 1.0e-3),
         }
     }
 
@@ -113,6 +120,15 @@ impl Sdf {
     /// skips its lookup there.
     pub(crate) fn far_clearance(&self) -> f32 {
         self.grid.far_clearance
+    }
+
+    /// The same field with no clear balls (every radius -1): the step then
+    /// looks up every vertex every round, the reference the skipping is
+    /// tested against.
+    #[cfg(test)]
+    pub(crate) fn without_clear_balls(mut self) -> Sdf {
+        self.grid.ball_cap = -1.0;
+        self
     }
 }
 
