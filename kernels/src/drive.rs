@@ -113,10 +113,17 @@ pub(crate) fn drive(
     let mut grid = std::mem::take(&mut strands.hair_grid);
     let grid_setup = (params.volume_stiffness > 0.0 || params.hair_friction > 0.0).then(|| {
         grid.build(strands, &pos, &prev, params.dt, params.hair_grid_cell);
+        let wind = if params.wind.is_finite() {
+            params.wind
+        } else {
+            glam::Vec3::ZERO
+        };
         GridSetup {
             volume: params.volume_stiffness,
             friction: params.hair_friction,
             dt: params.dt,
+            pull: wind * params.effective_drag(),
+            wind_dir: wind.normalize_or_zero(),
         }
     });
     {

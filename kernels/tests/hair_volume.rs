@@ -399,3 +399,59 @@ fn half_the_guides_keep_the_volume() {
         "{all} vs {some}"
     );
 }
+
+/// Wind through dense hair: a lock of 64 strands (8 x 8 roots 3 mm apart)
+/// and a lone strand 30 cm beside it, 20 cm each, in a steady wind along
+/// +x for 2 s. With the grid, the hair upwind shields the lock's inside:
+/// its downwind strands bend less than the lone strand and less than its
+/// upwind ones; without, every strand bends alike.
+#[test]
+fn dense_hair_shields_its_inside_from_the_wind() {
+    let verts = 21;
+    let mut pts = Vec::new();
+    let root = |i: usize| {
+        if i < 64 {
+            Vec3::new((i % 8) as f32 * 0.003, 1.0, (i / 8) as f32 * 0.003)
+        } else {
+            Vec3::new(0.0, 1.0, 0.3)
+        }
+    };
+    for i in 0..65 {
+        pts.extend((0..verts).map(|v| root(i) - Vec3::Y * (0.01 * v as f32)));
+    }
+    let bend = |p: &SimParams| {
+        let mut s = Strands::from_polylines(&pts, verts).unwrap();
+        for _ in 0..120 {
+            step(&mut s, p, &[]);
+        }
+        let x = s.positions();
+        // Tip displacement along the wind, per strand.
+        (0..65)
+            .map(|i| x[i * verts + verts - 1].x - root(i).x)
+            .collect::<Vec<f32>>()
+    };
+    let windy = |p: SimParams| SimParams {
+        wind: Vec3::new(3.0, 0.0, 0.0),
+        drag: 2.0,
+        ..p
+    };
+    let mean = |b: &[f32], column: usize| (0..8).map(|r| b[r * 8 + column]).sum::<f32>() / 8.0;
+    let with = bend(&windy(on(SimParams::default().hair_grid_cell)));
+    let without = bend(&windy(off()));
+    eprintln!(
+        "tip along the wind: lone {:.4} / {:.4}; lock upwind column {:.4} / {:.4}; downwind column {:.4} / {:.4} (with / without the grid)",
+        with[64],
+        without[64],
+        mean(&with, 0),
+        mean(&without, 0),
+        mean(&with, 7),
+        mean(&without, 7)
+    );
+    assert!(mean(&with, 7) < 0.85 * with[64], "{with:?}");
+    assert!(mean(&with, 7) < 0.9 * mean(&with, 0), "{with:?}");
+    assert!((mean(&without, 7) - without[64]).abs() < 0.05 * without[64]);
+    assert!(
+        with[64] > 0.9 * without[64],
+        "the lone strand feels the whole wind"
+    );
+}

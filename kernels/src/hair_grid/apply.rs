@@ -22,13 +22,23 @@ pub(crate) struct GridSetup {
     pub volume: f32,
     pub friction: f32,
     pub dt: f32,
+    /// The wind's pull `drag * wind` (m/s^2; zero in still air) and its
+    /// unit direction.
+    pub pull: glam::Vec3,
+    pub wind_dir: glam::Vec3,
 }
+
+/// How far upwind (cells) a vertex looks for the hair that shields it.
+pub const UPWIND_CELLS: f32 = 1.0;
+/// The share of the wind's pull that hair at its groomed density (or
+/// denser) upwind takes away.
+pub const WIND_SHIELD: f32 = 0.9;
 
 /// The per-lane reads of the grid: `floor`, and the six fields of node
 /// `idx` (an integer-valued float, in range), one lane or eight.
 pub(crate) trait GridLane: Lane {
     fn floor(self) -> Self;
-    fn node(field: &[[f32; 8]], idx: Self) -> [Self; 6];
+    fn node(field: &[[f32; 8]], idx: Self) -> [Self; 7];
 }
 
 impl GridLane for f32 {
@@ -37,9 +47,9 @@ impl GridLane for f32 {
         f32::floor(self)
     }
     #[inline(always)]
-    fn node(field: &[[f32; 8]], idx: f32) -> [f32; 6] {
+    fn node(field: &[[f32; 8]], idx: f32) -> [f32; 7] {
         let n = field.get(idx as usize).copied().unwrap_or([0.0; 8]);
-        [n[0], n[1], n[2], n[3], n[4], n[5]]
+        [n[0], n[1], n[2], n[3], n[4], n[5], n[6]]
     }
 }
 
@@ -49,19 +59,19 @@ impl GridLane for f32x8 {
         f32x8::floor(self)
     }
     #[inline(always)]
-    fn node(field: &[[f32; 8]], idx: f32x8) -> [f32x8; 6] {
+    fn node(field: &[[f32; 8]], idx: f32x8) -> [f32x8; 7] {
         // A node is eight floats: one row per lane, then one transpose.
         let rows = idx
             .to_array()
             .map(|i| f32x8::new(field.get(i as usize).copied().unwrap_or([0.0; 8])));
-        let [a, b, c, d, e, f, _, _] = f32x8::transpose(rows);
-        [a, b, c, d, e, f]
+        let [a, b, c, d, e, f, g, _] = f32x8::transpose(rows);
+        [a, b, c, d, e, f, g]
     }
 }
 
-/// The six fields at `p` (local frame), trilinearly.
+/// The seven fields at `p` (local frame), trilinearly.
 #[inline(always)]
-fn sample<T: GridLane>(g: &HairGrid, p: V3<T>) -> [T; 6] {
+fn sample<T: GridLane>(g: &HairGrid, p: V3<T>) -> [T; 7] {
     let inv = T::splat(1.0 / g.cell);
     let zero = T::splat(0.0);
     let max_u = (g.dims - glam::UVec3::ONE).as_vec3();
@@ -78,7 +88,7 @@ fn sample<T: GridLane>(g: &HairGrid, p: V3<T>) -> [T; 6] {
     let base = iz.mul_add(T::splat(sy), iy.mul_add(T::splat(sx), ix));
     let one = T::splat(1.0);
     let (gx, gy, gz) = (one - fx, one - fy, one - fz);
-    let mut out = [zero; 6];
+    let mut out = [zero; 7];
     for c in 0..8 {
         let (dx, dy, dz) = (c & 1, (c >> 1) & 1, (c >> 2) & 1);
         let off = dx as f32 + dy as f32 * sx + dz as f32 * sy;
@@ -86,7 +96,7 @@ fn sample<T: GridLane>(g: &HairGrid, p: V3<T>) -> [T; 6] {
             * if dy == 1 { fy } else { gy }
             * if dz == 1 { fz } else { gz };
         let node = T::node(&g.field, base + T::splat(off));
-        for k in 0..6 {
+        for k in 0..7 {
             out[k] = w.mul_add(node[k], out[k]);
         }
     }
@@ -115,6 +125,10 @@ pub(crate) fn apply_block<T: GridLane>(
     let friction = T::splat(k.friction);
     let inv_ramp = T::splat(1.0 / super::ROOT_RAMP);
     let tiny = T::splat(1.0e-12);
+    let shielded = k.pull.length_squared() > 0.0 && k.pull.is_finite();
+    let upwind = V3::splat(k.wind_dir * (UPWIND_CELLS * g.cell));
+    let pull_dt = V3::splat(k.pull * k.dt);
+    let shield_share = T::splat(WIND_SHIELD);
     for ((x, xp), (&w, &a)) in pos.iter_mut().zip(prev.iter_mut()).zip(w.iter().zip(arc)) {
         let free = w.gt(zero);
         if !T::any(free) {
@@ -130,6 +144,12 @@ pub(crate) fn apply_block<T: GridLane>(
         // Friction: the velocity toward the hair's.
         let vel = (*x - *xp) * T::splat(1.0 / k.dt);
         let mut dv = (V3::new(f[3], f[4], f[5]) - vel) * (friction * ramp);
+        // Wind shielded by the hair upwind: the pull's share taken away.
+        if shielded {
+            let up = sample(g, *x - upwind)[6];
+            let shield = up.max(zero).min(T::splat(1.0)) * (shield_share * ramp);
+            dv = dv - pull_dt * shield;
+        }
         // Volume as a velocity: along the push `n`, the vertex leaves the
         // denser hair at least at the push's speed `|d| / dt` (a contact
         // that separates: its normal velocity is raised, never lowered),

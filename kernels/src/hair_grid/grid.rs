@@ -16,8 +16,8 @@ pub(crate) struct HairGrid {
     /// Per node: `[sum s, sum s vx, sum s vy, sum s vz]`; zero at every
     /// node but this step's `touched` ones.
     acc: Vec<[f32; 4]>,
-    /// Per node: `[de/dx, de/dy, de/dz (per cell), vx, vy, vz, 0, 0]`,
-    /// valid at the touched nodes.
+    /// Per node: `[de/dx, de/dy, de/dz (per cell), vx, vy, vz, rho /
+    /// rho_0, 0]`, valid at the touched nodes.
     pub(crate) field: Vec<[f32; 8]>,
     /// The nodes this step's splat wrote, in the order it first wrote them.
     touched: Vec<u32>,
@@ -123,7 +123,8 @@ impl HairGrid {
             ];
             let a = acc[i];
             let v = [a[1] / a[0], a[2] / a[0], a[3] / a[0]];
-            self.field[i] = [g[0], g[1], g[2], v[0], v[1], v[2], 0.0, 0.0];
+            let relative = a[0] * inv_target;
+            self.field[i] = [g[0], g[1], g[2], v[0], v[1], v[2], relative, 0.0];
         }
     }
 
