@@ -68,6 +68,15 @@ struct Cli {
     /// (its guides grow straight out and must drape).
     #[arg(long, value_name = "K")]
     local_shape: Option<f32>,
+    /// Hair-hair volume in [0, 1]: hair packed denser than its groom is
+    /// pushed apart (the hair grid). Default: 1 for Sintel and grooms on a
+    /// mesh, 0 otherwise.
+    #[arg(long, value_name = "K")]
+    volume: Option<f32>,
+    /// Hair-hair friction in [0, 1]: each vertex's velocity relative to the
+    /// hair around it removed at this rate per step. Default: as --volume.
+    #[arg(long, value_name = "K")]
+    hair_friction: Option<f32>,
     /// Hair shading model: kajiya-kay, marschner (Marschner 2003 table) or
     /// pbrt (pbrt-v3 far-field table).
     #[arg(long, default_value = "kajiya-kay", value_parser = parse_model)]
@@ -499,11 +508,14 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     } else {
         (0.0, 0.0)
     };
+    let hair_default = if scene.body.is_some() { 1.0 } else { 0.0 };
     let settings = FrameSettings {
         simulation: SimParams {
             local_shape_stiffness: local_shape,
             drag,
             turbulence,
+            volume_stiffness: cli.volume.unwrap_or(hair_default),
+            hair_friction: cli.hair_friction.unwrap_or(hair_default),
             ..settings.simulation
         },
         ..settings

@@ -29,6 +29,8 @@ fn settings(size: usize) -> FrameSettings {
             local_shape_stiffness: 1.0,
             drag: motion::GUST_DRAG,
             turbulence: motion::GUST_TURBULENCE,
+            volume_stiffness: 1.0,
+            hair_friction: 1.0,
             ..base.simulation
         },
         ..base

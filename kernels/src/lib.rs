@@ -6,7 +6,10 @@
 //! [`step_colliders`] steps against a [`Colliders`] set: spheres,
 //! [`Capsule`]s and signed distance fields of meshes ([`Sdf`]), in wind
 //! and linear drag ([`SimParams::wind`], [`SimParams::drag`], gusts) with
-//! Coulomb friction (`README.md`, "The world around the hair"). [`patch`]
+//! Coulomb friction (`README.md`, "The world around the hair"), with hair
+//! against hair: volume and friction through a grid of the hair
+//! ([`SimParams::volume_stiffness`], [`SimParams::hair_friction`];
+//! [`hair_grid`], `README.md`, "Hair against hair"). [`patch`]
 //! simulates small cloth grids (fins, ribbons) with the same code, columns
 //! in lanes.
 //!
