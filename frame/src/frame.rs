@@ -184,8 +184,7 @@ pub struct FrameStats {
 /// rasterisation. [`FramePipeline::frame`] allocates nothing.
 pub struct FramePipeline {
     settings: FrameSettings,
-    // Scene at rest (world space).
-    rest_roots: Vec<Vec3>,
+    // Scene at rest (world space; the roots' rest is the strands' own).
     rest_rig: Vec<Sphere>,
     rest_head: Vec<Sphere>,
     pivot: Vec3,
@@ -194,7 +193,6 @@ pub struct FramePipeline {
     params: SimParams,
     fixed: FixedStep,
     pose: Affine3A,
-    roots: Vec<Vec3>,
     rig: Vec<Sphere>,
     head_local: Vec<Sphere>,
     ribbons: RibbonStage,
@@ -307,8 +305,6 @@ impl FramePipeline {
             ribbons,
             body,
             rig: scene.rig.clone(),
-            roots: rest_roots.clone(),
-            rest_roots,
             pivot: scene.pivot,
             strands,
             params,
@@ -431,19 +427,15 @@ impl FramePipeline {
     }
 
     fn place_head(&mut self, pose: &Affine3A) {
-        for (dst, r) in self.roots.iter_mut().zip(&self.rest_roots) {
-            *dst = pose.transform_point3(*r);
-        }
         for (dst, s) in self.rig.iter_mut().zip(&self.rest_rig) {
             dst.center = pose.transform_point3(s.center);
         }
         if let Some(body) = &mut self.body {
             body.place(pose);
         }
-        // Roots are finite (checked at construction, pose checked above).
-        let _ = self.strands.set_roots(&self.roots);
-        let (_, rotation, _) = pose.to_scale_rotation_translation();
-        let _ = self.strands.set_rest_rotation(rotation);
+        // One call moves the roots and turns the rest frame (finite and
+        // rigid: checked by the caller; a refused pose keeps the last).
+        let _ = self.strands.set_head_pose(*pose);
     }
 
     /// Prepare (LOD, shadow map, shading) and rasterisation of the current

@@ -77,6 +77,9 @@ pub struct Strands {
     pub(crate) scratch: StepScratch,
     /// The hair grid (volume and friction), sized at its first use.
     pub(crate) hair_grid: crate::hair_grid::HairGrid,
+    /// Every strand's root as built (world, f64): where
+    /// [`Strands::set_head_pose`] moves them from.
+    pub(crate) rest_roots: Vec<DVec3>,
 }
 
 /// The step's reusable buffers (no per-frame allocation once sized): the
@@ -181,6 +184,7 @@ impl Strands {
             }
         }
         s.fill_mass_shares();
+        s.rest_roots = points.iter().step_by(verts).map(|p| p.as_dvec3()).collect();
         for (r, a) in s.reach_arc.iter_mut().zip(&s.rest_arc) {
             *r = a.to_array().into_iter().fold(0.0, f32::max);
         }
@@ -220,6 +224,7 @@ impl Strands {
             params_seen: None,
             scratch: StepScratch::new(blocks, verts),
             hair_grid: Default::default(),
+            rest_roots: Vec::new(),
         }
     }
 
@@ -498,6 +503,60 @@ impl Strands {
         self.scratch.rig.forget();
         self.rebase_if_far();
         Ok(())
+    }
+
+    /// Poses the head in one call: every root moves to `world_from_rest`
+    /// applied to where it was built ([`Strands::from_polylines`]), and the
+    /// rest frame turns with the pose's rotation
+    /// ([`Strands::set_rest_rotation`]), so that local shape constraints
+    /// keep the groom as the head turns. This is `set_roots` plus
+    /// `set_rest_rotation` for a rigid head; a skinned scalp calls those two
+    /// itself. Allocates nothing.
+    ///
+    /// # Errors
+    /// [`Error::NonFinite`] (index of the first non-finite matrix entry)
+    /// or [`Error::InvalidParameter`] for a transform that is not a
+    /// rotation and a translation (columns not orthonormal within 1e-3, or
+    /// a reflection); nothing changes then.
+    ///
+    /// ```
+    /// use coif_kernels::Strands;
+    /// use glam::{Affine3A, Quat, Vec3};
+    /// let groom = [Vec3::new(0.0, 1.7, 0.1), Vec3::new(0.0, 1.6, 0.12)];
+    /// let mut hair = Strands::from_polylines(&groom, 2).unwrap();
+    /// let turn = Affine3A::from_rotation_translation(Quat::from_rotation_y(1.0), Vec3::X);
+    /// hair.set_head_pose(turn).unwrap();
+    /// let root = hair.positions()[0];
+    /// assert!(root.distance(turn.transform_point3(groom[0])) < 1e-5);
+    /// ```
+    pub fn set_head_pose(&mut self, world_from_rest: Affine3A) -> Result<(), Error> {
+        let cols = world_from_rest.to_cols_array();
+        if let Some(index) = cols.iter().position(|c| !c.is_finite()) {
+            return Err(Error::NonFinite { index });
+        }
+        let m = Mat3::from(world_from_rest.matrix3);
+        let rigid = (m.transpose() * m - Mat3::IDENTITY)
+            .to_cols_array()
+            .iter()
+            .all(|e| e.abs() <= 1e-3)
+            && m.determinant() > 0.0;
+        if !rigid {
+            return Err(Error::InvalidParameter {
+                name: "world_from_rest",
+                value: m.determinant(),
+                expected: "a rotation and a translation",
+            });
+        }
+        let (m64, t64) = (
+            world_from_rest.matrix3.as_dmat3(),
+            world_from_rest.translation.as_dvec3(),
+        );
+        let o = self.origin;
+        let roots = std::mem::take(&mut self.rest_roots);
+        self.write_roots(roots.iter().map(|r| (m64 * *r + t64 - o).as_vec3()));
+        self.rest_roots = roots;
+        self.rebase_if_far();
+        self.set_rest_rotation(glam::Quat::from_mat3(&m))
     }
 
     /// Orientation of the groom frame that the rest shape (used by
