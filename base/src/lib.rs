@@ -4,6 +4,8 @@
 //!   registers: strands (or shading samples) in SIMD lanes, [`LANES`] wide.
 //! - [`StrandBlocks`]: a read-only view of strands stored in lane blocks.
 //! - [`Sphere`]: the collision rig's primitive.
+//! - [`polyline`]: [`polyline::arc_length_samples`], a polyline resampled
+//!   uniformly in arc length (grooms of any vertex counts to the step's).
 //! - [`rng`]: [`SplitMix64`], the small deterministic generator behind every
 //!   random choice (scenes, sampling, tests), so the same seed gives the
 //!   same bytes on every machine.
@@ -13,6 +15,7 @@
 #![warn(missing_docs)]
 
 pub mod lanes;
+pub mod polyline;
 pub mod rng;
 mod sphere;
 mod strand_blocks;

@@ -4,11 +4,11 @@
 
 use super::body::{Body, BODY_FIELD_CELL};
 use super::ribbon::bow_tails;
-use super::triangulate::{median_edge, triangulate_roots};
 use super::Error;
 use coif_geometry::groom::{self, Groom};
 use coif_geometry::mesh::TriangleMesh;
 use coif_geometry::scene::{self, GrowOptions};
+use coif_geometry::triangulate::scalp_triangles;
 use coif_kernels::patch::Ribbon;
 use coif_kernels::Sphere;
 use coif_lod::arc_length_samples;
@@ -61,9 +61,6 @@ pub const GROOM_RIBBON_ATTACH: Vec3 = Vec3::new(-0.6, 0.5, -0.6);
 /// program.
 const SINTEL_GROOM: &[u8] = include_bytes!("../../assets/sintel/sintel_lite.tfx");
 const SINTEL_BUST: &[u8] = include_bytes!("../../assets/sintel/sintel_bust.obj");
-
-/// Edges longer than this many median edges are gaps between hair patches.
-const MAX_EDGE_IN_MEDIANS: f32 = 3.0;
 
 impl HairScene {
     /// The built-in head: `options` grows guides on a sphere
@@ -220,7 +217,7 @@ impl HairScene {
 
     /// The scene of `guides` over `rig`, drawing `head`: scalp triangles
     /// from the roots' directions seen from `center` (without edges longer
-    /// than [`MAX_EDGE_IN_MEDIANS`] median edges), framing from the bounds.
+    /// than `MAX_EDGE_IN_MEDIANS` median edges), framing from the bounds.
     fn assemble(
         guides: Vec<Vec3>,
         verts: usize,
@@ -230,9 +227,7 @@ impl HairScene {
         center: Vec3,
     ) -> Result<HairScene, Error> {
         let roots: Vec<Vec3> = guides.iter().step_by(verts).copied().collect();
-        let all = triangulate_roots(&roots, center, f32::INFINITY);
-        let max_edge = MAX_EDGE_IN_MEDIANS * median_edge(&roots, &all);
-        let triangles = triangulate_roots(&roots, center, max_edge);
+        let triangles = scalp_triangles(&roots, center);
         if triangles.is_empty() {
             return Err(Error::Scene("the guide roots make no scalp triangle"));
         }

@@ -45,7 +45,9 @@ mod shading_model;
 mod shadow;
 pub mod sim_lod;
 pub mod timings;
-pub mod triangulate;
+/// Scalp triangles from guide roots (moved to `coif_geometry`; this path
+/// stays).
+pub use coif_geometry::triangulate;
 
 pub use error::Error;
 pub use frame::{

@@ -8,6 +8,8 @@
 //!   Wavefront OBJ, validated, with vertex normals.
 //! - [`scalp`]: scalp triangle meshes with area-weighted vertex normals,
 //!   guides grown from their vertices.
+//! - [`triangulate`]: scalp triangles from guide roots (a groom file has
+//!   none): the spherical Delaunay triangulation of their directions.
 //! - [`scene`]: built-in scenes that need no files: hair grown on a sphere
 //!   head, collision rigs, a stand-in head for grooms that come without one.
 //!
@@ -20,3 +22,4 @@ pub mod grow;
 pub mod mesh;
 pub mod scalp;
 pub mod scene;
+pub mod triangulate;

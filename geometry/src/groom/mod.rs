@@ -36,6 +36,9 @@ pub enum Error {
         /// Index of the point.
         index: usize,
     },
+    /// A resampling request that cannot be met (fewer than two points per
+    /// strand, a scale that is not finite and positive, a result too large).
+    BadResample(&'static str),
 }
 
 impl fmt::Display for Error {
@@ -48,6 +51,7 @@ impl fmt::Display for Error {
             Error::UnknownFormat => write!(f, "not a TressFX 4 (.tfx) or cyHair (.hair) groom"),
             Error::Unwritable(why) => write!(f, "cannot write the groom: {why}"),
             Error::NonFinite { index } => write!(f, "groom point {index} is not finite"),
+            Error::BadResample(why) => write!(f, "cannot resample the groom: {why}"),
         }
     }
 }
@@ -140,6 +144,55 @@ impl Groom {
     /// Every point, strand after strand.
     pub fn points(&self) -> &[Vec3] {
         &self.points
+    }
+
+    /// Every strand resampled to `verts_per_strand` points evenly spaced in
+    /// arc length from its root to its tip (both kept exactly), times
+    /// `scale` (0.01 takes TressFX's and cyHair's centimetres to metres),
+    /// strand after strand: what `coif_kernels::Strands::from_polylines`
+    /// takes, whatever vertex counts the file had. A one-point strand
+    /// becomes `verts_per_strand` copies of its point. Strands of the same
+    /// count and evenly spaced already come back as they are (times
+    /// `scale`).
+    ///
+    /// # Errors
+    /// [`Error::BadResample`] for `verts_per_strand < 2`, a scale that is
+    /// not finite and positive, or more than 2^28 points;
+    /// [`Error::NonFinite`] if scaling overflows a point.
+    ///
+    /// ```
+    /// use coif_geometry::groom::Groom;
+    /// use glam::Vec3;
+    /// // A 3-point strand and a 2-point one, in centimetres.
+    /// let points = vec![Vec3::ZERO, Vec3::X * 10.0, Vec3::X * 20.0, Vec3::Y, Vec3::Y * 5.0];
+    /// let groom = Groom::from_strands(points, &[3, 2]).unwrap();
+    /// let guides = groom.resampled(5, 0.01).unwrap();
+    /// assert_eq!(guides.len(), 10);
+    /// assert!((guides[1] - Vec3::X * 0.05).length() < 1e-6);
+    /// ```
+    pub fn resampled(&self, verts_per_strand: usize, scale: f32) -> Result<Vec<Vec3>, Error> {
+        if verts_per_strand < 2 {
+            return Err(Error::BadResample("fewer than two points per strand"));
+        }
+        if !(scale.is_finite() && scale > 0.0) {
+            return Err(Error::BadResample("the scale must be finite and positive"));
+        }
+        let total = self.strand_count().checked_mul(verts_per_strand);
+        let total = total
+            .filter(|&n| n <= 1 << 28)
+            .ok_or(Error::BadResample("more than 2^28 points"))?;
+        let mut out = vec![Vec3::ZERO; total];
+        let mut scaled = Vec::new();
+        for (i, dst) in out.chunks_exact_mut(verts_per_strand).enumerate() {
+            let strand = self.strand(i);
+            scaled.clear();
+            scaled.extend(strand.iter().map(|p| *p * scale));
+            coif_base::polyline::arc_length_samples(&scaled, dst);
+        }
+        if let Some(index) = out.iter().position(|p| !p.is_finite()) {
+            return Err(Error::NonFinite { index });
+        }
+        Ok(out)
     }
 
     /// If every strand has the same vertex count V: all points times `scale`

@@ -17,6 +17,39 @@
 
 use glam::{DVec2, DVec3, Vec3};
 
+/// Edges longer than this many median edges are gaps between hair patches
+/// ([`scalp_triangles`]).
+pub const MAX_EDGE_IN_MEDIANS: f32 = 3.0;
+
+/// The scalp of a groom's roots for interpolation: the Delaunay triangles
+/// of the root directions around `center` (the centre of the head: the
+/// centre of `crate::scene::fit_sphere` of the roots serves), without the
+/// triangles that have an edge longer than [`MAX_EDGE_IN_MEDIANS`] median
+/// edges (they bridge partings). Indices into `roots`; empty when fewer
+/// than three roots lie around `center`.
+///
+/// ```
+/// use coif_geometry::scene::fit_sphere;
+/// use coif_geometry::triangulate::scalp_triangles;
+/// use glam::Vec3;
+/// // Roots on the cap of a 10 cm head.
+/// let roots: Vec<Vec3> = (0..200)
+///     .map(|i| {
+///         let (y, a) = (1.0 - 0.5 * (i as f32 + 0.5) / 200.0, i as f32 * 2.39996);
+///         let r = (1.0 - y * y).sqrt();
+///         Vec3::new(r * a.cos(), y, r * a.sin()) * 0.1
+///     })
+///     .collect();
+/// let head = fit_sphere(&roots).unwrap();
+/// let triangles = scalp_triangles(&roots, head.center);
+/// assert!(triangles.len() > 300);
+/// ```
+pub fn scalp_triangles(roots: &[Vec3], center: Vec3) -> Vec<[u32; 3]> {
+    let all = triangulate_roots(roots, center, f32::INFINITY);
+    let max_edge = MAX_EDGE_IN_MEDIANS * median_edge(roots, &all);
+    triangulate_roots(roots, center, max_edge)
+}
+
 /// Delaunay triangles of the root directions around `center`, keeping
 /// those whose three root-to-root edges are at most `max_edge` long.
 /// Indices into `roots`. Runs in O(n^2) time once per groom.
