@@ -228,7 +228,7 @@ mod tests {
 
     #[test]
     fn roots_on_a_cap_are_covered_and_long_edges_dropped() {
-        let head = coif_geometry::scene::grow_on_sphere(&coif_geometry::scene::GrowOptions {
+        let head = crate::scene::grow_on_sphere(&crate::scene::GrowOptions {
             strand_count: 400,
             verts_per_strand: 2,
             ..Default::default()
