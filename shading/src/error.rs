@@ -16,6 +16,13 @@ pub enum Error {
     InvalidResolution(usize),
     /// A quadrature order of zero.
     InvalidQuadratureOrder(usize),
+    /// A caller's output buffer is shorter than the input it is for.
+    BufferTooSmall {
+        /// Entries needed.
+        needed: usize,
+        /// Entries the buffer has.
+        got: usize,
+    },
     /// A shadow-map setting outside its range (name, value, what is expected).
     InvalidShadowSetting {
         /// The setting's name.
@@ -38,6 +45,12 @@ impl fmt::Display for Error {
             }
             Error::InvalidQuadratureOrder(n) => {
                 write!(f, "invalid quadrature order {n} (must be at least 1)")
+            }
+            Error::BufferTooSmall { needed, got } => {
+                write!(
+                    f,
+                    "output buffer too small: needs {needed} entries, has {got}"
+                )
             }
             Error::InvalidShadowSetting {
                 name,

@@ -1,6 +1,7 @@
 //! coif-shading: hair shading models (Kajiya-Kay, Marschner 2003 and its
 //! factored lookup tables, pbrt-v3's hair BSDF as the accuracy yardstick),
-//! evaluated per sample (scalar) and in SIMD batches over [`ShadingSamples`],
+//! evaluated per sample (scalar) and in SIMD batches over [`ShadingSamples`]
+//! or straight from LOD's render vertices ([`vertices::shade_vertices`]),
 //! and opacity shadow maps ([`shadow`]).
 //!
 //! One convention for the twins: a per-sample function `name` (one `Vec3`)
@@ -18,6 +19,7 @@ pub mod marschner;
 pub mod pbrt;
 pub mod samples;
 pub mod shadow;
+pub mod vertices;
 pub mod yardstick;
 
 pub use error::Error;
