@@ -34,11 +34,19 @@ pub const UPWIND_CELLS: f32 = 1.0;
 /// denser) upwind takes away.
 pub const WIND_SHIELD: f32 = 0.9;
 
-/// The per-lane reads of the grid: `floor`, and the six fields of node
-/// `idx` (an integer-valued float, in range), one lane or eight.
+/// The per-lane reads of the grid: `floor`, and the trilinear sum of the
+/// seven fields over a cell's eight corners, one lane or eight.
 pub(crate) trait GridLane: Lane {
     fn floor(self) -> Self;
-    fn node(field: &[[f32; 8]], idx: Self) -> [Self; 7];
+    /// `sum_c weights[c] F(base + offsets[c])`, accumulated in corner order
+    /// by fused multiply-adds (`base` an integer-valued float, every node
+    /// in range).
+    fn trilinear(
+        field: &[[f32; 8]],
+        base: Self,
+        offsets: [usize; 8],
+        weights: [Self; 8],
+    ) -> [Self; 7];
 }
 
 impl GridLane for f32 {
@@ -47,9 +55,20 @@ impl GridLane for f32 {
         f32::floor(self)
     }
     #[inline(always)]
-    fn node(field: &[[f32; 8]], idx: f32) -> [f32; 7] {
-        let n = field.get(idx as usize).copied().unwrap_or([0.0; 8]);
-        [n[0], n[1], n[2], n[3], n[4], n[5], n[6]]
+    fn trilinear(
+        field: &[[f32; 8]],
+        base: f32,
+        offsets: [usize; 8],
+        weights: [f32; 8],
+    ) -> [f32; 7] {
+        let mut out = [0.0f32; 7];
+        for (off, w) in offsets.iter().zip(weights) {
+            let n = field.get(base as usize + off).copied().unwrap_or([0.0; 8]);
+            for k in 0..7 {
+                out[k] = w.mul_add(n[k], out[k]);
+            }
+        }
+        out
     }
 }
 
@@ -59,11 +78,28 @@ impl GridLane for f32x8 {
         f32x8::floor(self)
     }
     #[inline(always)]
-    fn node(field: &[[f32; 8]], idx: f32x8) -> [f32x8; 7] {
-        // A node is eight floats: one row per lane, then one transpose.
-        let rows = idx
-            .to_array()
-            .map(|i| f32x8::new(field.get(i as usize).copied().unwrap_or([0.0; 8])));
+    fn trilinear(
+        field: &[[f32; 8]],
+        base: f32x8,
+        offsets: [usize; 8],
+        weights: [f32x8; 8],
+    ) -> [f32x8; 7] {
+        // A node is eight floats, one register: each lane sums its eight
+        // nodes' rows (the same multiply-adds in the same order as the
+        // scalar twin, field by field), then one transpose.
+        let base = base.to_array();
+        let weights = weights.map(|w| w.to_array());
+        let rows: [f32x8; 8] = std::array::from_fn(|l| {
+            let mut acc = f32x8::ZERO;
+            for (c, off) in offsets.iter().enumerate() {
+                let n = field
+                    .get(base[l] as usize + off)
+                    .copied()
+                    .unwrap_or([0.0; 8]);
+                acc = f32x8::splat(weights[c][l]).mul_add(f32x8::new(n), acc);
+            }
+            acc
+        });
         let [a, b, c, d, e, f, g, _] = f32x8::transpose(rows);
         [a, b, c, d, e, f, g]
     }
@@ -84,23 +120,19 @@ fn sample<T: GridLane>(g: &HairGrid, p: V3<T>) -> [T; 7] {
     let (ix, fx) = axis(p.x, g.origin.x, max_u.x, max_i.x);
     let (iy, fy) = axis(p.y, g.origin.y, max_u.y, max_i.y);
     let (iz, fz) = axis(p.z, g.origin.z, max_u.z, max_i.z);
-    let (sx, sy) = (g.dims.x as f32, (g.dims.x * g.dims.y) as f32);
-    let base = iz.mul_add(T::splat(sy), iy.mul_add(T::splat(sx), ix));
+    let (nx, nxy) = (g.dims.x as usize, (g.dims.x * g.dims.y) as usize);
+    let base = iz.mul_add(T::splat(nxy as f32), iy.mul_add(T::splat(nx as f32), ix));
     let one = T::splat(1.0);
     let (gx, gy, gz) = (one - fx, one - fy, one - fz);
-    let mut out = [zero; 7];
-    for c in 0..8 {
-        let (dx, dy, dz) = (c & 1, (c >> 1) & 1, (c >> 2) & 1);
-        let off = dx as f32 + dy as f32 * sx + dz as f32 * sy;
-        let w = if dx == 1 { fx } else { gx }
-            * if dy == 1 { fy } else { gy }
-            * if dz == 1 { fz } else { gz };
-        let node = T::node(&g.field, base + T::splat(off));
-        for k in 0..7 {
-            out[k] = w.mul_add(node[k], out[k]);
-        }
-    }
-    out
+    let offsets: [usize; 8] =
+        std::array::from_fn(|c| (c & 1) + ((c >> 1) & 1) * nx + ((c >> 2) & 1) * nxy);
+    let weights: [T; 8] = std::array::from_fn(|c| {
+        let wx = if c & 1 == 1 { fx } else { gx };
+        let wy = if (c >> 1) & 1 == 1 { fy } else { gy };
+        let wz = if (c >> 2) & 1 == 1 { fz } else { gz };
+        wx * wy * wz
+    });
+    T::trilinear(&g.field, base, offsets, weights)
 }
 
 /// Volume and friction for one block's free vertices (`w > 0`), weighted

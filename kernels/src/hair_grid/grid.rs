@@ -4,7 +4,7 @@ use super::{MAX_HAIR_GRID_NODES, ROOT_RAMP};
 use crate::lanes::{Vec3x8, LANES};
 use crate::Strands;
 use glam::{UVec3, Vec3};
-use wide::f32x8;
+use wide::{f32x4, f32x8};
 
 /// Empty nodes kept round the hair's box on every side (the central
 /// differences reach one node past the splat's).
@@ -15,7 +15,7 @@ const PAD: u32 = 2;
 pub(crate) struct HairGrid {
     /// Per node: `[sum s, sum s vx, sum s vy, sum s vz]`; zero at every
     /// node but this step's `touched` ones.
-    acc: Vec<[f32; 4]>,
+    acc: Vec<f32x4>,
     /// Per node: `[de/dx, de/dy, de/dz (per cell), vx, vy, vz, rho /
     /// rho_0, 0]`, valid at the touched nodes.
     pub(crate) field: Vec<[f32; 8]>,
@@ -73,7 +73,7 @@ impl HairGrid {
         let densest = self
             .touched
             .iter()
-            .map(|&i| self.acc[i as usize][0])
+            .map(|&i| self.acc[i as usize].as_array()[0])
             .fold(0.0f32, f32::max)
             * inv_volume;
         // No hair away from the roots: any density is excess-free.
@@ -109,7 +109,7 @@ impl HairGrid {
             self.dims.z as usize,
         );
         let acc = &self.acc;
-        let e = |i: usize| (acc[i][0] * inv_target - 1.0).max(0.0);
+        let e = |i: usize| (acc[i].as_array()[0] * inv_target - 1.0).max(0.0);
         let (sy, sz) = (nx, nx * ny);
         let _ = nz;
         for &t in &self.touched {
@@ -121,7 +121,7 @@ impl HairGrid {
                 0.5 * (e(i + sy) - e(i - sy)),
                 0.5 * (e(i + sz) - e(i - sz)),
             ];
-            let a = acc[i];
+            let a = acc[i].to_array();
             let v = [a[1] / a[0], a[2] / a[0], a[3] / a[0]];
             let relative = a[0] * inv_target;
             self.field[i] = [g[0], g[1], g[2], v[0], v[1], v[2], relative, 0.0];
@@ -134,7 +134,7 @@ impl HairGrid {
     /// weight and momentum in block, vertex and lane order.
     fn splat(&mut self, s: &Strands, pos: &[Vec3x8], prev: &[Vec3x8], dt: f32, cell: f32) {
         for &i in &self.touched {
-            self.acc[i as usize] = [0.0; 4];
+            self.acc[i as usize] = f32x4::ZERO;
         }
         self.touched.clear();
         let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
@@ -166,7 +166,7 @@ impl HairGrid {
             // and for eight nodes per vertex.
             let want = (nodes(cell) * 8.0).clamp(32.0 * 32.0 * 32.0, MAX_HAIR_GRID_NODES as f64);
             self.capacity = want as usize;
-            self.acc = vec![[0.0; 4]; self.capacity];
+            self.acc = vec![f32x4::ZERO; self.capacity];
             self.field = vec![[0.0; 8]; self.capacity];
             self.touched = Vec::with_capacity(self.capacity.min(8 * s.blocks * s.verts * LANES));
         }
@@ -251,6 +251,8 @@ impl HairGrid {
                     if weight[l] <= 0.0 {
                         continue;
                     }
+                    // [1, v]: one 16-byte multiply-add per node.
+                    let unit = f32x4::new([1.0, vx[l], vy[l], vz[l]]);
                     let base_node = node[l] as usize;
                     for (c, &off) in offsets.iter().enumerate() {
                         let w = corner[c][l];
@@ -259,16 +261,13 @@ impl HairGrid {
                         }
                         let i = base_node + off;
                         let a = &mut self.acc[i];
-                        if a[0] == 0.0 {
+                        if a.as_array()[0] == 0.0 {
                             if self.touched.len() == room {
                                 continue;
                             }
                             self.touched.push(i as u32);
                         }
-                        a[0] += w;
-                        a[1] += w * vx[l];
-                        a[2] += w * vy[l];
-                        a[3] += w * vz[l];
+                        *a = unit.mul_add(f32x4::splat(w), *a);
                     }
                 }
             }
@@ -299,17 +298,17 @@ mod tests {
         g.build(&s, &s.pos, &prev, 0.1, 0.01);
         assert!(g.live);
         let n = (g.dims.x * g.dims.y * g.dims.z) as usize;
-        let total: f32 = g.acc[..n].iter().map(|a| a[0]).sum();
+        let total: f32 = g.acc[..n].iter().map(|a| a.as_array()[0]).sum();
         let expected: f32 = (0..41)
             .map(|i| (0.005 * i as f32 / ROOT_RAMP).clamp(0.0, 1.0))
             .sum();
         assert!((total - expected).abs() < 1e-3, "{total} {expected}");
-        let py: f32 = g.acc[..n].iter().map(|a| a[2]).sum();
+        let py: f32 = g.acc[..n].iter().map(|a| a.as_array()[2]).sum();
         assert!((py - expected).abs() < 1e-3, "{py}");
         // The hair's velocity is (0, 1, 0) wherever there is hair.
         for &i in &g.touched {
-            let (a, f) = (g.acc[i as usize], g.field[i as usize]);
-            if a[0] > 1e-3 {
+            let (a, f) = (g.acc[i as usize].as_array()[0], g.field[i as usize]);
+            if a > 1e-3 {
                 assert!((f[4] - 1.0).abs() < 1e-4 && f[3].abs() < 1e-4, "{f:?}");
             }
         }
