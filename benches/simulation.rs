@@ -11,7 +11,7 @@
 //! pearl, local shape on) on `Serial` and on rayon pools of 1 and 2
 //! threads (`step_with`), after printing Amdahl's serial fraction of the
 //! step measured on one thread (the speed-up and the projections in the
-//! README's Threads section).
+//! `docs/threads.md`).
 //!
 //! The `step/world` group runs the mohawk at the defaults (16 spheres) in
 //! the scenes of the world's cost goals: 16 spheres with friction and
