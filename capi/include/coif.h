@@ -845,6 +845,60 @@ enum CoifStatus coif_patch_positions(const struct CoifPatch *p,
 // `p` is NULL or a live handle.
 enum CoifStatus coif_patch_reset_to_skin(struct CoifPatch *p);
 
+// Poses the head in one call: every root of `s` moves to `world_from_rest`
+// applied to where it was when the strands were made, and the rest frame
+// (what `local_shape_stiffness` keeps the groom in) turns with the pose,
+// so a turned head keeps its groom. `world_from_rest` is 12 floats, row
+// after row of a 3 x 4 rigid transform as `coif_strands_teleport` takes
+// (`m[0..4]` the first row: x' = m0 x + m1 y + m2 z + m3; the 3 x 3 part a
+// rotation, orthonormal within 1e-3, determinant +1; metres). Call it
+// once per frame (or per fixed step) before `coif_step`; a skinned scalp
+// uses `coif_strands_set_roots` instead.
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_NON_FINITE`,
+// `COIF_ERROR_INVALID_ARGUMENT` (not a rotation: scale, shear, mirror);
+// nothing changes then.
+//
+// # Safety
+// `s` is NULL or a live handle; `world_from_rest` is NULL or points to 12
+// readable floats.
+enum CoifStatus coif_strands_set_head_pose(struct CoifStrands *s, const float *world_from_rest);
+
+// The head proxy of a groom without a mesh: the least-squares sphere
+// through the guides' current roots, written to `*out`.
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_INVALID_ARGUMENT` (fewer than
+// four roots, or roots on a plane or a line: no sphere).
+//
+// # Safety
+// `guides` is NULL or a live handle; `out` is NULL or writable.
+enum CoifStatus coif_fit_head_sphere(const struct CoifStrands *guides, struct CoifSphere *out);
+
+// The scalp triangles of the guides' current roots, for `coif_hairs_new`:
+// the Delaunay triangles of the roots' directions seen from `center` (the
+// head's centre: `coif_fit_head_sphere`'s, or the caller's), without those
+// with an edge longer than three median edges (they bridge partings).
+// Writes `3 * count` indices (guide numbers) to `out_indices` and `count`
+// to `*out_count` when `capacity` triangles fit; otherwise writes only
+// `*out_count` (the count needed) and returns
+// `COIF_ERROR_BUFFER_TOO_SMALL`, so a first call with `capacity` 0 sizes
+// the buffer.
+//
+// Errors: `COIF_ERROR_NULL` (`guides`, `center` or `out_count`; or
+// `out_indices` with a nonzero capacity), `COIF_ERROR_NON_FINITE` (a NaN
+// or infinite centre), `COIF_ERROR_INVALID_ARGUMENT` (no triangle: fewer
+// than three roots around the centre), `COIF_ERROR_BUFFER_TOO_SMALL`.
+//
+// # Safety
+// `guides` is NULL or a live handle; `center` is NULL or 3 readable
+// floats; `out_indices` is NULL or `3 * capacity` writable `uint32_t`;
+// `out_count` is NULL or writable.
+enum CoifStatus coif_scalp_triangles(const struct CoifStrands *guides,
+                                     const float *center,
+                                     uint32_t *out_indices,
+                                     size_t capacity,
+                                     size_t *out_count);
+
 // Scheuermann-style brown hair (`KajiyaKay::default()`).
 struct CoifKajiyaKay coif_kajiya_kay_default(void);
 

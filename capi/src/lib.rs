@@ -30,6 +30,7 @@
 pub mod groom;
 pub mod lod;
 pub mod patch;
+pub mod scalp;
 pub mod shading;
 pub mod tasks;
 pub mod world;
