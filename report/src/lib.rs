@@ -24,6 +24,7 @@
 pub mod collisions;
 pub mod csv;
 pub mod fits;
+pub mod friction;
 pub mod interpolation;
 pub mod patch;
 pub mod physics;
@@ -37,6 +38,7 @@ pub mod sim_lod;
 pub mod simulation;
 pub mod summary;
 pub mod timing;
+pub mod volume;
 pub mod wind;
 
 pub use timing::Timing;
