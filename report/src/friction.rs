@@ -34,6 +34,15 @@
 //! costs weigh more than on a head. SIMD (`coif::kernels::step`) and
 //! scalar (`scalar::step`); the errors are the SIMD run's, the scalar's
 //! printed beside them.
+//!
+//! First full run (`docs/report/summary.md`; 2-core Xeon, load about 3):
+//! without friction 0.48 of the kick's relative motion is left after
+//! 0.1 s; friction 0.25 leaves 0.14, 0.5 0.038, 1 0.020 (the test asks
+//! at most 1/3 at 1). The lock's common motion stays within 1.2 % of the
+//! frictionless lock's at every step (0.6 % at friction 1). The grid
+//! costs about 54 ns per vertex-step on the lock (17 -> 71 ns SIMD, 112 ->
+//! 230 ns scalar) whatever the friction; the scalar step gives the same
+//! measures to the printed digits.
 
 use super::{Options, Path, Row, Timing};
 use coif::kernels::rng::SplitMix64;
