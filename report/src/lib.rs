@@ -24,6 +24,7 @@
 pub mod collisions;
 pub mod csv;
 pub mod fits;
+pub mod friction;
 pub mod interpolation;
 pub mod patch;
 pub mod physics;
@@ -37,6 +38,7 @@ pub mod sim_lod;
 pub mod simulation;
 pub mod summary;
 pub mod timing;
+pub mod volume;
 pub mod wind;
 
 pub use timing::Timing;
@@ -129,7 +131,7 @@ pub struct Family {
 }
 
 /// Every kernel family, in the order [`run`] measures them.
-pub const FAMILIES: [Family; 11] = [
+pub const FAMILIES: [Family; 13] = [
     Family {
         name: "simulation",
         kernels: &["simulation settling", "simulation whipping"],
@@ -154,6 +156,16 @@ pub const FAMILIES: [Family; 11] = [
         name: "collisions",
         kernels: &["collisions "],
         measure: collisions::rows,
+    },
+    Family {
+        name: "volume",
+        kernels: &["volume "],
+        measure: volume::rows,
+    },
+    Family {
+        name: "hair friction",
+        kernels: &["hair friction "],
+        measure: friction::rows,
     },
     Family {
         name: "refinement",
@@ -202,7 +214,9 @@ pub fn family_of(kernel: &str) -> Option<&'static Family> {
 /// simulation LOD (sleeping and guide levels against their error), physics
 /// (the strand step against the analytic hanging chain), wind (equilibrium
 /// and decay against their closed forms), collisions (penetration by the
-/// exact distance), refinement, fits, interpolation, shading, shadow maps,
+/// exact distance), volume (draped hair's packing with the hair grid
+/// against without), hair friction (a kicked lock's relative motion and
+/// common motion), refinement, fits, interpolation, shading, shadow maps,
 /// cloth patches.
 pub fn run(options: Options) -> Vec<Row> {
     let mut rows = Vec::new();

@@ -111,6 +111,30 @@ brute force over its triangles (sign by the winding number), the points picked b
 (those it puts within 1 mm of the surface, deepest first). Settings: max_substep 1/120, 1/240 \
 (default), 1/480 s x pearls per segment 0, 1 (default), 2 (fields collide with vertices only: \
 their pearl settings differ in time alone); ns per vertex-step.
+- **volume** (`volume packing`, `volume cells`, `volume settling`): hair-hair volume through \
+the hair grid (`volume_stiffness`, `kernels/src/hair_grid/`). 1,024 strands of 24 vertices, 25 cm, \
+grown straight out of the top of a 9 cm head and dropped onto it for 3 s (the kernels' \
+`hair_volume` test scene); measured at the end: segments per 5 mm cell (at the segment's \
+midpoint, the two root segments left out), their 99th percentile and the occupied cells, and \
+the fastest vertex speed. No exact reference exists for how hair should pack: the errors are \
+the ratios to the grid-off row, oriented so that lower is better, against the kernels' goal: \
+`volume packing` = 99th percentile / the off row's (goal <= 0.5; an integer count, 6 off, so \
+it moves in steps of 1/6), `volume cells` = the off row's cells / the row's (goal <= 0.625, \
+i.e. 1.6x the cells), `volume settling` = the fastest vertex speed after 3 s in m/s; the \
+setting names the absolute 99th percentile and cells. Settings: stiffness 0 (friction 0: the \
+grid off, the default), 0.25, 0.5, 1 with `hair_friction` 1 at the default 1.5 cm cell, and \
+cells of 0.75 and 3 cm at stiffness 1; ns per vertex-step of the step (grid included), one \
+thread, the median step of each of three runs.
+- **hair friction** (`hair friction relative`, `hair friction momentum`): the hair grid's \
+friction (`hair_friction`, volume off) on a lock of 64 strands of 20 cm (8 x 8 roots 3 mm \
+apart) kicked at (1, 0, 0) m/s plus a random velocity of up to 0.5 m/s per axis per strand, \
+run for 0.1 s (6 steps); errors: the RMS velocity relative to the lock's mean after 0.1 s as \
+a fraction of the kick's (what friction has not yet removed), and the largest \
+|mean velocity / the frictionless lock's - 1| over the 6 steps (the common motion friction \
+should keep; 0 at friction 0, the reference); the setting names the share kept after 0.1 s. \
+Settings: friction 0 (the default), 0.25, 0.5, 1; ns per vertex-step, one thread, the median \
+step of each run, 15 runs: the lock has 1,344 vertices, so the grid's fixed costs weigh more \
+than on a head.
 - **refinement**: segments per span; ns per guide (input) vertex; largest chord error.
 - **fits**: controls x smoothing; ns per strand; RMS distance to the noise-free curve \
 (scalar only: faer's Cholesky).
