@@ -304,6 +304,14 @@ typedef void (*CoifRunFn)(void *ctx, size_t count, CoifTaskFn task, void *task_c
 extern "C" {
 #endif // __cplusplus
 
+// What the last coif call on this thread that failed said of its error,
+// naming the bad value where the library knows it ("mesh vertex 12 is not
+// finite", "triangle 3 names vertex 900, but the mesh has 800 vertices",
+// "invalid parameter volume_stiffness = 1.5 (expected 0 <= volume_stiffness
+// <= 1)"); the empty string after a call that succeeded. Owned by coif and
+// valid until the next coif call on this thread; never NULL.
+const char *coif_last_error_message(void);
+
 // The default parameters (those of `coif_kernels::SimParams::default()`):
 // one step of 1/60 s in 4 substeps, damping 0.97, gravity -9.81 along y.
 struct CoifSimParams coif_sim_params_default(void);

@@ -15,6 +15,7 @@ pub struct CoifGroom {
 
 impl From<groom::Error> for CoifStatus {
     fn from(e: groom::Error) -> CoifStatus {
+        crate::set_last_error(&e);
         match e {
             groom::Error::NonFinite { .. } => CoifStatus::COIF_ERROR_NON_FINITE,
             _ => CoifStatus::COIF_ERROR_BAD_DATA,

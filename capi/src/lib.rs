@@ -264,6 +264,7 @@ impl From<&SimParams> for CoifSimParams {
 
 impl From<coif_kernels::Error> for CoifStatus {
     fn from(e: coif_kernels::Error) -> CoifStatus {
+        set_last_error(&e);
         use coif_kernels::Error as E;
         match e {
             E::NonFinite { .. } => CoifStatus::COIF_ERROR_NON_FINITE,
@@ -278,13 +279,76 @@ impl From<coif_kernels::Error> for CoifStatus {
     }
 }
 
-/// Runs `body`, turning a panic into `COIF_ERROR_PANIC`.
+thread_local! {
+    /// What the last failed coif call on this thread said of its error
+    /// (`coif_last_error_message`), NUL-terminated; empty (no bytes at
+    /// all) when there is none, so clearing it allocates nothing.
+    static LAST_ERROR: std::cell::RefCell<Vec<u8>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// Records `message` as this thread's last error detail (a NUL inside it
+/// ends it early). Allocates only on a failure, and only to grow.
+pub(crate) fn set_last_error(message: &dyn std::fmt::Display) {
+    use std::io::Write as _;
+    // A thread being torn down has no slot: the detail is dropped.
+    let _ = LAST_ERROR.try_with(|e| {
+        let mut e = e.borrow_mut();
+        e.clear();
+        let _ = write!(e, "{message}");
+        let end = e.iter().position(|&b| b == 0).unwrap_or(e.len());
+        e.truncate(end);
+        e.push(0);
+    });
+}
+
+/// Clears this thread's last error detail (no allocation).
+fn clear_last_error() {
+    let _ = LAST_ERROR.try_with(|e| e.borrow_mut().clear());
+}
+
+fn last_error_is_empty() -> bool {
+    LAST_ERROR
+        .try_with(|e| e.borrow().len() <= 1)
+        .unwrap_or(true)
+}
+
+/// Runs `body`, turning a panic into `COIF_ERROR_PANIC`. The thread's
+/// last error detail is cleared first; a failure that left none (a check of
+/// the interface's own: NULL, a short buffer) gets its status's message.
 pub(crate) fn guard(body: impl FnOnce() -> Result<(), CoifStatus>) -> CoifStatus {
-    match catch_unwind(AssertUnwindSafe(body)) {
+    clear_last_error();
+    let status = match catch_unwind(AssertUnwindSafe(body)) {
         Ok(Ok(())) => CoifStatus::COIF_OK,
         Ok(Err(status)) => status,
         Err(_) => CoifStatus::COIF_ERROR_PANIC,
+    };
+    if status != CoifStatus::COIF_OK && last_error_is_empty() {
+        let message = coif_status_message(status);
+        // SAFETY: `coif_status_message` returns a static NUL-terminated string.
+        let text = unsafe { std::ffi::CStr::from_ptr(message) };
+        set_last_error(&text.to_string_lossy());
     }
+    status
+}
+
+/// What the last coif call on this thread that failed said of its error,
+/// naming the bad value where the library knows it ("mesh vertex 12 is not
+/// finite", "triangle 3 names vertex 900, but the mesh has 800 vertices",
+/// "invalid parameter volume_stiffness = 1.5 (expected 0 <= volume_stiffness
+/// <= 1)"); the empty string after a call that succeeded. Owned by coif and
+/// valid until the next coif call on this thread; never NULL.
+#[no_mangle]
+pub extern "C" fn coif_last_error_message() -> *const c_char {
+    LAST_ERROR
+        .try_with(|e| {
+            let e = e.borrow();
+            if e.is_empty() {
+                c"".as_ptr()
+            } else {
+                e.as_ptr().cast::<c_char>()
+            }
+        })
+        .unwrap_or(c"".as_ptr())
 }
 
 /// Runs `body`, returning `fallback` on a panic (for calls without a status).
@@ -781,13 +845,21 @@ pub(crate) unsafe fn rigid_arg(m: *const f32) -> Result<Affine3A, CoifStatus> {
     // SAFETY: non-NULL and aligned (checked); 12 readable floats per the
     // caller's contract.
     let m = unsafe { &*m.cast::<[f32; 12]>() };
-    if !m.iter().all(|v| v.is_finite()) {
+    if let Some(i) = m.iter().position(|v| !v.is_finite()) {
+        set_last_error(&format_args!(
+            "transform entry {i} is {} (not finite)",
+            m[i]
+        ));
         return Err(CoifStatus::COIF_ERROR_NON_FINITE);
     }
     let rot = Mat3::from_cols_array(&[m[0], m[4], m[8], m[1], m[5], m[9], m[2], m[6], m[10]]);
     let gram = rot.transpose() * rot;
     let orthonormal = gram.abs_diff_eq(Mat3::IDENTITY, 1e-3);
     if !orthonormal || rot.determinant() < 0.0 {
+        set_last_error(&format_args!(
+            "the transform's 3 x 3 part is not a rotation (determinant {}; a scale, shear or mirror)",
+            rot.determinant()
+        ));
         return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
     }
     Ok(Affine3A::from_mat3_translation(

@@ -43,6 +43,7 @@ const _: () = {
 
 impl From<coif_lod::Error> for CoifStatus {
     fn from(e: coif_lod::Error) -> CoifStatus {
+        crate::set_last_error(&e);
         use coif_lod::Error as E;
         match e {
             E::NonFinite { .. } => CoifStatus::COIF_ERROR_NON_FINITE,

@@ -238,6 +238,7 @@ pub unsafe extern "C" fn coif_marschner_lut_free(lut: *mut CoifMarschnerLut) {
 
 impl From<coif_shading::Error> for CoifStatus {
     fn from(e: coif_shading::Error) -> CoifStatus {
+        crate::set_last_error(&e);
         match e {
             coif_shading::Error::InvalidParameter { value, .. } if !value.is_finite() => {
                 CoifStatus::COIF_ERROR_NON_FINITE

@@ -88,15 +88,9 @@ pub unsafe extern "C" fn coif_sdf_new(
                 // (checked); `[u32; 3]` is three packed u32; readable per
                 // the caller's contract.
                 let tris = std::slice::from_raw_parts(indices.cast::<[u32; 3]>(), triangle_count);
-                if !verts.iter().all(|v| v.is_finite()) || !cell.is_finite() {
-                    return Err(CoifStatus::COIF_ERROR_NON_FINITE);
-                }
-                let bound = u32::try_from(vertex_count).unwrap_or(u32::MAX);
-                let in_range =
-                    vertex_count > u32::MAX as usize || tris.iter().flatten().all(|&i| i < bound);
-                if !in_range || cell <= 0.0 {
-                    return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
-                }
+                // `Sdf::from_mesh` checks the rest (a non-finite vertex or
+                // cell, an index out of range, a bad cell) and its error
+                // names the value (`coif_last_error_message`).
                 Ok(CoifSdf {
                     sdf: Sdf::from_mesh(verts, tris, cell)?,
                 })

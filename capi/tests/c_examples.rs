@@ -143,6 +143,27 @@ fn engine_c_runs_and_passes_its_checks() {
     }
 }
 
+/// The groom-to-pixels example on the project's shipped Sintel groom:
+/// resampled guides, the fitted head, the scalp triangles, render hairs, a
+/// head turn by `coif_strands_set_head_pose`, vertices and colours; a bad
+/// pose refused with a message that says why.
+#[test]
+fn sintel_c_goes_from_a_groom_file_to_shaded_vertices() {
+    let Some(cc) = compiler("CC", "cc") else {
+        return;
+    };
+    let groom = capi_dir().join("../assets/sintel/sintel_lite.tfx");
+    let stdout = build_and_run(&cc, &["-std=c11"], "sintel.c", "sintel_c", &[groom]);
+    assert!(stdout.contains("sintel.c: all checks passed"), "{stdout}");
+    assert!(stdout.contains("sintel.c: 228 strands, "), "{stdout}");
+    assert!(
+        stdout.contains(
+            "sintel.c: a scaled pose: the transform's 3 x 3 part is not a rotation (determinant 8"
+        ),
+        "{stdout}"
+    );
+}
+
 #[test]
 fn jobs_c_steps_on_a_pthread_pool_as_coif_step_does() {
     let Some(cc) = compiler("CC", "cc") else {
