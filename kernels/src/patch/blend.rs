@@ -10,9 +10,15 @@ impl Patch {
     /// weight 0 gives the skinned position and weight 1 the simulated one
     /// exactly (for finite inputs). `skinned` is the last
     /// [`Patch::set_skinned`]. Needs `out.len() == rows * cols`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::CountMismatch`] (and nothing written) unless `out.len() ==
+    /// rows * cols`.
     pub fn write_blended(&self, out: &mut [Vec3]) -> Result<(), Error> {
         if out.len() != self.particle_count() {
             return Err(Error::CountMismatch {
+                what: "output points (rows times columns)",
                 expected: self.particle_count(),
                 got: out.len(),
             });
@@ -40,6 +46,11 @@ impl Patch {
 /// along -y it is -z. Triangles with a non-finite cross product are skipped,
 /// and a vertex without a usable triangle gets `(0, 0, 0)`, so a NaN
 /// particle spoils only its own neighbourhood.
+///
+/// # Errors
+///
+/// [`Error::CountMismatch`] (and nothing written) unless `positions` and
+/// `out` hold `rows * cols` points.
 pub fn grid_normals(
     positions: &[Vec3],
     rows: usize,
@@ -50,6 +61,7 @@ pub fn grid_normals(
     for len in [positions.len(), out.len()] {
         if len != n {
             return Err(Error::CountMismatch {
+                what: "points (rows times columns)",
                 expected: n,
                 got: len,
             });
