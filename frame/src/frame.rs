@@ -53,20 +53,16 @@ fn write_samples(
     to_light: Vec3,
     eye: Vec3,
 ) {
-    let n = vertices.len();
-    for (c, a) in samples.wi.iter_mut().enumerate() {
-        a.clear();
-        a.resize(n, to_light[c]);
+    let columns = samples.columns_mut(vertices.len());
+    for (c, a) in columns.wi.into_iter().enumerate() {
+        a.fill(to_light[c]);
     }
-    for (c, a) in samples.t.iter_mut().enumerate() {
-        a.clear();
-        a.extend(vertices.iter().map(|v| v.tangent[c]));
+    for (c, a) in columns.t.into_iter().enumerate() {
+        for (dst, v) in a.iter_mut().zip(vertices) {
+            *dst = v.tangent[c];
+        }
     }
-    let [wx, wy, wz] = &mut samples.wo;
-    for a in [&mut *wx, &mut *wy, &mut *wz] {
-        a.clear();
-        a.resize(n, 0.0);
-    }
+    let [wx, wy, wz] = columns.wo;
     for (((v, x), y), z) in vertices
         .iter()
         .zip(wx.iter_mut())

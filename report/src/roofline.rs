@@ -445,7 +445,7 @@ fn shadow_lookup_case(size: Size) -> Case {
     Case {
         elements: pts.len(),
         run: Box::new(move || {
-            map.transmittance_batch(black_box(&pts), &mut out);
+            map.transmittance_batch(black_box(&pts), &mut out).unwrap();
             black_box(&out);
         }),
     }

@@ -21,4 +21,4 @@ pub mod shadow;
 pub mod yardstick;
 
 pub use error::Error;
-pub use samples::{RgbBuffer, ShadingSamples};
+pub use samples::{RgbBuffer, SampleColumns, ShadingSamples};
