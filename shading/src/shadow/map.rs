@@ -44,6 +44,10 @@ pub struct OpacityShadowMap {
 impl OpacityShadowMap {
     /// Allocates the map for these settings (once; no per-frame allocation
     /// afterwards). Fails when [`ShadowSettings::validate`] does.
+    ///
+    /// # Errors
+    ///
+    /// As [`ShadowSettings::validate`].
     pub fn new(settings: ShadowSettings) -> Result<OpacityShadowMap, Error> {
         settings.validate()?;
         let n = settings.resolution;
