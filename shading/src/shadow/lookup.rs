@@ -81,6 +81,11 @@ impl OpacityShadowMap {
         let half = f32x8::splat(0.5);
         let u = (lx - f32x8::splat(pl.x0)) * inv_h - half;
         let v = (ly - f32x8::splat(pl.y0)) * inv_h - half;
+        // A finite point so far away that its light-space coordinates
+        // overflow is outside the map: lit, as in the scalar.
+        let finite = finite & u.is_finite() & v.is_finite() & lz.is_finite();
+        let zero = f32x8::ZERO;
+        let (u, v, lz) = (finite.select(u, zero), finite.select(v, zero), finite.select(lz, zero));
         let (fu, fv) = (u.floor(), v.floor());
         let (fx, fy) = (u - fu, v - fv);
 
