@@ -57,12 +57,13 @@ pub fn grid_normals(
     cols: usize,
     out: &mut [Vec3],
 ) -> Result<(), Error> {
-    let n = rows * cols;
+    // An overflowing rows * cols matches no slice (instead of wrapping).
+    let n = rows.checked_mul(cols);
     for len in [positions.len(), out.len()] {
-        if len != n {
+        if Some(len) != n {
             return Err(Error::CountMismatch {
                 what: "points (rows times columns)",
-                expected: n,
+                expected: n.unwrap_or(usize::MAX),
                 got: len,
             });
         }

@@ -532,12 +532,13 @@ fn validate_grid(grid: &[Vec3], rows: usize, cols: usize, pinned: &[bool]) -> Re
             expected: "at most 256 columns",
         });
     }
-    let n = rows * cols;
+    // An overflowing rows * cols matches no slice (instead of wrapping).
+    let n = rows.checked_mul(cols);
     for len in [grid.len(), pinned.len()] {
-        if len != n {
+        if Some(len) != n {
             return Err(Error::CountMismatch {
                 what: "points and pin flags (rows times columns)",
-                expected: n,
+                expected: n.unwrap_or(usize::MAX),
                 got: len,
             });
         }
