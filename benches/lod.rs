@@ -57,11 +57,14 @@ fn refine(c: &mut Criterion) {
         b.iter(|| lod::scalar::refine_strands(black_box(strands.blocks()), None, &mut out).unwrap())
     });
     g.bench_function("positions_simd", |b| {
-        b.iter(|| lod::refine_strands_positions(black_box(strands.blocks()), None, &mut out).unwrap())
+        b.iter(|| {
+            lod::refine_strands_positions(black_box(strands.blocks()), None, &mut out).unwrap()
+        })
     });
     g.bench_function("positions_scalar", |b| {
         b.iter(|| {
-            lod::scalar::refine_strands_positions(black_box(strands.blocks()), None, &mut out).unwrap()
+            lod::scalar::refine_strands_positions(black_box(strands.blocks()), None, &mut out)
+                .unwrap()
         })
     });
     g.finish();
@@ -131,14 +134,20 @@ fn interpolate(c: &mut Criterion) {
         );
         g.throughput(Throughput::Elements(verts as u64));
         g.bench_function(format!("{tag}/simd"), |b| {
-            b.iter(|| lod::interpolate(black_box(&interp), &guides, None, groups, &mut out).unwrap())
+            b.iter(|| {
+                lod::interpolate(black_box(&interp), &guides, None, groups, &mut out).unwrap()
+            })
         });
         g.bench_function(format!("{tag}/scalar"), |b| {
-            b.iter(|| lod::scalar::interpolate(black_box(&interp), &guides, None, groups, &mut out).unwrap())
+            b.iter(|| {
+                lod::scalar::interpolate(black_box(&interp), &guides, None, groups, &mut out)
+                    .unwrap()
+            })
         });
         g.bench_function(format!("{tag}/positions_simd"), |b| {
             b.iter(|| {
-                lod::interpolate_positions(black_box(&interp), &guides, None, groups, &mut out).unwrap()
+                lod::interpolate_positions(black_box(&interp), &guides, None, groups, &mut out)
+                    .unwrap()
             })
         });
         let prefix = groups / 8;
@@ -147,11 +156,14 @@ fn interpolate(c: &mut Criterion) {
         ));
         g.bench_function(format!("{tag}/positions_simd_eighth"), |b| {
             b.iter(|| {
-                lod::interpolate_positions(black_box(&interp), &guides, None, prefix, &mut out).unwrap()
+                lod::interpolate_positions(black_box(&interp), &guides, None, prefix, &mut out)
+                    .unwrap()
             })
         });
         g.bench_function(format!("{tag}/simd_eighth"), |b| {
-            b.iter(|| lod::interpolate(black_box(&interp), &guides, None, prefix, &mut out).unwrap())
+            b.iter(|| {
+                lod::interpolate(black_box(&interp), &guides, None, prefix, &mut out).unwrap()
+            })
         });
         g.throughput(Throughput::Elements(verts as u64));
         g.bench_function(format!("{tag}/positions_scalar"), |b| {
@@ -162,7 +174,8 @@ fn interpolate(c: &mut Criterion) {
                     None,
                     groups,
                     &mut out,
-                ).unwrap()
+                )
+                .unwrap()
             })
         });
     }
@@ -231,7 +244,8 @@ fn cull(c: &mut Criterion) {
                 &frustum,
                 1e-4,
                 &mut vis,
-            ).unwrap()
+            )
+            .unwrap()
         })
     });
 }

@@ -92,7 +92,10 @@ fn build_and_lookup(c: &mut Criterion) {
             };
             let mut scratch = BuildScratch::new(&s, 1).unwrap();
             g.bench_function(BenchmarkId::new(name(&s), "lanes_simd"), |b| {
-                b.iter(|| map.build_lanes(&Serial, &mut scratch, black_box(light()), &hair).unwrap())
+                b.iter(|| {
+                    map.build_lanes(&Serial, &mut scratch, black_box(light()), &hair)
+                        .unwrap()
+                })
             });
             g.bench_function(BenchmarkId::new(name(&s), "lanes_scalar"), |b| {
                 b.iter(|| {
@@ -114,7 +117,8 @@ fn build_and_lookup(c: &mut Criterion) {
         });
         g.bench_function(BenchmarkId::new(name(&s), "scalar"), |b| {
             b.iter(|| {
-                coif::shading::shadow::scalar::transmittance_batch(&map, black_box(&pts), &mut out).unwrap()
+                coif::shading::shadow::scalar::transmittance_batch(&map, black_box(&pts), &mut out)
+                    .unwrap()
             })
         });
     }

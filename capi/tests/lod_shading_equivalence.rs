@@ -193,7 +193,8 @@ fn c_render_vertices_match_rust_bit_for_bit() {
             coif_lod::refine_strands(rust.blocks(), None, &mut guides).unwrap();
             coif_lod::interpolate(&interp, &guides, None, g, &mut hairs).unwrap();
             let mut want = vec![RenderVertex::default(); bound];
-            let count = coif_lod::write_render_vertices(&interp, &hairs, g, width, wf, &mut want).unwrap();
+            let count =
+                coif_lod::write_render_vertices(&interp, &hairs, g, width, wf, &mut want).unwrap();
             assert_eq!(count, bound);
             let got: &[u8] = std::slice::from_raw_parts(out.as_ptr().cast(), 32 * bound);
             assert_eq!(

@@ -620,7 +620,10 @@ impl FramePipeline {
                 &mut self.vertices,
             )
         });
-        debug_assert!(written.is_ok(), "LOD buffers sized at construction: {written:?}");
+        debug_assert!(
+            written.is_ok(),
+            "LOD buffers sized at construction: {written:?}"
+        );
         self.vertex_count = written.unwrap_or(0);
         self.stats.vertices = self.vertex_count;
         self.stats.hairs = self.vertex_count / self.verts_per_hair();
@@ -665,7 +668,10 @@ impl FramePipeline {
         });
         // Visibility and guides are made for these strands at construction,
         // so this cannot fail; were it to, no hair is drawn this frame.
-        debug_assert!(refined.is_ok(), "LOD buffers sized at construction: {refined:?}");
+        debug_assert!(
+            refined.is_ok(),
+            "LOD buffers sized at construction: {refined:?}"
+        );
         self.groups_drawn = if refined.is_ok() { d.groups_drawn } else { 0 };
         self.stats.segments_per_span = n;
         self.stats.width_factor = d.width_factor;

@@ -141,7 +141,8 @@ impl ShadowStage {
         if let (Some(map), Some(scratch)) = (&mut self.map, &mut self.scratch) {
             // The scratch is made with the map's settings, so this cannot
             // fail; were it to, the map is empty (no self-shadowing).
-            let built = map.build_tasks(executor, scratch, -to_light, &self.points, verts_per_strand);
+            let built =
+                map.build_tasks(executor, scratch, -to_light, &self.points, verts_per_strand);
             debug_assert!(built.is_ok(), "{built:?}");
         }
     }

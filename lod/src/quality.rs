@@ -311,7 +311,8 @@ mod tests {
         let mut guides = RefinedGuides::new(strands.blocks(), 2).unwrap();
         refine_strands(strands.blocks(), None, &mut guides).unwrap();
         let mut hairs = RenderHairs::new(&interp, &guides);
-        let written = interpolate(&interp, &guides, None, interp.group_count(), &mut hairs).unwrap();
+        let written =
+            interpolate(&interp, &guides, None, interp.group_count(), &mut hairs).unwrap();
         assert_eq!(written, interp.group_count());
         let origin = strands.origin().as_vec3();
         let front_view = move |p: Vec3| {

@@ -52,9 +52,13 @@ fn set(n: usize, verts: usize, density: f32) -> Set {
         .collect();
     let pts: Vec<Vec3> = roots
         .iter()
-        .flat_map(|r| (0..verts).map(move |v| *r + Vec3::new(0.001 * v as f32, -0.02 * v as f32, 0.0)))
+        .flat_map(|r| {
+            (0..verts).map(move |v| *r + Vec3::new(0.001 * v as f32, -0.02 * v as f32, 0.0))
+        })
         .collect();
-    let tris: Vec<[u32; 3]> = (0..n.saturating_sub(2) as u32).map(|i| [i, i + 1, i + 2]).collect();
+    let tris: Vec<[u32; 3]> = (0..n.saturating_sub(2) as u32)
+        .map(|i| [i, i + 1, i + 2])
+        .collect();
     Set {
         strands: Strands::from_polylines(&pts, verts).unwrap(),
         interp: Interpolation::new(&roots, &tris, density, 5).unwrap(),
@@ -327,7 +331,10 @@ fn accessors_past_the_end_panic_as_documented() {
     let (guides, hairs) = pipeline(&s, 4, 2);
     let r = guides.verts_per_strand();
     let reads_next = std::panic::catch_unwind(|| guides.position(0, r));
-    assert!(reads_next.is_err(), "vertex r of strand 0 is not strand 8's vertex 0");
+    assert!(
+        reads_next.is_err(),
+        "vertex r of strand 0 is not strand 8's vertex 0"
+    );
     assert!(std::panic::catch_unwind(|| guides.position(5, 0)).is_err());
     let v = hairs.verts_per_hair();
     assert!(std::panic::catch_unwind(|| hairs.position(0, 0, v)).is_err());

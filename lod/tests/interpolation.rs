@@ -189,7 +189,8 @@ fn a_prefix_is_an_even_thinning_and_width_keeps_coverage() {
         None,
         lod_half.groups_drawn,
         &mut s.hairs,
-    ).unwrap();
+    )
+    .unwrap();
     assert_eq!(written, lod_half.groups_drawn);
     let (mut all, mut drawn) = ([0usize; 4], [0usize; 4]);
     for (g, group) in s.interp.groups().iter().enumerate() {
@@ -246,7 +247,8 @@ fn frustum_culling_skips_work_but_never_visible_hair() {
         &frustum,
         0.0,
         &mut vis,
-    ).unwrap();
+    )
+    .unwrap();
     assert!(
         vis.groups_visible() < groups / 2,
         "culling must drop hair out of view"
@@ -317,7 +319,8 @@ fn render_vertices_fill_an_engine_buffer() {
         width,
         d.width_factor,
         &mut buf,
-    ).unwrap();
+    )
+    .unwrap();
     assert_eq!(n, len);
     assert_eq!(lod::vertex_bytes(&buf).len(), 32 * len);
     let r_len = s.hairs.verts_per_hair();
@@ -413,7 +416,8 @@ fn positions_only_pass_matches_full_pass_and_scalar() {
         groups
     );
     assert_eq!(
-        lod::scalar::interpolate_positions(&s.interp, &s.guides, None, groups, &mut scalar).unwrap(),
+        lod::scalar::interpolate_positions(&s.interp, &s.guides, None, groups, &mut scalar)
+            .unwrap(),
         groups
     );
     assert!(!simd.has_tangents());
@@ -433,8 +437,10 @@ fn positions_only_pass_matches_full_pass_and_scalar() {
     let len = lod::render_vertex_len(&s.interp, &simd, groups);
     let mut a = vec![RenderVertex::default(); len];
     let mut b = vec![RenderVertex::default(); len];
-    lod::write_render_vertices(&s.interp, &full, groups, HairWidth::default(), 1.0, &mut a).unwrap();
-    lod::write_render_vertices(&s.interp, &simd, groups, HairWidth::default(), 1.0, &mut b).unwrap();
+    lod::write_render_vertices(&s.interp, &full, groups, HairWidth::default(), 1.0, &mut a)
+        .unwrap();
+    lod::write_render_vertices(&s.interp, &simd, groups, HairWidth::default(), 1.0, &mut b)
+        .unwrap();
     for (x, y) in a.iter().zip(&b) {
         assert_eq!(x.position, y.position);
         let d = Vec3::from(x.tangent).dot(Vec3::from(y.tangent));

@@ -130,7 +130,10 @@ fn simd_batch_matches_scalar_twin_and_single_strand_refine() {
         simd.set_segments_per_span(segs).unwrap();
         assert_eq!(simd.segments_per_span(), segs);
         scal.set_segments_per_span(segs).unwrap();
-        assert_eq!(lod::refine_strands(strands.blocks(), None, &mut simd).unwrap(), 3);
+        assert_eq!(
+            lod::refine_strands(strands.blocks(), None, &mut simd).unwrap(),
+            3
+        );
         assert_eq!(
             lod::scalar::refine_strands(strands.blocks(), None, &mut scal).unwrap(),
             3
@@ -167,7 +170,10 @@ fn culled_blocks_are_not_refined() {
     let strands = Strands::from_polylines(&pts, 6).unwrap();
     let mut out = RefinedGuides::new(strands.blocks(), 8).unwrap();
     out.set_segments_per_span(4).unwrap();
-    assert_eq!(lod::refine_strands(strands.blocks(), None, &mut out).unwrap(), 3);
+    assert_eq!(
+        lod::refine_strands(strands.blocks(), None, &mut out).unwrap(),
+        3
+    );
     let before: Vec<Vec3> = (0..out.verts_per_strand())
         .map(|v| out.position(9, v))
         .collect();
@@ -191,7 +197,10 @@ fn culled_blocks_are_not_refined() {
     lod::cull(moved.blocks(), None, 0, &slab, 0.0, &mut vis).unwrap();
     assert_eq!(vis.guide_blocks_needed(), 2);
     assert!(!vis.guide_block_needed(1));
-    assert_eq!(lod::refine_strands(moved.blocks(), Some(&vis), &mut out).unwrap(), 2);
+    assert_eq!(
+        lod::refine_strands(moved.blocks(), Some(&vis), &mut out).unwrap(),
+        2
+    );
     assert!(!out.is_block_refined(1) && out.is_block_refined(0) && out.is_block_refined(2));
     let after: Vec<Vec3> = (0..out.verts_per_strand())
         .map(|v| out.position(9, v))
@@ -207,7 +216,10 @@ fn culled_blocks_are_not_refined() {
     assert_eq!(before, after, "the scalar twin must skip it too");
 
     // Everything visible: block 1 is refined with the new data.
-    assert_eq!(lod::refine_strands(moved.blocks(), None, &mut out).unwrap(), 3);
+    assert_eq!(
+        lod::refine_strands(moved.blocks(), None, &mut out).unwrap(),
+        3
+    );
     assert!(out.is_block_refined(1));
     assert_ne!(out.position(9, 1), before[1]);
 }
@@ -223,7 +235,10 @@ fn mismatched_buffer_writes_nothing() {
         got: 7,
     });
     assert_eq!(lod::refine_strands(b.blocks(), None, &mut out), refused);
-    assert_eq!(lod::scalar::refine_strands(b.blocks(), None, &mut out), refused);
+    assert_eq!(
+        lod::scalar::refine_strands(b.blocks(), None, &mut out),
+        refused
+    );
     assert!((0..out.block_count()).all(|b| !out.is_block_refined(b)));
     assert!(RefinedGuides::new(a.blocks(), 0).is_err());
 }

@@ -71,7 +71,8 @@ fn a_frame_allocates_nothing_and_draws_what_full_detail_draws() {
             &frustum,
             1e-3,
             vis,
-        ).unwrap();
+        )
+        .unwrap();
         let n = level::segments_per_span(
             level::max_second_difference_strands(strands.blocks()),
             ppm,
@@ -88,7 +89,8 @@ fn a_frame_allocates_nothing_and_draws_what_full_detail_draws() {
             HairWidth::default(),
             d.width_factor,
             out,
-        ).unwrap();
+        )
+        .unwrap();
         (n, d, written)
     };
 
@@ -115,7 +117,8 @@ fn a_frame_allocates_nothing_and_draws_what_full_detail_draws() {
         None,
         interp.group_count(),
         &mut all_hairs,
-    ).unwrap();
+    )
+    .unwrap();
     for g in 0..interp.group_count() {
         if hairs.is_group_written(g) {
             assert_eq!(hairs.group_positions(g), all_hairs.group_positions(g));

@@ -48,11 +48,9 @@ pub fn rows(options: Options) -> Vec<Row> {
             std::hint::black_box(lod::refine_strands(strands.blocks(), None, &mut guides).unwrap());
         });
         let scalar = time_batch(options.reps(), inputs, || {
-            std::hint::black_box(lod::scalar::refine_strands(
-                strands.blocks(),
-                None,
-                &mut guides,
-            ).unwrap());
+            std::hint::black_box(
+                lod::scalar::refine_strands(strands.blocks(), None, &mut guides).unwrap(),
+            );
         });
         for (path, time) in [(Path::Simd, simd), (Path::Scalar, scalar)] {
             rows.push(Row {

@@ -34,15 +34,13 @@ fn hostile_vec3() -> impl Strategy<Value = Vec3> {
 
 /// Samples of hostile directions, `0 ..= 40` of them.
 fn hostile_samples() -> impl Strategy<Value = ShadingSamples> {
-    prop::collection::vec((hostile_vec3(), hostile_vec3(), hostile_vec3()), 0..=40).prop_map(
-        |v| {
-            let mut s = ShadingSamples::default();
-            for (t, wi, wo) in v {
-                s.push(t, wi, wo);
-            }
-            s
-        },
-    )
+    prop::collection::vec((hostile_vec3(), hostile_vec3(), hostile_vec3()), 0..=40).prop_map(|v| {
+        let mut s = ShadingSamples::default();
+        for (t, wi, wo) in v {
+            s.push(t, wi, wo);
+        }
+        s
+    })
 }
 
 /// An output buffer whose public channels have unrelated lengths.

@@ -75,7 +75,8 @@ fn task_builds_have_the_same_bytes_on_any_executor() {
 
         let mut one = BuildScratch::new(&settings, 1).unwrap();
         let mut map = OpacityShadowMap::new(settings.clone()).unwrap();
-        map.build_tasks(&Serial, &mut one, light, &pts, verts).unwrap();
+        map.build_tasks(&Serial, &mut one, light, &pts, verts)
+            .unwrap();
         assert_eq!(
             common::stored_bits(&map),
             reference,

@@ -1,8 +1,8 @@
 //! Scalar twin of `src/refine_batch.rs`: the same steps, one lane at a time.
 
 use crate::culling::Visibility;
-use crate::Error;
 use crate::refine_batch::{block_needed, combine, RefinedGuides, MIN_LENGTH_SQUARED};
+use crate::Error;
 use coif_base::{StrandBlocks, LANES};
 use glam::Vec3;
 

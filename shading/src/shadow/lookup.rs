@@ -85,7 +85,11 @@ impl OpacityShadowMap {
         // overflow is outside the map: lit, as in the scalar.
         let finite = finite & u.is_finite() & v.is_finite() & lz.is_finite();
         let zero = f32x8::ZERO;
-        let (u, v, lz) = (finite.select(u, zero), finite.select(v, zero), finite.select(lz, zero));
+        let (u, v, lz) = (
+            finite.select(u, zero),
+            finite.select(v, zero),
+            finite.select(lz, zero),
+        );
         let (fu, fv) = (u.floor(), v.floor());
         let (fx, fy) = (u - fu, v - fv);
 
