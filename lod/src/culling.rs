@@ -97,6 +97,11 @@ pub struct Visibility {
 impl Visibility {
     /// Storage for `guide_count` guides and `group_count` render groups
     /// (0 if there is no interpolation). Everything starts visible.
+    ///
+    /// # Panics
+    ///
+    /// Only as an allocation does, for counts whose flags and boxes cannot
+    /// be allocated.
     pub fn new(guide_count: usize, group_count: usize) -> Visibility {
         let blocks = guide_count.div_ceil(LANES);
         Visibility {

@@ -103,6 +103,10 @@ impl ShadingSamples {
     }
 
     /// Empty, with room for `n` samples.
+    ///
+    /// # Panics
+    ///
+    /// Only as `Vec::with_capacity` does, if `n` floats cannot be allocated.
     pub fn with_capacity(n: usize) -> Self {
         let v = || {
             [
@@ -225,6 +229,10 @@ pub struct RgbBuffer {
 
 impl RgbBuffer {
     /// A buffer of `n` zeros.
+    ///
+    /// # Panics
+    ///
+    /// Only as an allocation does, if `n` floats cannot be allocated.
     pub fn zeros(n: usize) -> Self {
         RgbBuffer {
             r: vec![0.0; n],
