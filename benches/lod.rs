@@ -46,22 +46,25 @@ fn refine(c: &mut Criterion) {
     let (_, pts) = guides(512, 16, 1);
     let strands = Strands::from_polylines(&pts, 16).unwrap();
     let mut out = RefinedGuides::new(strands.blocks(), 16).unwrap();
-    out.set_segments_per_span(4);
+    out.set_segments_per_span(4).unwrap();
     let verts = (strands.strand_count() * out.verts_per_strand()) as u64;
     let mut g = c.benchmark_group("refine");
     g.throughput(Throughput::Elements(verts));
     g.bench_function("simd", |b| {
-        b.iter(|| lod::refine_strands(black_box(strands.blocks()), None, &mut out))
+        b.iter(|| lod::refine_strands(black_box(strands.blocks()), None, &mut out).unwrap())
     });
     g.bench_function("scalar", |b| {
-        b.iter(|| lod::scalar::refine_strands(black_box(strands.blocks()), None, &mut out))
+        b.iter(|| lod::scalar::refine_strands(black_box(strands.blocks()), None, &mut out).unwrap())
     });
     g.bench_function("positions_simd", |b| {
-        b.iter(|| lod::refine_strands_positions(black_box(strands.blocks()), None, &mut out))
+        b.iter(|| {
+            lod::refine_strands_positions(black_box(strands.blocks()), None, &mut out).unwrap()
+        })
     });
     g.bench_function("positions_scalar", |b| {
         b.iter(|| {
             lod::scalar::refine_strands_positions(black_box(strands.blocks()), None, &mut out)
+                .unwrap()
         })
     });
     g.finish();
@@ -69,7 +72,7 @@ fn refine(c: &mut Criterion) {
     let mut g = c.benchmark_group("refine_level");
     let curl = quality::helix(16, 0.01, 0.3, 2.0);
     for n in [1usize, 2, 3, 4, 6, 8, 12, 16] {
-        out.set_segments_per_span(n);
+        out.set_segments_per_span(n).unwrap();
         let err = quality::chord_error(&curl, n);
         let bound = level::chord_error_bound(level::max_second_difference(&curl), n);
         g.throughput(Throughput::Elements(
@@ -77,7 +80,7 @@ fn refine(c: &mut Criterion) {
         ));
         let id = BenchmarkId::new(format!("N={n}"), format!("err={err:.2e}_bound={bound:.2e}"));
         g.bench_function(id, |b| {
-            b.iter(|| lod::refine_strands(black_box(strands.blocks()), None, &mut out))
+            b.iter(|| lod::refine_strands(black_box(strands.blocks()), None, &mut out).unwrap())
         });
     }
     g.finish();
@@ -105,8 +108,8 @@ fn head(whole_groups: bool) -> (Strands, Interpolation, RefinedGuides) {
         Interpolation::new(&roots, &tris, density, 7).unwrap()
     };
     let mut guides = RefinedGuides::new(strands.blocks(), 8).unwrap();
-    guides.set_segments_per_span(3);
-    lod::refine_strands(strands.blocks(), None, &mut guides);
+    guides.set_segments_per_span(3).unwrap();
+    lod::refine_strands(strands.blocks(), None, &mut guides).unwrap();
     (strands, interp, guides)
 }
 
@@ -131,14 +134,20 @@ fn interpolate(c: &mut Criterion) {
         );
         g.throughput(Throughput::Elements(verts as u64));
         g.bench_function(format!("{tag}/simd"), |b| {
-            b.iter(|| lod::interpolate(black_box(&interp), &guides, None, groups, &mut out))
+            b.iter(|| {
+                lod::interpolate(black_box(&interp), &guides, None, groups, &mut out).unwrap()
+            })
         });
         g.bench_function(format!("{tag}/scalar"), |b| {
-            b.iter(|| lod::scalar::interpolate(black_box(&interp), &guides, None, groups, &mut out))
+            b.iter(|| {
+                lod::scalar::interpolate(black_box(&interp), &guides, None, groups, &mut out)
+                    .unwrap()
+            })
         });
         g.bench_function(format!("{tag}/positions_simd"), |b| {
             b.iter(|| {
                 lod::interpolate_positions(black_box(&interp), &guides, None, groups, &mut out)
+                    .unwrap()
             })
         });
         let prefix = groups / 8;
@@ -148,10 +157,13 @@ fn interpolate(c: &mut Criterion) {
         g.bench_function(format!("{tag}/positions_simd_eighth"), |b| {
             b.iter(|| {
                 lod::interpolate_positions(black_box(&interp), &guides, None, prefix, &mut out)
+                    .unwrap()
             })
         });
         g.bench_function(format!("{tag}/simd_eighth"), |b| {
-            b.iter(|| lod::interpolate(black_box(&interp), &guides, None, prefix, &mut out))
+            b.iter(|| {
+                lod::interpolate(black_box(&interp), &guides, None, prefix, &mut out).unwrap()
+            })
         });
         g.throughput(Throughput::Elements(verts as u64));
         g.bench_function(format!("{tag}/positions_scalar"), |b| {
@@ -163,6 +175,7 @@ fn interpolate(c: &mut Criterion) {
                     groups,
                     &mut out,
                 )
+                .unwrap()
             })
         });
     }
@@ -183,7 +196,7 @@ fn refine_and_interpolate(c: &mut Criterion) {
     g.throughput(Throughput::Elements(verts as u64));
     g.bench_function("simd", |b| {
         b.iter(|| {
-            lod::refine_strands(strands.blocks(), None, &mut guides);
+            lod::refine_strands(strands.blocks(), None, &mut guides).unwrap();
             let mut acc = coif::base::Vec3x8::ZERO;
             for k in 0..groups {
                 let Some(blend) = interp.group_blend(&guides, k) else {
@@ -198,7 +211,7 @@ fn refine_and_interpolate(c: &mut Criterion) {
     });
     g.bench_function("scalar", |b| {
         b.iter(|| {
-            lod::scalar::refine_strands(strands.blocks(), None, &mut guides);
+            lod::scalar::refine_strands(strands.blocks(), None, &mut guides).unwrap();
             let mut acc = Vec3::ZERO;
             for k in 0..groups {
                 let Some(blend) = interp.group_blend(&guides, k) else {
@@ -232,6 +245,7 @@ fn cull(c: &mut Criterion) {
                 1e-4,
                 &mut vis,
             )
+            .unwrap()
         })
     });
 }

@@ -44,10 +44,11 @@ fn baseline(c: &mut Criterion) {
     g.bench_function("read9_write3", |b| {
         b.iter(|| {
             let s = black_box(&samples);
+            let (t, wi, wo) = (s.t(), s.wi(), s.wo());
             for i in 0..N {
-                out.r[i] = s.t[0][i] + s.wi[0][i] + s.wo[0][i];
-                out.g[i] = s.t[1][i] + s.wi[1][i] + s.wo[1][i];
-                out.b[i] = s.t[2][i] + s.wi[2][i] + s.wo[2][i];
+                out.r[i] = t[0][i] + wi[0][i] + wo[0][i];
+                out.g[i] = t[1][i] + wi[1][i] + wo[1][i];
+                out.b[i] = t[2][i] + wi[2][i] + wo[2][i];
             }
         })
     });

@@ -92,7 +92,10 @@ fn build_and_lookup(c: &mut Criterion) {
             };
             let mut scratch = BuildScratch::new(&s, 1).unwrap();
             g.bench_function(BenchmarkId::new(name(&s), "lanes_simd"), |b| {
-                b.iter(|| map.build_lanes(&Serial, &mut scratch, black_box(light()), &hair))
+                b.iter(|| {
+                    map.build_lanes(&Serial, &mut scratch, black_box(light()), &hair)
+                        .unwrap()
+                })
             });
             g.bench_function(BenchmarkId::new(name(&s), "lanes_scalar"), |b| {
                 b.iter(|| {
@@ -110,11 +113,12 @@ fn build_and_lookup(c: &mut Criterion) {
         let mut map = OpacityShadowMap::new(s.clone()).unwrap();
         map.build(light(), &pts, verts);
         g.bench_function(BenchmarkId::new(name(&s), "simd"), |b| {
-            b.iter(|| map.transmittance_batch(black_box(&pts), &mut out))
+            b.iter(|| map.transmittance_batch(black_box(&pts), &mut out).unwrap())
         });
         g.bench_function(BenchmarkId::new(name(&s), "scalar"), |b| {
             b.iter(|| {
                 coif::shading::shadow::scalar::transmittance_batch(&map, black_box(&pts), &mut out)
+                    .unwrap()
             })
         });
     }
@@ -205,7 +209,7 @@ fn cache_and_stream(c: &mut Criterion) {
         let mut out = vec![0.0; pts.len()];
         g.throughput(Throughput::Elements(pts.len() as u64));
         g.bench_function(BenchmarkId::new("lookup", size), |b| {
-            b.iter(|| map.transmittance_batch(black_box(&pts), &mut out))
+            b.iter(|| map.transmittance_batch(black_box(&pts), &mut out).unwrap())
         });
     }
     g.finish();

@@ -96,15 +96,15 @@ pub fn main() -> Result<(), Box<dyn std::error::Error>> {
             0.5,
             max_segments,
         );
-        guides_refined.set_segments_per_span(segments);
-        lod::refine_strands(hair.blocks(), None, &mut guides_refined);
+        guides_refined.set_segments_per_span(segments)?;
+        lod::refine_strands(hair.blocks(), None, &mut guides_refined)?;
         lod::interpolate(
             &interp,
             &guides_refined,
             None,
             interp.group_count(),
             &mut hairs,
-        );
+        )?;
         drawn = lod::write_render_vertices(
             &interp,
             &hairs,
@@ -112,7 +112,7 @@ pub fn main() -> Result<(), Box<dyn std::error::Error>> {
             HairWidth::default(),
             1.0,
             &mut vertices,
-        );
+        )?;
         let refined = Instant::now();
 
         // Shading: the eye in the vertices' space (relative to the origin).

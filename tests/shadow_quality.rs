@@ -29,7 +29,7 @@ fn lit_side_of_the_head_is_brighter_than_the_far_side() {
         let mut map = OpacityShadowMap::new(settings.clone()).unwrap();
         map.build(light, &pts, verts);
         let mut t = vec![0.0; pts.len()];
-        map.transmittance_batch(&pts, &mut t);
+        map.transmittance_batch(&pts, &mut t).unwrap();
         let mean = |keep: &dyn Fn(&Vec3) -> bool| {
             let v: Vec<f32> = pts
                 .iter()

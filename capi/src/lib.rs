@@ -271,6 +271,7 @@ impl From<coif_kernels::Error> for CoifStatus {
             E::CountMismatch { .. } | E::NotWholeStrands { .. } => {
                 CoifStatus::COIF_ERROR_COUNT_MISMATCH
             }
+            E::BufferTooSmall { .. } => CoifStatus::COIF_ERROR_BUFFER_TOO_SMALL,
             E::InvalidParameter { value, .. } if !value.is_finite() => {
                 CoifStatus::COIF_ERROR_NON_FINITE
             }
@@ -801,7 +802,7 @@ pub unsafe extern "C" fn coif_strands_positions(
         // points of 12 bytes within isize::MAX (checked), writable and not
         // aliased per the caller's contract; `Vec3` is three packed f32.
         let out = unsafe { std::slice::from_raw_parts_mut(out_xyz.cast::<Vec3>(), n) };
-        h.strands.write_positions(out);
+        h.strands.write_positions(out)?;
         Ok(())
     })
 }

@@ -51,6 +51,7 @@ impl From<coif_lod::Error> for CoifStatus {
                 CoifStatus::COIF_ERROR_NON_FINITE
             }
             E::CountMismatch { .. } => CoifStatus::COIF_ERROR_COUNT_MISMATCH,
+            E::BufferTooSmall { .. } => CoifStatus::COIF_ERROR_BUFFER_TOO_SMALL,
             _ => CoifStatus::COIF_ERROR_INVALID_ARGUMENT,
         }
     }
@@ -182,8 +183,8 @@ fn refined_guides(
         h.refined = Some(RefinedGuides::new(h.strands.blocks(), segments_per_span)?);
     }
     let guides = h.refined.as_mut().expect("made above");
-    guides.set_segments_per_span(segments_per_span);
-    coif_lod::refine_strands(h.strands.blocks(), None, guides);
+    guides.set_segments_per_span(segments_per_span)?;
+    coif_lod::refine_strands(h.strands.blocks(), None, guides)?;
     Ok(guides)
 }
 
@@ -293,7 +294,7 @@ fn make_hairs(
     }
     let verts = g.strands.verts_per_strand();
     let mut points = vec![Vec3::ZERO; g.strands.strand_count() * verts];
-    g.strands.write_positions(&mut points);
+    g.strands.write_positions(&mut points)?;
     let roots: Vec<Vec3> = points.iter().step_by(verts).copied().collect();
     let interpolation = if set.whole_groups == 1 {
         Interpolation::with_whole_groups(&roots, triangles, set.hairs_per_cm2, set.seed)?
@@ -469,9 +470,9 @@ pub unsafe extern "C" fn coif_hairs_write_vertices(
         // SAFETY: the caller's contract; `CoifRenderVertex` is `RenderVertex`'s layout (asserted).
         let out = unsafe { output(out.cast::<RenderVertex>(), n, capacity) }?;
         let groups = groups_drawn.min(h.interpolation.group_count());
-        h.guides.set_segments_per_span(segments_per_span);
-        coif_lod::refine_strands(g.strands.blocks(), None, &mut h.guides);
-        coif_lod::interpolate(&h.interpolation, &h.guides, None, groups, &mut h.hairs);
+        h.guides.set_segments_per_span(segments_per_span)?;
+        coif_lod::refine_strands(g.strands.blocks(), None, &mut h.guides)?;
+        coif_lod::interpolate(&h.interpolation, &h.guides, None, groups, &mut h.hairs)?;
         let count = coif_lod::write_render_vertices(
             &h.interpolation,
             &h.hairs,
@@ -479,7 +480,7 @@ pub unsafe extern "C" fn coif_hairs_write_vertices(
             h.width,
             width_factor,
             out,
-        );
+        )?;
         if let Some(w) = written {
             w[0] = count;
         }

@@ -306,7 +306,7 @@ pub unsafe extern "C" fn coif_patch_positions(
     // SAFETY: the caller's contract.
     unsafe {
         write_particles(p, out_xyz, capacity_points, |patch, out| {
-            patch.write_positions(out);
+            patch.write_positions(out)?;
             Ok(())
         })
     }

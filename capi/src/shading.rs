@@ -243,6 +243,7 @@ impl From<coif_shading::Error> for CoifStatus {
             coif_shading::Error::InvalidParameter { value, .. } if !value.is_finite() => {
                 CoifStatus::COIF_ERROR_NON_FINITE
             }
+            coif_shading::Error::CountMismatch { .. } => CoifStatus::COIF_ERROR_COUNT_MISMATCH,
             _ => CoifStatus::COIF_ERROR_INVALID_ARGUMENT,
         }
     }

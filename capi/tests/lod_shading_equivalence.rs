@@ -89,7 +89,7 @@ fn c_refine_matches_rust_refine_bit_for_bit() {
                 CoifStatus::COIF_OK
             );
             let mut guides = RefinedGuides::new(rust.blocks(), n).unwrap();
-            coif_lod::refine_strands(rust.blocks(), None, &mut guides);
+            coif_lod::refine_strands(rust.blocks(), None, &mut guides).unwrap();
             let r = guides.verts_per_strand();
             let mut want_xyz = Vec::new();
             let mut want_tan = Vec::new();
@@ -189,11 +189,12 @@ fn c_render_vertices_match_rust_bit_for_bit() {
             );
             assert_eq!(written, bound);
             let g = drawn.min(interp.group_count());
-            guides.set_segments_per_span(n);
-            coif_lod::refine_strands(rust.blocks(), None, &mut guides);
-            coif_lod::interpolate(&interp, &guides, None, g, &mut hairs);
+            guides.set_segments_per_span(n).unwrap();
+            coif_lod::refine_strands(rust.blocks(), None, &mut guides).unwrap();
+            coif_lod::interpolate(&interp, &guides, None, g, &mut hairs).unwrap();
             let mut want = vec![RenderVertex::default(); bound];
-            let count = coif_lod::write_render_vertices(&interp, &hairs, g, width, wf, &mut want);
+            let count =
+                coif_lod::write_render_vertices(&interp, &hairs, g, width, wf, &mut want).unwrap();
             assert_eq!(count, bound);
             let got: &[u8] = std::slice::from_raw_parts(out.as_ptr().cast(), 32 * bound);
             assert_eq!(

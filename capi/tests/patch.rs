@@ -98,7 +98,7 @@ fn c_patch_matches_rust_bit_for_bit() {
             coif_patch_positions(c, got.as_mut_ptr(), n),
             CoifStatus::COIF_OK
         );
-        rust.write_positions(&mut want);
+        rust.write_positions(&mut want).unwrap();
         assert_eq!(got, flat(&want));
         // The cloth moved off its rest grid.
         assert!(got != flat(&grid));
@@ -163,7 +163,7 @@ fn c_patch_matches_rust_bit_for_bit() {
             CoifStatus::COIF_OK
         );
         rust.reset_to_skin();
-        rust.write_positions(&mut want);
+        rust.write_positions(&mut want).unwrap();
         assert_eq!(got, flat(&want));
 
         // Construction: a bad shape leaves *out NULL.

@@ -53,20 +53,16 @@ fn write_samples(
     to_light: Vec3,
     eye: Vec3,
 ) {
-    let n = vertices.len();
-    for (c, a) in samples.wi.iter_mut().enumerate() {
-        a.clear();
-        a.resize(n, to_light[c]);
+    let columns = samples.columns_mut(vertices.len());
+    for (c, a) in columns.wi.into_iter().enumerate() {
+        a.fill(to_light[c]);
     }
-    for (c, a) in samples.t.iter_mut().enumerate() {
-        a.clear();
-        a.extend(vertices.iter().map(|v| v.tangent[c]));
+    for (c, a) in columns.t.into_iter().enumerate() {
+        for (dst, v) in a.iter_mut().zip(vertices) {
+            *dst = v.tangent[c];
+        }
     }
-    let [wx, wy, wz] = &mut samples.wo;
-    for a in [&mut *wx, &mut *wy, &mut *wz] {
-        a.clear();
-        a.resize(n, 0.0);
-    }
+    let [wx, wy, wz] = columns.wo;
     for (((v, x), y), z) in vertices
         .iter()
         .zip(wx.iter_mut())
@@ -596,21 +592,31 @@ impl FramePipeline {
     fn level_of_detail(&mut self) {
         let width_factor = self.lod_setup();
         let groups_drawn = self.groups_drawn;
-        lod::interpolate(
+        // The hairs and vertex buffers are made for this interpolation at its
+        // largest level, so neither call can fail; were one to, the frame
+        // draws no hair rather than stale hair.
+        let written = lod::interpolate(
             &self.interpolation,
             &self.guides,
             Some(&self.visibility),
             groups_drawn,
             &mut self.hairs,
+        )
+        .and_then(|_| {
+            lod::write_render_vertices(
+                &self.interpolation,
+                &self.hairs,
+                groups_drawn,
+                self.render_width,
+                width_factor,
+                &mut self.vertices,
+            )
+        });
+        debug_assert!(
+            written.is_ok(),
+            "LOD buffers sized at construction: {written:?}"
         );
-        self.vertex_count = lod::write_render_vertices(
-            &self.interpolation,
-            &self.hairs,
-            groups_drawn,
-            self.render_width,
-            width_factor,
-            &mut self.vertices,
-        );
+        self.vertex_count = written.unwrap_or(0);
         self.stats.vertices = self.vertex_count;
         self.stats.hairs = self.vertex_count / self.verts_per_hair();
     }
@@ -629,7 +635,7 @@ impl FramePipeline {
         );
         let frustum =
             lod::Frustum::from_view_projection(self.camera.view_projection(NEAR_FAR.0, NEAR_FAR.1));
-        lod::cull(
+        let culled = lod::cull(
             self.strands.blocks(),
             Some(&self.interpolation),
             d.groups_drawn,
@@ -643,13 +649,22 @@ impl FramePipeline {
             self.settings.pixel_error,
             self.settings.max_segments_per_span,
         );
-        let n = self.guides.set_segments_per_span(n);
-        lod::refine_strands(
-            self.strands.blocks(),
-            Some(&self.visibility),
-            &mut self.guides,
+        // The level is clamped to the guides buffer's largest level by intent.
+        let n = self.guides.set_segments_per_span_clamped(n);
+        let refined = culled.and_then(|()| {
+            lod::refine_strands(
+                self.strands.blocks(),
+                Some(&self.visibility),
+                &mut self.guides,
+            )
+        });
+        // Visibility and guides are made for these strands at construction,
+        // so this cannot fail; were it to, no hair is drawn this frame.
+        debug_assert!(
+            refined.is_ok(),
+            "LOD buffers sized at construction: {refined:?}"
         );
-        self.groups_drawn = d.groups_drawn;
+        self.groups_drawn = if refined.is_ok() { d.groups_drawn } else { 0 };
         self.stats.segments_per_span = n;
         self.stats.width_factor = d.width_factor;
         d.width_factor

@@ -139,7 +139,11 @@ impl ShadowStage {
         executor: &dyn Executor,
     ) {
         if let (Some(map), Some(scratch)) = (&mut self.map, &mut self.scratch) {
-            map.build_tasks(executor, scratch, -to_light, &self.points, verts_per_strand);
+            // The scratch is made with the map's settings, so this cannot
+            // fail; were it to, the map is empty (no self-shadowing).
+            let built =
+                map.build_tasks(executor, scratch, -to_light, &self.points, verts_per_strand);
+            debug_assert!(built.is_ok(), "{built:?}");
         }
     }
 
@@ -154,7 +158,9 @@ impl ShadowStage {
         executor: &dyn Executor,
     ) {
         if let (Some(map), Some(scratch)) = (&mut self.map, &mut self.scratch) {
-            map.build_lanes(executor, scratch, -to_light, hair);
+            // As in `build_from_points`: cannot fail, an empty map if it did.
+            let built = map.build_lanes(executor, scratch, -to_light, hair);
+            debug_assert!(built.is_ok(), "{built:?}");
         }
     }
 
@@ -169,8 +175,12 @@ impl ShadowStage {
         match &self.map {
             Some(map) => {
                 let n = out.len().min(self.points.len());
-                map.transmittance_batch(&self.points[..n], &mut out[..n]);
-                out[n..].fill(1.0);
+                let (looked_up, rest) = out.split_at_mut(n);
+                match map.transmittance_batch(&self.points[..n], looked_up) {
+                    Ok(()) => rest.fill(1.0),
+                    // Equal lengths by construction; unlit never beats lit.
+                    Err(_) => out.fill(1.0),
+                }
             }
             None => out.fill(1.0),
         }

@@ -122,6 +122,7 @@ impl SimLod {
         }
         if rest.len() != reference.len() {
             return Err(Error::Simulation(kernels::Error::CountMismatch {
+                what: "reference points (one per rest point)",
                 expected: rest.len(),
                 got: reference.len(),
             }));
@@ -334,7 +335,9 @@ impl SimLod {
         let verts = self.verts;
         let pose = self.pose;
         let level = &mut self.levels[self.current];
-        level.strands.write_positions(&mut level.buf);
+        // `buf` holds the level's strands exactly (sized at construction).
+        let written = level.strands.write_positions(&mut level.buf);
+        debug_assert!(written.is_ok(), "{written:?}");
         for (k, &g) in level.simulated.iter().enumerate() {
             let (src, dst) = (k * verts, g as usize * verts);
             self.out[dst..dst + verts].copy_from_slice(&level.buf[src..src + verts]);

@@ -74,6 +74,10 @@ impl Growth {
     /// strand, a finite curl. [`grow`] itself does not check (it clamps the
     /// point count to 2 and lets non-finite input through as non-finite
     /// points, which the simulation refuses).
+    ///
+    /// # Errors
+    ///
+    /// [`InvalidGrowth`] naming the first option out of range.
     pub fn validate(&self) -> Result<(), InvalidGrowth> {
         if !(self.length > 0.0 && self.length.is_finite()) {
             return Err(InvalidGrowth("length must be finite and > 0"));

@@ -63,6 +63,11 @@ impl ScalpMesh {
     /// Validates the mesh and computes vertex normals as the sum of the
     /// incident triangles' cross products (area-weighted), normalised;
     /// a vertex in no triangle gets +y.
+    ///
+    /// # Errors
+    ///
+    /// [`ScalpError`] on no positions or triangles, an index out of range or a
+    /// non-finite position.
     pub fn new(positions: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> Result<ScalpMesh, ScalpError> {
         if positions.is_empty() || triangles.is_empty() {
             return Err(ScalpError::Empty);
@@ -161,6 +166,10 @@ impl ScalpMesh {
     /// One guide per vertex along its normal ([`grow`]): points strand
     /// after strand, root first; guide i grows from vertex i. Errors on
     /// options out of range ([`Growth::validate`]).
+    ///
+    /// # Errors
+    ///
+    /// [`ScalpError`] wrapping [`InvalidGrowth`] for options out of range.
     pub fn grow_guides(&self, growth: &Growth) -> Result<Vec<Vec3>, ScalpError> {
         growth.validate()?;
         Ok(grow(&self.positions, &self.normals, growth))

@@ -28,10 +28,19 @@ pub enum Error {
         /// Index of the first offending point (or value).
         index: usize,
     },
-    /// A per-strand slice has the wrong length.
+    /// A slice has the wrong length.
     CountMismatch {
+        /// What was counted (e.g. `"roots (one per strand)"`).
+        what: &'static str,
         /// The length needed.
         expected: usize,
+        /// The length given.
+        got: usize,
+    },
+    /// A caller's output buffer is shorter than the result; nothing was written.
+    BufferTooSmall {
+        /// The length needed.
+        needed: usize,
         /// The length given.
         got: usize,
     },
@@ -85,9 +94,15 @@ impl fmt::Display for Error {
             ),
             Error::NoStrands => write!(f, "no strands"),
             Error::NonFinite { index } => write!(f, "point {index} has a non-finite coordinate"),
-            Error::CountMismatch { expected, got } => {
-                write!(f, "expected {expected} values (one per strand), got {got}")
-            }
+            Error::CountMismatch {
+                what,
+                expected,
+                got,
+            } => write!(f, "expected {expected} {what}, got {got}"),
+            Error::BufferTooSmall { needed, got } => write!(
+                f,
+                "the output buffer holds {got} values but {needed} are needed (nothing written)"
+            ),
             Error::InvalidParameter {
                 name,
                 value,

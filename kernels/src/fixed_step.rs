@@ -17,6 +17,11 @@ impl FixedStep {
     /// `dt`: the fixed step (> 0); `max_substeps`: at most this many steps per
     /// frame (>= 1); time beyond it is dropped (the hair slows down rather
     /// than the frame rate collapsing).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidParameter`] if `dt` is not finite and > 0 or
+    /// `max_substeps` is 0.
     pub fn new(dt: f32, max_substeps: u32) -> Result<Self, Error> {
         if !(dt > 0.0 && dt.is_finite()) {
             return Err(Error::InvalidParameter {

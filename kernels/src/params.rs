@@ -274,6 +274,10 @@ fn check(name: &'static str, value: f32, ok: bool, expected: &'static str) -> Re
 
 impl SimParams {
     /// Checks every field against its documented range.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidParameter`] for the first field outside its range.
     pub fn validate(&self) -> Result<(), Error> {
         check("dt", self.dt, self.dt > 0.0, "a finite dt > 0")?;
         check(

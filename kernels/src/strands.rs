@@ -172,6 +172,13 @@ impl Strands {
     ///
     /// Errors (never panics) on `verts_per_strand < 2`, a point count that is
     /// not a whole number of strands, no points, or a non-finite coordinate.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::TooFewVertices`] on `verts_per_strand < 2`,
+    /// [`Error::NotWholeStrands`] on a point count that is not a whole number
+    /// of strands, [`Error::NoStrands`] on no points, [`Error::NonFinite`] on a
+    /// non-finite coordinate.
     pub fn from_polylines(points: &[Vec3], verts_per_strand: usize) -> Result<Strands, Error> {
         validate_polylines(points, verts_per_strand)?;
         let verts = verts_per_strand;
@@ -308,9 +315,12 @@ impl Strands {
         self.blocks
     }
 
-    /// Real strands in block `b` (the rest of its lanes are inert padding).
+    /// Real strands in block `b` (the rest of its lanes are inert padding);
+    /// 0 for a block past the end.
     pub fn lanes_in_block(&self, b: usize) -> usize {
-        (self.strand_count - b * LANES).min(LANES)
+        self.strand_count
+            .saturating_sub(b.saturating_mul(LANES))
+            .min(LANES)
     }
 
     /// World position of the local origin that positions are relative to.
@@ -321,6 +331,10 @@ impl Strands {
     /// Block `b`'s current positions relative to [`Strands::origin`]: `V`
     /// entries, root first, lane `l` = strand `b * LANES + l`. Padding lanes
     /// repeat the block's last real strand.
+    ///
+    /// # Panics
+    ///
+    /// If `b >= block_count()` (as slice indexing does).
     pub fn block_positions_local(&self, b: usize) -> &[Vec3x8] {
         &self.pos[b * self.verts..(b + 1) * self.verts]
     }
@@ -332,6 +346,10 @@ impl Strands {
     }
 
     /// Per block: all bits set in lanes holding a real strand (a `select` mask).
+    ///
+    /// # Panics
+    ///
+    /// If `b >= block_count()` (as slice indexing does).
     pub fn block_active_mask(&self, b: usize) -> f32x8 {
         self.active[b]
     }
@@ -339,15 +357,31 @@ impl Strands {
     /// Current positions in world space, strand after strand, root first.
     pub fn positions(&self) -> Vec<Vec3> {
         let mut out = vec![Vec3::ZERO; self.strand_count * self.verts];
-        self.write_positions(&mut out);
+        let o = self.origin;
+        self.for_each_point(&mut out, |p| (o + p.as_dvec3()).as_vec3());
         out
     }
 
-    /// Writes world positions into `out` (strand after strand, root first);
-    /// writes `min(out.len(), strand_count * V)` points.
-    pub fn write_positions(&self, out: &mut [Vec3]) {
+    /// Writes world positions into `out` (strand after strand, root first):
+    /// the first `strand_count * V` entries; the rest of a longer `out` is
+    /// left as it was. Returns the number of points written,
+    /// `strand_count * V`. Allocates nothing.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::BufferTooSmall`] (and nothing written) if `out` holds fewer
+    /// than `strand_count * V` points.
+    pub fn write_positions(&self, out: &mut [Vec3]) -> Result<usize, Error> {
+        let needed = self.strand_count * self.verts;
+        if out.len() < needed {
+            return Err(Error::BufferTooSmall {
+                needed,
+                got: out.len(),
+            });
+        }
         let o = self.origin;
-        self.for_each_point(out, |p| (o + p.as_dvec3()).as_vec3());
+        self.for_each_point(&mut out[..needed], |p| (o + p.as_dvec3()).as_vec3());
+        Ok(needed)
     }
 
     /// Current positions relative to [`Strands::origin`], full f32 precision.
@@ -393,6 +427,11 @@ impl Strands {
     /// motion. The next step carries each root from where it was to here
     /// over its substeps. Rebases the local origin if the roots have
     /// wandered far.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::CountMismatch`] unless there is one root per strand,
+    /// [`Error::NonFinite`] on a non-finite root; nothing changes then.
     pub fn set_roots(&mut self, roots: &[Vec3]) -> Result<(), Error> {
         self.check_roots(roots)?;
         let o = self.origin;
@@ -402,6 +441,10 @@ impl Strands {
     }
 
     /// Like [`Strands::set_roots`], with roots relative to [`Strands::origin`].
+    ///
+    /// # Errors
+    ///
+    /// As [`Strands::set_roots`].
     pub fn set_roots_local(&mut self, roots_local: &[Vec3]) -> Result<(), Error> {
         self.check_roots(roots_local)?;
         self.write_roots(roots_local.iter().copied());
@@ -412,6 +455,7 @@ impl Strands {
     fn check_roots(&self, roots: &[Vec3]) -> Result<(), Error> {
         if roots.len() != self.strand_count {
             return Err(Error::CountMismatch {
+                what: "roots (one per strand)",
                 expected: self.strand_count,
                 got: roots.len(),
             });
@@ -477,6 +521,11 @@ impl Strands {
     /// previous positions alike, so no velocity is injected: a teleport, a
     /// cut in a cinematic, a respawn. `xform` must be rigid (rotation and
     /// translation); the rest shape's orientation turns with it.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidTransform`] on a non-finite or non-rigid `xform`;
+    /// nothing changes then.
     pub fn teleport(&mut self, xform: Affine3A) -> Result<(), Error> {
         let cols = xform.to_cols_array();
         if let Some(index) = cols.iter().position(|c| !c.is_finite()) {
@@ -562,6 +611,10 @@ impl Strands {
     /// Orientation of the groom frame that the rest shape (used by
     /// `local_shape_stiffness`, `shape_stiffness` and resets) is turned by: set it to the head's
     /// rotation when the engine turns the head.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::NonFinite`] on a non-finite rotation; nothing changes then.
     pub fn set_rest_rotation(&mut self, rotation: glam::Quat) -> Result<(), Error> {
         if !rotation.is_finite() {
             return Err(Error::NonFinite { index: 0 });
@@ -617,11 +670,17 @@ impl Strands {
     /// its previous position is taken equal to it). Rest lengths and shape
     /// are unchanged. Wakes every block. Errors, changing nothing, on a
     /// wrong count or a non-finite point.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::CountMismatch`] unless both slices hold `strand_count * V`
+    /// points, [`Error::NonFinite`] on a non-finite point; nothing changes then.
     pub fn set_state(&mut self, positions: &[Vec3], previous: &[Vec3]) -> Result<(), Error> {
         let n = self.strand_count * self.verts;
         for pts in [positions, previous] {
             if pts.len() != n {
                 return Err(Error::CountMismatch {
+                    what: "points (strands times vertices per strand)",
                     expected: n,
                     got: pts.len(),
                 });

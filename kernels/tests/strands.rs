@@ -58,7 +58,8 @@ fn rejects_bad_input() {
         s.set_roots(&[Vec3::ZERO]),
         Err(Error::CountMismatch {
             expected: 2,
-            got: 1
+            got: 1,
+            ..
         })
     ));
     assert!(matches!(

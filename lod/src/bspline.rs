@@ -42,10 +42,15 @@ pub fn basis_derivative(t: f32) -> [f32; 4] {
 }
 
 /// Control point `i` of the extended polygon, `-1 <= i <= n`: the phantom
-/// ends `2 P_0 - P_1` and `2 P_{n-1} - P_{n-2}` outside `0..n`. Needs `n >= 2`.
+/// ends `2 P_0 - P_1` and `2 P_{n-1} - P_{n-2}` outside `0..n`. Meant for
+/// `n >= 2`; without a polygon to extend (no panics): `n = 1` gives the
+/// single point for every `i`, `n = 0` gives NaN.
 #[inline]
 pub fn control_point(control: &[Vec3], i: isize) -> Vec3 {
     let n = control.len() as isize;
+    if n < 2 {
+        return control.first().copied().unwrap_or(Vec3::NAN);
+    }
     if i < 0 {
         2.0 * control[0] - control[1]
     } else if i >= n {
@@ -67,14 +72,24 @@ pub fn refined_len(n_control: usize, segments_per_span: usize) -> usize {
 }
 
 /// The curve at global parameter `u` in `[0, n - 1]` (clamped): span
-/// `j = min(floor(u), n - 2)`, `t = u - j`. Needs `n >= 2`.
+/// `j = min(floor(u), n - 2)`, `t = u - j`. Meant for `n >= 2`; no panics
+/// below: `n = 1` gives the single point, `n = 0` gives NaN.
 pub fn evaluate(control: &[Vec3], u: f32) -> Vec3 {
+    if control.len() < 2 {
+        return control.first().copied().unwrap_or(Vec3::NAN);
+    }
     let (j, t) = span_of(control.len(), u);
     combine(control, j, basis(t))
 }
 
-/// The curve's derivative `dC/du` at global parameter `u` (see [`evaluate`]).
+/// The curve's derivative `dC/du` at global parameter `u` (see
+/// [`evaluate`]); zero for `n = 1`, NaN for `n = 0`.
 pub fn evaluate_derivative(control: &[Vec3], u: f32) -> Vec3 {
+    match control.len() {
+        0 => return Vec3::NAN,
+        1 => return Vec3::ZERO,
+        _ => {}
+    }
     let (j, t) = span_of(control.len(), u);
     combine(control, j, basis_derivative(t))
 }
@@ -104,6 +119,11 @@ fn combine(control: &[Vec3], j: usize, w: [f32; 4]) -> Vec3 {
 /// point; `N = 0` is treated as `N = 1`. The first and last points are the
 /// first and last control points exactly (bit for bit). Non-finite control
 /// points give non-finite curve points only in the spans that use them.
+///
+/// # Panics
+///
+/// Only as an allocation does: if the output (`refined_len(n, N)` points)
+/// cannot be allocated, e.g. for an absurd `N` such as `usize::MAX`.
 pub fn refine(control: &[Vec3], segments_per_span: usize, out: &mut Vec<Vec3>) {
     out.clear();
     let n = control.len();
@@ -124,6 +144,10 @@ pub fn refine(control: &[Vec3], segments_per_span: usize, out: &mut Vec<Vec3>) {
 
 /// [`refine`] plus unit tangents (the normalised derivative, root to tip;
 /// `Vec3::Y` where the derivative vanishes). Clears both outputs.
+///
+/// # Panics
+///
+/// As [`refine`]: only if the outputs cannot be allocated.
 pub fn refine_with_tangents(
     control: &[Vec3],
     segments_per_span: usize,
@@ -159,6 +183,10 @@ pub struct SpanWeights {
 
 impl SpanWeights {
     /// Weights for `segments_per_span` (0 is treated as 1).
+    ///
+    /// # Panics
+    ///
+    /// Only if the `N + 1` weights cannot be allocated (an absurd `N`).
     pub fn new(segments_per_span: usize) -> SpanWeights {
         let n = segments_per_span.max(1);
         let t = |k: usize| k as f32 / n as f32;
@@ -174,13 +202,21 @@ impl SpanWeights {
         self.segments_per_span
     }
 
-    /// Position weights at `t = k / N` (`k <= N`).
+    /// Position weights at `t = k / N`.
+    ///
+    /// # Panics
+    ///
+    /// If `k > N` (as slice indexing does).
     #[inline]
     pub fn position(&self, k: usize) -> [f32; 4] {
         self.position[k]
     }
 
-    /// Derivative weights at `t = k / N` (`k <= N`).
+    /// Derivative weights at `t = k / N`.
+    ///
+    /// # Panics
+    ///
+    /// If `k > N` (as slice indexing does).
     #[inline]
     pub fn tangent(&self, k: usize) -> [f32; 4] {
         self.tangent[k]

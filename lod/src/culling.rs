@@ -11,6 +11,7 @@
 //! interpolated (nor, downstream, shaded).
 
 use crate::interpolation::Interpolation;
+use crate::Error;
 use coif_base::{StrandBlocks, Vec3x8, LANES};
 use glam::{DVec3, Mat4, Vec3, Vec4};
 
@@ -96,6 +97,11 @@ pub struct Visibility {
 impl Visibility {
     /// Storage for `guide_count` guides and `group_count` render groups
     /// (0 if there is no interpolation). Everything starts visible.
+    ///
+    /// # Panics
+    ///
+    /// Only as an allocation does, for counts whose flags and boxes cannot
+    /// be allocated.
     pub fn new(guide_count: usize, group_count: usize) -> Visibility {
         let blocks = guide_count.div_ceil(LANES);
         Visibility {
@@ -128,6 +134,10 @@ impl Visibility {
 
     /// Bounding box (local coordinates) of guide strand `i`'s refined curve
     /// as of the last [`cull`].
+    ///
+    /// # Panics
+    ///
+    /// If `i` is past the last block's lanes (as slice indexing does).
     pub fn strand_bounds(&self, i: usize) -> (Vec3, Vec3) {
         (self.strand_min[i], self.strand_max[i])
     }
@@ -140,8 +150,17 @@ impl Visibility {
 /// frustum. With it, group `g` is visible when `g < groups_drawn` (the
 /// distance-LOD prefix) and the box around its three guides' boxes meets the
 /// frustum, and a guide block is needed exactly when a visible group uses one
-/// of its strands. If `out` was sized for other counts, everything is marked
-/// visible (safe, just not culled). Allocates nothing.
+/// of its strands. Allocates nothing.
+///
+/// # Errors
+///
+/// Nothing is written on:
+/// - [`Error::CountMismatch`]: `out` was made for another number of guide
+///   blocks or groups (make it with `Visibility::new(strand_count,
+///   group_count)`), or `interpolation` indexes another number of guides
+///   than `strands` holds;
+/// - [`Error::InvalidParameter`]: `strands` has fewer than 2 vertices per
+///   strand (and at least one strand).
 pub fn cull(
     strands: StrandBlocks<'_>,
     interpolation: Option<&Interpolation>,
@@ -149,16 +168,36 @@ pub fn cull(
     frustum: &Frustum,
     margin: f32,
     out: &mut Visibility,
-) {
+) -> Result<(), Error> {
     let blocks = strands.block_count();
     let groups = interpolation.map_or(0, |i| i.group_count());
-    if out.guide_blocks.len() != blocks
-        || out.groups.len() != groups
-        || interpolation.is_some_and(|i| i.guide_count() != strands.strand_count())
-    {
-        out.guide_blocks.iter_mut().for_each(|b| *b = true);
-        out.groups.iter_mut().for_each(|g| *g = true);
-        return;
+    if out.guide_blocks.len() != blocks {
+        return Err(Error::CountMismatch {
+            what: "guide blocks (Visibility made for another set)",
+            expected: blocks,
+            got: out.guide_blocks.len(),
+        });
+    }
+    if out.groups.len() != groups {
+        return Err(Error::CountMismatch {
+            what: "hair groups (Visibility made for another Interpolation)",
+            expected: groups,
+            got: out.groups.len(),
+        });
+    }
+    if let Some(i) = interpolation.filter(|i| i.guide_count() != strands.strand_count()) {
+        return Err(Error::CountMismatch {
+            what: "guide strands (the Interpolation was made for another set)",
+            expected: i.guide_count(),
+            got: strands.strand_count(),
+        });
+    }
+    if blocks > 0 && strands.verts_per_strand() < 2 {
+        return Err(Error::InvalidParameter {
+            name: "verts_per_strand",
+            value: strands.verts_per_strand() as f64,
+            expected: ">= 2",
+        });
     }
     let local = frustum.relative_to(strands.origin());
     let verts = strands.verts_per_strand();
@@ -203,6 +242,7 @@ pub fn cull(
             }
         }
     }
+    Ok(())
 }
 
 fn block_box(v: &Visibility, b: usize, lanes: usize) -> (Vec3, Vec3) {

@@ -2,11 +2,15 @@
 
 use std::fmt;
 
-/// Why a fit, a constructor or a parameter check refused its input.
+/// Why a fit, a constructor, a parameter check or a batch pass refused its
+/// input.
 ///
 /// Per-frame batch paths ([`crate::refine_strands`], [`crate::interpolate`],
-/// [`crate::cull`]) never return this: they take validated containers and
-/// caller-owned buffers and degrade gracefully on bad data.
+/// [`crate::cull`], [`crate::write_render_vertices`]) return
+/// [`Error::CountMismatch`] when their containers were made for another set
+/// and [`Error::BufferTooSmall`] when a caller's buffer cannot take the
+/// whole result; they then write nothing. Bad numbers (NaN, infinities) in
+/// otherwise consistent data are not errors there: they degrade gracefully.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Error {
     /// A fit needs at least two control points.
@@ -35,10 +39,19 @@ pub enum Error {
         /// The documented range.
         expected: &'static str,
     },
-    /// A slice has the wrong length.
+    /// A slice or container has the wrong length or shape.
     CountMismatch {
+        /// What was counted (e.g. `"guide strands"`).
+        what: &'static str,
         /// The length expected.
         expected: usize,
+        /// The length given.
+        got: usize,
+    },
+    /// A caller's output buffer is shorter than the result; nothing was written.
+    BufferTooSmall {
+        /// The length needed.
+        needed: usize,
         /// The length given.
         got: usize,
     },
@@ -76,9 +89,15 @@ impl fmt::Display for Error {
                 f,
                 "parameter {name} = {value} is invalid: expected {expected}"
             ),
-            Error::CountMismatch { expected, got } => {
-                write!(f, "expected {expected} values, got {got}")
-            }
+            Error::CountMismatch {
+                what,
+                expected,
+                got,
+            } => write!(f, "expected {expected} {what}, got {got}"),
+            Error::BufferTooSmall { needed, got } => write!(
+                f,
+                "the output buffer holds {got} values but {needed} are needed (nothing written)"
+            ),
             Error::GuideOutOfRange { triangle, guide } => write!(
                 f,
                 "scalp triangle {triangle} names guide {guide}, which does not exist"

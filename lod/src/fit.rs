@@ -30,8 +30,13 @@ const STRANDS_PER_SOLVE: usize = 64;
 /// uniform parameter from the first to the last, with second-difference
 /// penalty `smoothing` (`lambda`; 0 = plain least squares).
 ///
-/// Errors on `n_control < 2`, `n_control > points.len()`, non-finite input,
-/// `smoothing < 0` or NaN or infinite.
+/// # Errors
+///
+/// [`Error::TooFewControlPoints`] on `n_control < 2`,
+/// [`Error::MoreControlsThanPoints`] on `n_control > points.len()`,
+/// [`Error::NonFinite`] on non-finite input, [`Error::InvalidParameter`] on
+/// `smoothing < 0` or NaN or infinite, [`Error::SingularFit`] if the normal
+/// matrix is not positive definite.
 pub fn fit(points: &[Vec3], n_control: usize, smoothing: f32) -> Result<Vec<Vec3>, Error> {
     if let Some(index) = points.iter().position(|p| !p.is_finite()) {
         return Err(Error::NonFinite { index });
@@ -65,7 +70,16 @@ pub struct Fitter {
 
 impl Fitter {
     /// Builds `B^T B + lambda D2^T D2` and factors it (faer `Llt`).
-    /// Errors as [`fit`] does, and if the matrix is not positive definite.
+    ///
+    /// # Errors
+    ///
+    /// As [`fit`] does (with `n_points` for the number of points), and
+    /// [`Error::SingularFit`] if the matrix is not positive definite.
+    ///
+    /// # Panics
+    ///
+    /// Only as an allocation does: the fitter holds dense `n_points x
+    /// n_control` and `n_control x n_control` matrices.
     pub fn new(n_points: usize, n_control: usize, smoothing: f32) -> Result<Fitter, Error> {
         if n_control < 2 {
             return Err(Error::TooFewControlPoints { n_control });
@@ -139,15 +153,20 @@ impl Fitter {
     /// Fits every strand of `points` (`n_points` per strand, strand after
     /// strand) and writes `n_control` control points per strand into `out`.
     ///
-    /// Errors (writing nothing) if `points` is not a whole number of strands
-    /// or `out` has not `n_control` points per strand. A strand with a
+    /// A strand with a
     /// non-finite point gets non-finite control points; the other strands
     /// are unaffected (each right-hand side is solved independently).
     /// Allocates nothing.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::CountMismatch`] (and nothing written) if `points` is not a
+    /// whole number of strands or `out` has not `n_control` points per strand.
     pub fn fit_into(&mut self, points: &[Vec3], out: &mut [Vec3]) -> Result<(), Error> {
         let (p, n) = (self.n_points, self.n_control);
         if !points.len().is_multiple_of(p) {
             return Err(Error::CountMismatch {
+                what: "points (a whole number of strands)",
                 expected: points.len().div_ceil(p) * p,
                 got: points.len(),
             });
@@ -155,6 +174,7 @@ impl Fitter {
         let strands = points.len() / p;
         if out.len() != strands * n {
             return Err(Error::CountMismatch {
+                what: "output control points",
                 expected: strands * n,
                 got: out.len(),
             });
@@ -196,6 +216,10 @@ impl Fitter {
     }
 
     /// [`Fitter::fit_into`] into a new vector.
+    ///
+    /// # Errors
+    ///
+    /// As [`Fitter::fit_into`].
     pub fn fit(&mut self, points: &[Vec3]) -> Result<Vec<Vec3>, Error> {
         let mut out = vec![Vec3::ZERO; points.len() / self.n_points.max(1) * self.n_control];
         self.fit_into(points, &mut out)?;
@@ -255,7 +279,15 @@ pub struct Resampler {
 }
 
 impl Resampler {
-    /// Errors as [`Fitter::new`] (`n_vertices >= 2`, `n_samples >= n_vertices`).
+    /// A resampler to `n_vertices` points through `n_samples` arc-length samples.
+    ///
+    /// # Errors
+    ///
+    /// As [`Fitter::new`] (`n_vertices >= 2`, `n_samples >= n_vertices`).
+    ///
+    /// # Panics
+    ///
+    /// As [`Fitter::new`], only if its matrices cannot be allocated.
     pub fn new(n_samples: usize, n_vertices: usize, smoothing: f32) -> Result<Resampler, Error> {
         Ok(Resampler {
             fitter: Fitter::new(n_samples, n_vertices, smoothing)?,
@@ -269,12 +301,18 @@ impl Resampler {
     }
 
     /// Fits one strand (any number of points, root first) into `out`
-    /// (`n_vertices` points). Errors on an empty or non-finite strand or a
-    /// wrong `out` length. A one-point or zero-length strand gives copies of
-    /// its root.
+    /// (`n_vertices` points). A one-point or zero-length strand gives copies
+    /// of its root.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::CountMismatch`] on an empty strand or an `out` of another
+    /// length than `n_vertices`, [`Error::NonFinite`] on a non-finite point;
+    /// nothing is written then.
     pub fn resample_into(&mut self, strand: &[Vec3], out: &mut [Vec3]) -> Result<(), Error> {
         if strand.is_empty() {
             return Err(Error::CountMismatch {
+                what: "strand points (at least)",
                 expected: 1,
                 got: 0,
             });
@@ -292,6 +330,11 @@ impl Resampler {
 
     /// Resamples many strands: `strands` yields each strand's points; `out`
     /// receives `n_vertices` points per strand, strand after strand.
+    ///
+    /// # Errors
+    ///
+    /// As [`Resampler::resample_into`], at the first strand that fails
+    /// (`out` then holds the strands before it).
     pub fn resample_all<'a>(
         &mut self,
         strands: impl IntoIterator<Item = &'a [Vec3]>,

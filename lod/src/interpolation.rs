@@ -76,8 +76,12 @@ impl Interpolation {
     ///
     /// Triangle `t` of area `a_t` gets `floor(a_t rho)` hairs plus one more
     /// with probability `frac(a_t rho)`, so the expected count is exact.
-    /// Errors on a non-finite root, a guide index out of range, a negative or
-    /// non-finite density, or more than [`MAX_RENDER_HAIRS`] hairs.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::NonFinite`] on a non-finite root, [`Error::GuideOutOfRange`]
+    /// on a guide index out of range, [`Error::InvalidParameter`] on a
+    /// negative or non-finite density or more than [`MAX_RENDER_HAIRS`] hairs.
     pub fn new(
         guide_roots: &[Vec3],
         triangles: &[[u32; 3]],
@@ -94,6 +98,10 @@ impl Interpolation {
     /// padding, and the batch does about `1 / lane use` less work; the price
     /// is a coarser hair count per triangle (steps of 8), so use it when
     /// triangles hold many hairs each.
+    ///
+    /// # Errors
+    ///
+    /// As [`Interpolation::new`].
     pub fn with_whole_groups(
         guide_roots: &[Vec3],
         triangles: &[[u32; 3]],
@@ -220,6 +228,10 @@ impl Interpolation {
     }
 
     /// Barycentric weights `(b_A, b_B, b_C)` of lane `lane` of group `g`.
+    ///
+    /// # Panics
+    ///
+    /// If `g >= group_count()` or `lane >= LANES` (as slice indexing does).
     pub fn weights(&self, g: usize, lane: usize) -> [f32; 3] {
         self.weights[g].map(|w| w.as_array()[lane])
     }
@@ -272,8 +284,15 @@ impl RenderHairs {
     }
 
     /// A buffer for `groups` groups of up to `max_verts_per_hair` vertices.
+    ///
+    /// # Panics
+    ///
+    /// If `groups * max_verts_per_hair` overflows or the buffers exceed
+    /// `isize::MAX` bytes (as `Vec::with_capacity` does).
     pub fn with_capacity(groups: usize, max_verts_per_hair: usize) -> RenderHairs {
-        let capacity = RenderHairs::buffer_len(groups, max_verts_per_hair);
+        let capacity = groups
+            .checked_mul(max_verts_per_hair)
+            .expect("RenderHairs capacity overflows usize");
         RenderHairs {
             groups,
             verts: 0,
@@ -313,42 +332,90 @@ impl RenderHairs {
     }
 
     /// Group `g`'s positions, `R` entries of eight hairs.
+    ///
+    /// # Panics
+    ///
+    /// If `g >= group_count()` (as slice indexing does).
     pub fn group_positions(&self, g: usize) -> &[Vec3x8] {
         &self.positions[g * self.verts..(g + 1) * self.verts]
     }
 
     /// Group `g`'s unit tangents, `R` entries of eight hairs.
+    ///
+    /// # Panics
+    ///
+    /// If `g >= group_count()` (as slice indexing does).
     pub fn group_tangents(&self, g: usize) -> &[Vec3x8] {
         &self.tangents[g * self.verts..(g + 1) * self.verts]
     }
 
     /// Vertex `r` of hair `lane` of group `g`.
+    ///
+    /// # Panics
+    ///
+    /// If `g >= group_count()`, `lane >= LANES` or `r >= verts_per_hair()`
+    /// (as slice indexing does).
     pub fn position(&self, g: usize, lane: usize, r: usize) -> Vec3 {
+        self.check_vertex(g, lane, r);
         self.positions[g * self.verts + r].lane(lane)
     }
 
     /// Unit tangent at vertex `r` of hair `lane` of group `g`.
+    ///
+    /// # Panics
+    ///
+    /// If `g >= group_count()`, `lane >= LANES` or `r >= verts_per_hair()`
+    /// (as slice indexing does).
     pub fn tangent(&self, g: usize, lane: usize, r: usize) -> Vec3 {
+        self.check_vertex(g, lane, r);
         self.tangents[g * self.verts + r].lane(lane)
     }
 
-    /// Prepares for a pass; false if the buffer cannot take it.
+    /// Panics unless vertex `r` of lane `lane` of group `g` exists (an `r`
+    /// past the end would otherwise read the next group's vertices).
+    fn check_vertex(&self, g: usize, lane: usize, r: usize) {
+        assert!(
+            g < self.groups && lane < LANES && r < self.verts,
+            "render vertex ({g}, {lane}, {r}) out of range: {} groups of {} vertices",
+            self.groups,
+            self.verts
+        );
+    }
+
+    /// Prepares for a pass: checks that the buffer takes it (nothing is
+    /// marked written otherwise), then marks every group unwritten.
     pub(crate) fn begin(
         &mut self,
         interpolation: &Interpolation,
         guides: &RefinedGuides,
         with_tangents: bool,
-    ) -> bool {
-        self.has_tangents = with_tangents;
-        let verts = guides.verts_per_strand();
-        let ok = interpolation.group_count() == self.groups
-            && interpolation.guide_count() == guides.strand_count()
-            && self.groups * verts <= self.capacity;
-        self.written.iter_mut().for_each(|w| *w = false);
-        if ok {
-            self.verts = verts;
+    ) -> Result<(), Error> {
+        if interpolation.group_count() != self.groups {
+            return Err(Error::CountMismatch {
+                what: "hair groups (RenderHairs made for another Interpolation)",
+                expected: interpolation.group_count(),
+                got: self.groups,
+            });
         }
-        ok
+        if interpolation.guide_count() != guides.strand_count() {
+            return Err(Error::CountMismatch {
+                what: "guide strands (RefinedGuides made for another set than the Interpolation)",
+                expected: interpolation.guide_count(),
+                got: guides.strand_count(),
+            });
+        }
+        let verts = guides.verts_per_strand();
+        let needed = self.groups.saturating_mul(verts);
+        if needed > self.capacity {
+            return Err(Error::BufferTooSmall {
+                needed,
+                got: self.capacity,
+            });
+        }
+        self.has_tangents = with_tangents;
+        self.written.iter_mut().for_each(|w| *w = false);
+        self.verts = verts;
+        Ok(())
     }
 }
 
@@ -375,15 +442,24 @@ pub(crate) fn group_drawn(
 ///
 /// Only the first `groups_drawn` groups (the distance-LOD prefix) that
 /// `visibility` (if given) marks visible and whose guide blocks were refined
-/// are written. Returns the number of groups written; 0 if `out` does not fit
-/// `interpolation` and `guides`. Allocates nothing.
+/// are written. Returns the number of groups written. Allocates nothing.
+///
+/// # Errors
+///
+/// Nothing is written (and `out` keeps its last pass) on:
+/// - [`Error::CountMismatch`]: `out` was made for an interpolation with
+///   another group count, or `guides` holds another number of strands than
+///   `interpolation` indexes;
+/// - [`Error::BufferTooSmall`]: `out` cannot hold the hairs at the guides'
+///   current level (it was made for a lower maximum level), `needed` and
+///   `got` in `Vec3x8` entries.
 pub fn interpolate(
     interpolation: &Interpolation,
     guides: &RefinedGuides,
     visibility: Option<&Visibility>,
     groups_drawn: usize,
     out: &mut RenderHairs,
-) -> usize {
+) -> Result<usize, Error> {
     interpolate_groups(interpolation, guides, visibility, groups_drawn, out, true)
 }
 
@@ -391,13 +467,17 @@ pub fn interpolate(
 /// traffic (for renderers that derive tangents from neighbouring vertices,
 /// as [`crate::write_render_vertices`] then does). Scalar twin:
 /// [`crate::scalar::interpolate_positions`].
+///
+/// # Errors
+///
+/// As [`interpolate`].
 pub fn interpolate_positions(
     interpolation: &Interpolation,
     guides: &RefinedGuides,
     visibility: Option<&Visibility>,
     groups_drawn: usize,
     out: &mut RenderHairs,
-) -> usize {
+) -> Result<usize, Error> {
     interpolate_groups(interpolation, guides, visibility, groups_drawn, out, false)
 }
 
@@ -408,10 +488,8 @@ fn interpolate_groups(
     groups_drawn: usize,
     out: &mut RenderHairs,
     with_tangents: bool,
-) -> usize {
-    if !out.begin(interpolation, guides, with_tangents) {
-        return 0;
-    }
+) -> Result<usize, Error> {
+    out.begin(interpolation, guides, with_tangents)?;
     let r_len = out.verts;
     let mut count = 0;
     for (g, group) in interpolation.groups.iter().enumerate() {
@@ -452,7 +530,7 @@ fn interpolate_groups(
             }
         }
     }
-    count
+    Ok(count)
 }
 
 /// `wa A + wb B + wc C` with A, B, C broadcast from one lane each:
@@ -556,7 +634,11 @@ impl GroupBlend<'_> {
         self.hairs
     }
 
-    /// Vertex `r` of the eight lanes (`r < verts()`).
+    /// Vertex `r` of the eight lanes.
+    ///
+    /// # Panics
+    ///
+    /// If `r >= verts()` (as slice indexing does).
     #[inline(always)]
     pub fn position_x8(&self, r: usize) -> Vec3x8 {
         let [wa, wb, wc] = self.weights;
@@ -566,6 +648,10 @@ impl GroupBlend<'_> {
     }
 
     /// Unit tangent at vertex `r` of the eight lanes (or `+Y`).
+    ///
+    /// # Panics
+    ///
+    /// If `r >= verts()` (as slice indexing does).
     #[inline(always)]
     pub fn tangent_x8(&self, r: usize) -> Vec3x8 {
         let [wa, wb, wc] = self.weights;
@@ -574,14 +660,24 @@ impl GroupBlend<'_> {
         unit_or_y_x8(blend_x8(wa, wb, wc, &a[r], la, &b[r], lb, &c[r], lc))
     }
 
-    /// Scalar twin of [`GroupBlend::position_x8`] for one lane.
+    /// Scalar twin of [`GroupBlend::position_x8`] for one lane (`lane` is
+    /// taken modulo [`LANES`]).
+    ///
+    /// # Panics
+    ///
+    /// If `r >= verts()` (as slice indexing does).
     pub fn position(&self, lane: usize, r: usize) -> Vec3 {
         let w = self.weights.map(|w| w.as_array()[lane % LANES]);
         let v = self.positions.map(|p| p[r]);
         blend_lanes(w, v, self.lanes)
     }
 
-    /// Scalar twin of [`GroupBlend::tangent_x8`] for one lane.
+    /// Scalar twin of [`GroupBlend::tangent_x8`] for one lane (`lane` is
+    /// taken modulo [`LANES`]).
+    ///
+    /// # Panics
+    ///
+    /// If `r >= verts()` (as slice indexing does).
     pub fn tangent(&self, lane: usize, r: usize) -> Vec3 {
         let w = self.weights.map(|w| w.as_array()[lane % LANES]);
         let v = self.tangents.map(|t| t[r]);

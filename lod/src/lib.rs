@@ -12,6 +12,11 @@
 //! - [`fit`], [`Fitter`], [`Resampler`]: P-spline fits with faer.
 //! - [`quality`]: error measurements for time-against-error reports.
 //!
+//! Errors instead of silent truncation: every call that writes into a
+//! caller's buffer or takes containers whose counts must agree returns
+//! [`Error::BufferTooSmall`] or [`Error::CountMismatch`] (and writes
+//! nothing) when they do not.
+//!
 //! Every SIMD batch path has a scalar twin of the same name in [`scalar`]
 //! (`refine_strands` / `scalar::refine_strands`, `interpolate` /
 //! `scalar::interpolate`), with the same numbered steps.
@@ -41,12 +46,12 @@
 //! let frustum = lod::Frustum::from_view_projection(Mat4::IDENTITY); // your camera's view-projection
 //! let px_per_m = level::pixels_per_metre(0.5, 0.8, 1080.0);
 //! let d = lod::distance_lod(&interp, 80e-6 * px_per_m, 0.1);
-//! lod::cull(strands.blocks(), Some(&interp), d.groups_drawn, &frustum, 1e-3, &mut vis);
+//! lod::cull(strands.blocks(), Some(&interp), d.groups_drawn, &frustum, 1e-3, &mut vis)?;
 //! let n = level::segments_per_span(level::max_second_difference_strands(strands.blocks()), px_per_m, 0.5, 16);
-//! guides.set_segments_per_span(n);
-//! lod::refine_strands(strands.blocks(), Some(&vis), &mut guides);
-//! lod::interpolate(&interp, &guides, Some(&vis), d.groups_drawn, &mut hairs);
-//! let count = lod::write_render_vertices(&interp, &hairs, d.groups_drawn, HairWidth::default(), d.width_factor, &mut vertices);
+//! guides.set_segments_per_span(n)?;
+//! lod::refine_strands(strands.blocks(), Some(&vis), &mut guides)?;
+//! lod::interpolate(&interp, &guides, Some(&vis), d.groups_drawn, &mut hairs)?;
+//! let count = lod::write_render_vertices(&interp, &hairs, d.groups_drawn, HairWidth::default(), d.width_factor, &mut vertices)?;
 //! let upload: &[u8] = lod::vertex_bytes(&vertices[..count]); // positions relative to strands.origin()
 //! # assert_eq!(upload.len(), 32 * count);
 //! # Ok::<(), Box<dyn std::error::Error>>(())

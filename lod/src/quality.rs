@@ -56,6 +56,11 @@ pub struct FitError {
 /// parameters, against `truth` (same length as `samples`; pass `samples`
 /// itself for the residual, or the noise-free points to measure how much
 /// noise the fit removed).
+///
+/// # Errors
+///
+/// [`Error::CountMismatch`] if `truth` and `samples` differ in length, and
+/// as [`crate::fit`] does.
 pub fn fit_error(
     truth: &[Vec3],
     samples: &[Vec3],
@@ -64,6 +69,7 @@ pub fn fit_error(
 ) -> Result<FitError, Error> {
     if truth.len() != samples.len() {
         return Err(Error::CountMismatch {
+            what: "truth points (one per sample)",
             expected: samples.len(),
             got: truth.len(),
         });
@@ -303,9 +309,10 @@ mod tests {
         let strands = Strands::from_polylines(&points, 8).unwrap();
         let interp = Interpolation::new(&roots, &triangles, 150.0, 3).unwrap();
         let mut guides = RefinedGuides::new(strands.blocks(), 2).unwrap();
-        refine_strands(strands.blocks(), None, &mut guides);
+        refine_strands(strands.blocks(), None, &mut guides).unwrap();
         let mut hairs = RenderHairs::new(&interp, &guides);
-        let written = interpolate(&interp, &guides, None, interp.group_count(), &mut hairs);
+        let written =
+            interpolate(&interp, &guides, None, interp.group_count(), &mut hairs).unwrap();
         assert_eq!(written, interp.group_count());
         let origin = strands.origin().as_vec3();
         let front_view = move |p: Vec3| {

@@ -49,6 +49,11 @@ impl RefinedGuides {
     /// A buffer for `strands`, able to hold any level up to
     /// `max_segments_per_span` (1..=256) without reallocating. Starts at
     /// `N = max_segments_per_span`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidParameter`] if `max_segments_per_span` is outside
+    /// `1 ..= 256`.
     pub fn new(
         strands: StrandBlocks<'_>,
         max_segments_per_span: usize,
@@ -61,6 +66,12 @@ impl RefinedGuides {
     }
 
     /// As [`RefinedGuides::new`], from the set's shape.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidParameter`] if `max_segments_per_span` is outside
+    /// `1 ..= 256`, if `verts_per_strand < 2`, or if the buffers would hold
+    /// more than `isize::MAX` bytes (`strand_count` absurdly large).
     pub fn with_shape(
         strand_count: usize,
         verts_per_strand: usize,
@@ -81,7 +92,18 @@ impl RefinedGuides {
             });
         }
         let blocks = strand_count.div_ceil(LANES);
-        let len = RefinedGuides::buffer_len(strand_count, verts_per_strand, max_segments_per_span);
+        // Refuse sizes whose buffers could not exist instead of aborting on
+        // a capacity overflow (or wrapping the multiplication).
+        let len = blocks
+            .checked_mul(verts_per_strand - 1)
+            .and_then(|x| x.checked_mul(max_segments_per_span))
+            .and_then(|x| x.checked_add(blocks))
+            .filter(|&len| len <= isize::MAX as usize / (2 * std::mem::size_of::<Vec3x8>()))
+            .ok_or(Error::InvalidParameter {
+                name: "strand_count",
+                value: strand_count as f64,
+                expected: "a set whose refined buffers fit in memory",
+            })?;
         let mut out = RefinedGuides {
             strand_count,
             blocks,
@@ -94,7 +116,7 @@ impl RefinedGuides {
             tangents: vec![Vec3x8::ZERO; len],
             refined: vec![false; blocks],
         };
-        out.set_segments_per_span(max_segments_per_span);
+        out.set_segments_per_span_clamped(max_segments_per_span);
         Ok(out)
     }
 
@@ -109,10 +131,31 @@ impl RefinedGuides {
         strand_count.div_ceil(LANES) * refined_len(verts_per_strand, segments_per_span)
     }
 
-    /// Chooses the level for the next [`refine_strands`]: `n` clamped to
-    /// `1 ..= max_segments_per_span`; returns the level in use. Recomputes the
-    /// weight table (N + 1 entries) without allocating.
-    pub fn set_segments_per_span(&mut self, n: usize) -> usize {
+    /// Chooses the level for the next [`refine_strands`]: `n` segments per
+    /// span. Recomputes the weight table (N + 1 entries) without allocating.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidParameter`] (and the level unchanged) if `n` is
+    /// outside `1 ..= max_segments_per_span()`; use
+    /// [`RefinedGuides::set_segments_per_span_clamped`] to clamp instead.
+    pub fn set_segments_per_span(&mut self, n: usize) -> Result<(), Error> {
+        if !(1..=self.max_segments).contains(&n) {
+            return Err(Error::InvalidParameter {
+                name: "segments_per_span",
+                value: n as f64,
+                expected: "1 ..= max_segments_per_span",
+            });
+        }
+        self.set_segments_per_span_clamped(n);
+        Ok(())
+    }
+
+    /// As [`RefinedGuides::set_segments_per_span`], with `n` clamped to
+    /// `1 ..= max_segments_per_span()` (for a level computed from the view,
+    /// where the buffer's largest level is the intended cap); returns the
+    /// level in use.
+    pub fn set_segments_per_span_clamped(&mut self, n: usize) -> usize {
         let n = n.clamp(1, self.max_segments);
         if n != self.segments {
             // Straight from the basis functions into the table reserved for
@@ -168,34 +211,83 @@ impl RefinedGuides {
     }
 
     /// Block `b`'s refined positions (local coordinates), `R` entries.
+    ///
+    /// # Panics
+    ///
+    /// If `b >= block_count()` (as slice indexing does).
     pub fn block_positions(&self, b: usize) -> &[Vec3x8] {
         &self.positions[b * self.verts..(b + 1) * self.verts]
     }
 
     /// Block `b`'s unit tangents, `R` entries.
+    ///
+    /// # Panics
+    ///
+    /// If `b >= block_count()` (as slice indexing does).
     pub fn block_tangents(&self, b: usize) -> &[Vec3x8] {
         &self.tangents[b * self.verts..(b + 1) * self.verts]
     }
 
     /// Refined vertex `r` of strand `i` (local coordinates).
+    ///
+    /// # Panics
+    ///
+    /// If `i >= strand_count()` or `r >= verts_per_strand()` (as slice
+    /// indexing does).
     pub fn position(&self, i: usize, r: usize) -> Vec3 {
+        self.check_vertex(i, r);
         self.positions[(i / LANES) * self.verts + r].lane(i % LANES)
     }
 
     /// Unit tangent at refined vertex `r` of strand `i`.
+    ///
+    /// # Panics
+    ///
+    /// If `i >= strand_count()` or `r >= verts_per_strand()` (as slice
+    /// indexing does).
     pub fn tangent(&self, i: usize, r: usize) -> Vec3 {
+        self.check_vertex(i, r);
         self.tangents[(i / LANES) * self.verts + r].lane(i % LANES)
     }
 
     /// Strand `i`'s refined positions, root first, into `out` (cleared).
+    ///
+    /// # Panics
+    ///
+    /// If `i >= strand_count()`.
     pub fn strand_positions(&self, i: usize, out: &mut Vec<Vec3>) {
         out.clear();
         out.extend((0..self.verts).map(|r| self.position(i, r)));
     }
 
-    pub(crate) fn fits(&self, strands: StrandBlocks<'_>) -> bool {
-        strands.strand_count() == self.strand_count
-            && strands.verts_per_strand() == self.control_verts
+    /// Panics unless vertex `r` of strand `i` exists (an `r` past the end
+    /// would otherwise read the next block's vertices).
+    fn check_vertex(&self, i: usize, r: usize) {
+        assert!(
+            i < self.strand_count && r < self.verts,
+            "refined vertex ({i}, {r}) out of range: {} strands of {} vertices",
+            self.strand_count,
+            self.verts
+        );
+    }
+
+    /// `Ok` if `strands` has the shape this buffer was made for.
+    pub(crate) fn check_fits(&self, strands: StrandBlocks<'_>) -> Result<(), Error> {
+        if strands.strand_count() != self.strand_count {
+            return Err(Error::CountMismatch {
+                what: "guide strands (RefinedGuides made for another set)",
+                expected: self.strand_count,
+                got: strands.strand_count(),
+            });
+        }
+        if strands.verts_per_strand() != self.control_verts {
+            return Err(Error::CountMismatch {
+                what: "control points per strand (RefinedGuides made for another set)",
+                expected: self.control_verts,
+                got: strands.verts_per_strand(),
+            });
+        }
+        Ok(())
     }
 }
 
@@ -209,15 +301,19 @@ pub(crate) fn block_needed(visibility: Option<&Visibility>, b: usize) -> bool {
 ///
 /// Blocks that `visibility` marks as not needed are skipped (their entries
 /// keep stale data and [`RefinedGuides::is_block_refined`] says false).
-/// Returns the number of blocks refined; 0 (and nothing written) if `out`
-/// was made for a set of another shape. End points are the first and last
+/// Returns the number of blocks refined. End points are the first and last
 /// control points exactly; tangents whose derivative vanishes (or is not
 /// finite) are `Vec3::Y`. Allocates nothing.
+///
+/// # Errors
+///
+/// [`Error::CountMismatch`] (and nothing written) if `out` was made for a
+/// set of another shape (strand count or control points per strand).
 pub fn refine_strands(
     strands: StrandBlocks<'_>,
     visibility: Option<&Visibility>,
     out: &mut RefinedGuides,
-) -> usize {
+) -> Result<usize, Error> {
     refine_blocks::<true>(strands, visibility, out)
 }
 
@@ -225,11 +321,15 @@ pub fn refine_strands(
 /// arithmetic and stores (for pipelines that take tangents from the render
 /// hair's positions, see [`crate::interpolate_positions`]). The tangent
 /// arrays of `out` are left as they were.
+///
+/// # Errors
+///
+/// As [`refine_strands`].
 pub fn refine_strands_positions(
     strands: StrandBlocks<'_>,
     visibility: Option<&Visibility>,
     out: &mut RefinedGuides,
-) -> usize {
+) -> Result<usize, Error> {
     refine_blocks::<false>(strands, visibility, out)
 }
 
@@ -237,10 +337,8 @@ fn refine_blocks<const TANGENTS: bool>(
     strands: StrandBlocks<'_>,
     visibility: Option<&Visibility>,
     out: &mut RefinedGuides,
-) -> usize {
-    if !out.fits(strands) {
-        return 0;
-    }
+) -> Result<usize, Error> {
+    out.check_fits(strands)?;
     let (v, r, n) = (out.control_verts, out.verts, out.segments);
     let mut count = 0;
     for b in 0..out.blocks {
@@ -287,7 +385,7 @@ fn refine_blocks<const TANGENTS: bool>(
         pos[0] = ctrl[0];
         pos[r - 1] = ctrl[v - 1];
     }
-    count
+    Ok(count)
 }
 
 /// `p0 w0 + p1 w1 + p2 w2 + p3 w3` per lane: [`combine`] on each coordinate.

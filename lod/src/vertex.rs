@@ -2,6 +2,7 @@
 //! uploads to a GPU buffer as bytes without copying (`bytemuck::cast_slice`).
 
 use crate::interpolation::{Interpolation, RenderHairs};
+use crate::Error;
 use bytemuck::{Pod, Zeroable};
 use coif_base::LANES;
 
@@ -43,14 +44,17 @@ impl Default for HairWidth {
     }
 }
 
-/// Number of vertices [`write_render_vertices`] writes at most: real hairs
-/// in the first `groups_drawn` groups times vertices per hair.
+/// Number of vertices [`write_render_vertices`] writes at most, and so the
+/// length its `out` needs: real hairs in the first `groups_drawn` groups
+/// times vertices per hair of the last interpolation pass.
 pub fn render_vertex_len(
     interpolation: &Interpolation,
     hairs: &RenderHairs,
     groups_drawn: usize,
 ) -> usize {
-    interpolation.hairs_in_prefix(groups_drawn) * hairs.verts_per_hair()
+    interpolation
+        .hairs_in_prefix(groups_drawn)
+        .saturating_mul(hairs.verts_per_hair())
 }
 
 /// Writes the real hairs of every group that the last [`crate::interpolate`]
@@ -58,8 +62,18 @@ pub fn render_vertex_len(
 /// `out`; widths are `width` times `width_factor` (from [`crate::distance_lod`]).
 /// Tangents come from the last pass if it was [`crate::interpolate`], or
 /// from central differences of the positions after
-/// [`crate::interpolate_positions`]. Stops when `out` would overflow (whole
-/// hairs only). Returns the number of vertices written.
+/// [`crate::interpolate_positions`]. Returns the number of vertices
+/// written (fewer than `out.len()` when groups were culled; 0 before the
+/// first interpolation pass).
+///
+/// # Errors
+///
+/// Nothing is written on:
+/// - [`Error::CountMismatch`]: `hairs` was made for an interpolation with
+///   another group count;
+/// - [`Error::BufferTooSmall`]: `out` is shorter than
+///   [`render_vertex_len`]`(interpolation, hairs, groups_drawn)`, the most
+///   the call can write (whether or not groups were culled this frame).
 pub fn write_render_vertices(
     interpolation: &Interpolation,
     hairs: &RenderHairs,
@@ -67,10 +81,24 @@ pub fn write_render_vertices(
     width: HairWidth,
     width_factor: f32,
     out: &mut [RenderVertex],
-) -> usize {
+) -> Result<usize, Error> {
+    if interpolation.group_count() != hairs.group_count() {
+        return Err(Error::CountMismatch {
+            what: "hair groups (RenderHairs made for another Interpolation)",
+            expected: interpolation.group_count(),
+            got: hairs.group_count(),
+        });
+    }
+    let needed = render_vertex_len(interpolation, hairs, groups_drawn);
+    if out.len() < needed {
+        return Err(Error::BufferTooSmall {
+            needed,
+            got: out.len(),
+        });
+    }
     let r_len = hairs.verts_per_hair();
-    if r_len == 0 || interpolation.group_count() != hairs.group_count() {
-        return 0;
+    if r_len == 0 {
+        return Ok(0);
     }
     let inv = if r_len > 1 {
         1.0 / (r_len - 1) as f32
@@ -85,9 +113,6 @@ pub fn write_render_vertices(
         let pos = hairs.group_positions(g);
         let tan = hairs.group_tangents(g);
         for l in 0..(group.hairs as usize).min(LANES) {
-            if written + r_len > out.len() {
-                return written;
-            }
             for r in 0..r_len {
                 let s = r as f32 * inv;
                 let tangent = if hairs.has_tangents() {
@@ -109,7 +134,7 @@ pub fn write_render_vertices(
             }
         }
     }
-    written
+    Ok(written)
 }
 
 /// The vertices as bytes for a GPU upload, without copying.

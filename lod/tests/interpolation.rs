@@ -54,7 +54,7 @@ fn scene(density: f32, segs: usize) -> Scene {
     let strands = Strands::from_polylines(&pts, VERTS).unwrap();
     let interp = Interpolation::new(&roots, &tris, density, 99).unwrap();
     let mut guides = RefinedGuides::new(strands.blocks(), 8).unwrap();
-    guides.set_segments_per_span(segs);
+    guides.set_segments_per_span(segs).unwrap();
     let hairs = RenderHairs::new(&interp, &guides);
     Scene {
         strands,
@@ -92,15 +92,15 @@ fn weights_are_valid_barycentric_coordinates() {
 #[test]
 fn interpolated_hair_lies_inside_the_guides_hull_and_simd_equals_scalar() {
     let mut s = scene(150.0, 3);
-    lod::refine_strands(s.strands.blocks(), None, &mut s.guides);
+    lod::refine_strands(s.strands.blocks(), None, &mut s.guides).unwrap();
     let groups = s.interp.group_count();
     assert_eq!(
-        lod::interpolate(&s.interp, &s.guides, None, groups, &mut s.hairs),
+        lod::interpolate(&s.interp, &s.guides, None, groups, &mut s.hairs).unwrap(),
         groups
     );
     let mut scalar = RenderHairs::new(&s.interp, &s.guides);
     assert_eq!(
-        lod::scalar::interpolate(&s.interp, &s.guides, None, groups, &mut scalar),
+        lod::scalar::interpolate(&s.interp, &s.guides, None, groups, &mut scalar).unwrap(),
         groups
     );
     let r_len = s.hairs.verts_per_hair();
@@ -146,9 +146,9 @@ fn barycentric_of(p: DVec3, t: [DVec3; 3]) -> [f64; 3] {
 fn density_matches_hairs_per_cm2() {
     for &density in &[120.0f32, 150.0, 200.0] {
         let mut s = scene(density, 1);
-        lod::refine_strands(s.strands.blocks(), None, &mut s.guides);
+        lod::refine_strands(s.strands.blocks(), None, &mut s.guides).unwrap();
         let groups = s.interp.group_count();
-        lod::interpolate(&s.interp, &s.guides, None, groups, &mut s.hairs);
+        lod::interpolate(&s.interp, &s.guides, None, groups, &mut s.hairs).unwrap();
         let area_cm2 = s.interp.scalp_area_m2() / 1e-4;
         assert!((area_cm2 - 100.0).abs() < 1e-3);
         let total = s.interp.hair_count() as f64 / area_cm2;
@@ -179,7 +179,7 @@ fn density_matches_hairs_per_cm2() {
 #[test]
 fn a_prefix_is_an_even_thinning_and_width_keeps_coverage() {
     let mut s = scene(150.0, 1);
-    lod::refine_strands(s.strands.blocks(), None, &mut s.guides);
+    lod::refine_strands(s.strands.blocks(), None, &mut s.guides).unwrap();
     let lod_half = lod::distance_lod(&s.interp, 0.5, 0.1);
     let groups = s.interp.group_count();
     assert_eq!(lod_half.groups_drawn, groups.div_ceil(2));
@@ -189,7 +189,8 @@ fn a_prefix_is_an_even_thinning_and_width_keeps_coverage() {
         None,
         lod_half.groups_drawn,
         &mut s.hairs,
-    );
+    )
+    .unwrap();
     assert_eq!(written, lod_half.groups_drawn);
     let (mut all, mut drawn) = ([0usize; 4], [0usize; 4]);
     for (g, group) in s.interp.groups().iter().enumerate() {
@@ -229,8 +230,8 @@ fn frustum_culling_skips_work_but_never_visible_hair() {
     let mut s = scene(150.0, 2);
     let groups = s.interp.group_count();
     // Reference: everything refined and interpolated.
-    lod::refine_strands(s.strands.blocks(), None, &mut s.guides);
-    lod::interpolate(&s.interp, &s.guides, None, groups, &mut s.hairs);
+    lod::refine_strands(s.strands.blocks(), None, &mut s.guides).unwrap();
+    lod::interpolate(&s.interp, &s.guides, None, groups, &mut s.hairs).unwrap();
     let full = s.hairs.clone();
 
     // A view of the half-space x <= 3.5 cm (world), with a real camera
@@ -246,7 +247,8 @@ fn frustum_culling_skips_work_but_never_visible_hair() {
         &frustum,
         0.0,
         &mut vis,
-    );
+    )
+    .unwrap();
     assert!(
         vis.groups_visible() < groups / 2,
         "culling must drop hair out of view"
@@ -254,11 +256,11 @@ fn frustum_culling_skips_work_but_never_visible_hair() {
     assert!(vis.guide_blocks_needed() < s.strands.block_count());
 
     let mut guides = RefinedGuides::new(s.strands.blocks(), 8).unwrap();
-    guides.set_segments_per_span(2);
-    let refined = lod::refine_strands(s.strands.blocks(), Some(&vis), &mut guides);
+    guides.set_segments_per_span(2).unwrap();
+    let refined = lod::refine_strands(s.strands.blocks(), Some(&vis), &mut guides).unwrap();
     assert_eq!(refined, vis.guide_blocks_needed());
     let mut hairs = RenderHairs::new(&s.interp, &guides);
-    let written = lod::interpolate(&s.interp, &guides, Some(&vis), groups, &mut hairs);
+    let written = lod::interpolate(&s.interp, &guides, Some(&vis), groups, &mut hairs).unwrap();
     assert_eq!(written, vis.groups_visible());
     let origin_x = s.strands.origin().x as f32;
     for (g, group) in s.interp.groups().iter().enumerate() {
@@ -300,9 +302,9 @@ fn frustum_culling_skips_work_but_never_visible_hair() {
 #[test]
 fn render_vertices_fill_an_engine_buffer() {
     let mut s = scene(120.0, 2);
-    lod::refine_strands(s.strands.blocks(), None, &mut s.guides);
+    lod::refine_strands(s.strands.blocks(), None, &mut s.guides).unwrap();
     let d = lod::distance_lod(&s.interp, 0.4, 0.1);
-    lod::interpolate(&s.interp, &s.guides, None, d.groups_drawn, &mut s.hairs);
+    lod::interpolate(&s.interp, &s.guides, None, d.groups_drawn, &mut s.hairs).unwrap();
     let len = lod::render_vertex_len(&s.interp, &s.hairs, d.groups_drawn);
     assert_eq!(len, d.hairs_drawn * s.hairs.verts_per_hair());
     let mut buf = vec![RenderVertex::default(); len];
@@ -317,7 +319,8 @@ fn render_vertices_fill_an_engine_buffer() {
         width,
         d.width_factor,
         &mut buf,
-    );
+    )
+    .unwrap();
     assert_eq!(n, len);
     assert_eq!(lod::vertex_bytes(&buf).len(), 32 * len);
     let r_len = s.hairs.verts_per_hair();
@@ -332,12 +335,16 @@ fn render_vertices_fill_an_engine_buffer() {
     }
     // The first hair is lane 0 of group 0.
     assert_eq!(Vec3::from(buf[1].position), s.hairs.position(0, 0, 1));
-    // A short buffer gets whole hairs only.
+    // A short buffer is refused, not filled with what fits.
     let mut short = vec![RenderVertex::default(); r_len + 1];
     assert_eq!(
         lod::write_render_vertices(&s.interp, &s.hairs, d.groups_drawn, width, 1.0, &mut short),
-        r_len
+        Err(lod::Error::BufferTooSmall {
+            needed: lod::render_vertex_len(&s.interp, &s.hairs, d.groups_drawn),
+            got: r_len + 1
+        })
     );
+    assert_eq!(short, vec![RenderVertex::default(); r_len + 1]);
 }
 
 #[test]
@@ -371,9 +378,9 @@ fn placement_is_uniform_inside_a_triangle() {
     let strands = Strands::from_polylines(&pts, 2).unwrap();
     let interp = Interpolation::new(&roots, &[[0, 1, 2]], 150.0, 3).unwrap();
     let mut guides = RefinedGuides::new(strands.blocks(), 1).unwrap();
-    lod::refine_strands(strands.blocks(), None, &mut guides);
+    lod::refine_strands(strands.blocks(), None, &mut guides).unwrap();
     let mut hairs = RenderHairs::new(&interp, &guides);
-    lod::interpolate(&interp, &guides, None, interp.group_count(), &mut hairs);
+    lod::interpolate(&interp, &guides, None, interp.group_count(), &mut hairs).unwrap();
     let origin = strands.origin();
     let corners = roots.map(|r| r.as_dvec3());
     let mut counts = [0usize; 4];
@@ -397,19 +404,20 @@ fn placement_is_uniform_inside_a_triangle() {
 #[test]
 fn positions_only_pass_matches_full_pass_and_scalar() {
     let mut s = scene(150.0, 2);
-    lod::refine_strands(s.strands.blocks(), None, &mut s.guides);
+    lod::refine_strands(s.strands.blocks(), None, &mut s.guides).unwrap();
     let groups = s.interp.group_count();
-    lod::interpolate(&s.interp, &s.guides, None, groups, &mut s.hairs);
+    lod::interpolate(&s.interp, &s.guides, None, groups, &mut s.hairs).unwrap();
     let full = s.hairs.clone();
     assert!(full.has_tangents());
     let mut simd = RenderHairs::new(&s.interp, &s.guides);
     let mut scalar = RenderHairs::new(&s.interp, &s.guides);
     assert_eq!(
-        lod::interpolate_positions(&s.interp, &s.guides, None, groups, &mut simd),
+        lod::interpolate_positions(&s.interp, &s.guides, None, groups, &mut simd).unwrap(),
         groups
     );
     assert_eq!(
-        lod::scalar::interpolate_positions(&s.interp, &s.guides, None, groups, &mut scalar),
+        lod::scalar::interpolate_positions(&s.interp, &s.guides, None, groups, &mut scalar)
+            .unwrap(),
         groups
     );
     assert!(!simd.has_tangents());
@@ -429,8 +437,10 @@ fn positions_only_pass_matches_full_pass_and_scalar() {
     let len = lod::render_vertex_len(&s.interp, &simd, groups);
     let mut a = vec![RenderVertex::default(); len];
     let mut b = vec![RenderVertex::default(); len];
-    lod::write_render_vertices(&s.interp, &full, groups, HairWidth::default(), 1.0, &mut a);
-    lod::write_render_vertices(&s.interp, &simd, groups, HairWidth::default(), 1.0, &mut b);
+    lod::write_render_vertices(&s.interp, &full, groups, HairWidth::default(), 1.0, &mut a)
+        .unwrap();
+    lod::write_render_vertices(&s.interp, &simd, groups, HairWidth::default(), 1.0, &mut b)
+        .unwrap();
     for (x, y) in a.iter().zip(&b) {
         assert_eq!(x.position, y.position);
         let d = Vec3::from(x.tangent).dot(Vec3::from(y.tangent));
@@ -455,9 +465,9 @@ fn whole_groups_keep_the_density_and_fill_every_lane() {
 #[test]
 fn group_blend_rows_equal_interpolate_and_the_scalar_twin() {
     let mut s = scene(150.0, 3);
-    lod::refine_strands(s.strands.blocks(), None, &mut s.guides);
+    lod::refine_strands(s.strands.blocks(), None, &mut s.guides).unwrap();
     let groups = s.interp.group_count();
-    lod::interpolate(&s.interp, &s.guides, None, groups, &mut s.hairs);
+    lod::interpolate(&s.interp, &s.guides, None, groups, &mut s.hairs).unwrap();
     assert!(groups > 10);
     for g in 0..groups {
         assert!(s.interp.is_group_drawn(g, groups, None, &s.guides));

@@ -127,11 +127,15 @@ fn simd_batch_matches_scalar_twin_and_single_strand_refine() {
     let mut scal = RefinedGuides::new(strands.blocks(), 16).unwrap();
     let (mut single, mut single_t) = (Vec::new(), Vec::new());
     for &segs in &[1usize, 3, 4, 7, 16] {
-        assert_eq!(simd.set_segments_per_span(segs), segs);
-        scal.set_segments_per_span(segs);
-        assert_eq!(lod::refine_strands(strands.blocks(), None, &mut simd), 3);
+        simd.set_segments_per_span(segs).unwrap();
+        assert_eq!(simd.segments_per_span(), segs);
+        scal.set_segments_per_span(segs).unwrap();
         assert_eq!(
-            lod::scalar::refine_strands(strands.blocks(), None, &mut scal),
+            lod::refine_strands(strands.blocks(), None, &mut simd).unwrap(),
+            3
+        );
+        assert_eq!(
+            lod::scalar::refine_strands(strands.blocks(), None, &mut scal).unwrap(),
             3
         );
         let r = simd.verts_per_strand();
@@ -165,8 +169,11 @@ fn culled_blocks_are_not_refined() {
     }
     let strands = Strands::from_polylines(&pts, 6).unwrap();
     let mut out = RefinedGuides::new(strands.blocks(), 8).unwrap();
-    out.set_segments_per_span(4);
-    assert_eq!(lod::refine_strands(strands.blocks(), None, &mut out), 3);
+    out.set_segments_per_span(4).unwrap();
+    assert_eq!(
+        lod::refine_strands(strands.blocks(), None, &mut out).unwrap(),
+        3
+    );
     let before: Vec<Vec3> = (0..out.verts_per_strand())
         .map(|v| out.position(9, v))
         .collect();
@@ -187,17 +194,20 @@ fn culled_blocks_are_not_refined() {
         big,
     ]);
     let mut vis = Visibility::new(24, 0);
-    lod::cull(moved.blocks(), None, 0, &slab, 0.0, &mut vis);
+    lod::cull(moved.blocks(), None, 0, &slab, 0.0, &mut vis).unwrap();
     assert_eq!(vis.guide_blocks_needed(), 2);
     assert!(!vis.guide_block_needed(1));
-    assert_eq!(lod::refine_strands(moved.blocks(), Some(&vis), &mut out), 2);
+    assert_eq!(
+        lod::refine_strands(moved.blocks(), Some(&vis), &mut out).unwrap(),
+        2
+    );
     assert!(!out.is_block_refined(1) && out.is_block_refined(0) && out.is_block_refined(2));
     let after: Vec<Vec3> = (0..out.verts_per_strand())
         .map(|v| out.position(9, v))
         .collect();
     assert_eq!(before, after, "a culled block must not be written");
     assert_eq!(
-        lod::scalar::refine_strands(moved.blocks(), Some(&vis), &mut out),
+        lod::scalar::refine_strands(moved.blocks(), Some(&vis), &mut out).unwrap(),
         2
     );
     let after: Vec<Vec3> = (0..out.verts_per_strand())
@@ -206,7 +216,10 @@ fn culled_blocks_are_not_refined() {
     assert_eq!(before, after, "the scalar twin must skip it too");
 
     // Everything visible: block 1 is refined with the new data.
-    assert_eq!(lod::refine_strands(moved.blocks(), None, &mut out), 3);
+    assert_eq!(
+        lod::refine_strands(moved.blocks(), None, &mut out).unwrap(),
+        3
+    );
     assert!(out.is_block_refined(1));
     assert_ne!(out.position(9, 1), before[1]);
 }
@@ -216,8 +229,17 @@ fn mismatched_buffer_writes_nothing() {
     let (_, a) = strand_set(5, 8, 6);
     let (_, b) = strand_set(6, 8, 7);
     let mut out = RefinedGuides::new(a.blocks(), 4).unwrap();
-    assert_eq!(lod::refine_strands(b.blocks(), None, &mut out), 0);
-    assert_eq!(lod::scalar::refine_strands(b.blocks(), None, &mut out), 0);
+    let refused = Err(lod::Error::CountMismatch {
+        what: "control points per strand (RefinedGuides made for another set)",
+        expected: 6,
+        got: 7,
+    });
+    assert_eq!(lod::refine_strands(b.blocks(), None, &mut out), refused);
+    assert_eq!(
+        lod::scalar::refine_strands(b.blocks(), None, &mut out),
+        refused
+    );
+    assert!((0..out.block_count()).all(|b| !out.is_block_refined(b)));
     assert!(RefinedGuides::new(a.blocks(), 0).is_err());
 }
 
@@ -273,15 +295,15 @@ fn positions_only_refinement_matches_the_full_pass() {
     let mut scal = RefinedGuides::new(strands.blocks(), 8).unwrap();
     for segs in [1, 4, 8] {
         for out in [&mut full, &mut simd, &mut scal] {
-            out.set_segments_per_span(segs);
+            out.set_segments_per_span(segs).unwrap();
         }
-        lod::refine_strands(strands.blocks(), None, &mut full);
+        lod::refine_strands(strands.blocks(), None, &mut full).unwrap();
         assert_eq!(
-            lod::refine_strands_positions(strands.blocks(), None, &mut simd),
+            lod::refine_strands_positions(strands.blocks(), None, &mut simd).unwrap(),
             2
         );
         assert_eq!(
-            lod::scalar::refine_strands_positions(strands.blocks(), None, &mut scal),
+            lod::scalar::refine_strands_positions(strands.blocks(), None, &mut scal).unwrap(),
             2
         );
         for b in 0..2 {

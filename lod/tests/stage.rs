@@ -71,16 +71,17 @@ fn a_frame_allocates_nothing_and_draws_what_full_detail_draws() {
             &frustum,
             1e-3,
             vis,
-        );
+        )
+        .unwrap();
         let n = level::segments_per_span(
             level::max_second_difference_strands(strands.blocks()),
             ppm,
             0.5,
             16,
         );
-        guides.set_segments_per_span(n);
-        lod::refine_strands(strands.blocks(), Some(vis), guides);
-        lod::interpolate(&interp, guides, Some(vis), d.groups_drawn, hairs);
+        guides.set_segments_per_span(n).unwrap();
+        lod::refine_strands(strands.blocks(), Some(vis), guides).unwrap();
+        lod::interpolate(&interp, guides, Some(vis), d.groups_drawn, hairs).unwrap();
         let written = lod::write_render_vertices(
             &interp,
             hairs,
@@ -88,7 +89,8 @@ fn a_frame_allocates_nothing_and_draws_what_full_detail_draws() {
             HairWidth::default(),
             d.width_factor,
             out,
-        );
+        )
+        .unwrap();
         (n, d, written)
     };
 
@@ -106,8 +108,8 @@ fn a_frame_allocates_nothing_and_draws_what_full_detail_draws() {
 
     // Full detail, no culling: the drawn groups are identical.
     let mut all_guides = RefinedGuides::new(strands.blocks(), 16).unwrap();
-    all_guides.set_segments_per_span(n);
-    lod::refine_strands(strands.blocks(), None, &mut all_guides);
+    all_guides.set_segments_per_span(n).unwrap();
+    lod::refine_strands(strands.blocks(), None, &mut all_guides).unwrap();
     let mut all_hairs = RenderHairs::new(&interp, &all_guides);
     lod::interpolate(
         &interp,
@@ -115,7 +117,8 @@ fn a_frame_allocates_nothing_and_draws_what_full_detail_draws() {
         None,
         interp.group_count(),
         &mut all_hairs,
-    );
+    )
+    .unwrap();
     for g in 0..interp.group_count() {
         if hairs.is_group_written(g) {
             assert_eq!(hairs.group_positions(g), all_hairs.group_positions(g));

@@ -375,11 +375,13 @@ fn run(
         step(&mut s, params, &body.colliders());
         times.push(t0.elapsed().as_secs_f64());
         if let Some(depth) = depth.as_deref_mut() {
-            s.write_positions(&mut positions);
+            s.write_positions(&mut positions)
+                .expect("positions holds every point");
             body.measure(&positions, offset, depth);
         }
     }
-    s.write_positions(&mut positions);
+    s.write_positions(&mut positions)
+        .expect("positions holds every point");
     times.sort_by(f64::total_cmp);
     (times[times.len() / 2], positions)
 }

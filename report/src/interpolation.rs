@@ -120,9 +120,9 @@ impl Scene {
         .expect("default interpolation");
         let mut guides = RefinedGuides::new(strands.blocks(), defaults.max_segments_per_span)
             .expect("refinable guides");
-        lod::refine_strands(strands.blocks(), None, &mut guides);
+        lod::refine_strands(strands.blocks(), None, &mut guides).unwrap();
         let mut hairs = RenderHairs::new(&interp, &guides);
-        lod::interpolate(&interp, &guides, None, interp.group_count(), &mut hairs);
+        lod::interpolate(&interp, &guides, None, interp.group_count(), &mut hairs).unwrap();
         let ratio = defaults.real_hairs_per_cm2 / defaults.render_hairs_per_cm2;
         let width = HairWidth {
             root: defaults.hair_width.root * ratio,
@@ -157,11 +157,11 @@ impl Scene {
         let elements = interp.hair_count() * guides.verts_per_strand();
         let mut out = RenderHairs::new(interp, guides);
         let simd = time_batch(reps, elements, || {
-            lod::interpolate(interp, guides, None, drawn, &mut out);
+            lod::interpolate(interp, guides, None, drawn, &mut out).unwrap();
             std::hint::black_box(&out);
         });
         let scalar = time_batch(reps, elements, || {
-            lod::scalar::interpolate(interp, guides, None, drawn, &mut out);
+            lod::scalar::interpolate(interp, guides, None, drawn, &mut out).unwrap();
             std::hint::black_box(&out);
         });
         [(Path::Simd, simd), (Path::Scalar, scalar)].map(|(path, time)| Row {

@@ -36,7 +36,7 @@ pub fn rows(options: Options) -> Vec<Row> {
     let mut guides = RefinedGuides::new(strands.blocks(), max).expect("valid refinement shape");
     let mut rows = Vec::new();
     for n in SEGMENTS {
-        guides.set_segments_per_span(n);
+        guides.set_segments_per_span(n).unwrap();
         let error = g
             .points
             .chunks(verts)
@@ -45,14 +45,12 @@ pub fn rows(options: Options) -> Vec<Row> {
             .fold(0.0, f64::max);
         let inputs = strand_count * verts;
         let simd = time_batch(options.reps(), inputs, || {
-            std::hint::black_box(lod::refine_strands(strands.blocks(), None, &mut guides));
+            std::hint::black_box(lod::refine_strands(strands.blocks(), None, &mut guides).unwrap());
         });
         let scalar = time_batch(options.reps(), inputs, || {
-            std::hint::black_box(lod::scalar::refine_strands(
-                strands.blocks(),
-                None,
-                &mut guides,
-            ));
+            std::hint::black_box(
+                lod::scalar::refine_strands(strands.blocks(), None, &mut guides).unwrap(),
+            );
         });
         for (path, time) in [(Path::Simd, simd), (Path::Scalar, scalar)] {
             rows.push(Row {

@@ -445,7 +445,7 @@ fn shadow_lookup_case(size: Size) -> Case {
     Case {
         elements: pts.len(),
         run: Box::new(move || {
-            map.transmittance_batch(black_box(&pts), &mut out);
+            map.transmittance_batch(black_box(&pts), &mut out).unwrap();
             black_box(&out);
         }),
     }
@@ -549,17 +549,17 @@ fn lod_case(size: Size) -> Case {
     let strands = pipeline.strands().clone();
     let segments = pipeline.settings().max_segments_per_span;
     let mut refined = RefinedGuides::new(strands.blocks(), segments).expect("refinable guides");
-    lod::refine_strands(strands.blocks(), None, &mut refined);
+    lod::refine_strands(strands.blocks(), None, &mut refined).unwrap();
     let mut hairs = RenderHairs::new(&interp, &refined);
     let verts = refined.verts_per_strand();
     let groups = interp.group_count();
-    let written = lod::interpolate(&interp, &refined, None, groups, &mut hairs);
+    let written = lod::interpolate(&interp, &refined, None, groups, &mut hairs).unwrap();
     let out_verts = written.max(1) * LANES * verts;
     Case {
         elements: out_verts,
         run: Box::new(move || {
-            lod::refine_strands(strands.blocks(), None, &mut refined);
-            lod::interpolate(&interp, &refined, None, groups, &mut hairs);
+            lod::refine_strands(strands.blocks(), None, &mut refined).unwrap();
+            lod::interpolate(&interp, &refined, None, groups, &mut hairs).unwrap();
             black_box(&hairs);
         }),
     }

@@ -123,11 +123,11 @@ impl Scene {
         let error = error_of_map(&map, points, verts, STRIDE, &self.reference).mean_abs as f64;
         let mut out = vec![0.0f32; points.len()];
         let simd = time_batch(reps, points.len(), || {
-            map.transmittance_batch(points, &mut out);
+            map.transmittance_batch(points, &mut out).unwrap();
             std::hint::black_box(&out);
         });
         let scalar = time_batch(reps, points.len(), || {
-            shadow::scalar::transmittance_batch(&map, points, &mut out);
+            shadow::scalar::transmittance_batch(&map, points, &mut out).unwrap();
             std::hint::black_box(&out);
         });
         [

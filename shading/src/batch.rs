@@ -16,11 +16,11 @@ fn load_x8(a: &[f32], start: usize) -> f32x8 {
 }
 
 #[inline(always)]
-fn load_vec3_x8(a: &[Vec<f32>; 3], start: usize) -> Vec3x8 {
+fn load_vec3_x8(a: [&[f32]; 3], start: usize) -> Vec3x8 {
     Vec3x8::new(
-        load_x8(&a[0], start),
-        load_x8(&a[1], start),
-        load_x8(&a[2], start),
+        load_x8(a[0], start),
+        load_x8(a[1], start),
+        load_x8(a[2], start),
     )
 }
 
@@ -43,9 +43,9 @@ pub(crate) fn shade_blocks(
     let mut start = 0;
     while start < full {
         let v = shade_x8(
-            load_vec3_x8(&samples.t, start),
-            load_vec3_x8(&samples.wi, start),
-            load_vec3_x8(&samples.wo, start),
+            load_vec3_x8(samples.t(), start),
+            load_vec3_x8(samples.wi(), start),
+            load_vec3_x8(samples.wo(), start),
         );
         store_x8(&mut out.r, start, v.x);
         store_x8(&mut out.g, start, v.y);

@@ -2,7 +2,7 @@
 
 use std::fmt;
 
-/// Why a shading constructor refused its input.
+/// Why a shading constructor or batch call refused its input.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Error {
     /// A material parameter is outside its valid range (name and value).
@@ -22,6 +22,22 @@ pub enum Error {
         needed: usize,
         /// Entries the buffer has.
         got: usize,
+    },
+    /// Arrays that must agree in length do not; nothing was written.
+    CountMismatch {
+        /// What was counted (e.g. `"transmittances (one per point)"`).
+        what: &'static str,
+        /// The length expected.
+        expected: usize,
+        /// The length given.
+        got: usize,
+    },
+    /// An index past the end; nothing was changed.
+    IndexOutOfRange {
+        /// The index given.
+        index: usize,
+        /// The length it indexes into.
+        len: usize,
     },
     /// A shadow-map setting outside its range (name, value, what is expected).
     InvalidShadowSetting {
@@ -51,6 +67,14 @@ impl fmt::Display for Error {
                     f,
                     "output buffer too small: needs {needed} entries, has {got}"
                 )
+            }
+            Error::CountMismatch {
+                what,
+                expected,
+                got,
+            } => write!(f, "expected {expected} {what}, got {got}"),
+            Error::IndexOutOfRange { index, len } => {
+                write!(f, "index {index} is out of range for length {len}")
             }
             Error::InvalidShadowSetting {
                 name,

@@ -23,4 +23,4 @@ pub mod vertices;
 pub mod yardstick;
 
 pub use error::Error;
-pub use samples::{RgbBuffer, ShadingSamples};
+pub use samples::{RgbBuffer, SampleColumns, ShadingSamples};

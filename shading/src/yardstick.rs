@@ -83,6 +83,11 @@ fn compare(
 /// Kajiya-Kay, Marschner (direct and a table of `resolution`) and pbrt's own
 /// table of `resolution`, against pbrt's far field at its recommended
 /// quadrature order, over `samples` random (t, wi, wo) from `seed`.
+///
+/// # Errors
+///
+/// As [`pbrt::FarField::new`] and [`pbrt::Table::new`] for invalid
+/// parameters or a resolution below 2.
 pub fn versus_pbrt(
     params: &pbrt::Params,
     resolution: usize,

@@ -129,11 +129,14 @@ fn simd_batch_matches_scalar() {
 fn bad_samples_stay_in_their_lane() {
     let kk = KajiyaKay::default();
     let mut samples = random_samples(16, 5);
-    samples.wi[1][3] = f32::NAN;
-    samples.t[0][9] = f32::INFINITY;
-    for c in 0..3 {
-        samples.wo[c][12] = 0.0;
-    }
+    let (t, mut wi, wo) = samples.get(3);
+    wi.y = f32::NAN;
+    samples.set(3, t, wi, wo).unwrap();
+    let (mut t, wi, wo) = samples.get(9);
+    t.x = f32::INFINITY;
+    samples.set(9, t, wi, wo).unwrap();
+    let (t, wi, _) = samples.get(12);
+    samples.set(12, t, wi, Vec3::ZERO).unwrap();
     let mut out = RgbBuffer::default();
     kk.shade_batch(&samples, &mut out);
     for i in 0..16 {

@@ -166,11 +166,14 @@ fn bad_samples_stay_in_their_lane_and_resolution_is_clamped() {
     let _ = Lut::new(&weird, 4); // must not panic
     let lut = Lut::new(&Params::default(), 32);
     let mut s = samples(16, 2);
-    s.wo[2][2] = f32::NAN;
-    s.t[1][10] = f32::NEG_INFINITY;
-    for c in 0..3 {
-        s.wi[c][5] = 0.0;
-    }
+    let (t, wi, mut wo) = s.get(2);
+    wo.z = f32::NAN;
+    s.set(2, t, wi, wo).unwrap();
+    let (mut t, wi, wo) = s.get(10);
+    t.y = f32::NEG_INFINITY;
+    s.set(10, t, wi, wo).unwrap();
+    let (t, _, wo) = s.get(5);
+    s.set(5, t, Vec3::ZERO, wo).unwrap();
     let mut out = RgbBuffer::default();
     lut.scattering_batch(&s, &mut out);
     for i in 0..16 {

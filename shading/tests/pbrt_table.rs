@@ -115,7 +115,9 @@ fn simd_batch_equals_scalar_lookups() {
 fn nan_sample_stays_in_its_lane() {
     let table = Table::new(&Params::default(), 32).unwrap();
     let mut samples = batch(16, 5);
-    samples.wi[1][3] = f32::NAN;
+    let (t, mut wi, wo) = samples.get(3);
+    wi.y = f32::NAN;
+    samples.set(3, t, wi, wo).unwrap();
     let mut out = RgbBuffer::default();
     table.scattering_batch(&samples, &mut out);
     for k in 0..16 {

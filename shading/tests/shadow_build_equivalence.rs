@@ -111,7 +111,8 @@ fn assert_lanes(
     let mut simd = OpacityShadowMap::new(s.clone()).unwrap();
     let mut scalar = OpacityShadowMap::new(s.clone()).unwrap();
     let mut scratch = BuildScratch::new(s, 1).unwrap();
-    simd.build_lanes(&Serial, &mut scratch, light, &hair);
+    simd.build_lanes(&Serial, &mut scratch, light, &hair)
+        .unwrap();
     coif_shading::shadow::scalar::build_lanes(&mut scalar, light, &hair);
     assert_eq!(
         common::stored_bits(&simd),

@@ -75,7 +75,8 @@ fn task_builds_have_the_same_bytes_on_any_executor() {
 
         let mut one = BuildScratch::new(&settings, 1).unwrap();
         let mut map = OpacityShadowMap::new(settings.clone()).unwrap();
-        map.build_tasks(&Serial, &mut one, light, &pts, verts);
+        map.build_tasks(&Serial, &mut one, light, &pts, verts)
+            .unwrap();
         assert_eq!(
             common::stored_bits(&map),
             reference,
@@ -87,7 +88,7 @@ fn task_builds_have_the_same_bytes_on_any_executor() {
         let mut maps = Vec::new();
         for e in executors {
             let mut m = OpacityShadowMap::new(settings.clone()).unwrap();
-            m.build_tasks(e, &mut scratch, light, &pts, verts);
+            m.build_tasks(e, &mut scratch, light, &pts, verts).unwrap();
             maps.push(common::stored_bits(&m));
             let p = pts[200];
             assert!((m.transmittance(p) - single.transmittance(p)).abs() < 1e-5);
@@ -122,7 +123,7 @@ fn lane_task_builds_have_the_same_bytes_on_any_executor() {
     };
     let mut one = BuildScratch::new(&settings, 1).unwrap();
     let mut single = OpacityShadowMap::new(settings.clone()).unwrap();
-    single.build_lanes(&Serial, &mut one, light, &hair);
+    single.build_lanes(&Serial, &mut one, light, &hair).unwrap();
     let reference = common::stored_bits(&single);
     assert!(reference.iter().filter(|b| **b != 0).count() > 1000);
     let mut scratch = BuildScratch::new(&settings, 7).unwrap();
@@ -130,7 +131,7 @@ fn lane_task_builds_have_the_same_bytes_on_any_executor() {
     let mut maps = Vec::new();
     for e in executors {
         let mut m = OpacityShadowMap::new(settings.clone()).unwrap();
-        m.build_lanes(e, &mut scratch, light, &hair);
+        m.build_lanes(e, &mut scratch, light, &hair).unwrap();
         maps.push(common::stored_bits(&m));
     }
     assert_eq!(maps[0], maps[1], "reverse order: same bytes");
@@ -153,13 +154,17 @@ fn scratch_for_other_settings_gives_no_map() {
     };
     let mut scratch = BuildScratch::new(&other, 2).unwrap();
     let mut map = OpacityShadowMap::new(settings).unwrap();
-    map.build_tasks(
+    let built = map.build_tasks(
         &Serial,
         &mut scratch,
         Vec3::NEG_Z,
         &common::curly_hair(20, 8, 11, 0.5),
         8,
     );
+    assert!(matches!(
+        built,
+        Err(coif_shading::Error::CountMismatch { .. })
+    ));
     assert!(!map.is_ready());
     assert_eq!(map.transmittance(Vec3::ZERO), 1.0);
     assert!(BuildScratch::new(&ShadowSettings { layers: 0, ..other }, 2).is_err());

@@ -238,8 +238,8 @@ fn simd_batch_equals_scalar() {
         map.build(light, &pts, 12);
         let mut simd = vec![0.0; queries.len()];
         let mut scalar = vec![0.0; queries.len()];
-        map.transmittance_batch(&queries, &mut simd);
-        coif_shading::shadow::scalar::transmittance_batch(&map, &queries, &mut scalar);
+        map.transmittance_batch(&queries, &mut simd).unwrap();
+        coif_shading::shadow::scalar::transmittance_batch(&map, &queries, &mut scalar).unwrap();
         let mut shadowed = 0;
         for (i, (a, b)) in simd.iter().zip(&scalar).enumerate() {
             assert!(
@@ -265,7 +265,7 @@ fn empty_and_broken_input_is_lit_and_does_not_panic() {
     let probe = [Vec3::ZERO, Vec3::ONE];
     let mut out = [0.0; 2];
     // Never built, empty, one vertex per strand, zero light, all NaN.
-    map.transmittance_batch(&probe, &mut out);
+    map.transmittance_batch(&probe, &mut out).unwrap();
     assert_eq!(out, [1.0, 1.0]);
     map.build(Vec3::Z, &[], 16);
     assert_eq!(map.transmittance(Vec3::ZERO), 1.0);
@@ -274,7 +274,7 @@ fn empty_and_broken_input_is_lit_and_does_not_panic() {
     map.build(Vec3::ZERO, &slab(), VERTS);
     assert!(!map.is_ready());
     map.build(Vec3::Z, &[Vec3::NAN; 22], VERTS);
-    map.transmittance_batch(&probe, &mut out);
+    map.transmittance_batch(&probe, &mut out).unwrap();
     assert_eq!(out, [1.0, 1.0]);
 
     // A NaN vertex removes its two segments and nothing else: the slab with
@@ -289,10 +289,17 @@ fn empty_and_broken_input_is_lit_and_does_not_panic() {
     let far = Vec3::new(0.03, -0.02, 0.035);
     assert!((clean.transmittance(far) - broken.transmittance(far)).abs() < 1e-6);
     assert!(broken.transmittance(far) < 0.5);
-    // Shorter output than input: only the first entries are written.
+    // Shorter output than input: refused, nothing written.
     let mut short = [7.0; 1];
-    broken.transmittance_batch(&[far, far], &mut short);
-    assert_eq!(short[0], broken.transmittance(far));
+    assert_eq!(
+        broken.transmittance_batch(&[far, far], &mut short),
+        Err(coif_shading::Error::CountMismatch {
+            what: "transmittances (one per point)",
+            expected: 2,
+            got: 1
+        })
+    );
+    assert_eq!(short[0], 7.0);
 }
 
 #[test]

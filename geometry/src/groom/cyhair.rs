@@ -42,6 +42,10 @@ pub fn sniff(bytes: &[u8]) -> bool {
 
 /// Parses a cyHair file. Errors, never panics, on truncation, lying counts,
 /// a missing points array, segments that do not add up, non-finite points.
+///
+/// # Errors
+///
+/// [`Error`] as listed above; never panics.
 pub fn parse(bytes: &[u8]) -> Result<Groom, Error> {
     let available = bytes.len() as u64;
     if bytes.len() < HEADER_BYTES {
@@ -114,6 +118,10 @@ pub fn parse(bytes: &[u8]) -> Result<Groom, Error> {
 /// Writes `groom` as a cyHair file with the segments and points arrays and
 /// `info` (up to 88 bytes of it) in the header. Errors if a strand has more
 /// than 65,536 points (segment counts are u16) or the groom more than 2^32 - 1.
+///
+/// # Errors
+///
+/// [`Error`] as listed above.
 pub fn write(groom: &Groom, info: &str) -> Result<Vec<u8>, Error> {
     let hairs =
         u32::try_from(groom.strand_count()).map_err(|_| Error::Unwritable("too many hairs"))?;

@@ -60,6 +60,11 @@ impl std::error::Error for Error {}
 
 /// Reads a TressFX 4 `.tfx` or cyHair `.hair` groom, told apart by content
 /// (cyHair starts with the bytes `HAIR`; TressFX with the f32 version 4.x).
+///
+/// # Errors
+///
+/// [`Error`] on any bad input: an unknown format, truncation, lying counts
+/// or offsets, non-finite coordinates.
 pub fn load(bytes: &[u8]) -> Result<Groom, Error> {
     if cyhair::sniff(bytes) {
         cyhair::parse(bytes)
@@ -80,6 +85,11 @@ pub struct Groom {
 
 impl Groom {
     /// Builds a groom from points and per-strand vertex counts.
+    ///
+    /// # Errors
+    ///
+    /// [`Error`] on no strands, a strand with no points, counts that do not
+    /// add up to `points.len()`, or a non-finite point.
     pub fn from_strands(points: Vec<Vec3>, counts: &[usize]) -> Result<Groom, Error> {
         if counts.is_empty() {
             return Err(Error::BadHeader("no strands"));

@@ -28,6 +28,10 @@ pub fn sniff(bytes: &[u8]) -> bool {
 
 /// Parses a `.tfx` file. Errors, never panics, on truncation, lying counts
 /// or offsets, and non-finite coordinates.
+///
+/// # Errors
+///
+/// [`Error`] on truncation, lying counts, non-finite points; never panics.
 pub fn parse(bytes: &[u8]) -> Result<Groom, Error> {
     if bytes.len() < HEADER_BYTES {
         return Err(Error::Truncated {

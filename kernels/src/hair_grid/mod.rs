@@ -18,7 +18,7 @@
 //!    groom's, not hair to push apart.
 //! 2. **Fields** per node: the density `rho = sum s / cell^3`, its excess
 //!    `e = max(rho / rho_0 - 1, 0)` over the target `rho_0` (the densest
-//!    node of the groomed pose, gridded the same way, [`HairGrid::target`]),
+//!    node of the groomed pose, gridded the same way, `HairGrid::target` in `grid.rs`),
 //!    the excess's gradient by central differences (per cell), and the
 //!    hair's velocity `sum s v / sum s`.
 //! 3. **Apply** (`apply.rs`, per block, in lanes, as tasks; a scalar twin):

@@ -10,9 +10,15 @@ impl Patch {
     /// weight 0 gives the skinned position and weight 1 the simulated one
     /// exactly (for finite inputs). `skinned` is the last
     /// [`Patch::set_skinned`]. Needs `out.len() == rows * cols`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::CountMismatch`] (and nothing written) unless `out.len() ==
+    /// rows * cols`.
     pub fn write_blended(&self, out: &mut [Vec3]) -> Result<(), Error> {
         if out.len() != self.particle_count() {
             return Err(Error::CountMismatch {
+                what: "output points (rows times columns)",
                 expected: self.particle_count(),
                 got: out.len(),
             });
@@ -40,17 +46,24 @@ impl Patch {
 /// along -y it is -z. Triangles with a non-finite cross product are skipped,
 /// and a vertex without a usable triangle gets `(0, 0, 0)`, so a NaN
 /// particle spoils only its own neighbourhood.
+///
+/// # Errors
+///
+/// [`Error::CountMismatch`] (and nothing written) unless `positions` and
+/// `out` hold `rows * cols` points.
 pub fn grid_normals(
     positions: &[Vec3],
     rows: usize,
     cols: usize,
     out: &mut [Vec3],
 ) -> Result<(), Error> {
-    let n = rows * cols;
+    // An overflowing rows * cols matches no slice (instead of wrapping).
+    let n = rows.checked_mul(cols);
     for len in [positions.len(), out.len()] {
-        if len != n {
+        if Some(len) != n {
             return Err(Error::CountMismatch {
-                expected: n,
+                what: "points (rows times columns)",
+                expected: n.unwrap_or(usize::MAX),
                 got: len,
             });
         }

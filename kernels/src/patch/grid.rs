@@ -104,6 +104,13 @@ impl Patch {
     /// [`MAX_PATCH_COLUMNS`] columns. Rest lengths come from `grid`; the
     /// skin starts at `grid`, blend weights at 1, max distances at infinity,
     /// shear stiffness at 0 (off; see [`Patch::set_shear_stiffness`]).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::TooFewVertices`] on fewer than 2 rows or columns,
+    /// [`Error::InvalidParameter`] on more than [`MAX_PATCH_COLUMNS`] columns,
+    /// [`Error::CountMismatch`] unless `grid` and `pinned` hold `rows * cols`
+    /// entries, [`Error::NonFinite`] on a non-finite point.
     pub fn new(grid: &[Vec3], rows: usize, cols: usize, pinned: &[bool]) -> Result<Patch, Error> {
         validate_grid(grid, rows, cols, pinned)?;
         let rest = RestGrid {
@@ -302,6 +309,12 @@ impl Patch {
 
     /// Sets the blend weights (row-major, one per particle, each in [0, 1]):
     /// 0 = the output follows the skin, 1 = fully simulated.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::CountMismatch`] unless there is one weight per particle,
+    /// [`Error::InvalidParameter`] on a weight outside [0, 1] (or NaN); nothing
+    /// changes then.
     pub fn set_weights(&mut self, weights: &[f32]) -> Result<(), Error> {
         self.check_len(weights.len())?;
         if let Some(index) = weights.iter().position(|w| !(0.0..=1.0).contains(w)) {
@@ -319,6 +332,12 @@ impl Patch {
     /// `f32::INFINITY` = no limit) a simulated particle may move from its
     /// skinned position. Enforced inside the step, so it feeds back into the
     /// motion (PhysX and Unity cloth's "max distance").
+    ///
+    /// # Errors
+    ///
+    /// [`Error::CountMismatch`] unless there is one distance per particle,
+    /// [`Error::InvalidParameter`] on a negative or NaN distance; nothing changes
+    /// then.
     pub fn set_max_distances(&mut self, max_distance: &[f32]) -> Result<(), Error> {
         self.check_len(max_distance.len())?;
         if let Some(index) = max_distance.iter().position(|d| d.is_nan() || *d < 0.0) {
@@ -341,6 +360,10 @@ impl Patch {
     /// converges slowly and rows stretch (measured in `PATCH.md`), so they
     /// are opt-in. Bending edges (skip-one, both directions) use
     /// [`crate::SimParams::bend_stiffness`] as for strands.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidParameter`] outside [0, 1] (or NaN).
     pub fn set_shear_stiffness(&mut self, stiffness: f32) -> Result<(), Error> {
         if !(0.0..=1.0).contains(&stiffness) {
             return Err(Error::InvalidParameter {
@@ -358,6 +381,11 @@ impl Patch {
     /// them by the max distance and the blend. Rejects a wrong count or a
     /// non-finite point, keeping the previous skin. Rebases the local origin
     /// when the skin has moved far from it.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::CountMismatch`] unless there is one point per particle,
+    /// [`Error::NonFinite`] on a non-finite point; the previous skin is kept.
     pub fn set_skinned(&mut self, skinned: &[Vec3]) -> Result<(), Error> {
         self.check_len(skinned.len())?;
         if let Some(index) = skinned.iter().position(|p| !p.is_finite()) {
@@ -403,9 +431,28 @@ impl Patch {
         self.prev.copy_from_slice(&self.skin);
     }
 
-    /// Writes the simulated world positions, row-major, into `out`
-    /// (`min(out.len(), rows * cols)` points).
-    pub fn write_positions(&self, out: &mut [Vec3]) {
+    /// Writes the simulated world positions, row-major, into the first
+    /// `rows * cols` entries of `out` (the rest of a longer `out` is left as
+    /// it was). Returns the number of points written. Allocates nothing.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::BufferTooSmall`] (and nothing written) if `out` holds fewer
+    /// than `rows * cols` points.
+    pub fn write_positions(&self, out: &mut [Vec3]) -> Result<usize, Error> {
+        let needed = self.particle_count();
+        if out.len() < needed {
+            return Err(Error::BufferTooSmall {
+                needed,
+                got: out.len(),
+            });
+        }
+        self.fill_positions(&mut out[..needed]);
+        Ok(needed)
+    }
+
+    /// World positions of the first `out.len()` particles into `out`.
+    fn fill_positions(&self, out: &mut [Vec3]) {
         let o = self.origin;
         for (k, slot) in out.iter_mut().enumerate().take(self.particle_count()) {
             let (i, l) = self.slot(k);
@@ -416,7 +463,7 @@ impl Patch {
     /// Simulated world positions, row-major (allocates; for tests and tools).
     pub fn positions(&self) -> Vec<Vec3> {
         let mut out = vec![Vec3::ZERO; self.particle_count()];
-        self.write_positions(&mut out);
+        self.fill_positions(&mut out);
         out
     }
 
@@ -463,6 +510,7 @@ impl Patch {
             Ok(())
         } else {
             Err(Error::CountMismatch {
+                what: "values (one per particle)",
                 expected: self.particle_count(),
                 got,
             })
@@ -484,11 +532,13 @@ fn validate_grid(grid: &[Vec3], rows: usize, cols: usize, pinned: &[bool]) -> Re
             expected: "at most 256 columns",
         });
     }
-    let n = rows * cols;
+    // An overflowing rows * cols matches no slice (instead of wrapping).
+    let n = rows.checked_mul(cols);
     for len in [grid.len(), pinned.len()] {
-        if len != n {
+        if Some(len) != n {
             return Err(Error::CountMismatch {
-                expected: n,
+                what: "points and pin flags (rows times columns)",
+                expected: n.unwrap_or(usize::MAX),
                 got: len,
             });
         }

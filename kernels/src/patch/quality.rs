@@ -53,6 +53,10 @@ pub fn flag_scene(rows: usize, cols: usize) -> (Vec<Vec3>, Vec<bool>) {
 /// (so the flag's chaotic swing does not enter the error). Steps of 1/60 s.
 /// Errors as [`Patch::new`] for a grid it refuses (`rows`, `cols` must be
 /// >= 2, `cols` <= 256).
+///
+/// # Errors
+///
+/// As [`Patch::new`] for a grid it refuses.
 pub fn convergence(
     rows: usize,
     cols: usize,

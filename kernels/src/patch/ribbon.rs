@@ -22,6 +22,10 @@ pub struct Ribbon {
 
 impl Ribbon {
     /// Builds the patch (rest grid, pins and weights).
+    ///
+    /// # Errors
+    ///
+    /// As [`Patch::new`] and [`Patch::set_weights`] for inconsistent fields.
     pub fn patch(&self) -> Result<Patch, Error> {
         let mut p = Patch::new(&self.points, self.rows, self.cols, &self.pinned)?;
         p.set_weights(&self.weights)?;

@@ -4,29 +4,39 @@ use super::refine_batch::unit_or_y;
 use crate::culling::Visibility;
 use crate::interpolation::{blend, group_drawn, Interpolation, RenderHairs};
 use crate::refine_batch::RefinedGuides;
+use crate::Error;
 use coif_base::LANES;
 use glam::Vec3;
 
 /// Scalar twin of [`crate::interpolate`]: same algorithm, same order, one
 /// hair at a time.
+///
+/// # Errors
+///
+/// As [`crate::interpolate`]: [`Error::CountMismatch`] or
+/// [`Error::BufferTooSmall`], and nothing written.
 pub fn interpolate(
     interpolation: &Interpolation,
     guides: &RefinedGuides,
     visibility: Option<&Visibility>,
     groups_drawn: usize,
     out: &mut RenderHairs,
-) -> usize {
+) -> Result<usize, Error> {
     interpolate_groups(interpolation, guides, visibility, groups_drawn, out, true)
 }
 
 /// Scalar twin of [`crate::interpolate_positions`].
+///
+/// # Errors
+///
+/// As [`crate::interpolate`].
 pub fn interpolate_positions(
     interpolation: &Interpolation,
     guides: &RefinedGuides,
     visibility: Option<&Visibility>,
     groups_drawn: usize,
     out: &mut RenderHairs,
-) -> usize {
+) -> Result<usize, Error> {
     interpolate_groups(interpolation, guides, visibility, groups_drawn, out, false)
 }
 
@@ -37,10 +47,8 @@ fn interpolate_groups(
     groups_drawn: usize,
     out: &mut RenderHairs,
     with_tangents: bool,
-) -> usize {
-    if !out.begin(interpolation, guides, with_tangents) {
-        return 0;
-    }
+) -> Result<usize, Error> {
+    out.begin(interpolation, guides, with_tangents)?;
     let r_len = out.verts;
     let mut count = 0;
     for (g, group) in interpolation.groups.iter().enumerate() {
@@ -76,7 +84,7 @@ fn interpolate_groups(
             }
         }
     }
-    count
+    Ok(count)
 }
 
 /// `wa a + wb b + wc c`: the shared [`blend`] on each coordinate.

@@ -2,24 +2,34 @@
 
 use crate::culling::Visibility;
 use crate::refine_batch::{block_needed, combine, RefinedGuides, MIN_LENGTH_SQUARED};
+use crate::Error;
 use coif_base::{StrandBlocks, LANES};
 use glam::Vec3;
 
 /// Scalar twin of [`crate::refine_strands`].
+///
+/// # Errors
+///
+/// As [`crate::refine_strands`]: [`Error::CountMismatch`] if `out` was made
+/// for a set of another shape.
 pub fn refine_strands(
     strands: StrandBlocks<'_>,
     visibility: Option<&Visibility>,
     out: &mut RefinedGuides,
-) -> usize {
+) -> Result<usize, Error> {
     refine_blocks::<true>(strands, visibility, out)
 }
 
 /// Scalar twin of [`crate::refine_strands_positions`].
+///
+/// # Errors
+///
+/// As [`crate::refine_strands`].
 pub fn refine_strands_positions(
     strands: StrandBlocks<'_>,
     visibility: Option<&Visibility>,
     out: &mut RefinedGuides,
-) -> usize {
+) -> Result<usize, Error> {
     refine_blocks::<false>(strands, visibility, out)
 }
 
@@ -27,10 +37,8 @@ fn refine_blocks<const TANGENTS: bool>(
     strands: StrandBlocks<'_>,
     visibility: Option<&Visibility>,
     out: &mut RefinedGuides,
-) -> usize {
-    if !out.fits(strands) {
-        return 0;
-    }
+) -> Result<usize, Error> {
+    out.check_fits(strands)?;
     let (v, r, n) = (out.control_verts, out.verts, out.segments);
     let mut count = 0;
     for b in 0..out.blocks {
@@ -72,7 +80,7 @@ fn refine_blocks<const TANGENTS: bool>(
             out.positions[b * r + r - 1].set_lane(l, c(v - 1));
         }
     }
-    count
+    Ok(count)
 }
 
 /// `p0 w0 + p1 w1 + p2 w2 + p3 w3`: the shared [`combine`] on each coordinate.

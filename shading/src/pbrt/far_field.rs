@@ -117,6 +117,11 @@ pub struct FarField {
 
 impl FarField {
     /// Validates `params`; `order` >= 1 Gauss-Legendre nodes in gamma.
+    ///
+    /// # Errors
+    ///
+    /// As [`Params::validate`], and [`Error::InvalidQuadratureOrder`] on
+    /// `order == 0`.
     pub fn new(params: &Params, order: usize) -> Result<FarField, Error> {
         params.validate()?;
         if order == 0 {
@@ -196,8 +201,27 @@ impl FarField {
     /// For each `phi` in `phis`: the h-averaged `[A_0 N_0, A_1 N_1, A_2 N_2,
     /// A_3 / (2 pi)]` at `theta_o`. The per-node work that does not depend
     /// on phi (refraction, transmittance, Fresnel) is done once per node.
-    pub fn azimuthal(&self, sin_o: f32, cos_o: f32, phis: &[f32], out: &mut [[Vec3; 4]]) {
-        self.view().azimuthal(sin_o, cos_o, phis, out)
+    ///
+    /// # Errors
+    ///
+    /// [`Error::CountMismatch`] (and nothing written) unless `out.len() ==
+    /// phis.len()`.
+    pub fn azimuthal(
+        &self,
+        sin_o: f32,
+        cos_o: f32,
+        phis: &[f32],
+        out: &mut [[Vec3; 4]],
+    ) -> Result<(), Error> {
+        if out.len() != phis.len() {
+            return Err(Error::CountMismatch {
+                what: "azimuthal terms (one per phi)",
+                expected: phis.len(),
+                got: out.len(),
+            });
+        }
+        self.view().azimuthal(sin_o, cos_o, phis, out);
+        Ok(())
     }
 }
 

@@ -43,6 +43,10 @@ impl Params {
     /// and `beta_n` in (0, 1] (pbrt-v3 allows 0, where its variance is 0 and
     /// `M_p` divides by zero), `alpha` finite with |alpha| < pi/4, and
     /// `sigma_a` finite and non-negative.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidParameter`] for the first parameter out of range.
     pub fn validate(&self) -> Result<(), Error> {
         let bad = |name, value| Err(Error::InvalidParameter { name, value });
         if !(self.eta.is_finite() && self.eta > 1.0) {

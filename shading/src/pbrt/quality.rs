@@ -47,6 +47,10 @@ pub fn relative_rms(
 
 /// Relative RMS error of a `resolution` table with the given axes against
 /// the far field at [`reference_order`].
+///
+/// # Errors
+///
+/// As [`Table::with_axes`].
 pub fn table_error_with_axes(
     params: &Params,
     resolution: usize,
@@ -66,6 +70,10 @@ pub fn table_error_with_axes(
 
 /// Relative RMS error of a `resolution` table ([`Parameterisation::Angles`])
 /// against the far field at [`reference_order`].
+///
+/// # Errors
+///
+/// As [`Table::new`].
 pub fn table_error(
     params: &Params,
     resolution: usize,
@@ -77,6 +85,10 @@ pub fn table_error(
 
 /// Relative RMS error of the far field with `order` quadrature nodes
 /// against the far field at [`reference_order`].
+///
+/// # Errors
+///
+/// As [`FarField::new`].
 pub fn far_field_error(
     params: &Params,
     order: usize,
@@ -96,6 +108,10 @@ pub fn far_field_error(
 /// Relative RMS error of [`scattering_monte_carlo`] with `h_samples`
 /// stratified offsets per configuration (offsets from one generator seeded
 /// with `seed + 1`) against the far field at [`reference_order`].
+///
+/// # Errors
+///
+/// As [`Params::validate`].
 pub fn monte_carlo_error(
     params: &Params,
     h_samples: usize,

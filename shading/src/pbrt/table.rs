@@ -65,12 +65,20 @@ pub struct Table {
 impl Table {
     /// Tables of `resolution x resolution` cells with [`Parameterisation::Angles`],
     /// built from the far field at its [`recommended_order`].
+    ///
+    /// # Errors
+    ///
+    /// As [`Table::with_axes`].
     pub fn new(params: &Params, resolution: usize) -> Result<Table, Error> {
         Table::with_axes(params, resolution, Parameterisation::Angles)
     }
 
     /// Tables with the chosen axes. Errors on invalid `params` or a
     /// resolution below 2.
+    ///
+    /// # Errors
+    ///
+    /// As [`Params::validate`], and [`Error::InvalidResolution`] below 2.
     pub fn with_axes(
         params: &Params,
         resolution: usize,
@@ -82,6 +90,10 @@ impl Table {
     }
 
     /// Tables sampled from a prepared far field (its quadrature order is used).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidResolution`] below 2.
     pub fn from_far_field(
         ff: &FarField,
         resolution: usize,
@@ -117,7 +129,7 @@ impl Table {
         let mut row = vec![[Vec3::ZERO; 4]; res];
         for j in 0..res {
             let (sin_o, cos_o) = theta_node(j);
-            ff.azimuthal(sin_o, cos_o, &phis, &mut row);
+            ff.azimuthal(sin_o, cos_o, &phis, &mut row)?;
             for (k, terms) in row.iter().enumerate() {
                 let mut cell = [0.0f32; 16];
                 for p in 0..3 {

@@ -72,6 +72,12 @@ impl OpacityShadowMap {
     /// [`OpacityShadowMap::build`]'s; with more, each texel sums the same
     /// deposits grouped by task (float rounding apart, the same map:
     /// tested). No allocation: `scratch` holds the partial maps.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::CountMismatch`] if `scratch` was made for other settings
+    /// (its partial maps have another size); the map is then left empty
+    /// (every transmittance 1).
     pub fn build_tasks(
         &mut self,
         executor: &dyn Executor,
@@ -79,20 +85,17 @@ impl OpacityShadowMap {
         light_dir: Vec3,
         points: &[Vec3],
         verts_per_strand: usize,
-    ) {
-        if !scratch.fits(self) {
-            // Scratch made for other settings: no map (and no panic).
-            self.ready = false;
-            return;
-        }
+    ) -> Result<(), Error> {
+        scratch.check_fits(self)?;
         let Some(points) = self.prepare(light_dir, points, verts_per_strand, light_bounds) else {
-            return;
+            return Ok(());
         };
         let src = Points {
             points,
             verts: verts_per_strand,
         };
         self.build_parts(executor, scratch, &src);
+        Ok(())
     }
 
     /// [`OpacityShadowMap::build_tasks`] from hair in lane layout (blocks
@@ -108,21 +111,24 @@ impl OpacityShadowMap {
     /// a fused pass interpolates them on the fly. Scalar twin
     /// [`super::scalar::build_lanes`] (bit for bit, one task). No
     /// allocation.
+    ///
+    /// # Errors
+    ///
+    /// As [`OpacityShadowMap::build_tasks`]: [`Error::CountMismatch`] if
+    /// `scratch` was made for other settings (the map is then left empty).
     pub fn build_lanes<H: StrandLanes + ?Sized>(
         &mut self,
         executor: &dyn Executor,
         scratch: &mut BuildScratch,
         light_dir: Vec3,
         hair: &H,
-    ) {
-        if !scratch.fits(self) {
-            self.ready = false;
-            return;
-        }
+    ) -> Result<(), Error> {
+        scratch.check_fits(self)?;
         if !self.prepare_with(light_dir, hair.verts(), |frame| lane_bounds(frame, hair)) {
-            return;
+            return Ok(());
         }
         self.build_parts(executor, scratch, &Lanes(hair));
+        Ok(())
     }
 
     /// Steps 2 to 4 of the task builds, after `prepare`.
@@ -244,14 +250,31 @@ pub struct BuildScratch {
 
 impl BuildScratch {
     /// Partial maps for `tasks` tasks (at least 1) of maps made with
-    /// `settings`. Fails when [`ShadowSettings::validate`] does.
+    /// `settings`.
+    ///
+    /// # Errors
+    ///
+    /// As [`ShadowSettings::validate`], and [`Error::InvalidShadowSetting`]
+    /// (`tasks`) if the partial maps of `tasks` tasks would not fit in memory.
     pub fn new(settings: &ShadowSettings, tasks: usize) -> Result<BuildScratch, Error> {
         settings.validate()?;
         let tasks = tasks.max(1);
         let nn = settings.resolution * settings.resolution;
+        let too_many = Error::InvalidShadowSetting {
+            name: "tasks",
+            value: tasks as f32,
+            expected: "few enough partial maps to fit in memory",
+        };
+        let texels = tasks
+            .checked_mul(nn * settings.groups())
+            .filter(|&n| n <= isize::MAX as usize / 16)
+            .ok_or(too_many.clone())?;
+        if tasks.checked_mul(nn).is_none() {
+            return Err(too_many);
+        }
         Ok(BuildScratch {
             tasks,
-            texels: vec![[0.0; 4]; tasks * nn * settings.groups()],
+            texels: vec![[0.0; 4]; texels],
             depth: match settings.mode {
                 ShadowMode::Slices => Vec::new(),
                 ShadowMode::Deep => vec![0.0; tasks * nn],
@@ -264,10 +287,22 @@ impl BuildScratch {
         self.tasks
     }
 
-    /// Whether the partial maps have `map`'s sizes.
-    fn fits(&self, map: &OpacityShadowMap) -> bool {
-        self.texels.len() == self.tasks * map.texels.len()
-            && self.depth.len() == self.tasks * map.first_depth.len()
+    /// `Ok` if the partial maps have `map`'s sizes; otherwise the map is
+    /// marked empty and the mismatch returned.
+    fn check_fits(&self, map: &mut OpacityShadowMap) -> Result<(), Error> {
+        let (texels, depth) = (
+            self.tasks.saturating_mul(map.texels.len()),
+            self.tasks.saturating_mul(map.first_depth.len()),
+        );
+        if self.texels.len() == texels && self.depth.len() == depth {
+            return Ok(());
+        }
+        map.ready = false;
+        Err(Error::CountMismatch {
+            what: "partial-map texels (BuildScratch made for other settings)",
+            expected: texels,
+            got: self.texels.len(),
+        })
     }
 }
 

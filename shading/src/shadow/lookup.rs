@@ -18,20 +18,27 @@ use super::gather::gather;
 use super::layers::{FEW, ODD_RECIPROCALS};
 use super::map::OpacityShadowMap;
 use super::settings::ShadowMode;
+use crate::Error;
 use coif_base::{Vec3x8, LANES};
 use glam::Vec3;
 use wide::{f32x8, i32x8};
 
 impl OpacityShadowMap {
     /// SIMD batch: transmittance of every point of `points` into `out`
-    /// (same length; extra entries of either are ignored). Agrees with
-    /// [`super::scalar::transmittance_batch`] to float rounding of
-    /// the exponential (measured in the tests: below 1e-6).
-    pub fn transmittance_batch(&self, points: &[Vec3], out: &mut [f32]) {
-        let len = points.len().min(out.len());
+    /// (one per point). Agrees with [`super::scalar::transmittance_batch`]
+    /// to float rounding of the exponential (measured in the tests: below
+    /// 1e-6). Allocates nothing.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::CountMismatch`] (and nothing written) unless `out.len() ==
+    /// points.len()`.
+    pub fn transmittance_batch(&self, points: &[Vec3], out: &mut [f32]) -> Result<(), Error> {
+        check_lengths(points, out)?;
+        let len = points.len();
         if !self.ready {
-            out[..len].fill(1.0);
-            return;
+            out.fill(1.0);
+            return Ok(());
         }
         for (chunk, o) in points[..len]
             .chunks(LANES)
@@ -44,6 +51,7 @@ impl OpacityShadowMap {
             let t = self.transmittance_x8(p);
             o.copy_from_slice(&t.as_array()[..chunk.len()]);
         }
+        Ok(())
     }
 
     /// Transmittance toward the light of eight points, one per lane: the
@@ -73,6 +81,15 @@ impl OpacityShadowMap {
         let half = f32x8::splat(0.5);
         let u = (lx - f32x8::splat(pl.x0)) * inv_h - half;
         let v = (ly - f32x8::splat(pl.y0)) * inv_h - half;
+        // A finite point so far away that its light-space coordinates
+        // overflow is outside the map: lit, as in the scalar.
+        let finite = finite & u.is_finite() & v.is_finite() & lz.is_finite();
+        let zero = f32x8::ZERO;
+        let (u, v, lz) = (
+            finite.select(u, zero),
+            finite.select(v, zero),
+            finite.select(lz, zero),
+        );
         let (fu, fv) = (u.floor(), v.floor());
         let (fx, fy) = (u - fu, v - fv);
 
@@ -243,4 +260,17 @@ fn pick_pair(p: &[f32x8], i: f32x8) -> (f32x8, f32x8) {
     let next = i0.select(p[0], i1.select(p[1], i2.select(p[2], p[3])));
     let prev = i0.select(f32x8::ZERO, i1.select(p[0], i2.select(p[1], p[2])));
     (prev, next)
+}
+
+/// `Ok` if `out` holds one value per point.
+pub(crate) fn check_lengths(points: &[Vec3], out: &[f32]) -> Result<(), Error> {
+    if out.len() == points.len() {
+        Ok(())
+    } else {
+        Err(Error::CountMismatch {
+            what: "transmittances (one per point)",
+            expected: points.len(),
+            got: out.len(),
+        })
+    }
 }

@@ -44,6 +44,10 @@ pub struct OpacityShadowMap {
 impl OpacityShadowMap {
     /// Allocates the map for these settings (once; no per-frame allocation
     /// afterwards). Fails when [`ShadowSettings::validate`] does.
+    ///
+    /// # Errors
+    ///
+    /// As [`ShadowSettings::validate`].
     pub fn new(settings: ShadowSettings) -> Result<OpacityShadowMap, Error> {
         settings.validate()?;
         let n = settings.resolution;
@@ -189,6 +193,10 @@ impl OpacityShadowMap {
         // 1. Light space, texel coordinates, corners and fractions.
         let l = self.frame.to_light(p);
         let (u, v) = self.placement.texel_coords(l.x, l.y);
+        if !(u.is_finite() && v.is_finite() && l.z.is_finite()) {
+            // So far away that light space overflows: outside the map, lit.
+            return 1.0;
+        }
         let (fu, fv) = (u.floor(), v.floor());
         let (fx, fy) = (u - fu, v - fv);
         let (i0, j0) = (fu as isize, fv as isize);

@@ -61,6 +61,10 @@ impl Footprint {
 /// every `strand_stride`-th strand (stride 0 counts as 1). The reference
 /// visits every segment per point, so its cost is `vertices x segments`:
 /// keep that modest, e.g. a stride of 8 to 16 for a thousand strands.
+///
+/// # Errors
+///
+/// As [`ShadowSettings::validate`] for invalid settings.
 pub fn shadow_error(
     settings: &ShadowSettings,
     light_dir: Vec3,
@@ -80,6 +84,10 @@ pub fn shadow_error(
 
 /// [`shadow_error`] against the footprint reference (see the module
 /// documentation); costs `footprint.rays` times as much.
+///
+/// # Errors
+///
+/// As [`shadow_error`].
 pub fn shadow_error_footprint(
     settings: &ShadowSettings,
     light_dir: Vec3,

@@ -74,6 +74,10 @@ impl ShadowSettings {
 
     /// Checks every field: `2 <= resolution <= 8192`, `1 <= layers <= 256`,
     /// `density` finite and `>= 0`, `hair_radius` finite and `> 0`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidShadowSetting`] for the first setting out of range.
     pub fn validate(&self) -> Result<(), Error> {
         let bad = |name, value: f32, expected| {
             Err(Error::InvalidShadowSetting {

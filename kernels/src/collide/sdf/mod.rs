@@ -178,6 +178,11 @@ impl Sdf {
     /// The grid covers the box of the referenced vertices plus
     /// [`MARGIN_CELLS`] cells (and up to 7 more, rounding) on every side.
     /// The transform starts as the identity.
+    ///
+    /// # Errors
+    ///
+    /// As listed above: [`Error::NoTriangles`], [`Error::IndexOutOfRange`],
+    /// [`Error::NonFinite`], [`Error::InvalidParameter`], [`Error::GridTooLarge`].
     pub fn from_mesh(positions: &[Vec3], triangles: &[[u32; 3]], cell: f32) -> Result<Sdf, Error> {
         if triangles.is_empty() {
             return Err(Error::NoTriangles);
@@ -261,6 +266,10 @@ impl Sdf {
     /// [`Error::InvalidTransform`] on a non-finite transform or a non-rigid
     /// one (columns not orthonormal within `1e-4`, or a reflection,
     /// `det <= 0`), and then changes nothing.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidTransform`] as described above.
     pub fn set_transform(&mut self, world_from_mesh: Affine3A) -> Result<(), Error> {
         if !world_from_mesh.is_finite() {
             return Err(Error::InvalidTransform {
