@@ -86,7 +86,13 @@ fn count(exec: &dyn Executor, frames: usize) -> (usize, usize) {
 
 #[test]
 fn stepping_on_threads_allocates_nothing() {
-    assert_eq!(count(&Serial, 8), (0, 0), "serial");
+    // Serially coif runs on this thread only: its count is the one that
+    // is coif's. (Another thread of the test process allocated 4 times
+    // during this run once, under a heavily loaded machine: not coif's, as
+    // coif starts no thread; it is printed, not asserted.)
+    let (here, all) = count(&Serial, 8);
+    println!("serial: {here} allocations here, {all} on all threads");
+    assert_eq!(here, 0, "serial");
     let pool = SpinPool::new(2);
     assert_eq!(count(&pool, 8), (0, 0), "persistent workers");
     drop(pool);
