@@ -174,7 +174,26 @@ pub fn body_rig(head: &Sphere, total: usize) -> Vec<Sphere> {
 
 /// Least-squares sphere through `points` (algebraic fit, Coope 1993: solve
 /// `|p|^2 = 2 c.p + (r^2 - |c|^2)` for c and r in f64). None for fewer than
-/// four points or a degenerate (coplanar/collinear) set.
+/// four points or a degenerate (coplanar/collinear) set. Fitted to a
+/// groom's roots it is the head proxy of a groom that comes without a mesh
+/// (collisions, the scalp triangles' centre).
+///
+/// ```
+/// use coif_geometry::scene::fit_sphere;
+/// use glam::Vec3;
+/// // Roots on a cap of a 9 cm head centred at (0, 1.6, 0).
+/// let roots: Vec<Vec3> = (0..50)
+///     .map(|i| {
+///         let (a, y) = (i as f32 * 2.4, 0.3 + 0.7 * (i as f32 / 50.0));
+///         let r = (1.0 - y * y).sqrt();
+///         Vec3::new(0.0, 1.6, 0.0) + Vec3::new(r * a.cos(), y, r * a.sin()) * 0.09
+///     })
+///     .collect();
+/// let head = fit_sphere(&roots).unwrap();
+/// assert!((head.radius - 0.09).abs() < 1e-4);
+/// assert!(head.center.distance(Vec3::new(0.0, 1.6, 0.0)) < 1e-4);
+/// assert!(fit_sphere(&roots[..3]).is_none());
+/// ```
 pub fn fit_sphere(points: &[Vec3]) -> Option<Sphere> {
     if points.len() < 4 {
         return None;
