@@ -6,6 +6,11 @@ use crate::Strands;
 use glam::{UVec3, Vec3};
 use wide::{f32x4, f32x8};
 
+/// Jacobi sweeps of the pressure solve per step (module doc, step 2):
+/// measured on the draped head against pushing down the excess's own
+/// gradient (`kernels/README.md`, "Hair against hair").
+pub const JACOBI_SWEEPS: usize = 10;
+
 /// Empty nodes kept round the hair's box on every side (the central
 /// differences reach one node past the splat's).
 const PAD: u32 = 2;
@@ -16,11 +21,14 @@ pub(crate) struct HairGrid {
     /// Per node: `[sum s, sum s vx, sum s vy, sum s vz]`; zero at every
     /// node but this step's `touched` ones.
     acc: Vec<f32x4>,
-    /// Per node: `[de/dx, de/dy, de/dz (per cell), vx, vy, vz, rho /
-    /// rho_0, 0]`, valid at the touched nodes.
+    /// Per node: `[dp/dx, dp/dy, dp/dz (per cell), vx, vy, vz, rho /
+    /// rho_0, 0]` with `p` the pressure, valid at the touched nodes.
     pub(crate) field: Vec<[f32; 8]>,
     /// The nodes this step's splat wrote, in the order it first wrote them.
     touched: Vec<u32>,
+    /// The pressure at every node and its next sweep; zero between steps.
+    pressure: Vec<f32>,
+    pressure_next: Vec<f32>,
     /// Nodes the buffers hold (set at the first build, never grown).
     capacity: usize,
     /// This step's grid, in the strands' local frame.
@@ -112,19 +120,39 @@ impl HairGrid {
         let e = |i: usize| (acc[i].as_array()[0] * inv_target - 1.0).max(0.0);
         let (sy, sz) = (nx, nx * ny);
         let _ = nz;
+        // The pressure: `JACOBI_SWEEPS` Jacobi sweeps of `-lap(p) = e` (grid
+        // units) over the hair's nodes, `p = 0` where there is no hair,
+        // from zero; two buffers, node order fixed: the same bytes always.
+        for _ in 0..JACOBI_SWEEPS {
+            for &t in &self.touched {
+                let i = t as usize;
+                let p = &self.pressure;
+                let around =
+                    (p[i + 1] + p[i - 1]) + (p[i + sy] + p[i - sy]) + (p[i + sz] + p[i - sz]);
+                self.pressure_next[i] = (around + e(i)) * (1.0 / 6.0);
+            }
+            std::mem::swap(&mut self.pressure, &mut self.pressure_next);
+        }
+        let q = |i: usize| self.pressure[i];
         for &t in &self.touched {
             let i = t as usize;
             // Touched nodes lie at least PAD - 1 nodes inside the box, so
             // every neighbour exists.
             let g = [
-                0.5 * (e(i + 1) - e(i - 1)),
-                0.5 * (e(i + sy) - e(i - sy)),
-                0.5 * (e(i + sz) - e(i - sz)),
+                0.5 * (q(i + 1) - q(i - 1)),
+                0.5 * (q(i + sy) - q(i - sy)),
+                0.5 * (q(i + sz) - q(i - sz)),
             ];
             let a = acc[i].to_array();
             let v = [a[1] / a[0], a[2] / a[0], a[3] / a[0]];
             let relative = a[0] * inv_target;
             self.field[i] = [g[0], g[1], g[2], v[0], v[1], v[2], relative, 0.0];
+        }
+        // Zero again for the next step's sweeps (they read untouched
+        // neighbours as zero).
+        for &t in &self.touched {
+            self.pressure[t as usize] = 0.0;
+            self.pressure_next[t as usize] = 0.0;
         }
     }
 
@@ -168,6 +196,8 @@ impl HairGrid {
             self.capacity = want as usize;
             self.acc = vec![f32x4::ZERO; self.capacity];
             self.field = vec![[0.0; 8]; self.capacity];
+            self.pressure = vec![0.0; self.capacity];
+            self.pressure_next = vec![0.0; self.capacity];
             self.touched = Vec::with_capacity(self.capacity.min(8 * s.blocks * s.verts * LANES));
         }
         // (A NaN count is never small enough: the loop ends at an infinite cell.)

@@ -18,14 +18,18 @@
 //!    groom's, not hair to push apart.
 //! 2. **Fields** per node: the density `rho = sum s / cell^3`, its excess
 //!    `e = max(rho / rho_0 - 1, 0)` over the target `rho_0` (the densest
-//!    node of the groomed pose, gridded the same way, `HairGrid::target` in `grid.rs`),
-//!    the excess's gradient by central differences (per cell), and the
-//!    hair's velocity `sum s v / sum s`.
+//!    node of the groomed pose, gridded the same way, [`HairGrid::target`]),
+//!    a pressure `p` from [`grid::JACOBI_SWEEPS`] Jacobi sweeps of the
+//!    Poisson equation `-lap(p) = e` over the hair's nodes (`p = 0` where
+//!    there is none; as Unity's hair system solves its pressure), the
+//!    pressure's gradient by central differences (per cell), the hair's
+//!    velocity `sum s v / sum s` and `rho / rho_0`. (Pushing down the
+//!    excess's own gradient instead, as Petrovic et al. do, was measured and
+//!    not taken: less volume and slower to settle.)
 //! 3. **Apply** (`apply.rs`, per block, in lanes, as tasks; a scalar twin):
 //!    each free vertex reads the two fields trilinearly at its position:
-//!    - volume: it moves by `-volume_stiffness cell grad(e) / 4`, at most a
-//!      quarter cell, and its previous position with it (a projection: no
-//!      velocity is added, so pushing apart cannot pump energy);
+//!    - volume: the push `d = -volume_stiffness 0.75 cell grad(p)` (at most
+//!      0.75 cell) raises its velocity along `d` to at least `|d| / dt`;
 //!    - friction: its velocity moves toward the hair's by `hair_friction`
 //!      (`v += f (v_grid - v)`, through its previous position), so
 //!      velocities relative to the neighbours decay and the common motion
@@ -35,10 +39,11 @@
 //! nothing (no excess; its velocity is its own and zero).
 
 mod apply;
-mod grid;
+pub(crate) mod grid;
 
 pub(crate) use apply::{apply_block, GridSetup};
 pub(crate) use grid::HairGrid;
+pub use grid::JACOBI_SWEEPS;
 
 /// Arc length (metres) over which a vertex's weight in the grid and its
 /// response ramp from 0 at the root to 1.
