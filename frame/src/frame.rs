@@ -243,6 +243,14 @@ impl FramePipeline {
         let fixed = FixedStep::new(params.dt, settings.max_substeps.max(1))?;
         let rest_roots: Vec<Vec3> = scene.roots().collect();
         let settle_steps = (settle_seconds.max(0.0) / params.dt).round() as usize;
+        let interpolation = Interpolation::new(
+            &rest_roots,
+            &scene.triangles,
+            settings.render_hairs_per_cm2,
+            settings.seed,
+        )?;
+        // Each guide weighs in the hair grid as the render hairs it carries.
+        strands.set_hair_shares(&interpolation.guide_shares())?;
         let body = scene.body.as_ref().map(BodyStage::new);
         let fields = body.as_ref().map(|b| std::slice::from_ref(b.field()));
         let colliders = Colliders {
@@ -255,12 +263,6 @@ impl FramePipeline {
         }
         let ribbons = RibbonStage::new(scene, &params, settle_steps)?;
         let camera = frame_camera(&strands.positions(), scene, &settings);
-        let interpolation = Interpolation::new(
-            &rest_roots,
-            &scene.triangles,
-            settings.render_hairs_per_cm2,
-            settings.seed,
-        )?;
         let visibility = Visibility::new(strands.strand_count(), interpolation.group_count());
         let guides = RefinedGuides::new(strands.blocks(), settings.max_segments_per_span.max(1))?;
         let hairs = RenderHairs::new(&interpolation, &guides);

@@ -80,6 +80,10 @@ pub struct Strands {
     /// Every strand's root as built (world, f64): where
     /// [`Strands::set_head_pose`] moves them from.
     pub(crate) rest_roots: Vec<DVec3>,
+    /// Per block: how much of the hair each strand stands for (1 each
+    /// unless [`Strands::set_hair_shares`] said otherwise); its weight in
+    /// the hair grid.
+    pub(crate) hair_share: Vec<f32x8>,
 }
 
 /// The step's reusable buffers (no per-frame allocation once sized): the
@@ -232,6 +236,7 @@ impl Strands {
             scratch: StepScratch::new(blocks, verts),
             hair_grid: Default::default(),
             rest_roots: Vec::new(),
+            hair_share: vec![f32x8::ONE; blocks],
         }
     }
 
@@ -606,6 +611,49 @@ impl Strands {
         self.rest_roots = roots;
         self.rebase_if_far();
         self.set_rest_rotation(glam::Quat::from_mat3(&m))
+    }
+
+    /// How much of the hair each strand stands for, one value per strand
+    /// (default 1 each): its weight in the hair grid of
+    /// `SimParams::volume_stiffness` and `hair_friction`, so that a guide
+    /// standing for twice the hair packs twice as densely. A frame that
+    /// knows it (render hairs per guide from the interpolation, a level of
+    /// a simulation LOD that keeps every other guide) sets it; only the
+    /// ratios matter (the target density is the groomed pose's, with the
+    /// same shares). Forgets the grid's target, which the next step
+    /// recomputes.
+    ///
+    /// # Errors
+    /// [`Error::CountMismatch`] for a count other than the strands',
+    /// [`Error::NonFinite`] or [`Error::InvalidParameter`] for a share
+    /// that is not finite or is negative; nothing changes then.
+    pub fn set_hair_shares(&mut self, shares: &[f32]) -> Result<(), Error> {
+        if shares.len() != self.strand_count {
+            return Err(Error::CountMismatch {
+                what: "hair shares (one per strand)",
+                expected: self.strand_count,
+                got: shares.len(),
+            });
+        }
+        if let Some(index) = shares.iter().position(|s| !s.is_finite()) {
+            return Err(Error::NonFinite { index });
+        }
+        if let Some(&bad) = shares.iter().find(|s| **s < 0.0) {
+            return Err(Error::InvalidParameter {
+                name: "hair share",
+                value: bad,
+                expected: ">= 0",
+            });
+        }
+        for (b, block) in self.hair_share.iter_mut().enumerate() {
+            let mut lanes = [0.0f32; LANES];
+            for (l, v) in lanes.iter_mut().enumerate() {
+                *v = shares.get(b * LANES + l).copied().unwrap_or(0.0);
+            }
+            *block = f32x8::new(lanes);
+        }
+        self.hair_grid.forget_target();
+        Ok(())
     }
 
     /// Orientation of the groom frame that the rest shape (used by

@@ -455,3 +455,51 @@ fn dense_hair_shields_its_inside_from_the_wind() {
         "the lone strand feels the whole wind"
     );
 }
+
+/// `Strands::set_hair_shares`: a guide standing for more hair weighs more
+/// in the grid. Guides on one side of the head standing for four times the
+/// hair keep that side's layer thicker than the other's; with equal shares
+/// the two sides drape alike. Bad shares are refused.
+#[test]
+fn guides_standing_for_more_hair_weigh_more() {
+    let (pts, verts, rig) = head_of_hair(1024, 24);
+    let p = on(SimParams::default().hair_grid_cell);
+    let roots: Vec<Vec3> = pts.iter().step_by(verts).copied().collect();
+    let c = rig[0].center;
+    let sides = |shares: Option<Vec<f32>>| {
+        let mut s = Strands::from_polylines(&pts, verts).unwrap();
+        if let Some(sh) = shares {
+            s.set_hair_shares(&sh).unwrap();
+        }
+        for _ in 0..180 {
+            step(&mut s, &p, &rig);
+        }
+        let x = s.positions();
+        let mut sum = [0.0f32; 2];
+        let mut n = [0usize; 2];
+        for (i, q) in x.iter().enumerate() {
+            let side = usize::from(roots[i / verts].x > c.x);
+            sum[side] += q.distance(c) - rig[0].radius;
+            n[side] += 1;
+        }
+        [sum[0] / n[0] as f32, sum[1] / n[1] as f32]
+    };
+    let equal = sides(None);
+    let shares: Vec<f32> = roots
+        .iter()
+        .map(|r| if r.x > c.x { 4.0 } else { 1.0 })
+        .collect();
+    let weighted = sides(Some(shares));
+    eprintln!(
+        "layer thickness (x < 0, x > 0): equal shares {equal:?}, four times on x > 0 {weighted:?}"
+    );
+    assert!((equal[0] - equal[1]).abs() < 0.1 * equal[0], "{equal:?}");
+    assert!(weighted[1] > 1.1 * weighted[0], "{weighted:?}");
+    let mut s = Strands::from_polylines(&pts, verts).unwrap();
+    assert!(s.set_hair_shares(&[1.0; 3]).is_err());
+    let mut bad = vec![1.0; roots.len()];
+    bad[5] = -1.0;
+    assert!(s.set_hair_shares(&bad).is_err());
+    bad[5] = f32::NAN;
+    assert!(s.set_hair_shares(&bad).is_err());
+}

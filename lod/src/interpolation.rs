@@ -236,6 +236,46 @@ impl Interpolation {
         self.weights[g].map(|w| w.as_array()[lane])
     }
 
+    /// How much of the hair each guide stands for: per guide, the sum of its
+    /// barycentric weights over every real render hair (a guide at the
+    /// corner of many large triangles carries much), scaled so that the
+    /// mean over the guides in some triangle is 1; a guide in no triangle
+    /// gets 1. What `coif_kernels::Strands::set_hair_shares` takes.
+    ///
+    /// ```
+    /// use coif_lod::Interpolation;
+    /// use glam::Vec3;
+    /// let roots = [Vec3::ZERO, Vec3::X * 0.01, Vec3::Z * 0.01, Vec3::ONE];
+    /// let interp = Interpolation::new(&roots, &[[0, 1, 2]], 150.0, 7).unwrap();
+    /// let shares = interp.guide_shares();
+    /// assert_eq!(shares.len(), 4);
+    /// assert!((shares[..3].iter().sum::<f32>() / 3.0 - 1.0).abs() < 1e-5);
+    /// assert_eq!(shares[3], 1.0);
+    /// ```
+    pub fn guide_shares(&self) -> Vec<f32> {
+        let mut sum = vec![0.0f64; self.guide_count];
+        for (g, group) in self.groups.iter().enumerate() {
+            for lane in 0..(group.hairs as usize).min(LANES) {
+                for (k, &guide) in group.guides.iter().enumerate() {
+                    if let Some(s) = sum.get_mut(guide as usize) {
+                        *s += self.weights[g][k].as_array()[lane] as f64;
+                    }
+                }
+            }
+        }
+        let used: Vec<f64> = sum.iter().copied().filter(|s| *s > 0.0).collect();
+        let mean = used.iter().sum::<f64>() / used.len().max(1) as f64;
+        sum.iter()
+            .map(|&s| {
+                if s > 0.0 && mean > 0.0 {
+                    (s / mean) as f32
+                } else {
+                    1.0
+                }
+            })
+            .collect()
+    }
+
     /// Real hairs in the first `groups` groups (the drawn prefix).
     pub fn hairs_in_prefix(&self, groups: usize) -> usize {
         self.groups

@@ -56,6 +56,12 @@ fn sane(p: Vec3) -> bool {
 }
 
 impl HairGrid {
+    /// Forgets the target (the strands' shares changed): the next build
+    /// computes it again.
+    pub(crate) fn forget_target(&mut self) {
+        self.target = None;
+    }
+
     /// The target density (weight per m^3): the densest node of the
     /// groomed pose (roots plus rest offsets under the rest rotation),
     /// gridded at `cell` as the step grids the hair; computed once.
@@ -239,7 +245,7 @@ impl HairGrid {
                 let weight = (s.rest_arc[base + v] * f32x8::splat(1.0 / ROOT_RAMP))
                     .max(zero)
                     .min(one);
-                let weight = f32x8::select(inside, weight, zero);
+                let weight = f32x8::select(inside, weight * s.hair_share[b], zero);
                 if weight.simd_gt(zero).to_bitmask() == 0 {
                     continue;
                 }
