@@ -183,6 +183,21 @@ impl Strands {
     /// [`Error::NotWholeStrands`] on a point count that is not a whole number
     /// of strands, [`Error::NoStrands`] on no points, [`Error::NonFinite`] on a
     /// non-finite coordinate.
+    ///
+    /// ```
+    /// use coif_kernels::{step, SimParams, Strands};
+    /// use glam::Vec3;
+    /// // Two strands of four points, hanging from their roots.
+    /// let points: Vec<Vec3> = [Vec3::ZERO, Vec3::X * 0.02]
+    ///     .iter()
+    ///     .flat_map(|r| (0..4).map(move |v| *r + Vec3::new(0.01 * v as f32, 0.0, 0.0)))
+    ///     .collect();
+    /// let mut hair = Strands::from_polylines(&points, 4).unwrap();
+    /// step(&mut hair, &SimParams::default(), &[]);
+    /// assert_eq!(hair.positions()[0], points[0]); // roots are pinned
+    /// assert!(hair.positions()[3].y < 0.0);       // the rest falls
+    /// assert!(Strands::from_polylines(&points[..3], 4).is_err());
+    /// ```
     pub fn from_polylines(points: &[Vec3], verts_per_strand: usize) -> Result<Strands, Error> {
         validate_polylines(points, verts_per_strand)?;
         let verts = verts_per_strand;

@@ -65,6 +65,18 @@ impl std::error::Error for Error {}
 ///
 /// [`Error`] on any bad input: an unknown format, truncation, lying counts
 /// or offsets, non-finite coordinates.
+///
+/// ```
+/// use coif_geometry::groom::{self, cyhair, Groom};
+/// use glam::Vec3;
+/// // Two strands of different counts, written as a cyHair file and read back.
+/// let points = vec![Vec3::ZERO, Vec3::Y, Vec3::X, Vec3::X + Vec3::Y, Vec3::X * 2.0];
+/// let bytes = cyhair::write(&Groom::from_strands(points, &[2, 3]).unwrap(), "doc").unwrap();
+/// let g = groom::load(&bytes).unwrap();
+/// assert_eq!((g.strand_count(), g.vertex_count()), (2, 5));
+/// assert_eq!(g.strand(1).len(), 3);
+/// assert!(groom::load(b"not a groom").is_err());
+/// ```
 pub fn load(bytes: &[u8]) -> Result<Groom, Error> {
     if cyhair::sniff(bytes) {
         cyhair::parse(bytes)
