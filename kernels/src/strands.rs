@@ -350,13 +350,11 @@ impl Strands {
 
     /// Block `b`'s current positions relative to [`Strands::origin`]: `V`
     /// entries, root first, lane `l` = strand `b * LANES + l`. Padding lanes
-    /// repeat the block's last real strand.
-    ///
-    /// # Panics
-    ///
-    /// If `b >= block_count()` (as slice indexing does).
+    /// repeat the block's last real strand. Empty for a block past the end.
     pub fn block_positions_local(&self, b: usize) -> &[Vec3x8] {
-        &self.pos[b * self.verts..(b + 1) * self.verts]
+        b.checked_mul(self.verts)
+            .and_then(|start| self.pos.get(start..start.checked_add(self.verts)?))
+            .unwrap_or(&[])
     }
 
     /// The positions as a read-only lane-layout view, what LOD reads.

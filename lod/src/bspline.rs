@@ -221,6 +221,16 @@ impl SpanWeights {
     pub fn tangent(&self, k: usize) -> [f32; 4] {
         self.tangent[k]
     }
+
+    /// [`SpanWeights::position`], or `None` for `k > N`.
+    pub fn get_position(&self, k: usize) -> Option<[f32; 4]> {
+        self.position.get(k).copied()
+    }
+
+    /// [`SpanWeights::tangent`], or `None` for `k > N`.
+    pub fn get_tangent(&self, k: usize) -> Option<[f32; 4]> {
+        self.tangent.get(k).copied()
+    }
 }
 
 #[cfg(test)]

@@ -141,6 +141,11 @@ impl Visibility {
     pub fn strand_bounds(&self, i: usize) -> (Vec3, Vec3) {
         (self.strand_min[i], self.strand_max[i])
     }
+
+    /// [`Visibility::strand_bounds`], or `None` past the last block's lanes.
+    pub fn get_strand_bounds(&self, i: usize) -> Option<(Vec3, Vec3)> {
+        Some((*self.strand_min.get(i)?, *self.strand_max.get(i)?))
+    }
 }
 
 /// Fills `out` for this frame (`frustum` in world space, `margin` in metres,

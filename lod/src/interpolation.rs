@@ -236,6 +236,11 @@ impl Interpolation {
         self.weights[g].map(|w| w.as_array()[lane])
     }
 
+    /// [`Interpolation::weights`], or `None` for a hair that does not exist.
+    pub fn get_weights(&self, g: usize, lane: usize) -> Option<[f32; 3]> {
+        (g < self.weights.len() && lane < LANES).then(|| self.weights(g, lane))
+    }
+
     /// How much of the hair each guide stands for: per guide, the sum of its
     /// barycentric weights over every real render hair (a guide at the
     /// corner of many large triangles carries much), scaled so that the
@@ -371,22 +376,27 @@ impl RenderHairs {
         self.has_tangents
     }
 
-    /// Group `g`'s positions, `R` entries of eight hairs.
-    ///
-    /// # Panics
-    ///
-    /// If `g >= group_count()` (as slice indexing does).
+    /// Group `g`'s positions, `R` entries of eight hairs; empty for a
+    /// group past the end.
     pub fn group_positions(&self, g: usize) -> &[Vec3x8] {
-        &self.positions[g * self.verts..(g + 1) * self.verts]
+        crate::refine_batch::block_slice(&self.positions, g, self.verts)
     }
 
-    /// Group `g`'s unit tangents, `R` entries of eight hairs.
-    ///
-    /// # Panics
-    ///
-    /// If `g >= group_count()` (as slice indexing does).
+    /// Group `g`'s unit tangents, `R` entries of eight hairs; empty for a
+    /// group past the end.
     pub fn group_tangents(&self, g: usize) -> &[Vec3x8] {
-        &self.tangents[g * self.verts..(g + 1) * self.verts]
+        crate::refine_batch::block_slice(&self.tangents, g, self.verts)
+    }
+
+    /// [`RenderHairs::position`], or `None` for a vertex that does not
+    /// exist.
+    pub fn get_position(&self, g: usize, lane: usize, r: usize) -> Option<Vec3> {
+        (g < self.groups && lane < LANES && r < self.verts).then(|| self.position(g, lane, r))
+    }
+
+    /// [`RenderHairs::tangent`], or `None` for a vertex that does not exist.
+    pub fn get_tangent(&self, g: usize, lane: usize, r: usize) -> Option<Vec3> {
+        (g < self.groups && lane < LANES && r < self.verts).then(|| self.tangent(g, lane, r))
     }
 
     /// Vertex `r` of hair `lane` of group `g`.
@@ -722,6 +732,16 @@ impl GroupBlend<'_> {
         let w = self.weights.map(|w| w.as_array()[lane % LANES]);
         let v = self.tangents.map(|t| t[r]);
         crate::scalar::unit_or_y(blend_lanes(w, v, self.lanes))
+    }
+
+    /// [`GroupBlend::position`], or `None` for `r >= verts()`.
+    pub fn get_position(&self, lane: usize, r: usize) -> Option<Vec3> {
+        (r < self.verts()).then(|| self.position(lane, r))
+    }
+
+    /// [`GroupBlend::tangent`], or `None` for `r >= verts()`.
+    pub fn get_tangent(&self, lane: usize, r: usize) -> Option<Vec3> {
+        (r < self.verts()).then(|| self.tangent(lane, r))
     }
 }
 

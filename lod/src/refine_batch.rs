@@ -210,22 +210,28 @@ impl RefinedGuides {
         self.refined.get(b).copied().unwrap_or(false)
     }
 
-    /// Block `b`'s refined positions (local coordinates), `R` entries.
-    ///
-    /// # Panics
-    ///
-    /// If `b >= block_count()` (as slice indexing does).
+    /// Block `b`'s refined positions (local coordinates), `R` entries;
+    /// empty for a block past the end.
     pub fn block_positions(&self, b: usize) -> &[Vec3x8] {
-        &self.positions[b * self.verts..(b + 1) * self.verts]
+        block_slice(&self.positions, b, self.verts)
     }
 
-    /// Block `b`'s unit tangents, `R` entries.
-    ///
-    /// # Panics
-    ///
-    /// If `b >= block_count()` (as slice indexing does).
+    /// Block `b`'s unit tangents, `R` entries; empty for a block past the
+    /// end.
     pub fn block_tangents(&self, b: usize) -> &[Vec3x8] {
-        &self.tangents[b * self.verts..(b + 1) * self.verts]
+        block_slice(&self.tangents, b, self.verts)
+    }
+
+    /// [`RefinedGuides::position`], or `None` for a vertex that does not
+    /// exist.
+    pub fn get_position(&self, i: usize, r: usize) -> Option<Vec3> {
+        (i < self.strand_count() && r < self.verts).then(|| self.position(i, r))
+    }
+
+    /// [`RefinedGuides::tangent`], or `None` for a vertex that does not
+    /// exist.
+    pub fn get_tangent(&self, i: usize, r: usize) -> Option<Vec3> {
+        (i < self.strand_count() && r < self.verts).then(|| self.tangent(i, r))
     }
 
     /// Refined vertex `r` of strand `i` (local coordinates).
@@ -233,7 +239,7 @@ impl RefinedGuides {
     /// # Panics
     ///
     /// If `i >= strand_count()` or `r >= verts_per_strand()` (as slice
-    /// indexing does).
+    /// indexing does); [`RefinedGuides::get_position`] does not.
     pub fn position(&self, i: usize, r: usize) -> Vec3 {
         self.check_vertex(i, r);
         self.positions[(i / LANES) * self.verts + r].lane(i % LANES)
@@ -422,3 +428,10 @@ pub(crate) fn unit_or_y_x8(d: Vec3x8) -> Vec3x8 {
 
 /// Tangents with `|d|^2` at or below this fall back to `+Y`.
 pub(crate) const MIN_LENGTH_SQUARED: f32 = 1e-30;
+
+/// Entries `b * len .. (b + 1) * len` of `v`, or empty past its end.
+pub(crate) fn block_slice<T>(v: &[T], b: usize, len: usize) -> &[T] {
+    b.checked_mul(len)
+        .and_then(|start| v.get(start..start.checked_add(len)?))
+        .unwrap_or(&[])
+}

@@ -343,4 +343,26 @@ fn accessors_past_the_end_panic_as_documented() {
     assert!(!guides.is_block_refined(usize::MAX));
     assert!(!hairs.is_group_written(usize::MAX));
     assert!(s.interp.group_blend(&guides, usize::MAX).is_none());
+    // Every panicking accessor has a form that does not panic (as
+    // `Groom::get_strand` for `Groom::strand`), and the block and group
+    // slices are empty past the end.
+    assert_eq!(guides.get_position(0, 0), Some(guides.position(0, 0)));
+    assert_eq!(guides.get_position(0, r), None);
+    assert_eq!(guides.get_tangent(usize::MAX, 0), None);
+    assert!(guides.block_positions(usize::MAX).is_empty());
+    assert!(guides.block_tangents(usize::MAX / 2).is_empty());
+    assert_eq!(hairs.get_position(0, 0, 0), Some(hairs.position(0, 0, 0)));
+    assert_eq!(hairs.get_position(0, 8, 0), None);
+    assert_eq!(hairs.get_tangent(0, 0, v), None);
+    assert!(hairs.group_positions(usize::MAX).is_empty());
+    assert!(hairs.group_tangents(usize::MAX).is_empty());
+    assert_eq!(s.interp.get_weights(0, 0), Some(s.interp.weights(0, 0)));
+    assert_eq!(s.interp.get_weights(usize::MAX, 0), None);
+    let blend = s.interp.group_blend(&guides, 0).unwrap();
+    assert_eq!(blend.get_position(0, 0), Some(blend.position(0, 0)));
+    assert_eq!(blend.get_tangent(0, usize::MAX), None);
+    assert!(s.strands.block_positions_local(usize::MAX).is_empty());
+    let w = lod::SpanWeights::new(2);
+    assert_eq!(w.get_position(2), Some(w.position(2)));
+    assert_eq!(w.get_tangent(3), None);
 }

@@ -278,6 +278,22 @@ impl RgbBuffer {
         self.b[i] = v.z;
     }
 
+    /// [`RgbBuffer::get`], or `None` if `i` is out of range of a channel.
+    pub fn try_get(&self, i: usize) -> Option<Vec3> {
+        Some(Vec3::new(*self.r.get(i)?, *self.g.get(i)?, *self.b.get(i)?))
+    }
+
+    /// [`RgbBuffer::set`], or `Error::IndexOutOfRange` (nothing changed)
+    /// if `i` is out of range of a channel.
+    pub fn try_set(&mut self, i: usize, v: Vec3) -> Result<(), crate::Error> {
+        let len = self.r.len().min(self.g.len()).min(self.b.len());
+        if i >= len {
+            return Err(crate::Error::IndexOutOfRange { index: i, len });
+        }
+        self.set(i, v);
+        Ok(())
+    }
+
     /// Writes lanes of `v` to samples `start ..`, stopping at the end (of
     /// the shortest channel, should the public channels differ in length).
     #[inline]

@@ -318,3 +318,16 @@ fn hostile_parameters_never_panic() {
         assert!(OpacityShadowMap::new(s).is_err() || bad == 1e30);
     }
 }
+
+/// `RgbBuffer::get` and `set` panic past the end as documented; their
+/// forms `try_get` and `try_set` answer for any index.
+#[test]
+fn rgb_buffer_has_non_panicking_accessors() {
+    let mut b = coif_shading::RgbBuffer::zeros(3);
+    assert_eq!(b.try_get(2), Some(glam::Vec3::ZERO));
+    assert_eq!(b.try_get(3), None);
+    assert!(b.try_set(1, glam::Vec3::ONE).is_ok());
+    assert_eq!(b.get(1), glam::Vec3::ONE);
+    assert!(b.try_set(usize::MAX, glam::Vec3::ONE).is_err());
+    assert!(std::panic::catch_unwind(|| b.get(3)).is_err());
+}
