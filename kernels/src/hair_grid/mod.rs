@@ -18,7 +18,7 @@
 //!    groom's, not hair to push apart.
 //! 2. **Fields** per node: the density `rho = sum s / cell^3`, its excess
 //!    `e = max(rho / rho_0 - 1, 0)` over the target `rho_0` (the densest
-//!    node of the groomed pose, gridded the same way, [`HairGrid::target`]),
+//!    node of the groomed pose, gridded the same way, `HairGrid::target`),
 //!    a pressure `p` from [`grid::JACOBI_SWEEPS`] Jacobi sweeps of the
 //!    Poisson equation `-lap(p) = e` over the hair's nodes (`p = 0` where
 //!    there is none; as Unity's hair system solves its pressure), the
