@@ -547,7 +547,7 @@ size_t coif_groom_guide_count(const struct CoifGroom *g, size_t stride);
 // points, each scaled by `scale` (0.01 turns TressFX's and cyHair's usual
 // centimetres into metres) and resampled to `verts_per_strand` points
 // evenly spaced in arc length (authored strands differ in vertex count;
-// `coif_lod::arc_length_samples`). Roots are pinned; the groom's pose is
+// `coif_geometry::groom::Groom::guides`). Roots are pinned; the groom's pose is
 // the rest shape. Move the result into place with `coif_strands_teleport`.
 // `coif_groom_guide_count(g, stride)` tells how many strands it has.
 //

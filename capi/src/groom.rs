@@ -18,6 +18,7 @@ impl From<groom::Error> for CoifStatus {
         crate::set_last_error(&e);
         match e {
             groom::Error::NonFinite { .. } => CoifStatus::COIF_ERROR_NON_FINITE,
+            groom::Error::BadResample(_) => CoifStatus::COIF_ERROR_INVALID_ARGUMENT,
             _ => CoifStatus::COIF_ERROR_BAD_DATA,
         }
     }
@@ -157,17 +158,14 @@ pub unsafe extern "C" fn coif_groom_strand_points(
 pub unsafe extern "C" fn coif_groom_guide_count(g: *const CoifGroom, stride: usize) -> usize {
     guard_or(0, || {
         // SAFETY: NULL or a live handle.
-        unsafe { g.as_ref() }.map_or(0, |h| guide_strands(&h.groom, stride).count())
+        unsafe { g.as_ref() }.map_or(0, |h| {
+            if stride == 0 {
+                0
+            } else {
+                h.groom.guide_strands(stride).count()
+            }
+        })
     })
-}
-
-/// The strands of `groom` kept as guides: every `stride`-th with two or more points.
-fn guide_strands(groom: &Groom, stride: usize) -> impl Iterator<Item = &[Vec3]> + '_ {
-    let strands = if stride == 0 { 0 } else { groom.strand_count() };
-    (0..strands)
-        .step_by(stride.max(1))
-        .map(|s| groom.strand(s))
-        .filter(|s| s.len() >= 2)
 }
 
 /// Creates simulation strands from a groom: the strands `0, stride,
@@ -175,7 +173,7 @@ fn guide_strands(groom: &Groom, stride: usize) -> impl Iterator<Item = &[Vec3]> 
 /// points, each scaled by `scale` (0.01 turns TressFX's and cyHair's usual
 /// centimetres into metres) and resampled to `verts_per_strand` points
 /// evenly spaced in arc length (authored strands differ in vertex count;
-/// `coif_lod::arc_length_samples`). Roots are pinned; the groom's pose is
+/// `coif_geometry::groom::Groom::guides`). Roots are pinned; the groom's pose is
 /// the rest shape. Move the result into place with `coif_strands_teleport`.
 /// `coif_groom_guide_count(g, stride)` tells how many strands it has.
 ///
@@ -205,10 +203,7 @@ pub unsafe extern "C" fn coif_strands_from_groom(
                 if verts_per_strand < 2 || stride == 0 || scale <= 0.0 {
                     return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
                 }
-                let guides = guide_points(&h.groom, stride, verts_per_strand, scale);
-                if guides.is_empty() {
-                    return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
-                }
+                let guides = h.groom.guides(stride, verts_per_strand, scale)?;
                 Ok(CoifStrands::new(Strands::from_polylines(
                     &guides,
                     verts_per_strand,
@@ -216,19 +211,4 @@ pub unsafe extern "C" fn coif_strands_from_groom(
             })
         }
     })
-}
-
-/// The guides' points: each kept strand scaled, then resampled to `verts`
-/// points evenly spaced in arc length.
-pub(crate) fn guide_points(groom: &Groom, stride: usize, verts: usize, scale: f32) -> Vec<Vec3> {
-    let mut guides = Vec::new();
-    let mut scaled = Vec::new();
-    let mut resampled = vec![Vec3::ZERO; verts];
-    for strand in guide_strands(groom, stride) {
-        scaled.clear();
-        scaled.extend(strand.iter().map(|p| *p * scale));
-        coif_lod::arc_length_samples(&scaled, &mut resampled);
-        guides.extend_from_slice(&resampled);
-    }
-    guides
 }

@@ -11,7 +11,6 @@ use coif_geometry::scene::{self, GrowOptions};
 use coif_geometry::triangulate::scalp_triangles;
 use coif_kernels::patch::Ribbon;
 use coif_kernels::Sphere;
-use coif_lod::arc_length_samples;
 use glam::Vec3;
 
 /// Guides, triangles and rig of one groom, in metres, world space, at rest
@@ -285,25 +284,13 @@ pub fn comb_back(strand: &[Vec3], center: Vec3) -> impl Iterator<Item = Vec3> + 
 /// centimetres to metres and resampled to `verts` points evenly spaced in
 /// arc length; strands of fewer than two points are skipped.
 fn groom_guides(groom: &Groom, max_guides: usize, verts: usize) -> Result<Vec<Vec3>, Error> {
-    let strands = groom.strand_count();
-    let stride = strands.div_ceil(max_guides.max(1)).max(1);
-    let mut guides = Vec::with_capacity(strands.div_ceil(stride) * verts);
-    let mut buf = vec![Vec3::ZERO; verts];
-    for s in (0..strands).step_by(stride) {
-        let strand = groom.strand(s);
-        if strand.len() < 2 {
-            continue;
+    let stride = groom.strand_count().div_ceil(max_guides.max(1)).max(1);
+    groom.guides(stride, verts, 0.01).map_err(|e| match e {
+        groom::Error::BadResample(_) => {
+            Error::Scene("the groom has no strand with two or more points")
         }
-        let scaled: Vec<Vec3> = strand.iter().map(|p| *p * 0.01).collect();
-        arc_length_samples(&scaled, &mut buf);
-        guides.extend_from_slice(&buf);
-    }
-    if guides.is_empty() {
-        return Err(Error::Scene(
-            "the groom has no strand with two or more points",
-        ));
-    }
-    Ok(guides)
+        e => Error::Groom(e),
+    })
 }
 
 /// The head and collision rig of a loaded groom, made from its roots.

@@ -193,20 +193,73 @@ impl Groom {
     /// assert!((guides[1] - Vec3::X * 0.05).length() < 1e-6);
     /// ```
     pub fn resampled(&self, verts_per_strand: usize, scale: f32) -> Result<Vec<Vec3>, Error> {
-        if verts_per_strand < 2 {
+        self.resample(
+            (0..self.strand_count()).map(|i| self.strand(i)),
+            verts_per_strand,
+            scale,
+        )
+    }
+
+    /// The guides an engine keeps of a dense groom: the strands `0, stride,
+    /// 2 stride, ...` (every strand for `stride` 1) with two or more points,
+    /// resampled as [`Groom::resampled`] does. `stride` 0 is taken as 1.
+    ///
+    /// # Errors
+    /// As [`Groom::resampled`]; [`Error::BadResample`] too when no kept
+    /// strand has two points.
+    ///
+    /// ```
+    /// use coif_geometry::groom::Groom;
+    /// use glam::Vec3;
+    /// let points = vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z, Vec3::Z * 2.0];
+    /// let groom = Groom::from_strands(points, &[2, 1, 2]).unwrap();
+    /// // Every strand kept but the one-point one; every other: strands 0 and 2.
+    /// assert_eq!(groom.guides(1, 3, 1.0).unwrap().len(), 6);
+    /// assert_eq!(groom.guides(2, 3, 1.0).unwrap()[3], Vec3::Z);
+    /// ```
+    pub fn guides(
+        &self,
+        stride: usize,
+        verts_per_strand: usize,
+        scale: f32,
+    ) -> Result<Vec<Vec3>, Error> {
+        let kept = self.guide_strands(stride);
+        let guides = self.resample(kept, verts_per_strand, scale)?;
+        if guides.is_empty() {
+            return Err(Error::BadResample("no kept strand has two or more points"));
+        }
+        Ok(guides)
+    }
+
+    /// The strands [`Groom::guides`] keeps.
+    pub fn guide_strands(&self, stride: usize) -> impl Iterator<Item = &[Vec3]> + Clone + '_ {
+        (0..self.strand_count())
+            .step_by(stride.max(1))
+            .map(|s| self.strand(s))
+            .filter(|s| s.len() >= 2)
+    }
+
+    /// `strands` scaled and resampled to `verts` points each, strand after
+    /// strand (the body of [`Groom::resampled`] and [`Groom::guides`]).
+    fn resample<'a>(
+        &self,
+        strands: impl Iterator<Item = &'a [Vec3]> + Clone,
+        verts: usize,
+        scale: f32,
+    ) -> Result<Vec<Vec3>, Error> {
+        if verts < 2 {
             return Err(Error::BadResample("fewer than two points per strand"));
         }
         if !(scale.is_finite() && scale > 0.0) {
             return Err(Error::BadResample("the scale must be finite and positive"));
         }
-        let total = self.strand_count().checked_mul(verts_per_strand);
+        let total = strands.clone().count().checked_mul(verts);
         let total = total
             .filter(|&n| n <= 1 << 28)
             .ok_or(Error::BadResample("more than 2^28 points"))?;
         let mut out = vec![Vec3::ZERO; total];
         let mut scaled = Vec::new();
-        for (i, dst) in out.chunks_exact_mut(verts_per_strand).enumerate() {
-            let strand = self.strand(i);
+        for (strand, dst) in strands.zip(out.chunks_exact_mut(verts)) {
             scaled.clear();
             scaled.extend(strand.iter().map(|p| *p * scale));
             coif_base::polyline::arc_length_samples(&scaled, dst);
