@@ -113,6 +113,17 @@ impl TriangleMesh {
         })
     }
 
+    /// A mesh built by this crate, valid by construction (indices in
+    /// range), without the checks: normals computed, nothing refused.
+    pub(crate) fn unchecked(positions: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> TriangleMesh {
+        let normals = vertex_normals(&positions, &triangles);
+        TriangleMesh {
+            positions,
+            normals,
+            triangles,
+        }
+    }
+
     /// Reads a Wavefront OBJ mesh from its text with `tobj` (polygons
     /// triangulated, every object of the file in one mesh, positions only:
     /// normals and texture coordinates in the file are not used, the

@@ -8,6 +8,7 @@
 //! under gravity against the head.
 
 use crate::grow::{grow, Growth, InvalidGrowth};
+use crate::mesh::{MeshError, TriangleMesh};
 use glam::Vec3;
 use std::fmt;
 
@@ -54,9 +55,7 @@ impl std::error::Error for ScalpError {}
 /// A triangle mesh of the scalp with area-weighted vertex normals.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ScalpMesh {
-    positions: Vec<Vec3>,
-    normals: Vec<Vec3>,
-    triangles: Vec<[u32; 3]>,
+    mesh: TriangleMesh,
 }
 
 impl ScalpMesh {
@@ -69,24 +68,15 @@ impl ScalpMesh {
     /// [`ScalpError`] on no positions or triangles, an index out of range or a
     /// non-finite position.
     pub fn new(positions: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> Result<ScalpMesh, ScalpError> {
-        if positions.is_empty() || triangles.is_empty() {
-            return Err(ScalpError::Empty);
-        }
-        if let Some(index) = positions.iter().position(|p| !p.is_finite()) {
-            return Err(ScalpError::NonFinite { index });
-        }
-        if let Some(triangle) = triangles
-            .iter()
-            .position(|t| t.iter().any(|&i| i as usize >= positions.len()))
-        {
-            return Err(ScalpError::IndexOutOfRange { triangle });
-        }
-        let normals = crate::mesh::vertex_normals(&positions, &triangles);
-        Ok(ScalpMesh {
-            positions,
-            normals,
-            triangles,
-        })
+        let mesh = TriangleMesh::new(positions, triangles).map_err(|e| match e {
+            MeshError::IndexOutOfRange { triangle, .. } => ScalpError::IndexOutOfRange { triangle },
+            MeshError::NonFinite { index } => ScalpError::NonFinite { index },
+            MeshError::TooLarge { .. } => {
+                ScalpError::InvalidOption("more than 2^24 vertices or triangles")
+            }
+            _ => ScalpError::Empty,
+        })?;
+        Ok(ScalpMesh { mesh })
     }
 
     /// A procedural scalp: the cap of a sphere above height `lowest` (a
@@ -134,30 +124,35 @@ impl ScalpMesh {
                 }
             }
         }
-        ScalpMesh::new(positions, triangles).expect("a sphere cap is a valid mesh")
+        // Valid by construction but for a non-finite centre or radius, which
+        // the positions then carry (no check, no panic).
+        ScalpMesh {
+            mesh: TriangleMesh::unchecked(positions, triangles),
+        }
     }
 
     /// The vertices (the guide roots).
     pub fn positions(&self) -> &[Vec3] {
-        &self.positions
+        self.mesh.positions()
     }
 
     /// Unit area-weighted vertex normals (the guides' growth directions).
     pub fn normals(&self) -> &[Vec3] {
-        &self.normals
+        self.mesh.normals()
     }
 
     /// Triangles as vertex indices, wound so their normals point outward.
     pub fn triangles(&self) -> &[[u32; 3]] {
-        &self.triangles
+        self.mesh.triangles()
     }
 
     /// Total area in m^2.
     pub fn area(&self) -> f32 {
-        self.triangles
+        let p = self.positions();
+        self.triangles()
             .iter()
             .map(|t| {
-                let [a, b, c] = t.map(|i| self.positions[i as usize]);
+                let [a, b, c] = t.map(|i| p[i as usize]);
                 0.5 * (b - a).cross(c - a).length()
             })
             .sum()
@@ -172,6 +167,6 @@ impl ScalpMesh {
     /// [`ScalpError`] wrapping [`InvalidGrowth`] for options out of range.
     pub fn grow_guides(&self, growth: &Growth) -> Result<Vec<Vec3>, ScalpError> {
         growth.validate()?;
-        Ok(grow(&self.positions, &self.normals, growth))
+        Ok(grow(self.positions(), self.normals(), growth))
     }
 }
