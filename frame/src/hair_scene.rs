@@ -105,6 +105,15 @@ impl HairScene {
         HairScene::from_files(SINTEL_GROOM, SINTEL_BUST, 0.01, usize::MAX, 32)
     }
 
+    /// Sintel's bust alone (the compiled-in copy, metres): for another
+    /// groom on it ([`HairScene::on_mesh`]).
+    ///
+    /// # Errors
+    /// None in practice (the shipped file); [`Error::Mesh`] otherwise.
+    pub fn sintel_bust() -> Result<TriangleMesh, Error> {
+        Ok(TriangleMesh::from_obj(SINTEL_BUST, 0.01)?)
+    }
+
     /// A groom file's bytes (`.tfx` or `.hair`, centimetres) on the body
     /// mesh of an OBJ file's text, read at `mesh_scale` (0.01 for a mesh
     /// in centimetres): [`HairScene::on_mesh`] of the parsed pair.
