@@ -303,11 +303,8 @@ fn load_scene(cli: &Cli) -> Result<(HairScene, String), Box<dyn std::error::Erro
                     (scene, format!("on {}", mesh.display()))
                 }
                 (None, Some(SceneKind::Sintel)) => {
-                    let bust = HairScene::sintel()?
-                        .body
-                        .ok_or("Sintel's scene has no body")?;
-                    let scene =
-                        HairScene::on_mesh(&groom, bust.mesh().clone(), cli.max_guides, 32)?;
+                    let bust = HairScene::sintel_bust()?;
+                    let scene = HairScene::on_mesh(&groom, bust, cli.max_guides, 32)?;
                     (scene, "on Sintel's bust".to_string())
                 }
                 (None, _) => (
