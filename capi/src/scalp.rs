@@ -9,8 +9,8 @@ use coif_geometry::scene::fit_sphere;
 use coif_geometry::triangulate::scalp_triangles;
 use glam::Vec3;
 
-/// The guides' roots where the strands were built.
-fn rest_roots(h: &CoifStrands) -> Vec<Vec3> {
+/// The guides' current roots.
+fn current_roots(h: &CoifStrands) -> Vec<Vec3> {
     let verts = h.strands.verts_per_strand();
     h.strands.positions().into_iter().step_by(verts).collect()
 }
@@ -65,7 +65,7 @@ pub unsafe extern "C" fn coif_fit_head_sphere(
         let h = unsafe { handle(guides) }?;
         // SAFETY: NULL or writable (the caller's contract).
         let out = unsafe { out.as_mut() }.ok_or(CoifStatus::COIF_ERROR_NULL)?;
-        let s = fit_sphere(&rest_roots(h)).ok_or(CoifStatus::COIF_ERROR_INVALID_ARGUMENT)?;
+        let s = fit_sphere(&current_roots(h)).ok_or(CoifStatus::COIF_ERROR_INVALID_ARGUMENT)?;
         *out = CoifSphere {
             center: s.center.to_array(),
             radius: s.radius,
@@ -108,7 +108,7 @@ pub unsafe extern "C" fn coif_scalp_triangles(
         let count = unsafe { out_count.as_mut() }.ok_or(CoifStatus::COIF_ERROR_NULL)?;
         // SAFETY: NULL or 3 readable floats (the caller's contract).
         let c = unsafe { crate::vec3_arg(center) }?;
-        let triangles = scalp_triangles(&rest_roots(h), c);
+        let triangles = scalp_triangles(&current_roots(h), c);
         if triangles.is_empty() {
             return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
         }
