@@ -27,8 +27,8 @@ mod crowd;
 use clap::Parser;
 use coif::base::tasks::{Executor, Serial};
 use coif::frame::{
-    motion, FramePipeline, FrameSettings, FrameStats, HairScene, PrepareMode, ShadingModel,
-    DEFAULT_SHADOW_THINNING,
+    motion, FramePipeline, FrameSettings, FrameStats, HairColor, HairScene, PrepareMode,
+    ShadingModel, DEFAULT_SHADOW_THINNING,
 };
 use coif::geometry::scene::GrowOptions;
 use coif::kernels::SimParams;
@@ -81,6 +81,14 @@ struct Cli {
     /// pbrt (pbrt-v3 far-field table).
     #[arg(long, default_value = "kajiya-kay", value_parser = parse_model)]
     shading: ShadingModel,
+    /// Hair colour of the physically based models: blond, brown or dark
+    /// (melanin concentrations, d'Eon et al. 2011).
+    #[arg(long, default_value = "brown", value_parser = parse_color)]
+    hair_color: HairColor,
+    /// Single scattering only for marschner and pbrt (by default they add
+    /// multiple scattering by dual scattering, Zinke et al. 2008).
+    #[arg(long)]
+    single_scattering: bool,
     /// Frames of motion to simulate (at --fps); the last one is written.
     #[arg(long, default_value_t = 90)]
     frames: usize,
@@ -204,6 +212,10 @@ fn parse_prepare(s: &str) -> Result<PrepareMode, String> {
 }
 
 fn parse_model(s: &str) -> Result<ShadingModel, String> {
+    s.parse()
+}
+
+fn parse_color(s: &str) -> Result<HairColor, String> {
     s.parse()
 }
 
@@ -483,6 +495,8 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         width,
         height,
         shading: cli.shading,
+        hair_sigma_a: cli.hair_color.sigma_a(),
+        multiple_scattering: !cli.single_scattering,
         render_hairs_per_cm2: cli
             .density
             .unwrap_or(if scene.body.is_some() { 20.0 } else { 40.0 }),
@@ -519,11 +533,16 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     };
     let mut pipeline = FramePipeline::new(&scene, settings, 1.5)?;
     out!(
-        "coif: {what}; {} scalp triangles, {} render hairs, {} ribbons, {} shading, {}x{} px{}",
+        "coif: {what}; {} scalp triangles, {} render hairs, {} ribbons, {} shading{}, {}x{} px{}",
         scene.triangles.len(),
         pipeline.render_hair_count(),
         scene.ribbons.len(),
         cli.shading,
+        match (cli.shading, cli.single_scattering) {
+            (ShadingModel::KajiyaKay, _) => String::new(),
+            (_, true) => format!(" ({} hair, single scattering)", cli.hair_color.name()),
+            (_, false) => format!(" ({} hair, dual scattering)", cli.hair_color.name()),
+        },
         width,
         height,
         if pipeline.has_shadow_map() {

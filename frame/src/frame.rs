@@ -272,7 +272,11 @@ impl FramePipeline {
                 settings.max_segments_per_span.max(1),
             );
         let render_width = render_width(&settings);
-        let shader = Shader::new(settings.shading)?;
+        let shader = Shader::with_material(
+            settings.shading,
+            settings.hair_sigma_a,
+            settings.multiple_scattering,
+        )?;
         let raster = HairRaster::new(settings.width, settings.height, capacity).map_err(|_| {
             Error::Setting {
                 name: "width x height",
@@ -794,10 +798,24 @@ impl FramePipeline {
                 let k = h * verts_per_hair + j;
                 let p = Vec3::from(v.position);
                 let mut visible = transmittance[k];
+                let mut single = self.scattering.get(k);
+                if let Some(ds) = self.shader.dual_scattering() {
+                    // The map's hair count from its transmittance
+                    // (`T = exp(-alpha sigma)`), as the fused pass reads it.
+                    let fibres = match self.shadow.map() {
+                        Some(m) if visible > 0.0 && m.hair_opacity() > 0.0 => {
+                            -visible.ln() / m.hair_opacity()
+                        }
+                        _ => 0.0,
+                    };
+                    let (t, wi, wo) = self.samples.get(k);
+                    single = ds.shade(single, t, wi, wo, fibres, visible);
+                    visible = 1.0;
+                }
                 if occluded(p, light.to_light, &self.head_local, 1e-3) {
                     visible = 0.0;
                 }
-                let mut direct = self.scattering.get(k) * irradiance * visible;
+                let mut direct = single * irradiance * visible;
                 if cosine {
                     let c = Vec3::from(v.tangent).dot(light.to_light);
                     direct *= (1.0 - c * c).max(0.0).sqrt();

@@ -55,6 +55,6 @@ pub use frame::{
 };
 pub use hair_scene::{HairScene, GROOM_RIBBON_ATTACH, PROCEDURAL_RIBBON_ATTACH};
 pub use settings::{FrameSettings, Light, PrepareMode, DEFAULT_SHADOW_THINNING};
-pub use shading_model::{demo_sigma_a, Shader, ShadingModel, PHYSICAL_LIGHT_SCALE};
+pub use shading_model::{demo_sigma_a, HairColor, Shader, ShadingModel, PHYSICAL_LIGHT_SCALE};
 pub use sim_lod::SimLod;
 pub use timings::{Stage, StageTimings};

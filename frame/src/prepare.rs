@@ -10,7 +10,10 @@
 //! 2. shade: `S = model_x8(t, wi, wo)` with `wi` toward the light (one
 //!    vector per frame) and `wo = unit(eye - P)` (`+Z` where `P` is the eye);
 //! 3. visibility: the shadow map's transmittance at `P` times 0 where the
-//!    ray toward the light meets a head sphere ([`occluded_x8`]);
+//!    ray toward the light meets a head sphere ([`occluded_x8`]); with dual
+//!    scattering (`Shader::dual_scattering`) the map's hair count and
+//!    transmittance make `S` the model's multiple-scattering `F` instead,
+//!    and only the head's 0 remains;
 //! 4. colour: `c = (S E V [sin theta_i] + ambient) tint`, `ambient` alone
 //!    where that is not finite (the reference's `write_colors` formula);
 //! 5. width `lerp(root, tip, s) x width_factor`, written with `P`, `c`
@@ -117,9 +120,26 @@ pub(crate) fn shade_group(
             Vec3x8::ZERO
         } else {
             let s = ctx.shader.scattering_x8(t, wi, wo);
-            // 3. Visibility: shadow map, head.
-            let transmittance = ctx.shadow.map_or(f32x8::ONE, |m| m.transmittance_x8(p));
-            let visible = head.select(f32x8::ZERO, transmittance);
+            // 3. Visibility: shadow map, head. With dual scattering the
+            // map's hair count and transmittance go into the model's `F`
+            // and the head alone remains as a visibility.
+            let (s, visible) = match ctx.shader.dual_scattering() {
+                Some(ds) => {
+                    let (fibres, transmittance) = match ctx.shadow {
+                        Some(m) => {
+                            let sigma = m.hairs_in_front_x8(p);
+                            (sigma, (f32x8::splat(-m.hair_opacity()) * sigma).exp())
+                        }
+                        None => (f32x8::ZERO, f32x8::ONE),
+                    };
+                    let lit = ds.shade_x8(s, t, wi, wo, fibres, transmittance);
+                    (lit, head.select(f32x8::ZERO, f32x8::ONE))
+                }
+                None => {
+                    let transmittance = ctx.shadow.map_or(f32x8::ONE, |m| m.transmittance_x8(p));
+                    (s, head.select(f32x8::ZERO, transmittance))
+                }
+            };
             // 4. Colour.
             let direct = Vec3x8::new(
                 s.x * f32x8::splat(irradiance.x) * visible,

@@ -61,6 +61,15 @@ pub struct FrameSettings {
     pub height: usize,
     /// The hair shading model.
     pub shading: ShadingModel,
+    /// Absorption of the hair for the physically based models (pbrt-v3's
+    /// `sigma_a` per unit radius; `HairColor::sigma_a` gives blond, brown
+    /// and dark).
+    pub hair_sigma_a: Vec3,
+    /// Multiple scattering by dual scattering for the physically based
+    /// models (`coif_shading::dual_scattering`), its hair counts from the
+    /// shadow map; `false` draws single scattering times the shadow map's
+    /// transmittance.
+    pub multiple_scattering: bool,
     /// Hair density of a real scalp (hairs per cm^2).
     pub real_hairs_per_cm2: f32,
     /// Render hairs interpolated per cm^2 (fewer than real: each render
@@ -114,6 +123,8 @@ impl Default for FrameSettings {
             width: 512,
             height: 512,
             shading: ShadingModel::KajiyaKay,
+            hair_sigma_a: super::demo_sigma_a(),
+            multiple_scattering: true,
             real_hairs_per_cm2: 150.0,
             render_hairs_per_cm2: 40.0,
             hair_width: HairWidth::default(),

@@ -2,10 +2,13 @@
 
 use super::Error;
 use coif_base::Vec3x8;
+use coif_shading::dual_scattering::{DualScattering, DualScatteringSettings};
 use coif_shading::kajiya_kay::KajiyaKay;
 use coif_shading::{marschner, pbrt, RgbBuffer, ShadingSamples};
+use glam::Vec3;
 use std::fmt;
 use std::str::FromStr;
+use wide::f32x8;
 
 /// The per-vertex hair shading model.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -15,11 +18,14 @@ pub enum ShadingModel {
     #[default]
     KajiyaKay,
     /// Marschner 2003, factored lookup tables ([`marschner::Lut`], 128),
-    /// default parameters with the absorption of [`demo_sigma_a`] (halved,
-    /// Marschner's convention per unit radius as in `marschner::Params`).
+    /// default parameters with the frame's absorption
+    /// (`FrameSettings::hair_sigma_a`, halved: Marschner's convention per
+    /// unit radius as in `marschner::Params`), plus dual scattering unless
+    /// `FrameSettings::multiple_scattering` is off.
     Marschner,
     /// pbrt-v3's hair BSDF far field, lookup table ([`pbrt::Table`], 64),
-    /// default parameters with `sigma_a` = [`demo_sigma_a`].
+    /// default parameters with `sigma_a` = `FrameSettings::hair_sigma_a`,
+    /// plus dual scattering unless `FrameSettings::multiple_scattering` is off.
     Pbrt,
 }
 
@@ -61,16 +67,61 @@ impl FromStr for ShadingModel {
 /// brown, eumelanin 0.8 and pheomelanin 0.3 (d'Eon 2011 via
 /// `pbrt::sigma_a_from_concentration`); pbrt-v3's default (eumelanin 1.3)
 /// is nearly black in single scattering.
-pub fn demo_sigma_a() -> glam::Vec3 {
+pub fn demo_sigma_a() -> Vec3 {
     pbrt::sigma_a_from_concentration(0.8, 0.3)
 }
 
+/// Hair colours by melanin (d'Eon et al. 2011's concentrations, through
+/// `pbrt::sigma_a_from_concentration`), for the physically based models.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HairColor {
+    /// Blond: eumelanin 0.3.
+    Blond,
+    /// Medium brown: eumelanin 0.8, pheomelanin 0.3 ([`demo_sigma_a`]).
+    Brown,
+    /// Dark brown: eumelanin 1.3 (pbrt-v3's default).
+    Dark,
+}
+
+impl HairColor {
+    /// Every colour, in the order of the CLI help.
+    pub const ALL: [HairColor; 3] = [HairColor::Blond, HairColor::Brown, HairColor::Dark];
+
+    /// The CLI name.
+    pub fn name(self) -> &'static str {
+        match self {
+            HairColor::Blond => "blond",
+            HairColor::Brown => "brown",
+            HairColor::Dark => "dark",
+        }
+    }
+
+    /// Absorption per unit radius (pbrt-v3's `sigma_a`).
+    pub fn sigma_a(self) -> Vec3 {
+        match self {
+            HairColor::Blond => pbrt::sigma_a_from_concentration(0.3, 0.0),
+            HairColor::Brown => demo_sigma_a(),
+            HairColor::Dark => pbrt::sigma_a_from_concentration(1.3, 0.0),
+        }
+    }
+}
+
+impl FromStr for HairColor {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        HairColor::ALL
+            .into_iter()
+            .find(|c| c.name().eq_ignore_ascii_case(s))
+            .ok_or_else(|| format!("unknown hair colour {s:?} (blond, brown, dark)"))
+    }
+}
+
 /// Light multiplier of the physically based models. Their fibres are
-/// energy-normalised and single-scattering only (no multiple scattering,
-/// which carries most of the light in real brown hair), so under the same
-/// light they are about ten times darker than Kajiya-Kay, whose diffuse
-/// term is not normalised. The demo raises their light by this factor so
-/// the three pictures are comparable; the relative shading is untouched.
+/// energy-normalised: under the same light they are several times darker
+/// than Kajiya-Kay, whose diffuse term is not normalised (about ten times
+/// in single scattering; dual scattering gives back part of it, most for
+/// light hair). The demo raises their light by this factor so the models'
+/// pictures are comparable; the relative shading is untouched.
 pub const PHYSICAL_LIGHT_SCALE: f32 = 6.0;
 
 /// Marschner table resolution (1-3 % relative RMS of the direct model with the default layout).
@@ -82,38 +133,89 @@ pub const PBRT_RESOLUTION: usize = 64;
 pub enum Shader {
     /// Kajiya-Kay (Kajiya and Kay 1989) with two shifted highlights (Scheuermann 2004).
     KajiyaKay(KajiyaKay),
-    /// The factored Marschner et al. 2003 model in lookup tables.
-    Marschner(Box<marschner::Lut>),
-    /// The pbrt-v3 hair BSDF (Chiang et al. 2016) far field in a lookup table.
-    Pbrt(Box<pbrt::Table>),
+    /// The factored Marschner et al. 2003 model in lookup tables, with its
+    /// dual scattering tables when multiple scattering is on.
+    Marschner(Box<marschner::Lut>, Option<Box<DualScattering>>),
+    /// The pbrt-v3 hair BSDF (Chiang et al. 2016) far field in a lookup
+    /// table, with its dual scattering tables when multiple scattering is on.
+    Pbrt(Box<pbrt::Table>, Option<Box<DualScattering>>),
 }
 
 impl Shader {
-    /// Builds the model's tables (Marschner: 128, pbrt: 64 per axis).
+    /// The model's tables (Marschner: 128, pbrt: 64 per axis) for the
+    /// brown of [`demo_sigma_a`], with multiple scattering.
     pub fn new(model: ShadingModel) -> Result<Shader, Error> {
+        Shader::with_material(model, demo_sigma_a(), true)
+    }
+
+    /// The model's tables for absorption `sigma_a` (pbrt-v3's, per unit
+    /// radius; Marschner gets half of it, see [`ShadingModel::Marschner`]),
+    /// and dual scattering tables ([`DualScatteringSettings::default`])
+    /// when `multiple_scattering` (ignored by Kajiya-Kay).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Shading`] for an absorption pbrt refuses (negative or not finite).
+    pub fn with_material(
+        model: ShadingModel,
+        sigma_a: Vec3,
+        multiple_scattering: bool,
+    ) -> Result<Shader, Error> {
+        let ds = DualScatteringSettings::default();
         Ok(match model {
             ShadingModel::KajiyaKay => Shader::KajiyaKay(KajiyaKay::default()),
-            ShadingModel::Marschner => Shader::Marschner(Box::new(marschner::Lut::new(
-                &marschner::Params::default(),
-                MARSCHNER_RESOLUTION,
-            ))),
-            ShadingModel::Pbrt => Shader::Pbrt(Box::new(pbrt::Table::new(
-                &pbrt::Params::default(),
-                PBRT_RESOLUTION,
-            )?)),
+            ShadingModel::Marschner => {
+                let params = marschner::Params {
+                    absorption: sigma_a * 0.5,
+                    ..marschner::Params::default()
+                };
+                let pbrt_check = pbrt::Params {
+                    sigma_a,
+                    ..pbrt::Params::default()
+                };
+                pbrt_check.validate()?;
+                let lut = marschner::Lut::new(&params, MARSCHNER_RESOLUTION);
+                let dual = if multiple_scattering {
+                    Some(Box::new(DualScattering::from_marschner(&lut, ds)?))
+                } else {
+                    None
+                };
+                Shader::Marschner(Box::new(lut), dual)
+            }
+            ShadingModel::Pbrt => {
+                let params = pbrt::Params {
+                    sigma_a,
+                    ..pbrt::Params::default()
+                };
+                let table = pbrt::Table::new(&params, PBRT_RESOLUTION)?;
+                let dual = if multiple_scattering {
+                    Some(Box::new(DualScattering::from_pbrt(&table, ds)?))
+                } else {
+                    None
+                };
+                Shader::Pbrt(Box::new(table), dual)
+            }
         })
     }
 
-    /// Scattering of every sample into `out` (SIMD batch paths).
-    pub fn shade_batch(&self, samples: &ShadingSamples, out: &mut RgbBuffer) {
+    /// The dual scattering tables, when the model has them.
+    pub fn dual_scattering(&self) -> Option<&DualScattering> {
         match self {
-            Shader::KajiyaKay(k) => k.shade_batch(samples, out),
-            Shader::Marschner(l) => l.scattering_batch(samples, out),
-            Shader::Pbrt(t) => t.scattering_batch(samples, out),
+            Shader::KajiyaKay(_) => None,
+            Shader::Marschner(_, d) | Shader::Pbrt(_, d) => d.as_deref(),
         }
     }
 
-    /// Scattering of eight samples (the per-element `_x8` function of the
+    /// Single scattering of every sample into `out` (SIMD batch paths).
+    pub fn shade_batch(&self, samples: &ShadingSamples, out: &mut RgbBuffer) {
+        match self {
+            Shader::KajiyaKay(k) => k.shade_batch(samples, out),
+            Shader::Marschner(l, _) => l.scattering_batch(samples, out),
+            Shader::Pbrt(t, _) => t.scattering_batch(samples, out),
+        }
+    }
+
+    /// Single scattering of eight samples (the per-element `_x8` function of the
     /// model: `KajiyaKay::shade_x8`, `marschner::Lut::scattering_x8`,
     /// `pbrt::Table::scattering_x8`), the same numbers as
     /// [`Shader::shade_batch`] gives for those samples.
@@ -121,8 +223,39 @@ impl Shader {
     pub fn scattering_x8(&self, t: Vec3x8, wi: Vec3x8, wo: Vec3x8) -> Vec3x8 {
         match self {
             Shader::KajiyaKay(k) => k.shade_x8(t, wi, wo),
-            Shader::Marschner(l) => l.scattering_x8(t, wi, wo),
-            Shader::Pbrt(p) => p.scattering_x8(t, wi, wo),
+            Shader::Marschner(l, _) => l.scattering_x8(t, wi, wo),
+            Shader::Pbrt(p, _) => p.scattering_x8(t, wi, wo),
+        }
+    }
+
+    /// The light a vertex scatters per unit irradiance, shadow included:
+    /// with dual scattering, its `F` for `fibres` hairs between the vertex
+    /// and the light and the direct fraction `direct`
+    /// ([`DualScattering::shade_x8`]); without, single scattering times
+    /// `direct`.
+    #[inline(always)]
+    pub fn lit_x8(
+        &self,
+        t: Vec3x8,
+        wi: Vec3x8,
+        wo: Vec3x8,
+        fibres: f32x8,
+        direct: f32x8,
+    ) -> Vec3x8 {
+        let s = self.scattering_x8(t, wi, wo);
+        match self.dual_scattering() {
+            Some(ds) => ds.shade_x8(s, t, wi, wo, fibres, direct),
+            None => s * direct,
+        }
+    }
+
+    /// [`Shader::lit_x8`] for one sample whose single scattering `single`
+    /// is already known (the stage-by-stage reference pass).
+    #[inline]
+    pub fn lit(&self, single: Vec3, t: Vec3, wi: Vec3, wo: Vec3, fibres: f32, direct: f32) -> Vec3 {
+        match self.dual_scattering() {
+            Some(ds) => ds.shade(single, t, wi, wo, fibres, direct),
+            None => single * direct,
         }
     }
 
@@ -131,7 +264,7 @@ impl Shader {
     /// `L = S cos theta_i E`: true for Marschner's `S`; pbrt's far field
     /// includes it and Kajiya-Kay's diffuse term is that sine already.
     pub fn needs_cosine(&self) -> bool {
-        matches!(self, Shader::Marschner(_))
+        matches!(self, Shader::Marschner(..))
     }
 
     /// Multiplier of the light's irradiance for this model

@@ -294,6 +294,22 @@ impl RgbBuffer {
         Ok(())
     }
 
+    /// Samples `start ..` in lanes, zeros past the end (of the shortest
+    /// channel, should the public channels differ in length).
+    #[inline]
+    pub fn load_block(&self, start: usize) -> Vec3x8 {
+        let len = self.r.len().min(self.g.len()).min(self.b.len());
+        let n = len.saturating_sub(start).min(LANES);
+        let lanes = |c: &[f32]| {
+            let mut v = [0.0f32; LANES];
+            if n > 0 {
+                v[..n].copy_from_slice(&c[start..start + n]);
+            }
+            f32x8::new(v)
+        };
+        Vec3x8::new(lanes(&self.r), lanes(&self.g), lanes(&self.b))
+    }
+
     /// Writes lanes of `v` to samples `start ..`, stopping at the end (of
     /// the shortest channel, should the public channels differ in length).
     #[inline]

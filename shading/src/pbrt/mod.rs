@@ -20,7 +20,7 @@ pub mod attenuation;
 pub mod azimuthal;
 pub mod bessel;
 mod far_field;
-mod fast_acos;
+pub(crate) mod fast_acos;
 pub mod longitudinal;
 pub mod melanin;
 mod monte_carlo;

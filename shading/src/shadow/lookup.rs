@@ -65,9 +65,19 @@ impl OpacityShadowMap {
     /// no frame-sized buffer, no allocation.
     #[inline]
     pub fn transmittance_x8(&self, p: Vec3x8) -> f32x8 {
+        (f32x8::splat(-self.hair_opacity) * self.hairs_in_front_x8(p)).exp()
+    }
+
+    /// The texel-averaged number of hairs between each lane's point and the
+    /// light, sigma (`T = exp(-alpha sigma)`, see
+    /// [`OpacityShadowMap::hairs_in_front`]): the steps of
+    /// [`OpacityShadowMap::transmittance_x8`] before the exponential. 0 for
+    /// a non-finite point and before a build found hair.
+    #[inline]
+    pub fn hairs_in_front_x8(&self, p: Vec3x8) -> f32x8 {
         let one = f32x8::ONE;
         if !self.ready {
-            return one;
+            return f32x8::ZERO;
         }
         let finite = p.finite();
         let p = Vec3x8::select(finite, p, Vec3x8::ZERO);
@@ -143,11 +153,10 @@ impl OpacityShadowMap {
             };
             *out = valid[c].select(prev + frac * (next - prev), f32x8::ZERO);
         }
-        // 3. Bilinear blend and exponential.
+        // 3. Bilinear blend (the exponential is the caller's).
         let s = (sigma[0] * (one - fx) + sigma[1] * fx) * (one - fy)
             + (sigma[2] * (one - fx) + sigma[3] * fx) * fy;
-        let t = (f32x8::splat(-self.hair_opacity) * s).exp();
-        finite.select(t, one)
+        finite.select(s, f32x8::ZERO)
     }
 
     /// [`super::layers::Layering::locate`] on eight depths: interval

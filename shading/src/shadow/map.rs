@@ -187,15 +187,24 @@ impl OpacityShadowMap {
     /// last plane they get the last plane's opacity. A non-finite point, or
     /// any point before a build found hair, gets 1.
     pub fn transmittance(&self, p: Vec3) -> f32 {
+        (-self.hair_opacity * self.hairs_in_front(p)).exp()
+    }
+
+    /// The texel-averaged number of hairs between `p` and the light, sigma
+    /// of [`OpacityShadowMap::transmittance`] (`T = exp(-alpha sigma)`):
+    /// the number of fibres the light crosses, which multiple scattering
+    /// needs (`crate::dual_scattering`). 0 where the transmittance is 1
+    /// for want of a map, a finite point or hair in front.
+    pub fn hairs_in_front(&self, p: Vec3) -> f32 {
         if !self.ready || !p.is_finite() {
-            return 1.0;
+            return 0.0;
         }
         // 1. Light space, texel coordinates, corners and fractions.
         let l = self.frame.to_light(p);
         let (u, v) = self.placement.texel_coords(l.x, l.y);
         if !(u.is_finite() && v.is_finite() && l.z.is_finite()) {
             // So far away that light space overflows: outside the map, lit.
-            return 1.0;
+            return 0.0;
         }
         let (fu, fv) = (u.floor(), v.floor());
         let (fx, fy) = (u - fu, v - fv);
@@ -205,9 +214,8 @@ impl OpacityShadowMap {
         let s10 = self.texel_sigma(i0 + 1, j0, l.z);
         let s01 = self.texel_sigma(i0, j0 + 1, l.z);
         let s11 = self.texel_sigma(i0 + 1, j0 + 1, l.z);
-        // 3. Bilinear blend and exponential.
-        let sigma = (s00 * (1.0 - fx) + s10 * fx) * (1.0 - fy) + (s01 * (1.0 - fx) + s11 * fx) * fy;
-        (-self.hair_opacity * sigma).exp()
+        // 3. Bilinear blend (the exponential is the caller's).
+        (s00 * (1.0 - fx) + s10 * fx) * (1.0 - fy) + (s01 * (1.0 - fx) + s11 * fx) * fy
     }
 
     /// Whether the map keeps each texel's first depth `z0` also in the

@@ -1,0 +1,556 @@
+//! Dual scattering: multiple scattering in hair at the cost of a few
+//! lookups per shading point (Zinke, Yuksel, Weber and Keyser 2008, "Dual
+//! scattering approximation for fast multiple scattering in hair", ACM
+//! TOG 27(3); the equations cited below are that paper's).
+//!
+//! Light reaching a point inside hair has crossed `n` fibres on its way
+//! from the light. The paper splits what arrives into a **global** part,
+//! forward scattered through those fibres, and a **local** part, scattered
+//! back by the fibres around the point:
+//!
+//! * global (eqs. 6-8): of the light entering the hair, the fraction
+//!   `T_f = a_f(theta)^n` is still travelling forward after `n` crossings
+//!   (`a_f` the fibre's forward-scattering attenuation, [`FibreAverages`]),
+//!   spread in longitude by `sigma_f^2 = n beta_f^2`; its direction is
+//!   spread over the forward azimuths, so the fibre at the point scatters it
+//!   with its forward-azimuth average broadened by `sigma_f^2`:
+//!   `f_G = g_amp g(theta_h - mu_g, v_g + sigma_f^2) / cos^2 theta_d`;
+//! * local (eqs. 9-14): light bounced back and forth between the point's
+//!   neighbours, `f_back = 2 A_b g(theta_h - delta_b, sigma_b^2) / (pi
+//!   cos^2 theta_d)` with `A_b = A_1 + A_3` (one and three backward
+//!   bounces): `A_1 = a_b a_f^2 / (1 - a_f^2)`, `A_3 = a_b^3 a_f^2 / (1 -
+//!   a_f^2)^3`, the shift `delta_b = alpha_b (1 - 2 a_b^2 / (1 - a_f^2)^2)
+//!   + alpha_f (2 (1 - a_f^2)^2 + 4 a_f^2 a_b^2) / (1 - a_f^2)^3` and the
+//!   width `sigma_b = (1 + d_b a_f^2) (a_b sqrt(2 beta_f^2 + beta_b^2) +
+//!   a_b^3 sqrt(2 beta_f^2 + 3 beta_b^2)) / (a_b + a_b^3 (2 beta_f + 3
+//!   beta_b))`.
+//!
+//! With the direct fraction `D` (the light reaching the point through no
+//! fibre: a shadow map's transmittance) and the model's single scattering
+//! `S`, the shading function is (section 5, "F")
+//!
+//! `F = D (S + d_b f_back c) + max(T_f - D, 0) d_f (f_G + pi d_b f_back^G) c`
+//!
+//! where `f_back^G` is `f_back` with the width `sigma_b^2 + sigma_f^2`, `d_f`
+//! and `d_b` the density factors of forward and backward scattering (0.7
+//! in the paper; [`DualScatteringSettings`]) and `c = cos theta_i` for a
+//! model whose `S` already carries the cosine of the lighting integral
+//! (pbrt-v3's far field), 1 for one that does not (Marschner's `S`: the
+//! caller multiplies). With `n = 0` and `D = 1` (nothing in front) `F` is
+//! single scattering plus the local backscatter.
+//!
+//! Differences from the paper, all measured against the path tracer
+//! through explicit fibres ([`crate::path_tracer`]): `T_f = a_f^n` without
+//! the paper's extra `d_f` (`d_f` weighs the scattered light once, in `F`);
+//! one global Gaussian per fibre instead of one per lobe (so any model
+//! serves, pbrt-v3's included); the widths `beta_f`, `delta_b`, `sigma_b`
+//! and the global mean and variance luminance-weighted to one channel
+//! (their channels differ by a few per cent), the attenuations and
+//! amplitudes per channel.
+//!
+//! The averages are tabulated once per material over `theta_i` ([`Self::new`]);
+//! a lookup is one linear interpolation between two 16-float records and six
+//! exponentials. [`DualScattering::shade`] (one sample),
+//! [`DualScattering::shade_x8`] (eight lanes) and the batches
+//! [`DualScattering::shade_batch`] / [`scalar::shade_batch`] run the same
+//! steps.
+
+mod averages;
+pub mod scalar;
+
+pub use averages::FibreAverages;
+
+use crate::pbrt::fast_acos::{acos, acos_x8};
+use crate::{marschner, pbrt, Error, RgbBuffer, ShadingSamples};
+use coif_base::{Vec3x8, LANES};
+use glam::Vec3;
+use std::f32::consts::PI;
+use wide::f32x8;
+
+/// Quality and density settings of [`DualScattering`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DualScatteringSettings {
+    /// Density factor of forward scattering `d_f` in (0, 1] (0.7 in the paper).
+    pub forward_density: f32,
+    /// Density factor of backward scattering `d_b` in [0, 1] (0.7 in the paper).
+    pub backward_density: f32,
+    /// Table entries over `theta_i` in [-pi/2, pi/2], at least 2.
+    pub resolution: usize,
+}
+
+impl Default for DualScatteringSettings {
+    /// The paper's densities (0.7, 0.7) and 64 entries.
+    fn default() -> Self {
+        DualScatteringSettings {
+            forward_density: 0.7,
+            backward_density: 0.7,
+            resolution: 64,
+        }
+    }
+}
+
+impl DualScatteringSettings {
+    /// Checks the ranges.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::InvalidParameter`] for a density out of range,
+    /// [`Error::InvalidResolution`] below 2 (or above 4096).
+    pub fn validate(&self) -> Result<(), Error> {
+        let bad = |name, value| Err(Error::InvalidParameter { name, value });
+        if !(self.forward_density > 0.0 && self.forward_density <= 1.0) {
+            return bad("forward_density", self.forward_density);
+        }
+        if !(self.backward_density >= 0.0 && self.backward_density <= 1.0) {
+            return bad("backward_density", self.backward_density);
+        }
+        if !(2..=4096).contains(&self.resolution) {
+            return Err(Error::InvalidResolution(self.resolution));
+        }
+        Ok(())
+    }
+}
+
+/// Channels of a table record (two `f32x8`).
+mod ch {
+    /// `ln a_f`, RGB.
+    pub const LN_AF: usize = 0;
+    /// `A_b`, RGB.
+    pub const AB: usize = 3;
+    /// The global amplitude `g_amp`, RGB.
+    pub const G_AMP: usize = 6;
+    /// `beta_f^2` (luminance-weighted).
+    pub const BETA_F2: usize = 9;
+    /// `delta_b`.
+    pub const DELTA_B: usize = 10;
+    /// `sigma_b^2`.
+    pub const SIGMA_B2: usize = 11;
+    /// The global mean `mu_g`.
+    pub const G_MEAN: usize = 12;
+    /// The global variance `v_g`.
+    pub const G_VAR: usize = 13;
+}
+
+/// Smallest variance of a Gaussian lobe (radians^2; 0.6 degrees).
+const MIN_VARIANCE: f32 = 1e-4;
+/// Smallest `cos^2 theta_d` (Marschner's `MIN_COS_THETA_D` squared).
+const MIN_COS2_D: f32 = marschner::MIN_COS_THETA_D * marschner::MIN_COS_THETA_D;
+/// Smallest `a_f` whose logarithm is stored (`ln` of it is about -23).
+const MIN_AF: f32 = 1e-10;
+/// Largest `a_f^2` in the backscatter sums (their denominators `1 - a_f^2`
+/// vanish for a lossless fibre).
+const MAX_AF2: f32 = 0.99;
+
+/// Dual scattering tables of one material, built once.
+#[derive(Clone, Debug)]
+pub struct DualScattering {
+    settings: DualScatteringSettings,
+    /// Whether the model's `S` includes `cos theta_i` (pbrt: yes).
+    includes_cosine: bool,
+    /// The averages at the table's nodes.
+    averages: Vec<FibreAverages>,
+    /// One 16-float record per node ([`ch`]).
+    records: Vec<[f32x8; 2]>,
+}
+
+impl DualScattering {
+    /// Tables for the fibre whose scattering function, for unit directions
+    /// (`t` tangent, `wi` toward the light, `wo` toward the viewer), is
+    /// `scattering(t, wi, wo)`; `includes_cosine` says whether it carries
+    /// the `cos theta_i` of the lighting integral (it is divided out for
+    /// the averages). About `resolution x 9,216` evaluations.
+    ///
+    /// # Errors
+    ///
+    /// As [`DualScatteringSettings::validate`].
+    pub fn new(
+        scattering: impl Fn(Vec3, Vec3, Vec3) -> Vec3,
+        includes_cosine: bool,
+        settings: DualScatteringSettings,
+    ) -> Result<DualScattering, Error> {
+        settings.validate()?;
+        let res = settings.resolution;
+        // Without the cosine; nodes kept off the poles, where it is 0.
+        let f = |t: Vec3, wi: Vec3, wo: Vec3| {
+            let v = scattering(t, wi, wo);
+            if includes_cosine {
+                v / (1.0 - wi.x * wi.x).max(1e-12).sqrt()
+            } else {
+                v
+            }
+        };
+        let step = std::f64::consts::PI / (res - 1) as f64;
+        let edge = std::f64::consts::FRAC_PI_2 - 0.25 * step;
+        let averages: Vec<FibreAverages> = (0..res)
+            .map(|k| {
+                let theta = (-std::f64::consts::FRAC_PI_2 + k as f64 * step).clamp(-edge, edge);
+                let mut a = averages::fibre_averages(&f, theta);
+                bound_attenuations(&mut a);
+                a
+            })
+            .collect();
+        let d_b = settings.backward_density;
+        let records = averages.iter().map(|a| record(a, d_b)).collect();
+        Ok(DualScattering {
+            settings,
+            includes_cosine,
+            averages,
+            records,
+        })
+    }
+
+    /// Tables for a Marschner lookup table's model (`S` without the cosine).
+    ///
+    /// # Errors
+    ///
+    /// As [`DualScatteringSettings::validate`].
+    pub fn from_marschner(
+        lut: &marschner::Lut,
+        settings: DualScatteringSettings,
+    ) -> Result<DualScattering, Error> {
+        DualScattering::new(|t, wi, wo| lut.scattering(t, wi, wo), false, settings)
+    }
+
+    /// Tables for pbrt-v3's far field in a lookup table (with the cosine).
+    ///
+    /// # Errors
+    ///
+    /// As [`DualScatteringSettings::validate`].
+    pub fn from_pbrt(
+        table: &pbrt::Table,
+        settings: DualScatteringSettings,
+    ) -> Result<DualScattering, Error> {
+        DualScattering::new(|t, wi, wo| table.scattering(t, wi, wo), true, settings)
+    }
+
+    /// The settings the tables were built with.
+    pub fn settings(&self) -> DualScatteringSettings {
+        self.settings
+    }
+
+    /// Whether the model's `S` (and so [`DualScattering::shade`]'s result)
+    /// includes `cos theta_i`.
+    pub fn includes_cosine(&self) -> bool {
+        self.includes_cosine
+    }
+
+    /// The fibre averages at the table's nodes, `theta_i` from -pi/2 to pi/2.
+    pub fn averages(&self) -> &[FibreAverages] {
+        &self.averages
+    }
+
+    /// Bytes of the lookup records.
+    pub fn size_bytes(&self) -> usize {
+        self.records.len() * std::mem::size_of::<[f32x8; 2]>()
+    }
+
+    /// The shading function `F` for one sample: `single` is the model's
+    /// single scattering `S(t, wi, wo)`, `fibres` the number of fibres
+    /// between the point and the light (`n`, clamped to >= 0), `direct`
+    /// the fraction of the light reaching it unscattered (`D`, clamped to
+    /// [0, 1]). Directions need not be unit; NaN in gives NaN out.
+    #[inline]
+    pub fn shade(
+        &self,
+        single: Vec3,
+        t: Vec3,
+        wi: Vec3,
+        wo: Vec3,
+        fibres: f32,
+        direct: f32,
+    ) -> Vec3 {
+        let lt = t.length();
+        let sin_i = (wi.dot(t) / (wi.length() * lt)).clamp(-1.0, 1.0);
+        let sin_o = (wo.dot(t) / (wo.length() * lt)).clamp(-1.0, 1.0);
+        let (theta_i, theta_o) = (0.5 * PI - acos(sin_i), 0.5 * PI - acos(sin_o));
+        if theta_i.is_nan() || theta_o.is_nan() || fibres.is_nan() || direct.is_nan() {
+            return Vec3::NAN;
+        }
+        let scale = (self.records.len() - 1) as f32;
+        let u = ((theta_i + 0.5 * PI) * (scale / PI)).clamp(0.0, scale);
+        let k = (u.floor() as usize).min(self.records.len() - 2);
+        let frac = u - k as f32;
+        let (a, b) = (&self.records[k], &self.records[k + 1]);
+        let mut r = [0.0f32; 16];
+        for c in 0..16 {
+            let (x, y) = (
+                a[c / LANES].as_array()[c % LANES],
+                b[c / LANES].as_array()[c % LANES],
+            );
+            r[c] = (y - x).mul_add(frac, x);
+        }
+        let rgb = |c: usize| Vec3::new(r[c], r[c + 1], r[c + 2]);
+
+        let n = fibres.max(0.0);
+        let d = direct.clamp(0.0, 1.0);
+        let theta_h = 0.5 * (theta_i + theta_o);
+        let cos_i = (1.0 - sin_i * sin_i).max(0.0).sqrt();
+        let cos_o = (1.0 - sin_o * sin_o).max(0.0).sqrt();
+        let cos2_d = (0.5 * (1.0 + cos_i * cos_o + sin_i * sin_o)).max(MIN_COS2_D);
+        let inv_cos2_d = 1.0 / cos2_d;
+        let c = if self.includes_cosine { cos_i } else { 1.0 };
+
+        let ln_af = rgb(ch::LN_AF);
+        let t_f = Vec3::new(
+            (n * ln_af.x).exp(),
+            (n * ln_af.y).exp(),
+            (n * ln_af.z).exp(),
+        );
+        let spread = n * r[ch::BETA_F2];
+        let x_b = theta_h - r[ch::DELTA_B];
+        let back_scale = rgb(ch::AB) * (2.0 / PI * inv_cos2_d);
+        let back_direct = back_scale * gaussian(x_b, r[ch::SIGMA_B2]);
+        let back_global = back_scale * gaussian(x_b, r[ch::SIGMA_B2] + spread);
+        let global = rgb(ch::G_AMP)
+            * (gaussian(theta_h - r[ch::G_MEAN], r[ch::G_VAR] + spread) * inv_cos2_d);
+        let (d_f, d_b) = (
+            self.settings.forward_density,
+            self.settings.backward_density,
+        );
+        let scattered = (t_f - Vec3::splat(d)).max(Vec3::ZERO);
+        let local = single + back_direct * (d_b * c);
+        let far = (global + back_global * (PI * d_b)) * (d_f * c);
+        local * d + scattered * far
+    }
+
+    /// [`DualScattering::shade`] for eight samples: the same steps, lane by
+    /// lane (the record fetches per lane, the rest in `f32x8`).
+    #[inline]
+    pub fn shade_x8(
+        &self,
+        single: Vec3x8,
+        t: Vec3x8,
+        wi: Vec3x8,
+        wo: Vec3x8,
+        fibres: f32x8,
+        direct: f32x8,
+    ) -> Vec3x8 {
+        let one = f32x8::ONE;
+        let zero = f32x8::ZERO;
+        let half_pi = f32x8::splat(0.5 * PI);
+        let lt = t.length_squared().sqrt();
+        let clamp1 = |x: f32x8| x.max(-one).min(one);
+        let raw_i = wi.dot(t) / (wi.length_squared().sqrt() * lt);
+        let raw_o = wo.dot(t) / (wo.length_squared().sqrt() * lt);
+        // Before the clamp, whose max / min drop NaN.
+        let invalid = raw_i.is_nan() | raw_o.is_nan() | fibres.is_nan() | direct.is_nan();
+        let (sin_i, sin_o) = (clamp1(raw_i), clamp1(raw_o));
+        let theta_i = half_pi - acos_x8(sin_i);
+        let theta_o = half_pi - acos_x8(sin_o);
+
+        let last = self.records.len() - 1;
+        let scale = f32x8::splat(last as f32);
+        let u = ((theta_i + half_pi) * f32x8::splat(last as f32 / PI))
+            .max(zero)
+            .min(scale);
+        let k = u.floor().min(f32x8::splat((last - 1) as f32));
+        let frac = u - k;
+        let (ka, fa) = (k.to_array(), frac.to_array());
+        let mut lo = [[f32x8::ZERO; LANES]; 2];
+        for l in 0..LANES {
+            // NaN lanes (masked at the end) read record 0.
+            let i = if ka[l] >= 0.0 { ka[l] as usize } else { 0 };
+            let (a, b) = (&self.records[i], &self.records[i + 1]);
+            let f = f32x8::splat(fa[l]);
+            lo[0][l] = (b[0] - a[0]).mul_add(f, a[0]);
+            lo[1][l] = (b[1] - a[1]).mul_add(f, a[1]);
+        }
+        let [r0, r1] = [f32x8::transpose(lo[0]), f32x8::transpose(lo[1])];
+        let r = |c: usize| if c < LANES { r0[c] } else { r1[c - LANES] };
+        let rgb = |c: usize| Vec3x8::new(r(c), r(c + 1), r(c + 2));
+
+        let n = fibres.max(zero);
+        let d = direct.max(zero).min(one);
+        let theta_h = f32x8::splat(0.5) * (theta_i + theta_o);
+        let cos_i = (one - sin_i * sin_i).max(zero).sqrt();
+        let cos_o = (one - sin_o * sin_o).max(zero).sqrt();
+        let cos2_d = (f32x8::splat(0.5) * (one + cos_i * cos_o + sin_i * sin_o))
+            .max(f32x8::splat(MIN_COS2_D));
+        let inv_cos2_d = one / cos2_d;
+        let c = if self.includes_cosine { cos_i } else { one };
+
+        let ln_af = rgb(ch::LN_AF);
+        let t_f = Vec3x8::new(
+            (n * ln_af.x).exp(),
+            (n * ln_af.y).exp(),
+            (n * ln_af.z).exp(),
+        );
+        let spread = n * r(ch::BETA_F2);
+        let x_b = theta_h - r(ch::DELTA_B);
+        let back_scale = rgb(ch::AB) * (f32x8::splat(2.0 / PI) * inv_cos2_d);
+        let back_direct = back_scale * gaussian_x8(x_b, r(ch::SIGMA_B2));
+        let back_global = back_scale * gaussian_x8(x_b, r(ch::SIGMA_B2) + spread);
+        let global = rgb(ch::G_AMP)
+            * (gaussian_x8(theta_h - r(ch::G_MEAN), r(ch::G_VAR) + spread) * inv_cos2_d);
+        let (d_f, d_b) = (
+            f32x8::splat(self.settings.forward_density),
+            f32x8::splat(self.settings.backward_density),
+        );
+        let dv = Vec3x8::new(d, d, d);
+        let gap = t_f - dv;
+        let scattered = Vec3x8::new(gap.x.max(zero), gap.y.max(zero), gap.z.max(zero));
+        let local = single + back_direct * (d_b * c);
+        let far = (global + back_global * (f32x8::splat(PI) * d_b)) * (d_f * c);
+        let out = local * d
+            + Vec3x8::new(
+                scattered.x * far.x,
+                scattered.y * far.y,
+                scattered.z * far.z,
+            );
+        Vec3x8::select(invalid, Vec3x8::splat(Vec3::NAN), out)
+    }
+
+    /// `F` for a batch (SIMD, eight samples per step): `single[k]` the
+    /// model's scattering of sample `k`, `fibres[k]` and `direct[k]` as in
+    /// [`DualScattering::shade`]. `out` is resized to the batch
+    /// (allocation-free once it has the capacity).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::CountMismatch`] unless `single`, `fibres` and `direct` have
+    /// one entry per sample (nothing is written).
+    pub fn shade_batch(
+        &self,
+        samples: &ShadingSamples,
+        single: &RgbBuffer,
+        fibres: &[f32],
+        direct: &[f32],
+        out: &mut RgbBuffer,
+    ) -> Result<(), Error> {
+        check_lengths(samples, single, fibres, direct)?;
+        out.resize(samples.len());
+        let mut start = 0;
+        while start < samples.len() {
+            let (t, wi, wo) = samples.load_block(start);
+            let s = single.load_block(start);
+            let n = load_padded(fibres, start);
+            let d = load_padded(direct, start);
+            out.store_block(start, self.shade_x8(s, t, wi, wo, n, d));
+            start += LANES;
+        }
+        Ok(())
+    }
+}
+
+/// The checks of the batch calls.
+fn check_lengths(
+    samples: &ShadingSamples,
+    single: &RgbBuffer,
+    fibres: &[f32],
+    direct: &[f32],
+) -> Result<(), Error> {
+    let n = samples.len();
+    for (what, got) in [
+        (
+            "single-scattering values (one per sample)",
+            single.r.len().min(single.g.len()).min(single.b.len()),
+        ),
+        ("fibre counts (one per sample)", fibres.len()),
+        ("direct fractions (one per sample)", direct.len()),
+    ] {
+        if got != n {
+            return Err(Error::CountMismatch {
+                what,
+                expected: n,
+                got,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Eight values from `start`, zero-padded past the end.
+#[inline]
+fn load_padded(a: &[f32], start: usize) -> f32x8 {
+    let mut v = [0.0f32; LANES];
+    for (l, x) in a.iter().skip(start).take(LANES).enumerate() {
+        v[l] = *x;
+    }
+    f32x8::new(v)
+}
+
+/// The normalised Gaussian `g(x, v) = exp(-x^2 / (2 v)) / sqrt(2 pi v)`.
+#[inline]
+fn gaussian(x: f32, variance: f32) -> f32 {
+    let v = variance.max(MIN_VARIANCE);
+    (-(x * x) / (2.0 * v)).exp() / (2.0 * PI * v).sqrt()
+}
+
+/// [`gaussian`] in eight lanes.
+#[inline]
+fn gaussian_x8(x: f32x8, variance: f32x8) -> f32x8 {
+    let v = variance.max(f32x8::splat(MIN_VARIANCE));
+    (-(x * x) / (f32x8::splat(2.0) * v)).exp() / (f32x8::splat(2.0 * PI) * v).sqrt()
+}
+
+/// Keeps the attenuations physical: each in [0, 1] and their sum at most 1
+/// (a model that is not exactly energy conserving, Marschner's at grazing
+/// angles, is scaled down to 1 there).
+fn bound_attenuations(a: &mut FibreAverages) {
+    for c in 0..3 {
+        let (f, b) = (a.a_f[c].max(0.0), a.a_b[c].max(0.0));
+        let sum = f + b;
+        let s = if sum > 1.0 { 1.0 / sum } else { 1.0 };
+        a.a_f[c] = f * s;
+        a.a_b[c] = b * s;
+    }
+}
+
+/// The lookup record of one node: the per-channel `ln a_f`, `A_b` and
+/// global amplitude, and the one-channel widths and shifts (see the module
+/// docs for the formulas).
+fn record(a: &FibreAverages, d_b: f32) -> [f32x8; 2] {
+    let lum = averages::LUMINANCE.as_vec3();
+    let mut ab = Vec3::ZERO;
+    let mut delta = Vec3::ZERO;
+    let mut sigma = Vec3::ZERO;
+    for c in 0..3 {
+        let (af, bb) = (a.a_f[c], a.a_b[c]);
+        let af2 = (af * af).min(MAX_AF2);
+        let q = 1.0 - af2;
+        let (bf, bbw) = (a.beta_f[c], a.beta_b[c]);
+        let ab3 = bb * bb * bb;
+        ab[c] = bb * af2 / q + ab3 * af2 / (q * q * q);
+        delta[c] = a.alpha_b[c] * (1.0 - 2.0 * bb * bb / (q * q))
+            + a.alpha_f[c] * (2.0 * q * q + 4.0 * af2 * bb * bb) / (q * q * q);
+        let den = bb + ab3 * (2.0 * bf + 3.0 * bbw);
+        sigma[c] = if den > 1e-12 {
+            (1.0 + d_b * af2)
+                * (bb * (2.0 * bf * bf + bbw * bbw).sqrt()
+                    + ab3 * (2.0 * bf * bf + 3.0 * bbw * bbw).sqrt())
+                / den
+        } else {
+            0.0
+        };
+    }
+    // One-channel widths and shifts: weighted by luminance times the
+    // channel's share (A_b for the backscatter, a_f for the forward width).
+    let weighted = |v: Vec3, w: Vec3| {
+        let w = w * lum;
+        let s = w.x + w.y + w.z;
+        if s > 1e-20 {
+            v.dot(w) / s
+        } else {
+            v.dot(lum)
+        }
+    };
+    let beta_f2 = weighted(a.beta_f * a.beta_f, a.a_f);
+    let delta_b = weighted(delta, ab);
+    let sigma_b = weighted(sigma, ab);
+    let mut r = [0.0f32; 16];
+    for c in 0..3 {
+        r[ch::LN_AF + c] = a.a_f[c].max(MIN_AF).ln();
+        r[ch::AB + c] = ab[c];
+        r[ch::G_AMP + c] = a.g_amplitude[c];
+    }
+    r[ch::BETA_F2] = beta_f2;
+    r[ch::DELTA_B] = delta_b;
+    r[ch::SIGMA_B2] = sigma_b * sigma_b;
+    r[ch::G_MEAN] = a.g_mean;
+    r[ch::G_VAR] = a.g_variance;
+    let (x, y) = r.split_at(LANES);
+    [
+        f32x8::new(x.try_into().expect("8 floats")),
+        f32x8::new(y.try_into().expect("8 floats")),
+    ]
+}
