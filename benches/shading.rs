@@ -11,16 +11,25 @@
 //!   Marschner table 128 (SIMD batch) on 2,048 samples (in cache) and on
 //!   1,048,576 samples (60 MiB in and out, past the last-level cache):
 //!   the in-cache and streaming columns of the report's roofline.
+//! - `dual_scattering/<model>/{single_simd, dual_simd, dual_scalar}` on
+//!   2,048 samples (in cache): the model's table alone (Marschner 128,
+//!   pbrt 64) against the table plus dual scattering, eight samples at a
+//!   time as the frame's fused pass runs them (`scattering_x8` then
+//!   `DualScattering::shade_x8`), and the scalar twin; hair counts 0-40.
 //! - `marschner_lut_time_vs_error/<layout>/res<N>_err<relative RMS>`: SIMD
 //!   lookup time for every layout and resolution 32..256, with the relative
 //!   RMS error against the direct model in the benchmark id (also printed).
 
+use coif::base::Vec3x8;
 use coif::kernels::rng::SplitMix64;
+use coif::shading::dual_scattering::{DualScattering, DualScatteringSettings};
 use coif::shading::kajiya_kay::KajiyaKay;
 use coif::shading::marschner::{self, accuracy, Lut, LutLayout, Params};
+use coif::shading::pbrt;
 use coif::shading::{RgbBuffer, ShadingSamples};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use std::hint::black_box;
+use wide::f32x8;
 
 const N: usize = 4096;
 
@@ -163,8 +172,98 @@ fn error_against_pbrt(_c: &mut Criterion) {
     }
 }
 
+/// Single scattering by `single_x8` alone, then with dual scattering, in
+/// blocks of eight as the frame's fused pass shades.
+fn dual_scattering(c: &mut Criterion) {
+    const M: usize = 2048;
+    let samples = random_samples(M, 6);
+    let mut rng = SplitMix64::new(7);
+    let fibres: Vec<f32> = (0..M).map(|_| rng.range(0.0, 40.0)).collect();
+    let direct: Vec<f32> = fibres.iter().map(|n| (-0.4 * n).exp()).collect();
+    let blond = pbrt::sigma_a_from_concentration(0.3, 0.0);
+    let lut = Lut::new(
+        &Params {
+            absorption: blond * 0.5,
+            ..Params::default()
+        },
+        128,
+    );
+    let table = pbrt::Table::new(
+        &pbrt::Params {
+            sigma_a: blond,
+            ..pbrt::Params::default()
+        },
+        64,
+    )
+    .expect("valid parameters");
+    let settings = DualScatteringSettings::default();
+    let ds_lut = DualScattering::from_marschner(&lut, settings).expect("valid settings");
+    let ds_table = DualScattering::from_pbrt(&table, settings).expect("valid settings");
+    let mut out = RgbBuffer::zeros(M);
+    let mut single = RgbBuffer::zeros(M);
+    let mut g = c.benchmark_group("dual_scattering");
+    g.throughput(Throughput::Elements(M as u64));
+    type Single<'a> = &'a dyn Fn(Vec3x8, Vec3x8, Vec3x8) -> Vec3x8;
+    let models: [(&str, Single, &DualScattering); 2] = [
+        (
+            "marschner_lut128",
+            &|t, wi, wo| lut.scattering_x8(t, wi, wo),
+            &ds_lut,
+        ),
+        (
+            "pbrt_table64",
+            &|t, wi, wo| table.scattering_x8(t, wi, wo),
+            &ds_table,
+        ),
+    ];
+    for (name, single_x8, ds) in models {
+        g.bench_function(BenchmarkId::new(name, "single_simd"), |b| {
+            b.iter(|| {
+                let s = black_box(&samples);
+                for start in (0..M).step_by(8) {
+                    let (t, wi, wo) = s.load_block(start);
+                    out.store_block(start, single_x8(t, wi, wo));
+                }
+            })
+        });
+        g.bench_function(BenchmarkId::new(name, "dual_simd"), |b| {
+            b.iter(|| {
+                let s = black_box(&samples);
+                for start in (0..M).step_by(8) {
+                    let (t, wi, wo) = s.load_block(start);
+                    let n = f32x8::new(fibres[start..start + 8].try_into().expect("8"));
+                    let d = f32x8::new(direct[start..start + 8].try_into().expect("8"));
+                    let f = ds.shade_x8(single_x8(t, wi, wo), t, wi, wo, n, d);
+                    out.store_block(start, f);
+                }
+            })
+        });
+        for k in 0..M {
+            let (t, wi, wo) = samples.get(k);
+            single.set(
+                k,
+                single_x8(Vec3x8::splat(t), Vec3x8::splat(wi), Vec3x8::splat(wo)).lane(0),
+            );
+        }
+        g.bench_function(BenchmarkId::new(name, "dual_scalar"), |b| {
+            b.iter(|| {
+                coif::shading::dual_scattering::scalar::shade_batch(
+                    ds,
+                    black_box(&samples),
+                    &single,
+                    &fibres,
+                    &direct,
+                    &mut out,
+                )
+            })
+        });
+    }
+    g.finish();
+}
+
 criterion_group!(
     benches,
+    dual_scattering,
     baseline,
     kajiya_kay,
     marschner_direct_and_lut,

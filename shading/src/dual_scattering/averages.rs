@@ -69,10 +69,14 @@ pub(crate) const PHI_NODES: usize = 96;
 pub(crate) const LUMINANCE: DVec3 = DVec3::new(0.2126, 0.7152, 0.0722);
 
 /// The averages at `theta_i` of the fibre whose scattering function (no
-/// `cos theta_i`) for unit directions along tangent `+X` is `f(t, wi, wo)`.
+/// `cos theta_i`) for unit directions along tangent `+X` is `f(t, wi, wo)`,
+/// with the Gauss-Legendre `nodes` on [-1, 1] (`THETA_NODES` of them).
 /// Non-finite or negative values of `f` count as 0.
-pub(crate) fn fibre_averages(f: &impl Fn(Vec3, Vec3, Vec3) -> Vec3, theta_i: f64) -> FibreAverages {
-    let nodes = crate::pbrt::gauss_legendre(THETA_NODES);
+pub(crate) fn fibre_averages(
+    f: &impl Fn(Vec3, Vec3, Vec3) -> Vec3,
+    nodes: &[(f64, f64)],
+    theta_i: f64,
+) -> FibreAverages {
     let t = Vec3::X;
     let wi = Vec3::new(theta_i.sin() as f32, theta_i.cos() as f32, 0.0);
     let dphi = PI / PHI_NODES as f64;
@@ -82,7 +86,7 @@ pub(crate) fn fibre_averages(f: &impl Fn(Vec3, Vec3, Vec3) -> Vec3, theta_i: f64
     let mut back = [DVec3::ZERO; 3];
     // Moments of G cos^2 theta_d over theta_h.
     let mut glob = [DVec3::ZERO; 3];
-    for &(x, w) in &nodes {
+    for &(x, w) in nodes {
         let theta_o = FRAC_PI_2 * x;
         let d_theta = FRAC_PI_2 * w;
         let (sin_o, cos_o) = theta_o.sin_cos();

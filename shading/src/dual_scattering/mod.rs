@@ -56,6 +56,7 @@
 //! steps.
 
 mod averages;
+mod fast_exp;
 pub mod scalar;
 
 pub use averages::FibreAverages;
@@ -63,9 +64,10 @@ pub use averages::FibreAverages;
 use crate::pbrt::fast_acos::{acos, acos_x8};
 use crate::{marschner, pbrt, Error, RgbBuffer, ShadingSamples};
 use coif_base::{Vec3x8, LANES};
+use fast_exp::{exp_neg, exp_neg_x8};
 use glam::Vec3;
 use std::f32::consts::PI;
-use wide::f32x8;
+use wide::{f32x8, i32x8};
 
 /// Quality and density settings of [`DualScattering`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -181,10 +183,11 @@ impl DualScattering {
         };
         let step = std::f64::consts::PI / (res - 1) as f64;
         let edge = std::f64::consts::FRAC_PI_2 - 0.25 * step;
+        let nodes = pbrt::gauss_legendre(averages::THETA_NODES);
         let averages: Vec<FibreAverages> = (0..res)
             .map(|k| {
                 let theta = (-std::f64::consts::FRAC_PI_2 + k as f64 * step).clamp(-edge, edge);
-                let mut a = averages::fibre_averages(&f, theta);
+                let mut a = averages::fibre_averages(&f, &nodes, theta);
                 bound_attenuations(&mut a);
                 a
             })
@@ -248,7 +251,8 @@ impl DualScattering {
     /// single scattering `S(t, wi, wo)`, `fibres` the number of fibres
     /// between the point and the light (`n`, clamped to >= 0), `direct`
     /// the fraction of the light reaching it unscattered (`D`, clamped to
-    /// [0, 1]). Directions need not be unit; NaN in gives NaN out.
+    /// [0, 1]). Directions are unit (as the models' table lookups take
+    /// them); NaN in gives NaN out.
     #[inline]
     pub fn shade(
         &self,
@@ -259,9 +263,8 @@ impl DualScattering {
         fibres: f32,
         direct: f32,
     ) -> Vec3 {
-        let lt = t.length();
-        let sin_i = (wi.dot(t) / (wi.length() * lt)).clamp(-1.0, 1.0);
-        let sin_o = (wo.dot(t) / (wo.length() * lt)).clamp(-1.0, 1.0);
+        let sin_i = wi.dot(t).clamp(-1.0, 1.0);
+        let sin_o = wo.dot(t).clamp(-1.0, 1.0);
         let (theta_i, theta_o) = (0.5 * PI - acos(sin_i), 0.5 * PI - acos(sin_o));
         if theta_i.is_nan() || theta_o.is_nan() || fibres.is_nan() || direct.is_nan() {
             return Vec3::NAN;
@@ -292,9 +295,9 @@ impl DualScattering {
 
         let ln_af = rgb(ch::LN_AF);
         let t_f = Vec3::new(
-            (n * ln_af.x).exp(),
-            (n * ln_af.y).exp(),
-            (n * ln_af.z).exp(),
+            exp_neg(n * ln_af.x),
+            exp_neg(n * ln_af.y),
+            exp_neg(n * ln_af.z),
         );
         let spread = n * r[ch::BETA_F2];
         let x_b = theta_h - r[ch::DELTA_B];
@@ -328,10 +331,9 @@ impl DualScattering {
         let one = f32x8::ONE;
         let zero = f32x8::ZERO;
         let half_pi = f32x8::splat(0.5 * PI);
-        let lt = t.length_squared().sqrt();
         let clamp1 = |x: f32x8| x.max(-one).min(one);
-        let raw_i = wi.dot(t) / (wi.length_squared().sqrt() * lt);
-        let raw_o = wo.dot(t) / (wo.length_squared().sqrt() * lt);
+        let raw_i = wi.dot(t);
+        let raw_o = wo.dot(t);
         // Before the clamp, whose max / min drop NaN.
         let invalid = raw_i.is_nan() | raw_o.is_nan() | fibres.is_nan() | direct.is_nan();
         let (sin_i, sin_o) = (clamp1(raw_i), clamp1(raw_o));
@@ -339,18 +341,28 @@ impl DualScattering {
         let theta_o = half_pi - acos_x8(sin_o);
 
         let last = self.records.len() - 1;
-        let scale = f32x8::splat(last as f32);
         let u = ((theta_i + half_pi) * f32x8::splat(last as f32 / PI))
             .max(zero)
-            .min(scale);
+            .min(f32x8::splat(last as f32));
         let k = u.floor().min(f32x8::splat((last - 1) as f32));
         let frac = u - k;
-        let (ka, fa) = (k.to_array(), frac.to_array());
+        // NaN lanes (masked at the end) are clamped to record 0.
+        let ki = k
+            .trunc_int()
+            .max(i32x8::ZERO)
+            .min(i32x8::splat(last as i32 - 1))
+            .to_array();
+        let fa = frac.to_array();
         let mut lo = [[f32x8::ZERO; LANES]; 2];
         for l in 0..LANES {
-            // NaN lanes (masked at the end) read record 0.
-            let i = if ka[l] >= 0.0 { ka[l] as usize } else { 0 };
-            let (a, b) = (&self.records[i], &self.records[i + 1]);
+            // SAFETY: ki[l] is in [0, last - 1], so ki[l] + 1 <= last < len.
+            let (a, b) = unsafe {
+                let i = ki[l] as usize;
+                (
+                    self.records.get_unchecked(i),
+                    self.records.get_unchecked(i + 1),
+                )
+            };
             let f = f32x8::splat(fa[l]);
             lo[0][l] = (b[0] - a[0]).mul_add(f, a[0]);
             lo[1][l] = (b[1] - a[1]).mul_add(f, a[1]);
@@ -470,17 +482,17 @@ fn load_padded(a: &[f32], start: usize) -> f32x8 {
 }
 
 /// The normalised Gaussian `g(x, v) = exp(-x^2 / (2 v)) / sqrt(2 pi v)`.
-#[inline]
+#[inline(always)]
 fn gaussian(x: f32, variance: f32) -> f32 {
     let v = variance.max(MIN_VARIANCE);
-    (-(x * x) / (2.0 * v)).exp() / (2.0 * PI * v).sqrt()
+    exp_neg(-(x * x) / (2.0 * v)) / (2.0 * PI * v).sqrt()
 }
 
 /// [`gaussian`] in eight lanes.
-#[inline]
+#[inline(always)]
 fn gaussian_x8(x: f32x8, variance: f32x8) -> f32x8 {
     let v = variance.max(f32x8::splat(MIN_VARIANCE));
-    (-(x * x) / (f32x8::splat(2.0) * v)).exp() / (f32x8::splat(2.0 * PI) * v).sqrt()
+    exp_neg_x8(-(x * x) / (f32x8::splat(2.0) * v)) / (f32x8::splat(2.0 * PI) * v).sqrt()
 }
 
 /// Keeps the attenuations physical: each in [0, 1] and their sum at most 1
