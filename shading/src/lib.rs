@@ -16,6 +16,7 @@ mod batch;
 mod error;
 pub mod kajiya_kay;
 pub mod marschner;
+pub mod path_tracer;
 pub mod pbrt;
 pub mod samples;
 pub mod shadow;
