@@ -72,7 +72,8 @@ impl FibreScene {
     /// [`Error::CountMismatch`] if the counts do not sum to `points.len()`;
     /// [`Error::InvalidParameter`] for a non-finite point (`"points"`), a
     /// radius that is not finite and positive (`"radius"`), or no segment
-    /// at all (`"segments"`, value 0).
+    /// at all (`"segments"`, value 0), or a segment whose length overflows
+    /// `f32` (`"segment length"`).
     pub fn from_strands(points: &[Vec3], counts: &[usize], radius: f32) -> Result<Self, Error> {
         let total = counts
             .iter()
@@ -114,12 +115,24 @@ impl FibreScene {
                 }
             }
             let d = b - a;
-            let len = d.length();
-            if !(len > 0.0 && len.is_finite()) {
+            // Scaled so that long segments of huge coordinates do not
+            // overflow the squared length.
+            let m = d.abs().max_element();
+            if !(m > 0.0) {
                 continue;
             }
+            let dn = d / m;
+            let ln = dn.length();
+            let (len, u) = if d.is_finite() {
+                (ln * m, dn / ln)
+            } else {
+                return Err(invalid("segment length", f32::INFINITY));
+            };
+            if !len.is_finite() {
+                return Err(invalid("segment length", len));
+            }
             start.push(a);
-            axis.push(d / len);
+            axis.push(u);
             length.push(len);
         }
         if start.is_empty() {
