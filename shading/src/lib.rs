@@ -2,7 +2,8 @@
 //! factored lookup tables, pbrt-v3's hair BSDF as the accuracy yardstick),
 //! evaluated per sample (scalar) and in SIMD batches over [`ShadingSamples`]
 //! or straight from LOD's render vertices ([`vertices::shade_vertices`]),
-//! and opacity shadow maps ([`shadow`]).
+//! and opacity shadow maps ([`shadow`]); a Monte Carlo path tracer through
+//! explicit fibres as the multiple-scattering reference ([`path_tracer`]).
 //!
 //! One convention for the twins: a per-sample function `name` (one `Vec3`)
 //! has an eight-lane twin `name_x8` (`Vec3x8`), e.g.

@@ -470,3 +470,41 @@ fn bad_input_is_refused() {
         orthographic_rays(Vec3::ZERO, Vec3::Z, 1.0, -1.0, 4, 1).unwrap_err()
     ));
 }
+
+/// Speed on one thread (`cargo test --release -p coif-shading --test
+/// path_tracer -- --ignored --nocapture`): the white furnace and a lit
+/// brown tuft (f = 0.4, 24 r thick), 64 rays x 256 paths each.
+#[test]
+#[ignore]
+fn speed_on_one_thread() {
+    let t = tuft(&tuft_params(0.4, 1)).unwrap();
+    let rays = t
+        .camera_rays(Vec3::new(0.0, 0.6, 0.8), 10.0, 64, 1)
+        .unwrap();
+    let light = DirectionalLight {
+        to_light: Vec3::new(0.3, -0.4, 0.8),
+        irradiance: Vec3::ONE,
+    };
+    for (name, params, light, env) in [
+        ("white furnace", white(), None, Vec3::ONE),
+        (
+            "brown, light + env 0.2",
+            Params::default(),
+            Some(light),
+            Vec3::splat(0.2),
+        ),
+    ] {
+        let tracer = PathTracer::new(&params, light, env, 10_000).unwrap();
+        let start = Instant::now();
+        let est = tracer.estimate(&t.scene, &rays, 256, 1).unwrap();
+        let secs = start.elapsed().as_secs_f64();
+        let paths = (rays.len() * 256) as f64;
+        let scat = est.iter().map(|e| e.mean_scatterings as f64).sum::<f64>() * 256.0;
+        println!(
+            "{name}: {:.0} paths/s, {:.0} scatterings/s, {:.1} scatterings/path",
+            paths / secs,
+            scat / secs,
+            scat / paths
+        );
+    }
+}

@@ -1,5 +1,6 @@
 //! Explicit fibre geometry: capsules (sphere-swept segments, radius `r`)
-//! around the segments of polylines, in a [`Bvh`](super::bvh).
+//! around the segments of polylines, in a bounding-volume hierarchy (binary,
+//! median split, flattened; built and traversed without recursion).
 //!
 //! **Why capsules.** A capsule is the set of points within `r` of a
 //! segment, so the capsules of consecutive segments of a polyline share the
@@ -118,7 +119,7 @@ impl FibreScene {
             // Scaled so that long segments of huge coordinates do not
             // overflow the squared length.
             let m = d.abs().max_element();
-            if !(m > 0.0) {
+            if m == 0.0 {
                 continue;
             }
             let dn = d / m;

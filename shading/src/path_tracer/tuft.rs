@@ -81,7 +81,7 @@ pub fn tuft(params: &TuftParams) -> Result<Tuft, Error> {
         / (PI as f64 * r as f64 * r as f64))
         .round()
         .max(1.0);
-    if !(n <= MAX_TUFT_FIBRES as f64) {
+    if n.is_nan() || n > MAX_TUFT_FIBRES as f64 {
         return Err(Error::InvalidParameter {
             name: "fibre_count",
             value: n as f32,

@@ -68,7 +68,7 @@ pub fn ap_pdf(params: &Params, cos_theta_o: f32, h: f32) -> [f32; P_MAX + 1] {
     let transmittance = exp3(-params.sigma_a * (2.0 * cos_gamma_t / cos_theta_t));
     let a = ap(cos_theta_o, eta, h, transmittance);
     let sum_y = a.iter().fold(0.0f32, |s, a_p| s + luminance(*a_p));
-    if !(sum_y > 0.0) {
+    if sum_y.is_nan() || sum_y <= 0.0 {
         return [f32::NAN; P_MAX + 1];
     }
     let mut out = [0.0f32; P_MAX + 1];
@@ -103,12 +103,14 @@ fn tilt_signed(lobes: &Lobes, p: usize, sin_theta_o: f32, cos_theta_o: f32) -> (
 
 /// pbrt-v3's `SampleTrimmedLogistic(u, s, a, b)`: the inverse CDF of the
 /// logistic of scale `s` renormalised to `[a, b]`,
-/// `x = -s ln(1 / (u k + F(a)) - 1)` with `k = F(b) - F(a)`, clamped to `[a, b]`.
+/// `x = -s ln(1 / (u k + F(a)) - 1)` with `k = F(b) - F(a)`, clamped to
+/// `[a, b]` (a NaN `x` gives `a`; never panics).
 #[inline]
 pub fn sample_trimmed_logistic(u: f32, s: f32, a: f32, b: f32) -> f32 {
     let k = logistic_cdf(b, s) - logistic_cdf(a, s);
     let x = -s * (1.0 / (u * k + logistic_cdf(a, s)) - 1.0).ln();
-    // `max`/`min` rather than `clamp`: NaN in gives NaN out, never a panic.
+    // `max`/`min` rather than `clamp` (which panics on NaN or crossed
+    // bounds): a NaN `x` becomes `a`.
     x.max(a).min(b)
 }
 
@@ -270,7 +272,8 @@ mod tests {
             let back = (logistic_cdf(x, s) - logistic_cdf(-PI, s)) / k;
             assert!((back - u).abs() < 1e-5, "u {u} -> x {x} -> {back}");
         }
-        assert!(sample_trimmed_logistic(f32::NAN, s, -PI, PI).is_nan());
+        assert_eq!(sample_trimmed_logistic(f32::NAN, s, -PI, PI), -PI);
+        let _ = sample_trimmed_logistic(0.5, s, f32::NAN, 1.0);
     }
 
     #[test]
