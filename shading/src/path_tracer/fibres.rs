@@ -458,6 +458,28 @@ mod tests {
     }
 
     #[test]
+    fn hundred_thousand_segments() {
+        // A long strand of 100,000 segments (a random walk) and the BVH
+        // built over it without recursion; queries agree with brute force.
+        let mut rng = SplitMix64::new(8);
+        let mut p = Vec3::ZERO;
+        let pts: Vec<Vec3> = (0..100_001)
+            .map(|_| {
+                p += rng.unit_vector() * 0.5;
+                p
+            })
+            .collect();
+        let scene = FibreScene::from_strands(&pts, &[pts.len()], 0.05).unwrap();
+        assert_eq!(scene.segment_count(), 100_000);
+        for _ in 0..20 {
+            let o = rng.unit_vector() * 300.0;
+            let d = (rng.unit_vector() * 20.0 - o).normalize();
+            let n = scene.crossings(o, d, f32::INFINITY);
+            assert_eq!(n, scene.crossings_brute_force(o, d, f32::INFINITY));
+        }
+    }
+
+    #[test]
     fn caps_and_inside_origin() {
         let scene = FibreScene::from_segments(&[(Vec3::ZERO, Vec3::X * 4.0)], 1.0).unwrap();
         // Along the axis into the cap at the origin end.
