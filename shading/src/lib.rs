@@ -2,8 +2,9 @@
 //! factored lookup tables, pbrt-v3's hair BSDF as the accuracy yardstick),
 //! evaluated per sample (scalar) and in SIMD batches over [`ShadingSamples`]
 //! or straight from LOD's render vertices ([`vertices::shade_vertices`]),
-//! opacity shadow maps ([`shadow`]), and multiple scattering by dual
-//! scattering ([`dual_scattering`]).
+//! opacity shadow maps ([`shadow`]), multiple scattering by dual
+//! scattering ([`dual_scattering`]) and a Monte Carlo path tracer through
+//! explicit fibres as its reference ([`path_tracer`]).
 //!
 //! One convention for the twins: a per-sample function `name` (one `Vec3`)
 //! has an eight-lane twin `name_x8` (`Vec3x8`), e.g.
@@ -18,6 +19,7 @@ pub mod dual_scattering;
 mod error;
 pub mod kajiya_kay;
 pub mod marschner;
+pub mod path_tracer;
 pub mod pbrt;
 pub mod samples;
 pub mod shadow;

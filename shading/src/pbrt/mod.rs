@@ -11,6 +11,8 @@
 //! * [`scattering_monte_carlo`]: the far field estimated from `n`
 //!   stratified offsets of [`scattering_local`], as pbrt's one random `h`
 //!   per camera ray estimates it (scalar only).
+//! * [`sample()`] and [`pdf()`]: pbrt-v3's importance sampling of the exact
+//!   model at one `h` (`Sample_f`, `Pdf`), for path tracing.
 //! * [`melanin`]: absorption from pigment concentrations or from a colour.
 //! * [`quality`]: error measurements for reports and benches.
 //!
@@ -26,6 +28,7 @@ pub mod melanin;
 mod monte_carlo;
 mod params;
 pub mod quality;
+pub mod sample;
 pub mod table;
 
 pub use far_field::{
@@ -35,6 +38,7 @@ pub use far_field::{
 pub use melanin::{sigma_a_from_concentration, sigma_a_from_reflectance};
 pub use monte_carlo::{local_directions, scattering_batch_monte_carlo, scattering_monte_carlo};
 pub use params::{Lobes, Params};
+pub use sample::{ap_pdf, luminance, pdf, sample, HairSample};
 pub use table::{Parameterisation, Table};
 
 use attenuation::{ap, P_MAX};
