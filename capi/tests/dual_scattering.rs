@@ -328,7 +328,7 @@ fn bad_settings_are_refused_with_a_message() {
     // SAFETY: live handles, readable settings, writable out.
     unsafe {
         for (bad, status, named) in cases {
-            let mut ds = 8usize as *mut CoifDualScattering; // not NULL before
+            let mut ds = ptr::dangling_mut::<CoifDualScattering>(); // not NULL before
             assert_eq!(
                 coif_dual_scattering_from_marschner_lut(lut, &bad, &mut ds),
                 status,
