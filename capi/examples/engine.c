@@ -6,7 +6,8 @@
  *    hairs interpolated from the guides into CoifRenderVertex buffers
  *    (distance LOD, bound first).
  * 3. Shading: Kajiya-Kay, Marschner tables and pbrt tables, linear RGB
- *    per vertex.
+ *    per vertex; the tables again with dual scattering (multiple
+ *    scattering from per-vertex fibre counts and direct fractions).
  * 4. A cloth patch (a 4 x 9 ribbon pinned at its top row) following a
  *    moving skin, blended half and half at its free end.
  * 5. A groom from memory (argv[1], a TressFX .tfx or cyHair .hair file, if
@@ -202,6 +203,55 @@ static void lod_and_shading(CoifStrands *guides) {
     expect(coif_shade_pbrt_table(table, vertices, written, light, eye, rgb, written), COIF_OK,
            "pbrt");
     check(all_finite(rgb, written * 3), "pbrt colours finite");
+
+    /* Dual scattering: tables once per material; per vertex the fibres
+     * between it and the light and the light reaching it unscattered (an
+     * engine takes both from its opacity shadow map). */
+    CoifDualScatteringSettings ds_settings = coif_dual_scattering_settings_default();
+    ds_settings.resolution = 16;
+    CoifDualScattering *ds_lut = NULL, *ds_table = NULL;
+    expect(coif_dual_scattering_from_marschner_lut(lut, &ds_settings, &ds_lut), COIF_OK,
+           "dual scattering tables (Marschner)");
+    expect(coif_dual_scattering_from_pbrt_table(table, &ds_settings, &ds_table), COIF_OK,
+           "dual scattering tables (pbrt)");
+    float *fibres = xmalloc(written * sizeof(float));
+    float *direct = xmalloc(written * sizeof(float));
+    for (size_t k = 0; k < written; k++) {
+        fibres[k] = (float)(k % 20);           /* deeper into the hair */
+        direct[k] = expf(-0.3f * fibres[k]);   /* the map's transmittance */
+    }
+    expect(coif_shade_marschner_lut_dual(lut, ds_lut, vertices, written, light, eye, fibres,
+                                         direct, rgb, written),
+           COIF_OK, "Marschner + dual scattering");
+    check(all_finite(rgb, written * 3), "Marschner + dual scattering colours finite");
+    expect(coif_shade_pbrt_table_dual(table, ds_table, vertices, written, light, eye, fibres,
+                                      direct, rgb, written),
+           COIF_OK, "pbrt + dual scattering");
+    check(all_finite(rgb, written * 3), "pbrt + dual scattering colours finite");
+    for (size_t k = 0; k < written * 3; k++) rgb[k] = -1.0f;
+    expect(coif_shade_pbrt_table_dual(table, ds_lut, vertices, written, light, eye, fibres,
+                                      direct, rgb, written),
+           COIF_ERROR_INVALID_ARGUMENT, "dual: tables of another model");
+    direct[written - 1] = 1.5f;
+    expect(coif_shade_marschner_lut_dual(lut, ds_lut, vertices, written, light, eye, fibres,
+                                         direct, rgb, written),
+           COIF_ERROR_INVALID_ARGUMENT, "dual: a direct fraction above 1");
+    check(strstr(coif_last_error_message(), "direct[") != NULL, "dual: the message names it");
+    expect(coif_shade_marschner_lut_dual(lut, ds_lut, vertices, written, light, eye, NULL,
+                                         direct, rgb, written),
+           COIF_ERROR_NULL, "dual: NULL fibres");
+    check(all_equal(rgb, written * 3, -1.0f), "dual: nothing written by failed calls");
+    ds_settings.forward_density = 0.0f;
+    CoifDualScattering *bad_ds = ds_lut;
+    expect(coif_dual_scattering_from_marschner_lut(lut, &ds_settings, &bad_ds),
+           COIF_ERROR_INVALID_ARGUMENT, "dual scattering tables: forward density 0");
+    check(bad_ds == NULL, "dual scattering tables: *out NULL on error");
+    check(strstr(coif_last_error_message(), "forward_density") != NULL,
+          "dual scattering tables: the message names the setting");
+    coif_dual_scattering_free(ds_lut);
+    coif_dual_scattering_free(ds_table);
+    free(fibres);
+    free(direct);
     pp.beta_n = 2.0f;
     CoifPbrtTable *bad_table = table;
     expect(coif_pbrt_table_new(&pp, 16, &bad_table), COIF_ERROR_INVALID_ARGUMENT,

@@ -35,6 +35,12 @@ typedef enum CoifStatus {
     COIF_ERROR_BAD_DATA = 7,
 } CoifStatus;
 
+// Opaque dual scattering tables of one material (created by
+// `coif_dual_scattering_from_marschner_lut` or
+// `coif_dual_scattering_from_pbrt_table`, freed by
+// `coif_dual_scattering_free`).
+typedef struct CoifDualScattering CoifDualScattering;
+
 // An opaque authored groom: strands of any vertex count, positions as
 // stored in the file (created by `coif_groom_load`, freed by
 // `coif_groom_free`).
@@ -293,6 +299,19 @@ typedef struct CoifCapsule {
     // Radius around the axis in metres (>= 0).
     float radius;
 } CoifCapsule;
+
+// Density and quality settings of dual scattering; the fields of
+// `coif_shading::dual_scattering::DualScatteringSettings`. Start from
+// `coif_dual_scattering_settings_default()`.
+typedef struct CoifDualScatteringSettings {
+    // Density factor of forward scattering `d_f` in (0, 1] (paper 0.7).
+    float forward_density;
+    // Density factor of backward scattering `d_b` in [0, 1] (paper 0.7).
+    float backward_density;
+    // Table entries over the light's longitudinal angle, 2..=4096
+    // (default 64).
+    size_t resolution;
+} CoifDualScatteringSettings;
 
 // The engine's parallel-for: calls `task(task_ctx, i)` exactly once for
 // every `i` in `0..count`, in any order, on any of its threads (the calling
@@ -1255,6 +1274,143 @@ enum CoifStatus coif_step_colliders_with(struct CoifStrands *s,
                                          size_t capsule_count,
                                          const struct CoifSdfSet *sdfs,
                                          const struct CoifExecutor *executor);
+
+// The paper's densities (0.7, 0.7) and 64 entries
+// (`DualScatteringSettings::default()`).
+struct CoifDualScatteringSettings coif_dual_scattering_settings_default(void);
+
+// Builds the dual scattering tables (the fibre's forward and backward
+// attenuations, shifts and widths over the light's angle) of the
+// material in `lut` (`DualScattering::from_marschner`). Made once per
+// material, after its tables; about `resolution x 9,216` table lookups.
+// The handle does not keep `lut`: either may be freed first.
+//
+// Errors: `COIF_ERROR_NULL`, `COIF_ERROR_NON_FINITE` (a NaN density),
+// `COIF_ERROR_INVALID_ARGUMENT` (a density or the resolution out of
+// range; `coif_last_error_message` names it). `*out` is NULL on error.
+//
+// # Safety
+// `lut` is NULL or a live handle; `settings` is NULL or readable; `out`
+// is NULL or points to a writable `CoifDualScattering *`.
+enum CoifStatus coif_dual_scattering_from_marschner_lut(const struct CoifMarschnerLut *lut,
+                                                        const struct CoifDualScatteringSettings *settings,
+                                                        struct CoifDualScattering **out);
+
+// As `coif_dual_scattering_from_marschner_lut`, for pbrt-v3's hair BSDF
+// in `table` (`DualScattering::from_pbrt`).
+//
+// Errors: as `coif_dual_scattering_from_marschner_lut`.
+//
+// # Safety
+// `table` is NULL or a live handle; the rest as
+// `coif_dual_scattering_from_marschner_lut`.
+enum CoifStatus coif_dual_scattering_from_pbrt_table(const struct CoifPbrtTable *table,
+                                                     const struct CoifDualScatteringSettings *settings,
+                                                     struct CoifDualScattering **out);
+
+// Frees tables made by `coif_dual_scattering_from_*`. NULL is fine.
+//
+// # Safety
+// `ds` is NULL or a handle from `coif_dual_scattering_from_*` not freed
+// before.
+void coif_dual_scattering_free(struct CoifDualScattering *ds);
+
+// `coif_shade_marschner_lut` with multiple scattering: per vertex `k`,
+// the single scattering of `lut` is turned into dual scattering's `F`
+// (`DualScattering::shade_x8`, the same numbers as
+// `DualScattering::shade_batch` given `Lut::scattering_batch`'s single
+// scattering) from `fibres[k]`, the number of hair fibres between the
+// vertex and the light (>= 0, fractional is fine), and `direct[k]`, the
+// fraction of the light reaching it unscattered (in [0, 1]; a shadow
+// map's transmittance). The result replaces `single * direct` in the
+// lighting (like Marschner's single scattering, it is without the
+// cosine of the light's angle). `ds` must have been built from
+// Marschner tables (`coif_dual_scattering_from_marschner_lut`), best
+// from `lut` itself. Allocates nothing.
+//
+// Errors: as `coif_shade_marschner_lut`, and `COIF_ERROR_NULL` (`ds`,
+// `fibres` or `direct`), `COIF_ERROR_NON_FINITE` (a NaN or infinite fibre
+// count or fraction), `COIF_ERROR_INVALID_ARGUMENT` (a negative fibre
+// count, a fraction outside [0, 1], `ds` built from pbrt tables;
+// `coif_last_error_message` names the index). Nothing is written.
+//
+// # Safety
+// `lut` and `ds` are NULL or live handles; `fibres` and `direct` are NULL
+// or point to `count` readable floats; the rest as
+// `coif_shade_marschner_lut`.
+enum CoifStatus coif_shade_marschner_lut_dual(const struct CoifMarschnerLut *lut,
+                                              const struct CoifDualScattering *ds,
+                                              const struct CoifRenderVertex *vertices,
+                                              size_t count,
+                                              const float *light_dir,
+                                              const float *eye,
+                                              const float *fibres,
+                                              const float *direct,
+                                              float *out_rgb,
+                                              size_t capacity);
+
+// `coif_shade_marschner_lut_dual` with runs of vertices handed out as
+// tasks to `executor` (as `coif_shade_kajiya_kay_with`). The same bytes.
+//
+// Errors: as `coif_shade_marschner_lut_dual`, and those of the executor
+// as `coif_shade_kajiya_kay_with`.
+//
+// # Safety
+// As `coif_shade_marschner_lut_dual`; `executor` as `coif_step_with` says.
+enum CoifStatus coif_shade_marschner_lut_dual_with(const struct CoifMarschnerLut *lut,
+                                                   const struct CoifDualScattering *ds,
+                                                   const struct CoifRenderVertex *vertices,
+                                                   size_t count,
+                                                   const float *light_dir,
+                                                   const float *eye,
+                                                   const float *fibres,
+                                                   const float *direct,
+                                                   float *out_rgb,
+                                                   size_t capacity,
+                                                   const struct CoifExecutor *executor);
+
+// `coif_shade_pbrt_table` with multiple scattering, as
+// `coif_shade_marschner_lut_dual` (the same numbers as
+// `DualScattering::shade_batch` given `Table::scattering_batch`'s single
+// scattering); like pbrt-v3's single scattering the result includes the
+// cosine of the light's angle. `ds` must have been built from pbrt tables
+// (`coif_dual_scattering_from_pbrt_table`), best from `table` itself.
+// Allocates nothing.
+//
+// Errors: as `coif_shade_marschner_lut_dual` (`ds` built from Marschner
+// tables is `COIF_ERROR_INVALID_ARGUMENT`).
+//
+// # Safety
+// As `coif_shade_marschner_lut_dual`, with `table` for `lut`.
+enum CoifStatus coif_shade_pbrt_table_dual(const struct CoifPbrtTable *table,
+                                           const struct CoifDualScattering *ds,
+                                           const struct CoifRenderVertex *vertices,
+                                           size_t count,
+                                           const float *light_dir,
+                                           const float *eye,
+                                           const float *fibres,
+                                           const float *direct,
+                                           float *out_rgb,
+                                           size_t capacity);
+
+// `coif_shade_pbrt_table_dual` with runs of vertices handed out as tasks
+// to `executor` (as `coif_shade_kajiya_kay_with`). The same bytes.
+//
+// Errors: as `coif_shade_marschner_lut_dual_with`.
+//
+// # Safety
+// As `coif_shade_pbrt_table_dual`; `executor` as `coif_step_with` says.
+enum CoifStatus coif_shade_pbrt_table_dual_with(const struct CoifPbrtTable *table,
+                                                const struct CoifDualScattering *ds,
+                                                const struct CoifRenderVertex *vertices,
+                                                size_t count,
+                                                const float *light_dir,
+                                                const float *eye,
+                                                const float *fibres,
+                                                const float *direct,
+                                                float *out_rgb,
+                                                size_t capacity,
+                                                const struct CoifExecutor *executor);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -34,7 +34,10 @@ pub mod scalp;
 pub mod shading;
 pub mod tasks;
 pub mod world;
+// After the modules it builds on, so the header declares it after them.
+pub mod dual_scattering;
 
+pub use dual_scattering::*;
 pub use groom::*;
 pub use lod::*;
 pub use patch::*;

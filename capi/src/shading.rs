@@ -189,7 +189,7 @@ impl TryFrom<&CoifMarschnerParams> for marschner::Params {
 /// An opaque pair of Marschner lookup tables (created by
 /// `coif_marschner_lut_new`, freed by `coif_marschner_lut_free`).
 pub struct CoifMarschnerLut {
-    lut: Lut,
+    pub(crate) lut: Lut,
 }
 
 /// Tabulates Marschner's factored scattering function (`marschner::Lut`,
@@ -283,7 +283,7 @@ pub extern "C" fn coif_pbrt_params_default() -> CoifPbrtParams {
 /// An opaque pair of pbrt far-field tables (created by
 /// `coif_pbrt_table_new`, freed by `coif_pbrt_table_free`).
 pub struct CoifPbrtTable {
-    table: Table,
+    pub(crate) table: Table,
 }
 
 /// Tabulates pbrt-v3's hair BSDF in the far field (`pbrt::Table::new`) at
@@ -400,7 +400,8 @@ pub unsafe extern "C" fn coif_shade_pbrt_table_with(
                 out_rgb,
                 capacity,
                 executor,
-                &|t, wi, wo| table.scattering_x8(t, wi, wo),
+                &|| Ok(()),
+                &|_, t, wi, wo| table.scattering_x8(t, wi, wo),
             )
         }
     })
@@ -486,7 +487,8 @@ pub unsafe extern "C" fn coif_shade_kajiya_kay_with(
                 out_rgb,
                 capacity,
                 executor,
-                &|t, wi, wo| kk.shade_x8(t, wi, wo),
+                &|| Ok(()),
+                &|_, t, wi, wo| kk.shade_x8(t, wi, wo),
             )
         }
     })
@@ -556,21 +558,28 @@ pub unsafe extern "C" fn coif_shade_marschner_lut_with(
                 out_rgb,
                 capacity,
                 executor,
-                &|t, wi, wo| lut.scattering_x8(t, wi, wo),
+                &|| Ok(()),
+                &|_, t, wi, wo| lut.scattering_x8(t, wi, wo),
             )
         }
     })
 }
 
+/// A shading kernel: the index of the block's first vertex, then its `t`,
+/// `wi`, `wo` lanes.
+pub(crate) type Kernel<'a> = dyn Fn(usize, Vec3x8, Vec3x8, Vec3x8) -> Vec3x8 + Sync + 'a;
+
 /// Checks the inputs, then shades eight vertices at a time with `kernel`
 /// (`t`, `wi`, `wo` lanes; lanes past the end padded as
 /// `ShadingSamples::load_block` pads them: t = x, wi = wo = y), runs of
-/// whole groups of eight as tasks on `executor`.
+/// whole groups of eight as tasks on `executor`. `extra` runs after the
+/// interface's checks and before `run` is called (the checks of the
+/// callers' own per-vertex inputs).
 ///
 /// # Safety
 /// As the public shading calls.
 #[allow(clippy::too_many_arguments)]
-unsafe fn shade(
+pub(crate) unsafe fn shade(
     vertices: *const CoifRenderVertex,
     count: usize,
     light_dir: *const f32,
@@ -578,7 +587,8 @@ unsafe fn shade(
     out_rgb: *mut f32,
     capacity: usize,
     executor: *const CoifExecutor,
-    kernel: &(dyn Fn(Vec3x8, Vec3x8, Vec3x8) -> Vec3x8 + Sync),
+    extra: &dyn Fn() -> Result<(), CoifStatus>,
+    kernel: &Kernel,
 ) -> Result<(), CoifStatus> {
     // SAFETY: the caller's contract on every pointer.
     let (light, eye) = unsafe { (vec3_arg(light_dir)?, vec3_arg(eye)?) };
@@ -601,27 +611,38 @@ unsafe fn shade(
     if wi == Vec3::ZERO {
         return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
     }
+    extra()?;
     // SAFETY: the caller's contract on `executor`.
     let exec = unsafe { tasks::executor(executor) }?;
     let exec: &dyn Executor = exec.get();
     let per = per_task(count, exec, LANES);
     for_each_chunk_mut(exec, out, per, &|i, run| {
         let start = i * per;
-        shade_run(&verts[start..start + run.len()], eye, wi, kernel, run);
+        shade_run(
+            start,
+            &verts[start..start + run.len()],
+            eye,
+            wi,
+            kernel,
+            run,
+        );
     });
     Ok(())
 }
 
-/// One task of [`shade`]: `verts` into `out`, eight at a time (`verts`
-/// starts at a multiple of eight, so the groups are those of one serial pass).
+/// One task of [`shade`]: `verts` (vertex `first` on) into `out`, eight at
+/// a time (`first` is a multiple of eight, so the groups are those of one
+/// serial pass).
 fn shade_run(
+    first: usize,
     verts: &[CoifRenderVertex],
     eye: Vec3,
     wi: Vec3,
-    kernel: &(dyn Fn(Vec3x8, Vec3x8, Vec3x8) -> Vec3x8 + Sync),
+    kernel: &Kernel,
     out: &mut [Vec3],
 ) {
-    for (block, rgb) in verts.chunks(LANES).zip(out.chunks_mut(LANES)) {
+    let blocks = verts.chunks(LANES).zip(out.chunks_mut(LANES));
+    for (b, (block, rgb)) in blocks.enumerate() {
         let (mut t, mut wo) = (Vec3x8::splat(Vec3::X), Vec3x8::splat(Vec3::Y));
         let mut wi_x8 = Vec3x8::splat(Vec3::Y);
         for (l, v) in block.iter().enumerate() {
@@ -629,7 +650,7 @@ fn shade_run(
             wo.set_lane(l, view_direction(eye, v));
             wi_x8.set_lane(l, wi);
         }
-        let c = kernel(t, wi_x8, wo);
+        let c = kernel(first + b * LANES, t, wi_x8, wo);
         for (l, o) in rgb.iter_mut().enumerate() {
             *o = c.lane(l);
         }

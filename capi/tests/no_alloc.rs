@@ -4,7 +4,8 @@
 //! for four workers), `coif_strands_set_roots`, `coif_strands_positions`,
 //! `coif_refine`, `coif_hairs_distance_lod`, `coif_hairs_write_vertices`,
 //! `coif_shade_kajiya_kay`, `coif_shade_marschner_lut`,
-//! `coif_shade_pbrt_table` and their `_with` forms, and for cloth
+//! `coif_shade_pbrt_table` and their `_with` forms, the dual scattering
+//! calls `coif_shade_*_dual` and their `_with` forms, and for cloth
 //! `coif_patch_set_skinned`, `coif_patch_step`, `coif_patch_step_all` and
 //! `coif_patch_blended`, and for the world around the hair
 //! `coif_step_colliders` and `coif_step_colliders_with` (spheres, capsules,
@@ -214,6 +215,19 @@ fn per_frame_calls_do_not_allocate() {
             coif_pbrt_table_new(&pbrt_params, 8, &mut table),
             CoifStatus::COIF_OK
         );
+        let ds_settings = CoifDualScatteringSettings {
+            resolution: 8,
+            ..coif_dual_scattering_settings_default()
+        };
+        let (mut ds_m, mut ds_p) = (ptr::null_mut(), ptr::null_mut());
+        assert_eq!(
+            coif_dual_scattering_from_marschner_lut(lut, &ds_settings, &mut ds_m),
+            CoifStatus::COIF_OK
+        );
+        assert_eq!(
+            coif_dual_scattering_from_pbrt_table(table, &ds_settings, &mut ds_p),
+            CoifStatus::COIF_OK
+        );
         let refined_len = coif_refine_bound(c, 4);
         let mut refined = vec![0.0f32; 3 * refined_len];
         let mut tangents = vec![0.0f32; 3 * refined_len];
@@ -221,6 +235,9 @@ fn per_frame_calls_do_not_allocate() {
         assert!(vertex_len > 0);
         let mut vertices = vec![CoifRenderVertex::default(); vertex_len];
         let mut rgb = vec![0.0f32; 3 * vertex_len];
+        // Per-vertex shadowing for dual scattering (an opacity map's counts).
+        let fibres: Vec<f32> = (0..vertex_len).map(|k| (k % 11) as f32).collect();
+        let direct: Vec<f32> = fibres.iter().map(|n| (-0.3 * n).exp()).collect();
         // Warm up: the first step with this rig sizes the sphere scratch,
         // the first refinement at the finest level the refinement scratch.
         assert_eq!(
@@ -328,6 +345,18 @@ fn per_frame_calls_do_not_allocate() {
                 coif_shade_pbrt_table_with(table, v, written, l, e, out, vertex_len, &exec),
             ];
             assert_eq!(statuses, [CoifStatus::COIF_OK; 6]);
+            let (f, d) = (fibres.as_ptr(), direct.as_ptr());
+            let statuses = [
+                coif_shade_marschner_lut_dual(lut, ds_m, v, written, l, e, f, d, out, vertex_len),
+                coif_shade_pbrt_table_dual(table, ds_p, v, written, l, e, f, d, out, vertex_len),
+                coif_shade_marschner_lut_dual_with(
+                    lut, ds_m, v, written, l, e, f, d, out, vertex_len, &exec,
+                ),
+                coif_shade_pbrt_table_dual_with(
+                    table, ds_p, v, written, l, e, f, d, out, vertex_len, &exec,
+                ),
+            ];
+            assert_eq!(statuses, [CoifStatus::COIF_OK; 4]);
 
             let (ca, sa) = (capsules.as_ptr(), rig.as_ptr());
             let turn = 0.01 * frame as f32;
@@ -357,6 +386,8 @@ fn per_frame_calls_do_not_allocate() {
             assert_eq!(statuses, [CoifStatus::COIF_OK; 6]);
         }
         let allocations = ALLOCATIONS.load(Ordering::Relaxed) - before;
+        coif_dual_scattering_free(ds_m);
+        coif_dual_scattering_free(ds_p);
         coif_pbrt_table_free(table);
         assert!(rgb.iter().all(|c| c.is_finite()) && rgb.iter().any(|&c| c > 0.0));
         coif_marschner_lut_free(lut);
