@@ -304,9 +304,11 @@ typedef struct CoifCapsule {
 // `coif_shading::dual_scattering::DualScatteringSettings`. Start from
 // `coif_dual_scattering_settings_default()`.
 typedef struct CoifDualScatteringSettings {
-    // Density factor of forward scattering `d_f` in (0, 1] (paper 0.7).
+    // Density factor of forward scattering `d_f` in (0, 1] (default 0.4, fitted against
+    // the path tracer; the paper's 0.7).
     float forward_density;
-    // Density factor of backward scattering `d_b` in [0, 1] (paper 0.7).
+    // Density factor of backward scattering `d_b` in [0, 1] (default 0.4, fitted against
+    // the path tracer; the paper's 0.7).
     float backward_density;
     // Table entries over the light's longitudinal angle, 2..=4096
     // (default 64).
@@ -1275,8 +1277,8 @@ enum CoifStatus coif_step_colliders_with(struct CoifStrands *s,
                                          const struct CoifSdfSet *sdfs,
                                          const struct CoifExecutor *executor);
 
-// The paper's densities (0.7, 0.7) and 64 entries
-// (`DualScatteringSettings::default()`).
+// Densities 0.4 and 0.4 (fitted against the path tracer through explicit
+// fibres) and 64 entries (`DualScatteringSettings::default()`).
 struct CoifDualScatteringSettings coif_dual_scattering_settings_default(void);
 
 // Builds the dual scattering tables (the fibre's forward and backward
