@@ -139,12 +139,14 @@ fn simd_batch_matches_the_scalar_reference() {
         dual_scattering::scalar::shade_batch(ds, &samples, &single, &fibres, &direct, &mut scalar)
             .unwrap();
         // The same operations in the same order (shared polynomials for
-        // the arccosine and the exponential): about 3 % of the samples
-        // differ in the last bits (measured at most 1.1e-6 relative).
+        // the arccosine and the exponential): the same bits.
         for k in 0..samples.len() {
             let (a, b) = (simd.get(k), scalar.get(k));
-            let err = ((a - b).abs() / b.abs().max(Vec3::splat(1e-30))).max_element();
-            assert!(err <= 1e-5, "sample {k}: {a} vs {b}");
+            assert_eq!(
+                a.to_array().map(f32::to_bits),
+                b.to_array().map(f32::to_bits),
+                "sample {k}: {a} vs {b}"
+            );
         }
     }
 }

@@ -4,7 +4,7 @@
 //! subnormals.
 //!
 //! `e^x = 2^y`, `y = x log2 e` clamped to [-126, 0] (results below 2^-126,
-//! 1.2e-38, are that), `y = n + f` with `n = round(y)`, `f` in [-1/2, 1/2],
+//! 1.2e-38, are that), `y = n + f` with `n = floor(y + 1/2)`, `f` in [-1/2, 1/2),
 //! `2^f = e^(f ln 2)` by its Taylor series to degree 5 (truncation error
 //! below 4e-6 relative (tested), far below what dual scattering approximates),
 //! times `2^n` built in the exponent bits.
@@ -24,7 +24,7 @@ const C: [f32; 5] = [1.0, 1.0 / 2.0, 1.0 / 6.0, 1.0 / 24.0, 1.0 / 120.0];
 #[allow(clippy::manual_clamp)]
 pub(crate) fn exp_neg(x: f32) -> f32 {
     let y = (x * LOG2_E).max(-126.0).min(0.0);
-    let n = y.round();
+    let n = (y + 0.5).floor();
     let f = (y - n) * LN2;
     let p = (((C[4] * f + C[3]) * f + C[2]) * f + C[1]) * f + C[0];
     let e = f * p + 1.0;
@@ -37,12 +37,12 @@ pub(crate) fn exp_neg_x8(x: f32x8) -> f32x8 {
     let y = (x * f32x8::splat(LOG2_E))
         .max(f32x8::splat(-126.0))
         .min(f32x8::ZERO);
-    let n = y.round();
+    let n = (y + f32x8::splat(0.5)).floor();
     let f = (y - n) * f32x8::splat(LN2);
     let c = |k: usize| f32x8::splat(C[k]);
     let p = (((c(4) * f + c(3)) * f + c(2)) * f + c(1)) * f + c(0);
     let e = f * p + f32x8::ONE;
-    let scale: f32x8 = cast((n.round_int() + i32x8::splat(127)) << 23);
+    let scale: f32x8 = cast((n.trunc_int() + i32x8::splat(127)) << 23);
     e * scale
 }
 
