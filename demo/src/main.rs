@@ -77,9 +77,10 @@ struct Cli {
     /// hair around it removed at this rate per step. Default: as --volume.
     #[arg(long, value_name = "K")]
     hair_friction: Option<f32>,
-    /// Hair shading model: kajiya-kay, marschner (Marschner 2003 table) or
-    /// pbrt (pbrt-v3 far-field table).
-    #[arg(long, default_value = "kajiya-kay", value_parser = parse_model)]
+    /// Hair shading model: pbrt (pbrt-v3 far-field table), marschner
+    /// (Marschner 2003 table), both with multiple scattering, or
+    /// kajiya-kay (cheapest).
+    #[arg(long, default_value = "pbrt", value_parser = parse_model)]
     shading: ShadingModel,
     /// Hair colour of the physically based models: blond, brown or dark
     /// (melanin concentrations, d'Eon et al. 2011).

@@ -111,6 +111,7 @@ fn bad_options_and_files_fail_with_a_message() {
         vec!["--size", "0x10"],
         vec!["--size", "wide"],
         vec!["--shading", "phong"],
+        vec!["--hair-color", "green"],
         vec!["--view", "0,0,0"],
         vec!["--groom", "/nonexistent/hair.tfx"],
         vec!["--scene", "cube"],
@@ -357,4 +358,42 @@ fn a_closed_pipe_ends_the_program_quietly() {
     assert!(first.starts_with("coif:"), "{first}");
     assert!(out.status.success(), "{:?}: {err}", out.status);
     assert!(!err.contains("panicked"), "{err}");
+}
+
+#[test]
+fn multiple_scattering_is_on_for_the_physical_models_and_can_be_turned_off() {
+    let line = |args: &[&str]| {
+        let dir = out_dir();
+        let out = Command::new(env!("CARGO_BIN_EXE_coif"))
+            .args(["--size", "48x48", "--frames", "2", "--density", "4"])
+            .args(args)
+            .arg("--output")
+            .arg(dir.join("ms.png"))
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+        stdout.lines().next().unwrap_or_default().to_string()
+    };
+    let default = line(&[]);
+    assert!(
+        default.contains("pbrt shading (brown hair, dual scattering)"),
+        "{default}"
+    );
+    let blond = line(&["--shading", "marschner", "--hair-color", "blond"]);
+    assert!(
+        blond.contains("marschner shading (blond hair, dual scattering)"),
+        "{blond}"
+    );
+    let single = line(&["--single-scattering"]);
+    assert!(
+        single.contains("(brown hair, single scattering)"),
+        "{single}"
+    );
+    let kk = line(&["--shading", "kajiya-kay"]);
+    assert!(kk.contains("kajiya-kay shading,"), "{kk}");
 }

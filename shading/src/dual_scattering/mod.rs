@@ -520,16 +520,16 @@ fn gaussian_x8(x: f32x8, variance: f32x8) -> f32x8 {
 }
 
 /// Keeps the attenuations physical: each in [0, 1] and their sum at most 1
-/// (a model that is not exactly energy conserving, Marschner's at grazing
-/// angles, is scaled down to 1 there).
+/// in every channel. A model that is not energy conserving (Marschner's
+/// lobes send out more than the fibre intercepts at most angles, up to
+/// about 1.3 times) is scaled down by one factor for all three channels
+/// there, so its colour is kept.
 fn bound_attenuations(a: &mut FibreAverages) {
-    for c in 0..3 {
-        let (f, b) = (a.a_f[c].max(0.0), a.a_b[c].max(0.0));
-        let sum = f + b;
-        let s = if sum > 1.0 { 1.0 / sum } else { 1.0 };
-        a.a_f[c] = f * s;
-        a.a_b[c] = b * s;
-    }
+    let (f, b) = (a.a_f.max(Vec3::ZERO), a.a_b.max(Vec3::ZERO));
+    let most = (f + b).max_element();
+    let s = if most > 1.0 { 1.0 / most } else { 1.0 };
+    a.a_f = (f * s).min(Vec3::ONE);
+    a.a_b = (b * s).min(Vec3::ONE);
 }
 
 /// The lookup record of one node: the per-channel `ln a_f`, `A_b` and
