@@ -14,6 +14,22 @@ fn single(lut: &Lut, s: &ShadingSamples, out: &mut RgbBuffer) {
     }
 }
 #[inline(never)]
+fn single_pbrt(table: &coif::shading::pbrt::Table, s: &ShadingSamples, out: &mut RgbBuffer) {
+    for start in (0..s.len()).step_by(8) {
+        let (t, wi, wo) = s.load_block(start);
+        out.store_block(start, table.scattering_x8(t, wi, wo));
+    }
+}
+#[inline(never)]
+fn dual_pbrt(table: &coif::shading::pbrt::Table, ds: &DualScattering, s: &ShadingSamples, n: &[f32], out: &mut RgbBuffer) {
+    for start in (0..s.len()).step_by(8) {
+        let (t, wi, wo) = s.load_block(start);
+        let nn = f32x8::new(n[start..start + 8].try_into().unwrap());
+        let f = ds.shade_x8(table.scattering_x8(t, wi, wo), t, wi, wo, nn, nn * f32x8::splat(0.02));
+        out.store_block(start, f);
+    }
+}
+#[inline(never)]
 fn dual(lut: &Lut, ds: &DualScattering, s: &ShadingSamples, n: &[f32], out: &mut RgbBuffer) {
     for start in (0..s.len()).step_by(8) {
         let (t, wi, wo) = s.load_block(start);
@@ -41,6 +57,8 @@ fn main() {
     let lut = Lut::new(&Params::default(), 128);
     let ds = DualScattering::from_marschner(&lut, DualScatteringSettings::default()).unwrap();
     let mut out = RgbBuffer::zeros(m);
+    let table = coif::shading::pbrt::Table::new(&Default::default(), 64).unwrap();
+    let dsp = DualScattering::from_pbrt(&table, DualScatteringSettings::default()).unwrap();
     let mode = std::env::args().nth(1).unwrap();
     for _ in 0..100 {
         if mode == "single" {

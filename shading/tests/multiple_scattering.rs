@@ -1,10 +1,11 @@
 //! Dual scattering against the path tracer through explicit fibres
-//! (`coif_shading::dual_scattering::accuracy`) on small tufts of blond and
-//! brown hair, with the light and views of the held-out set of
-//! `shading/MULTIPLE_SCATTERING.md` (not those the density factors were
-//! fitted on). The tolerances are the measured errors of this set with
-//! room for the tracer's noise at these sample counts (400 rays of 128
-//! paths per view, about 2 s on two threads).
+//! (`coif_shading::dual_scattering::accuracy`) on tufts of blond and brown
+//! hair: the held-out set of `shading/MULTIPLE_SCATTERING.md` (not the
+//! cases the density factors were fitted on), 300 rays of 256 paths per
+//! view (about 6 s on two threads). The bounds are the goals: 15 %
+//! relative RMS, and for blond at least twice as close as single
+//! scattering with the exact shadow; the measured errors and the tracer's
+//! noise are beside them.
 
 use coif_shading::dual_scattering::accuracy::{first_hits, relative_rms, shade_hits};
 use coif_shading::dual_scattering::{DualScattering, DualScatteringSettings};
@@ -29,18 +30,22 @@ fn errors(eumelanin: f32) -> (f64, f64, f64) {
     let (mut dual, mut single, mut noise) = (Vec::new(), Vec::new(), Vec::new());
     for volume_fraction in [0.1, 0.25] {
         let tf = tuft(&TuftParams {
-            length: 20.0,
-            width: 20.0,
+            length: 40.0,
+            width: 40.0,
             thickness: 5.0,
             radius: 0.04,
             volume_fraction,
             seed: 1,
         })
         .unwrap();
-        for view in [Vec3::new(0.4, -0.3, 1.0), Vec3::new(0.0, 1.0, 0.3)] {
-            let rays = tf.camera_rays(view, 1.5, 400, 3).unwrap();
+        for view in [
+            Vec3::new(0.4, -0.3, 1.0),
+            Vec3::new(0.0, 1.0, 0.3),
+            Vec3::new(-0.2, 0.3, -1.0),
+        ] {
+            let rays = tf.camera_rays(view, 1.5, 300, 3).unwrap();
             let estimates = tracer
-                .estimate_threaded(&tf.scene, &rays, 128, 7, 2)
+                .estimate_threaded(&tf.scene, &rays, 256, 7, 2)
                 .unwrap();
             let n = rays.len() as f32;
             let traced = estimates.iter().map(|e| e.mean).sum::<Vec3>() / n;
@@ -66,21 +71,21 @@ fn errors(eumelanin: f32) -> (f64, f64, f64) {
 }
 
 #[test]
-fn blond_dual_scattering_is_within_18_percent_and_twice_as_close_as_single() {
+fn blond_dual_scattering_is_within_15_percent_and_twice_as_close_as_single() {
     let (dual, single, noise) = errors(0.3);
     println!("blond: dual {dual:.3}, single {single:.3}, tracer noise {noise:.4}");
     assert!(noise < 0.03, "tracer noise {noise}");
-    // Measured 0.104 (single 0.806), tracer noise 0.019.
-    assert!(dual < 0.18, "dual scattering relative RMS {dual}");
+    // Measured 0.100 (single 0.798), tracer noise 0.016.
+    assert!(dual < 0.15, "dual scattering relative RMS {dual}");
     assert!(single > 2.0 * dual, "single {single} vs dual {dual}");
 }
 
 #[test]
-fn brown_dual_scattering_is_within_20_percent_and_closer_than_single() {
+fn brown_dual_scattering_is_within_15_percent_and_closer_than_single() {
     let (dual, single, noise) = errors(1.3);
     println!("brown: dual {dual:.3}, single {single:.3}, tracer noise {noise:.4}");
     assert!(noise < 0.03, "tracer noise {noise}");
-    // Measured 0.139 (single 0.371), tracer noise 0.008.
-    assert!(dual < 0.2, "dual scattering relative RMS {dual}");
+    // Measured 0.100 (single 0.339), tracer noise 0.006.
+    assert!(dual < 0.15, "dual scattering relative RMS {dual}");
     assert!(single > dual, "single {single} vs dual {dual}");
 }

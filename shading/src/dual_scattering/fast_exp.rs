@@ -34,9 +34,11 @@ pub(crate) fn exp_neg(x: f32) -> f32 {
 /// [`exp_neg`] in eight lanes.
 #[inline(always)]
 pub(crate) fn exp_neg_x8(x: f32x8) -> f32x8 {
+    // fast_max / fast_min with a constant second operand: the same result
+    // as max / min (and the scalar's), NaN included, in one instruction.
     let y = (x * f32x8::splat(LOG2_E))
-        .max(f32x8::splat(-126.0))
-        .min(f32x8::ZERO);
+        .fast_max(f32x8::splat(-126.0))
+        .fast_min(f32x8::ZERO);
     let n = (y + f32x8::splat(0.5)).floor();
     let f = (y - n) * f32x8::splat(LN2);
     let c = |k: usize| f32x8::splat(C[k]);

@@ -55,8 +55,9 @@
 //! hair from behind, and was dropped.
 //!
 //! The averages are tabulated once per material over `theta_i`
-//! ([`DualScattering::new`]); a lookup is one linear interpolation between
-//! two 16-float records, six exponentials and three square roots.
+//! ([`DualScattering::new`]) and refined four times linearly; a lookup
+//! takes the nearest 16-float record, then six exponentials and three
+//! divisions and square roots.
 //! [`DualScattering::shade`] (one sample), [`DualScattering::shade_x8`]
 //! (eight lanes) and the batches [`DualScattering::shade_batch`] /
 //! [`scalar::shade_batch`] run the same operations in the same order (the
@@ -84,7 +85,7 @@ use wide::{f32x8, i32x8};
 /// in steps of 0.05, the pair with the smallest worst relative RMS error
 /// of the two colours, then checked on tufts, a light and views left out
 /// of the fit. The paper's 0.7 doubles the error on blond hair there.
-pub const DEFAULT_DENSITY: f32 = 0.4;
+pub const DEFAULT_DENSITY: f32 = 0.35;
 
 /// Quality and density settings of [`DualScattering`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -138,7 +139,8 @@ mod ch {
     pub const LN_AF: usize = 0;
     /// `A_b`, RGB.
     pub const AB: usize = 3;
-    /// The global amplitude `g_amp`, RGB.
+    /// The amplitude of the scattered light's one Gaussian,
+    /// `g_amp + 2 d_b A_b`, RGB.
     pub const G_AMP: usize = 6;
     /// `beta_f^2` (luminance-weighted).
     pub const BETA_F2: usize = 9;
@@ -146,11 +148,17 @@ mod ch {
     pub const DELTA_B: usize = 10;
     /// `sigma_b^2`.
     pub const SIGMA_B2: usize = 11;
-    /// The global mean `mu_g`.
+    /// Its mean (the moment-matched `mu_g` and `delta_b`).
     pub const G_MEAN: usize = 12;
-    /// The global variance `v_g`.
+    /// Its variance before the spread (moment-matched from `v_g` and
+    /// `sigma_b^2`).
     pub const G_VAR: usize = 13;
 }
+
+/// Records per interval of the computed nodes: lookups take the nearest
+/// record (at 64 nodes, every 0.7 degrees: `a_f^n` at `n = 20` moves by at
+/// most 2 % between records) instead of blending two.
+const REFINE: usize = 4;
 
 /// Smallest variance of a Gaussian lobe (radians^2; 0.6 degrees).
 const MIN_VARIANCE: f32 = 1e-4;
@@ -212,7 +220,19 @@ impl DualScattering {
             })
             .collect();
         let d_b = settings.backward_density;
-        let records = averages.iter().map(|a| record(a, d_b)).collect();
+        let coarse: Vec<[f32; 16]> = averages.iter().map(|a| record(a, d_b)).collect();
+        // Nearest-node lookups on a grid REFINE times finer, linear
+        // between the computed nodes.
+        let mut records = Vec::with_capacity((res - 1) * REFINE + 1);
+        for pair in coarse.windows(2) {
+            for j in 0..REFINE {
+                let f = j as f32 / REFINE as f32;
+                records.push(pack(std::array::from_fn(|c| {
+                    (pair[1][c] - pair[0][c]).mul_add(f, pair[0][c])
+                })));
+            }
+        }
+        records.push(pack(coarse[res - 1]));
         Ok(DualScattering {
             settings,
             includes_cosine,
@@ -282,25 +302,18 @@ impl DualScattering {
         fibres: f32,
         direct: f32,
     ) -> Vec3 {
-        let sin_i = wi.dot(t).clamp(-1.0, 1.0);
-        let sin_o = wo.dot(t).clamp(-1.0, 1.0);
+        // Unclamped: the arccosine clamps, and NaN stays NaN through it.
+        let sin_i = wi.dot(t);
+        let sin_o = wo.dot(t);
         let (theta_i, theta_o) = (0.5 * PI - acos(sin_i), 0.5 * PI - acos(sin_o));
         if theta_i.is_nan() || theta_o.is_nan() || fibres.is_nan() || direct.is_nan() {
             return Vec3::NAN;
         }
-        let scale = (self.records.len() - 1) as f32;
-        let u = ((theta_i + 0.5 * PI) * (scale / PI)).clamp(0.0, scale);
-        let k = (u.floor() as usize).min(self.records.len() - 2);
-        let frac = u - k as f32;
-        let (a, b) = (&self.records[k], &self.records[k + 1]);
-        let mut r = [0.0f32; 16];
-        for c in 0..16 {
-            let (x, y) = (
-                a[c / LANES].as_array()[c % LANES],
-                b[c / LANES].as_array()[c % LANES],
-            );
-            r[c] = (y - x).mul_add(frac, x);
-        }
+        let last = self.records.len() - 1;
+        let u = ((theta_i + 0.5 * PI) * (last as f32 / PI)).clamp(0.0, last as f32);
+        let k = ((u + 0.5).floor() as usize).min(last);
+        let rec = &self.records[k];
+        let r: [f32; 16] = std::array::from_fn(|c| rec[c / LANES].as_array()[c % LANES]);
         let rgb = |c: usize| Vec3::new(r[c], r[c + 1], r[c + 2]);
 
         let n = fibres.max(0.0);
@@ -320,10 +333,8 @@ impl DualScattering {
         );
         let spread = n * r[ch::BETA_F2];
         let x_b = theta_h - r[ch::DELTA_B];
-        let back_scale = rgb(ch::AB) * (2.0 / PI * inv_cos2_d);
-        let back_direct = back_scale * gaussian(x_b, r[ch::SIGMA_B2]);
-        let back_global = back_scale * gaussian(x_b, r[ch::SIGMA_B2] + spread);
-        let global = rgb(ch::G_AMP)
+        let back_direct = rgb(ch::AB) * (2.0 / PI * inv_cos2_d * gaussian(x_b, r[ch::SIGMA_B2]));
+        let far_light = rgb(ch::G_AMP)
             * (gaussian(theta_h - r[ch::G_MEAN], r[ch::G_VAR] + spread) * inv_cos2_d);
         let (d_f, d_b) = (
             self.settings.forward_density,
@@ -331,7 +342,7 @@ impl DualScattering {
         );
         let scattered = (t_f - Vec3::splat(d)).max(Vec3::ZERO);
         let local = single + back_direct * (d_b * c);
-        let far = (global + back_global * (PI * d_b)) * (d_f * c);
+        let far = far_light * (d_f * c);
         local * d + scattered * far
     }
 
@@ -350,53 +361,42 @@ impl DualScattering {
         let one = f32x8::ONE;
         let zero = f32x8::ZERO;
         let half_pi = f32x8::splat(0.5 * PI);
-        let clamp1 = |x: f32x8| x.max(-one).min(one);
-        let raw_i = wi.dot(t);
-        let raw_o = wo.dot(t);
-        // Before the clamp, whose max / min drop NaN.
-        let invalid = raw_i.is_nan() | raw_o.is_nan() | fibres.is_nan() | direct.is_nan();
-        let (sin_i, sin_o) = (clamp1(raw_i), clamp1(raw_o));
+        // Unclamped: the arccosine clamps, and NaN stays NaN through it.
+        let sin_i = wi.dot(t);
+        let sin_o = wo.dot(t);
         let theta_i = half_pi - acos_x8(sin_i);
         let theta_o = half_pi - acos_x8(sin_o);
+        let invalid = theta_i.is_nan() | theta_o.is_nan() | fibres.is_nan() | direct.is_nan();
 
         let last = self.records.len() - 1;
         let u = ((theta_i + half_pi) * f32x8::splat(last as f32 / PI))
-            .max(zero)
-            .min(f32x8::splat(last as f32));
-        let k = u.floor().min(f32x8::splat((last - 1) as f32));
-        let frac = u - k;
-        // NaN lanes (masked at the end) are clamped to record 0.
-        let ki = k
+            .fast_max(zero)
+            .fast_min(f32x8::splat(last as f32));
+        // NaN lanes (NaN out anyway) are clamped to record 0.
+        let ki = (u + f32x8::splat(0.5))
+            .floor()
             .trunc_int()
             .max(i32x8::ZERO)
-            .min(i32x8::splat(last as i32 - 1))
+            .min(i32x8::splat(last as i32))
             .to_array();
-        let fa = frac.to_array();
         let mut lo = [[f32x8::ZERO; LANES]; 2];
         for l in 0..LANES {
-            // SAFETY: ki[l] is in [0, last - 1], so ki[l] + 1 <= last < len.
-            let (a, b) = unsafe {
-                let i = ki[l] as usize;
-                (
-                    self.records.get_unchecked(i),
-                    self.records.get_unchecked(i + 1),
-                )
-            };
-            let f = f32x8::splat(fa[l]);
-            lo[0][l] = (b[0] - a[0]).mul_add(f, a[0]);
-            lo[1][l] = (b[1] - a[1]).mul_add(f, a[1]);
+            // SAFETY: ki[l] is in [0, last] and last < len.
+            let rec = unsafe { self.records.get_unchecked(ki[l] as usize) };
+            lo[0][l] = rec[0];
+            lo[1][l] = rec[1];
         }
         let [r0, r1] = [f32x8::transpose(lo[0]), f32x8::transpose(lo[1])];
         let r = |c: usize| if c < LANES { r0[c] } else { r1[c - LANES] };
         let rgb = |c: usize| Vec3x8::new(r(c), r(c + 1), r(c + 2));
 
-        let n = fibres.max(zero);
-        let d = direct.max(zero).min(one);
+        let n = fibres.fast_max(zero);
+        let d = direct.fast_max(zero).fast_min(one);
         let theta_h = f32x8::splat(0.5) * (theta_i + theta_o);
-        let cos_i = (one - sin_i * sin_i).max(zero).sqrt();
-        let cos_o = (one - sin_o * sin_o).max(zero).sqrt();
+        let cos_i = (one - sin_i * sin_i).fast_max(zero).sqrt();
+        let cos_o = (one - sin_o * sin_o).fast_max(zero).sqrt();
         let cos2_d = (f32x8::splat(0.5) * (one + cos_i * cos_o + sin_i * sin_o))
-            .max(f32x8::splat(MIN_COS2_D));
+            .fast_max(f32x8::splat(MIN_COS2_D));
         let inv_cos2_d = one / cos2_d;
         let c = if self.includes_cosine { cos_i } else { one };
 
@@ -408,10 +408,9 @@ impl DualScattering {
         );
         let spread = n * r(ch::BETA_F2);
         let x_b = theta_h - r(ch::DELTA_B);
-        let back_scale = rgb(ch::AB) * (f32x8::splat(2.0 / PI) * inv_cos2_d);
-        let back_direct = back_scale * gaussian_x8(x_b, r(ch::SIGMA_B2));
-        let back_global = back_scale * gaussian_x8(x_b, r(ch::SIGMA_B2) + spread);
-        let global = rgb(ch::G_AMP)
+        let back_direct =
+            rgb(ch::AB) * (f32x8::splat(2.0 / PI) * inv_cos2_d * gaussian_x8(x_b, r(ch::SIGMA_B2)));
+        let far_light = rgb(ch::G_AMP)
             * (gaussian_x8(theta_h - r(ch::G_MEAN), r(ch::G_VAR) + spread) * inv_cos2_d);
         let (d_f, d_b) = (
             f32x8::splat(self.settings.forward_density),
@@ -419,9 +418,13 @@ impl DualScattering {
         );
         let dv = Vec3x8::new(d, d, d);
         let gap = t_f - dv;
-        let scattered = Vec3x8::new(gap.x.max(zero), gap.y.max(zero), gap.z.max(zero));
+        let scattered = Vec3x8::new(
+            gap.x.fast_max(zero),
+            gap.y.fast_max(zero),
+            gap.z.fast_max(zero),
+        );
         let local = single + back_direct * (d_b * c);
-        let far = (global + back_global * (f32x8::splat(PI) * d_b)) * (d_f * c);
+        let far = far_light * (d_f * c);
         let out = local * d
             + Vec3x8::new(
                 scattered.x * far.x,
@@ -515,7 +518,7 @@ fn gaussian(x: f32, variance: f32) -> f32 {
 /// [`gaussian`] in eight lanes.
 #[inline(always)]
 fn gaussian_x8(x: f32x8, variance: f32x8) -> f32x8 {
-    let w = f32x8::ONE / variance.max(f32x8::splat(MIN_VARIANCE));
+    let w = f32x8::ONE / variance.fast_max(f32x8::splat(MIN_VARIANCE));
     exp_neg_x8(f32x8::splat(-0.5) * (x * x) * w) * (w.sqrt() * f32x8::splat(INV_SQRT_2PI))
 }
 
@@ -535,7 +538,7 @@ fn bound_attenuations(a: &mut FibreAverages) {
 /// The lookup record of one node: the per-channel `ln a_f`, `A_b` and
 /// global amplitude, and the one-channel widths and shifts (see the module
 /// docs for the formulas).
-fn record(a: &FibreAverages, d_b: f32) -> [f32x8; 2] {
+fn record(a: &FibreAverages, d_b: f32) -> [f32; 16] {
     let lum = averages::LUMINANCE.as_vec3();
     let mut ab = Vec3::ZERO;
     let mut delta = Vec3::ZERO;
@@ -573,20 +576,42 @@ fn record(a: &FibreAverages, d_b: f32) -> [f32x8; 2] {
     let beta_f2 = weighted(a.beta_f * a.beta_f, a.a_f);
     let delta_b = weighted(delta, ab);
     let sigma_b = weighted(sigma, ab);
+    // The scattered light's two terms, the global `g_amp g(theta_h - mu_g,
+    // v_g + s)` and the backscatter `2 d_b A_b g(theta_h - delta_b,
+    // sigma_b^2 + s)` (both over cos^2 theta_d), as one Gaussian with their
+    // summed amplitude and their (luminance-weighted) mean and variance:
+    // the first two moments of the pair for every spread s.
+    let back_amp = ab * (2.0 * d_b);
+    let amp = a.g_amplitude + back_amp;
+    let (w1, w2) = (a.g_amplitude.dot(lum), back_amp.dot(lum));
+    let sigma_b2 = sigma_b * sigma_b;
+    let (mean, var) = if w1 + w2 > 1e-20 {
+        let mean = (w1 * a.g_mean + w2 * delta_b) / (w1 + w2);
+        let second = (w1 * (a.g_variance + a.g_mean * a.g_mean)
+            + w2 * (sigma_b2 + delta_b * delta_b))
+            / (w1 + w2);
+        (mean, (second - mean * mean).max(0.0))
+    } else {
+        (a.g_mean, a.g_variance)
+    };
     let mut r = [0.0f32; 16];
     for c in 0..3 {
         r[ch::LN_AF + c] = a.a_f[c].max(MIN_AF).ln();
         r[ch::AB + c] = ab[c];
-        r[ch::G_AMP + c] = a.g_amplitude[c];
+        r[ch::G_AMP + c] = amp[c];
     }
     r[ch::BETA_F2] = beta_f2;
     r[ch::DELTA_B] = delta_b;
-    r[ch::SIGMA_B2] = sigma_b * sigma_b;
-    r[ch::G_MEAN] = a.g_mean;
-    r[ch::G_VAR] = a.g_variance;
-    let (x, y) = r.split_at(LANES);
+    r[ch::SIGMA_B2] = sigma_b2;
+    r[ch::G_MEAN] = mean;
+    r[ch::G_VAR] = var;
+    r
+}
+
+/// Sixteen floats as two vectors.
+fn pack(r: [f32; 16]) -> [f32x8; 2] {
     [
-        f32x8::new(x.try_into().expect("8 floats")),
-        f32x8::new(y.try_into().expect("8 floats")),
+        f32x8::new(std::array::from_fn(|c| r[c])),
+        f32x8::new(std::array::from_fn(|c| r[LANES + c])),
     ]
 }
