@@ -126,11 +126,14 @@ const MAX_DEPTH: usize = 10_000;
 
 const SINTEL_GROOM: &[u8] = include_bytes!("../../assets/sintel/sintel_lite.tfx");
 
+// No commas in settings and metrics (the CSV's readers split on them)
+// and no quotes (the plots escape them).
+
 /// Error metric of the pbrt rows.
 const VS_TRACER: &str = "relative RMS of patch means vs path tracer";
 /// Error metric of the Marschner rows.
 const VS_TRACER_MARSCHNER: &str =
-    "relative RMS of patch means vs path tracer of pbrt's model (model difference + multiple scattering)";
+    "relative RMS of patch means vs path tracer of the pbrt model (model difference + multiple scattering)";
 /// Error metric of the tracer's noise rows.
 const TRACER_NOISE: &str = "path tracer relative standard error";
 /// Error metric of the furnace row.
@@ -254,7 +257,7 @@ impl Cases {
         let radius = (CROWN_VOLUME_FRACTION * ball / (std::f32::consts::PI * length)).sqrt();
         let scene = FibreScene::from_strands(&runs, &counts, radius).expect("crown strands");
         self.crown = format!(
-            "Sintel crown ({} strand pieces in a {:.0} mm ball, fibre radius {:.2} mm for f {}",
+            "Sintel crown ({} strand pieces in a {:.0} mm ball; fibre radius {:.2} mm for f {}",
             counts.len(),
             CROWN_BALL_RADIUS,
             radius,
@@ -288,7 +291,7 @@ impl Cases {
         match set {
             Set::HeldOut => format!("held-out tufts ({n} patches)"),
             Set::Training => format!("training tufts ({n} patches)"),
-            Set::Crown => format!("{}, {n} views)", self.crown),
+            Set::Crown => format!("{}; {n} views)", self.crown),
         }
     }
 }
@@ -475,17 +478,17 @@ fn colour_rows(
     let pbrt_kernel = format!("multiple scattering {}", material.name);
     let marschner_kernel = format!("multiple scattering {} marschner", material.name);
     let methods: [(&str, &str, &'static str, bool); 4] = [
-        (&pbrt_kernel, "single, exact shadow", VS_TRACER, false),
-        (&pbrt_kernel, "dual, pbrt table 64", VS_TRACER, true),
+        (&pbrt_kernel, "single with exact shadow", VS_TRACER, false),
+        (&pbrt_kernel, "dual on pbrt table 64", VS_TRACER, true),
         (
             &marschner_kernel,
-            "single, exact shadow",
+            "single with exact shadow",
             VS_TRACER_MARSCHNER,
             false,
         ),
         (
             &marschner_kernel,
-            "dual, marschner table 128",
+            "dual on marschner table 128",
             VS_TRACER_MARSCHNER,
             true,
         ),
@@ -586,7 +589,7 @@ fn furnace(options: Options) -> Row {
     Row {
         kernel: "multiple scattering path tracer furnace".into(),
         setting: format!(
-            "white furnace, tuft f 0.25, {} paths, {scatterings:.1} scatterings per path",
+            "white furnace: tuft f 0.25; {} paths; {scatterings:.1} scatterings per path",
             rays.len() * paths
         ),
         path: Path::Scalar,
