@@ -10,6 +10,11 @@
 //! writes all three. [`csv::from_csv`] reads a `results.csv` back, so
 //! [`write_figures`] can redraw the summary and plots without measuring.
 //!
+//! [`multiple_scattering`] measures dual scattering and single scattering
+//! with an exact shadow against the Monte Carlo path tracer through
+//! explicit fibres (held-out and training tufts, a region of Sintel's
+//! groom), the tracer's noise, and its white furnace.
+//!
 //! [`roofline`] measures this machine's floors (bandwidth, instruction
 //! throughput) and every per-frame kernel's time per element in cache and
 //! streaming against them ([`roofline_markdown`], `roofline.md`).
@@ -26,6 +31,7 @@ pub mod csv;
 pub mod fits;
 pub mod friction;
 pub mod interpolation;
+pub mod multiple_scattering;
 pub mod patch;
 pub mod physics;
 pub mod plot;
@@ -131,7 +137,7 @@ pub struct Family {
 }
 
 /// Every kernel family, in the order [`run`] measures them.
-pub const FAMILIES: [Family; 13] = [
+pub const FAMILIES: [Family; 14] = [
     Family {
         name: "simulation",
         kernels: &["simulation settling", "simulation whipping"],
@@ -188,6 +194,11 @@ pub const FAMILIES: [Family; 13] = [
         measure: shading::rows,
     },
     Family {
+        name: "multiple scattering",
+        kernels: &["multiple scattering"],
+        measure: multiple_scattering::rows,
+    },
+    Family {
         name: "shadow maps",
         kernels: &["shadow "],
         measure: shadow::rows,
@@ -216,8 +227,9 @@ pub fn family_of(kernel: &str) -> Option<&'static Family> {
 /// and decay against their closed forms), collisions (penetration by the
 /// exact distance), volume (draped hair's packing with the hair grid
 /// against without), hair friction (a kicked lock's relative motion and
-/// common motion), refinement, fits, interpolation, shading, shadow maps,
-/// cloth patches.
+/// common motion), refinement, fits, interpolation, shading, multiple
+/// scattering (single and dual scattering against the path tracer through
+/// explicit fibres), shadow maps, cloth patches.
 pub fn run(options: Options) -> Vec<Row> {
     let mut rows = Vec::new();
     for family in &FAMILIES {
