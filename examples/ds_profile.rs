@@ -21,11 +21,24 @@ fn single_pbrt(table: &coif::shading::pbrt::Table, s: &ShadingSamples, out: &mut
     }
 }
 #[inline(never)]
-fn dual_pbrt(table: &coif::shading::pbrt::Table, ds: &DualScattering, s: &ShadingSamples, n: &[f32], out: &mut RgbBuffer) {
+fn dual_pbrt(
+    table: &coif::shading::pbrt::Table,
+    ds: &DualScattering,
+    s: &ShadingSamples,
+    n: &[f32],
+    out: &mut RgbBuffer,
+) {
     for start in (0..s.len()).step_by(8) {
         let (t, wi, wo) = s.load_block(start);
         let nn = f32x8::new(n[start..start + 8].try_into().unwrap());
-        let f = ds.shade_x8(table.scattering_x8(t, wi, wo), t, wi, wo, nn, nn * f32x8::splat(0.02));
+        let f = ds.shade_x8(
+            table.scattering_x8(t, wi, wo),
+            t,
+            wi,
+            wo,
+            nn,
+            nn * f32x8::splat(0.02),
+        );
         out.store_block(start, f);
     }
 }

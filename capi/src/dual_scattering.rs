@@ -21,7 +21,7 @@ pub struct CoifDualScatteringSettings {
     /// Density factor of forward scattering `d_f` in (0, 1] (default 0.4, fitted against
     /// the path tracer; the paper's 0.7).
     pub forward_density: f32,
-    /// Density factor of backward scattering `d_b` in [0, 1] (default 0.4, fitted against
+    /// Density factor of backward scattering `d_b` in [0, 1] (default 0.35, fitted against
     /// the path tracer; the paper's 0.7).
     pub backward_density: f32,
     /// Table entries over the light's longitudinal angle, 2..=4096
@@ -29,7 +29,7 @@ pub struct CoifDualScatteringSettings {
     pub resolution: usize,
 }
 
-/// Densities 0.4 and 0.4 (fitted against the path tracer through explicit
+/// Densities 0.4 and 0.35 (fitted against the path tracer through explicit
 /// fibres) and 64 entries (`DualScatteringSettings::default()`).
 #[no_mangle]
 pub extern "C" fn coif_dual_scattering_settings_default() -> CoifDualScatteringSettings {

@@ -808,8 +808,16 @@ impl FramePipeline {
                         }
                         _ => 0.0,
                     };
+                    // All the hair on the light's ray: the map's last plane.
+                    let behind = match self.shadow.map() {
+                        Some(m) => {
+                            let far = p - light.to_light * super::prepare::FAR_BEHIND;
+                            (m.hairs_in_front(far) - fibres).max(0.0)
+                        }
+                        None => f32::INFINITY,
+                    };
                     let (t, wi, wo) = self.samples.get(k);
-                    single = ds.shade(single, t, wi, wo, fibres, visible);
+                    single = ds.shade_layered(single, t, wi, wo, fibres, behind, visible);
                     visible = 1.0;
                 }
                 if occluded(p, light.to_light, &self.head_local, 1e-3) {

@@ -13,7 +13,8 @@
 //!    ray toward the light meets a head sphere ([`occluded_x8`]); with dual
 //!    scattering (`Shader::dual_scattering`) the map's hair count and
 //!    transmittance make `S` the model's multiple-scattering `F` instead,
-//!    and only the head's 0 remains;
+//!    and only the head's 0 remains (the hair behind the point, for its
+//!    backscatter, is the map's last plane minus the point's count);
 //! 4. colour: `c = (S E V [sin theta_i] + ambient) tint`, `ambient` alone
 //!    where that is not finite (the reference's `write_colors` formula);
 //! 5. width `lerp(root, tip, s) x width_factor`, written with `P`, `c`
@@ -36,6 +37,11 @@ use coif_render::ShadedVertex;
 use coif_shading::shadow::OpacityShadowMap;
 use glam::Vec3;
 use wide::f32x8;
+
+/// Metres along the light's direction that take a point behind the
+/// shadow map's last plane, where its lookup gives all the hair on the
+/// light's ray (dual scattering's hair behind the point).
+pub(crate) const FAR_BEHIND: f32 = 1.0e3;
 
 /// What every group of one frame's prepare pass reads.
 pub(crate) struct GroupShading<'a> {
@@ -89,6 +95,9 @@ pub(crate) fn shade_group(
     let wi = Vec3x8::splat(light.to_light);
     let eye = Vec3x8::splat(ctx.eye);
     let irradiance = light.irradiance * ctx.shader.light_scale();
+    // A point this far away from the light along its ray is behind the
+    // shadow map's last plane (the hair is at most a few metres deep).
+    let far_from_light = Vec3x8::splat(light.to_light * FAR_BEHIND);
     let ambient = HAIR_AMBIENT_ALBEDO * light.ambient;
     let cosine = ctx.shader.needs_cosine();
     let mut tint = [0.0f32; LANES];
@@ -125,14 +134,22 @@ pub(crate) fn shade_group(
             // and the head alone remains as a visibility.
             let (s, visible) = match ctx.shader.dual_scattering() {
                 Some(ds) => {
-                    let (fibres, transmittance) = match ctx.shadow {
+                    let (fibres, behind, transmittance) = match ctx.shadow {
                         Some(m) => {
                             let sigma = m.hairs_in_front_x8(p);
-                            (sigma, (f32x8::splat(-m.hair_opacity()) * sigma).exp())
+                            // The map's last plane: all the hair along the
+                            // light's ray through the point.
+                            let through = m.hairs_in_front_x8(p - far_from_light);
+                            (
+                                sigma,
+                                (through - sigma).fast_max(f32x8::ZERO),
+                                (f32x8::splat(-m.hair_opacity()) * sigma).exp(),
+                            )
                         }
-                        None => (f32x8::ZERO, f32x8::ONE),
+                        // No map: nothing known in front, deep hair behind.
+                        None => (f32x8::ZERO, f32x8::splat(f32::INFINITY), f32x8::ONE),
                     };
-                    let lit = ds.shade_x8(s, t, wi, wo, fibres, transmittance);
+                    let lit = ds.shade_layered_x8(s, t, wi, wo, fibres, behind, transmittance);
                     (lit, head.select(f32x8::ZERO, f32x8::ONE))
                 }
                 None => {

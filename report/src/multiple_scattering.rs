@@ -11,32 +11,25 @@
 //! compared with the tracer's ([`accuracy::relative_rms`] over the set's
 //! patches and RGB). Three absorptions, pbrt-v3's eumelanin 0.3 (blond),
 //! 1.3 (brown) and 8.0 (dark). Sets of patches, from the density fit of
-//! [`coif::shading::dual_scattering::DEFAULT_DENSITY`]:
+//! [`coif::shading::dual_scattering::DEFAULT_FORWARD_DENSITY`] and `DEFAULT_BACKWARD_DENSITY`:
 //!
 //! - **held-out** (not fitted on): light toward (-0.4, 0.5, 0.8), tufts of
 //!   volume fraction 0.1 and 0.25, 5 mm thick, three views (two from the
 //!   lit side, one from behind): 6 patches;
-//! - **training** (what the densities 0.4 were fitted on): light toward
+//! - **training** (what the densities 0.4 and 0.35 were fitted on): light toward
 //!   (0.3, 0.2, 1) on tufts of 0.05, 0.15, 0.3, 3 mm thick, and toward
 //!   (0.6, -0.2, 0.7) on 0.08, 0.2, 4 mm thick, four views each: 20
 //!   patches;
-//! - **Sintel crown** (held out, real geometry): the guide strands of
-//!   Sintel's groom (`assets/sintel/sintel_lite.tfx` read with
-//!   `coif::groom::load` as `HairScene::sintel` reads it, its 228 guides
-//!   resampled to [`CROWN_POINTS`] points, in mm) clipped to a ball of
-//!   radius [`CROWN_BALL_RADIUS`] around a point [`CROWN_LIFT`] above her
-//!   highest root, as one `FibreScene::from_strands` whose fibre radius is
-//!   chosen so the ball holds a volume fraction of
-//!   [`CROWN_VOLUME_FRACTION`] (the setting states the radius, about 2.8
-//!   mm: the groom has only 228 guides, so about a dozen strand pieces
-//!   cross the ball and the fibres are millimetres thick: a region a few
-//!   fibres deep, unlike the tufts' hundreds of 40 um fibres), lit from
-//!   above (toward (0.2, 1, 0.1), y up), seen from (0.3, 1, 0.6) and
-//!   (-0.9, 0.5, -0.3) through a window of 24 mm: 2 patches. The fibre
-//!   count `n` toward the light counts capsules, so a ray through a joint
-//!   of a bent strand counts it twice: the guides are resampled to
-//!   segments of about 7 mm (2.5 radii) rather than the 2.6 mm of 32
-//!   points to keep that rare; the head is not in the scene.
+//! - **Sintel crown** (held out, real geometry): Sintel's render hairs as
+//!   the frame pipeline interpolates them over her scalp triangles from
+//!   her groom's guides (at rest after 0.5 s), at a real scalp's density
+//!   ([`CROWN_HAIRS_PER_CM2`], each hair one fibre of radius 0.04 mm), in
+//!   millimetres, clipped to a ball of radius [`CROWN_BALL_RADIUS`] whose
+//!   centre is [`CROWN_DEPTH`] inside the outermost hair above her highest
+//!   root; lit from above (toward (0.2, 1, 0.1), y up), seen from (0.3, 1,
+//!   0.6) and (-0.9, 0.5, -0.3) through a 1.5 mm window: 2 patches (the
+//!   setting states the hair count and the volume fraction). The head is
+//!   not in the scene.
 //!
 //! Tufts are 40 x 40 mm of fibres of radius 0.04 mm (`path_tracer::tuft`,
 //! seed 1), patches 1.5 mm wide; the tracer's settings: no environment,
@@ -49,7 +42,7 @@
 //! - `multiple scattering <colour>`: single scattering with the exact
 //!   shadow (`S D`, pbrt-v3's far field in a [`pbrt::Table`] of 64,
 //!   [`pbrt::Table::scattering_x8`]) and dual scattering on the same
-//!   table (`DualScattering::from_pbrt`, default settings: densities 0.4,
+//!   table (`DualScattering::from_pbrt`, default settings: densities 0.4 and 0.35,
 //!   64 entries; the table then [`DualScattering::shade_x8`], fused per
 //!   block of eight as the frame shades), one row per set. The setting
 //!   names the set and the tracer's relative standard error on it.
@@ -105,16 +98,16 @@ pub const MARSCHNER_RESOLUTION: usize = 128;
 pub const TIMED_SAMPLES: usize = 2048;
 
 /// Radius of the ball the Sintel crown region is clipped to (mm).
-pub const CROWN_BALL_RADIUS: f32 = 20.0;
-/// Height of the ball's centre above Sintel's highest root (mm).
-pub const CROWN_LIFT: f32 = 5.0;
-/// Points per Sintel guide: segments of about 7 mm, a few fibre radii
-/// (see the module docs).
-pub const CROWN_POINTS: usize = 12;
-/// Volume fraction of the crown region that sets its fibre radius.
-pub const CROWN_VOLUME_FRACTION: f32 = 0.12;
+pub const CROWN_BALL_RADIUS: f32 = 6.0;
+/// Depth of the ball's centre below the outermost hair above her highest
+/// root (mm): inside the hair, its top layers lit.
+pub const CROWN_DEPTH: f32 = 3.0;
+/// Render hairs per cm^2 of the crown region: a real scalp's density, each
+/// one fibre of [`TUFT_RADIUS`] (the frame draws 20 per cm^2, each
+/// standing for several).
+pub const CROWN_HAIRS_PER_CM2: f32 = 150.0;
 
-/// Fibre radius of the tufts (mm).
+/// Fibre radius of the tufts and of the crown's hairs (mm): a real hair's.
 const TUFT_RADIUS: f32 = 0.04;
 /// Width of a tuft patch (mm).
 const PATCH_WINDOW: f32 = 1.5;
@@ -123,8 +116,6 @@ const RAY_SEED: u64 = 3;
 const TRACE_SEED: u64 = 7;
 /// Longest path (scatterings) of the tracer.
 const MAX_DEPTH: usize = 10_000;
-
-const SINTEL_GROOM: &[u8] = include_bytes!("../../assets/sintel/sintel_lite.tfx");
 
 // No commas in settings and metrics (the CSV's readers split on them)
 // and no quotes (the plots escape them).
@@ -238,30 +229,20 @@ impl Cases {
         }
     }
 
-    /// Sintel's guides clipped to the crown ball, lit from above, two views.
+    /// Sintel's render hairs at a real scalp's density, clipped to the
+    /// crown ball, lit from above, two views.
     fn sintel_crown(&mut self, rays: usize) {
-        let groom = coif::groom::load(SINTEL_GROOM).expect("Sintel's groom");
-        // Millimetres, every guide resampled to CROWN_POINTS points.
-        let points = groom
-            .guides(1, CROWN_POINTS, 10.0)
-            .expect("Sintel's guides");
-        let strands: Vec<&[Vec3]> = points.chunks(CROWN_POINTS).collect();
-        let top = strands
-            .iter()
-            .map(|s| s[0])
-            .max_by(|a, b| a.y.total_cmp(&b.y))
-            .expect("a root");
-        let centre = top + Vec3::Y * CROWN_LIFT;
-        let (runs, counts, length) = clip_to_ball(&strands, centre, CROWN_BALL_RADIUS);
+        let (runs, counts, length, centre) = crown_hairs();
         let ball = 4.0 / 3.0 * std::f32::consts::PI * CROWN_BALL_RADIUS.powi(3);
-        let radius = (CROWN_VOLUME_FRACTION * ball / (std::f32::consts::PI * length)).sqrt();
-        let scene = FibreScene::from_strands(&runs, &counts, radius).expect("crown strands");
+        let fraction = std::f32::consts::PI * TUFT_RADIUS * TUFT_RADIUS * length / ball;
+        let scene = FibreScene::from_strands(&runs, &counts, TUFT_RADIUS).expect("crown hairs");
         self.crown = format!(
-            "Sintel crown ({} strand pieces in a {:.0} mm ball; fibre radius {:.2} mm for f {}",
+            "Sintel crown ({} hairs at {} per cm2 in a {:.0} mm ball; fibre radius {} mm; f {:.3}",
             counts.len(),
+            CROWN_HAIRS_PER_CM2,
             CROWN_BALL_RADIUS,
-            radius,
-            CROWN_VOLUME_FRACTION
+            TUFT_RADIUS,
+            fraction
         );
         let light = light(Vec3::new(0.2, 1.0, 0.1));
         for view in [Vec3::new(0.3, 1.0, 0.6), Vec3::new(-0.9, 0.5, -0.3)] {
@@ -269,7 +250,7 @@ impl Cases {
                 centre,
                 view,
                 2.0 * CROWN_BALL_RADIUS,
-                1.2 * CROWN_BALL_RADIUS,
+                PATCH_WINDOW,
                 rays,
                 RAY_SEED,
             )
@@ -294,6 +275,54 @@ impl Cases {
             Set::Crown => format!("{}; {n} views)", self.crown),
         }
     }
+}
+
+/// Sintel's render hairs as the frame interpolates them over her scalp at
+/// [`CROWN_HAIRS_PER_CM2`] (groom at rest after 0.5 s of settling, no
+/// LOD), in millimetres, clipped to the ball around the crown: the runs'
+/// points, their counts, their total length and the ball's centre.
+fn crown_hairs() -> (Vec<Vec3>, Vec<usize>, f32, Vec3) {
+    use coif::frame::{FramePipeline, FrameSettings, HairScene, PrepareMode, ShadingModel};
+    let scene = HairScene::sintel().expect("Sintel's scene");
+    let settings = FrameSettings {
+        width: 32,
+        height: 32,
+        shading: ShadingModel::KajiyaKay,
+        shadows: false,
+        real_hairs_per_cm2: CROWN_HAIRS_PER_CM2,
+        render_hairs_per_cm2: CROWN_HAIRS_PER_CM2,
+        min_lod_fraction: 1.0,
+        prepare: PrepareMode::Reference,
+        ..FrameSettings::default()
+    };
+    let mut pipeline = FramePipeline::new(&scene, settings, 0.5).expect("Sintel's pipeline");
+    pipeline.frame(1.0 / 30.0, glam::Affine3A::IDENTITY);
+    let origin = pipeline.strands().origin();
+    let (vertices, per_hair) = pipeline.render_vertices();
+    let hairs: Vec<Vec<Vec3>> = vertices
+        .chunks(per_hair.max(1))
+        .map(|h| {
+            h.iter()
+                .map(|v| ((Vec3::from(v.position).as_dvec3() + origin) * 1000.0).as_vec3())
+                .collect()
+        })
+        .collect();
+    // The ball sits CROWN_DEPTH inside the hair above the highest root.
+    let top_root = hairs
+        .iter()
+        .map(|h| h[0])
+        .max_by(|a, b| a.y.total_cmp(&b.y))
+        .expect("a hair");
+    let outer = hairs
+        .iter()
+        .flatten()
+        .filter(|p| (p.x - top_root.x).hypot(p.z - top_root.z) < 1.0)
+        .map(|p| p.y)
+        .fold(top_root.y, f32::max);
+    let centre = Vec3::new(top_root.x, outer - CROWN_DEPTH, top_root.z);
+    let strands: Vec<&[Vec3]> = hairs.iter().map(|h| h.as_slice()).collect();
+    let (runs, counts, length) = clip_to_ball(&strands, centre, CROWN_BALL_RADIUS);
+    (runs, counts, length, centre)
 }
 
 /// The parts of `strands` inside the ball: points of runs, their counts,
@@ -407,7 +436,7 @@ fn shade(material: &Material, hits: &[Option<HitLighting>], irradiance: Vec3) ->
         let s = material.lut.scattering(h.tangent, h.wi, h.wo);
         let f = material
             .dual_lut
-            .shade(s, h.tangent, h.wi, h.wo, h.fibres, h.direct);
+            .shade_layered(s, h.tangent, h.wi, h.wo, h.fibres, h.behind, h.direct);
         if f.is_finite() && s.is_finite() {
             m_single += (s * (h.direct * cos_i) * irradiance).as_dvec3();
             m_dual += (f * cos_i * irradiance).as_dvec3();
@@ -682,7 +711,9 @@ impl Bench {
                                 .try_into()
                                 .expect("8 lanes"),
                         );
-                        ds.shade_x8(f, t, wi, wo, fibres, direct)
+                        // The frame's hair behind each point: 20 fibres.
+                        let behind = f32x8::splat(20.0);
+                        ds.shade_layered_x8(f, t, wi, wo, fibres, behind, direct)
                     }
                     None => f,
                 };
@@ -696,7 +727,9 @@ impl Bench {
                 let (t, wi, wo) = s.get(k);
                 let f = single(t, wi, wo);
                 let f = match dual {
-                    Some(ds) => ds.shade(f, t, wi, wo, self.fibres[k], self.direct[k]),
+                    Some(ds) => {
+                        ds.shade_layered(f, t, wi, wo, self.fibres[k], 20.0, self.direct[k])
+                    }
                     None => f,
                 };
                 out.set(k, f);

@@ -53,6 +53,9 @@ pub struct HitLighting {
     pub wo: Vec3,
     /// Fibres the ray from the hit toward the light crosses.
     pub fibres: f32,
+    /// Fibres the ray from the hit away from the light crosses (the hair
+    /// behind it).
+    pub behind: f32,
     /// 1 if that ray meets no fibre, else 0.
     pub direct: f32,
 }
@@ -85,6 +88,7 @@ pub fn first_hits(
                 wi,
                 wo: -dir.normalize_or_zero(),
                 fibres: scene.crossings(axis, wi, f32::INFINITY) as f32,
+                behind: scene.crossings(axis, -wi, f32::INFINITY) as f32,
                 direct: if blocked { 0.0 } else { 1.0 },
             })
         })
@@ -103,7 +107,7 @@ pub fn shade_hits(
     let (mut dual, mut single) = (DVec3::ZERO, DVec3::ZERO);
     for h in hits.iter().flatten() {
         let s = table.scattering(h.tangent, h.wi, h.wo);
-        let f = ds.shade(s, h.tangent, h.wi, h.wo, h.fibres, h.direct);
+        let f = ds.shade_layered(s, h.tangent, h.wi, h.wo, h.fibres, h.behind, h.direct);
         if f.is_finite() && s.is_finite() {
             dual += (f * irradiance).as_dvec3();
             single += (s * h.direct * irradiance).as_dvec3();

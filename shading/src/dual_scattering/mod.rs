@@ -33,7 +33,8 @@
 //!
 //! where `f_back^G` is `f_back` with the width `sigma_b^2 + sigma_f^2`, `d_f`
 //! and `d_b` the density factors of forward and backward scattering (0.7
-//! in the paper, [`DEFAULT_DENSITY`] here by measurement;
+//! in the paper, [`DEFAULT_FORWARD_DENSITY`] and [`DEFAULT_BACKWARD_DENSITY`]
+//! here by measurement;
 //! [`DualScatteringSettings`]) and `c = cos theta_i` for a
 //! model whose `S` already carries the cosine of the lighting integral
 //! (pbrt-v3's far field), 1 for one that does not (Marschner's `S`: the
@@ -79,33 +80,39 @@ use glam::Vec3;
 use std::f32::consts::PI;
 use wide::{f32x8, i32x8};
 
-/// The density factors `d_f = d_b` of [`DualScatteringSettings::default`]:
+/// The forward density factor `d_f` of [`DualScatteringSettings::default`]:
 /// fitted against the path tracer on tufts of blond and brown hair (volume
 /// fractions 0.05-0.3, two lights, four views; `shading/MULTIPLE_SCATTERING.md`)
-/// in steps of 0.05, the pair with the smallest worst relative RMS error
-/// of the two colours, then checked on tufts, a light and views left out
-/// of the fit. The paper's 0.7 doubles the error on blond hair there.
-pub const DEFAULT_DENSITY: f32 = 0.35;
+/// on a grid of steps of 0.05, the pair `(d_f, d_b)` with the smallest
+/// combined relative RMS error of the two colours, then checked on tufts,
+/// a light and views left out of the fit and on a region of Sintel's hair.
+/// The paper's 0.7 quintuples the error on blond hair there.
+pub const DEFAULT_FORWARD_DENSITY: f32 = 0.4;
+
+/// The backward density factor `d_b` of [`DualScatteringSettings::default`]
+/// (fitted with [`DEFAULT_FORWARD_DENSITY`]).
+pub const DEFAULT_BACKWARD_DENSITY: f32 = 0.35;
 
 /// Quality and density settings of [`DualScattering`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DualScatteringSettings {
     /// Density factor of forward scattering `d_f` in (0, 1] (0.7 in the
-    /// paper; [`DEFAULT_DENSITY`] by measurement).
+    /// paper; [`DEFAULT_FORWARD_DENSITY`] by measurement).
     pub forward_density: f32,
     /// Density factor of backward scattering `d_b` in [0, 1] (0.7 in the
-    /// paper; [`DEFAULT_DENSITY`] by measurement).
+    /// paper; [`DEFAULT_BACKWARD_DENSITY`] by measurement).
     pub backward_density: f32,
     /// Table entries over `theta_i` in [-pi/2, pi/2], at least 2.
     pub resolution: usize,
 }
 
 impl Default for DualScatteringSettings {
-    /// Densities [`DEFAULT_DENSITY`] and 64 entries.
+    /// Densities [`DEFAULT_FORWARD_DENSITY`] and
+    /// [`DEFAULT_BACKWARD_DENSITY`], 64 entries.
     fn default() -> Self {
         DualScatteringSettings {
-            forward_density: DEFAULT_DENSITY,
-            backward_density: DEFAULT_DENSITY,
+            forward_density: DEFAULT_FORWARD_DENSITY,
+            backward_density: DEFAULT_BACKWARD_DENSITY,
             resolution: 64,
         }
     }
@@ -139,8 +146,8 @@ mod ch {
     pub const LN_AF: usize = 0;
     /// `A_b`, RGB.
     pub const AB: usize = 3;
-    /// The amplitude of the scattered light's one Gaussian,
-    /// `g_amp + 2 d_b A_b`, RGB.
+    /// The global amplitude `g_amp` (the scattered light's one Gaussian
+    /// has `g_amp + 2 d_b A_b`), RGB.
     pub const G_AMP: usize = 6;
     /// `beta_f^2` (luminance-weighted).
     pub const BETA_F2: usize = 9;
@@ -153,6 +160,8 @@ mod ch {
     /// Its variance before the spread (moment-matched from `v_g` and
     /// `sigma_b^2`).
     pub const G_VAR: usize = 13;
+    /// `ln a_f`, luminance-weighted (the depth factor of the backscatter).
+    pub const LN_AF_LUM: usize = 14;
 }
 
 /// Records per interval of the computed nodes: lookups take the nearest
@@ -302,11 +311,40 @@ impl DualScattering {
         fibres: f32,
         direct: f32,
     ) -> Vec3 {
+        self.shade_layered(single, t, wi, wo, fibres, f32::INFINITY, direct)
+    }
+
+    /// [`DualScattering::shade`] for a point with `behind` fibres between
+    /// it and the far side of the hair along the light (the paper's hair
+    /// is infinitely deep behind the point: `behind` = infinity). The
+    /// local backscatter is the paper's series over the layers behind the
+    /// point, light going `k` layers in and `k` back: with `m` layers it
+    /// stops at `k = m`, `A_1 (1 - a_f^(2m))` (and the same factor on
+    /// `A_3`, with `a_f` luminance-weighted), so a fibre with no hair
+    /// behind it gets no backscatter. A deep opacity map gives `behind` as
+    /// its last plane's hair count minus the point's.
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    pub fn shade_layered(
+        &self,
+        single: Vec3,
+        t: Vec3,
+        wi: Vec3,
+        wo: Vec3,
+        fibres: f32,
+        behind: f32,
+        direct: f32,
+    ) -> Vec3 {
         // Unclamped: the arccosine clamps, and NaN stays NaN through it.
         let sin_i = wi.dot(t);
         let sin_o = wo.dot(t);
         let (theta_i, theta_o) = (0.5 * PI - acos(sin_i), 0.5 * PI - acos(sin_o));
-        if theta_i.is_nan() || theta_o.is_nan() || fibres.is_nan() || direct.is_nan() {
+        if theta_i.is_nan()
+            || theta_o.is_nan()
+            || fibres.is_nan()
+            || behind.is_nan()
+            || direct.is_nan()
+        {
             return Vec3::NAN;
         }
         let last = self.records.len() - 1;
@@ -333,13 +371,15 @@ impl DualScattering {
         );
         let spread = n * r[ch::BETA_F2];
         let x_b = theta_h - r[ch::DELTA_B];
-        let back_direct = rgb(ch::AB) * (2.0 / PI * inv_cos2_d * gaussian(x_b, r[ch::SIGMA_B2]));
-        let far_light = rgb(ch::G_AMP)
-            * (gaussian(theta_h - r[ch::G_MEAN], r[ch::G_VAR] + spread) * inv_cos2_d);
         let (d_f, d_b) = (
             self.settings.forward_density,
             self.settings.backward_density,
         );
+        let layers = 1.0 - exp_neg(2.0 * behind.max(0.0) * r[ch::LN_AF_LUM]);
+        let a_b = rgb(ch::AB) * layers;
+        let back_direct = a_b * (2.0 / PI * inv_cos2_d * gaussian(x_b, r[ch::SIGMA_B2]));
+        let far_light = (rgb(ch::G_AMP) + a_b * (2.0 * d_b))
+            * (gaussian(theta_h - r[ch::G_MEAN], r[ch::G_VAR] + spread) * inv_cos2_d);
         let scattered = (t_f - Vec3::splat(d)).max(Vec3::ZERO);
         let local = single + back_direct * (d_b * c);
         let far = far_light * (d_f * c);
@@ -358,6 +398,23 @@ impl DualScattering {
         fibres: f32x8,
         direct: f32x8,
     ) -> Vec3x8 {
+        let deep = f32x8::splat(f32::INFINITY);
+        self.shade_layered_x8(single, t, wi, wo, fibres, deep, direct)
+    }
+
+    /// [`DualScattering::shade_layered`] for eight samples.
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    pub fn shade_layered_x8(
+        &self,
+        single: Vec3x8,
+        t: Vec3x8,
+        wi: Vec3x8,
+        wo: Vec3x8,
+        fibres: f32x8,
+        behind: f32x8,
+        direct: f32x8,
+    ) -> Vec3x8 {
         let one = f32x8::ONE;
         let zero = f32x8::ZERO;
         let half_pi = f32x8::splat(0.5 * PI);
@@ -366,7 +423,11 @@ impl DualScattering {
         let sin_o = wo.dot(t);
         let theta_i = half_pi - acos_x8(sin_i);
         let theta_o = half_pi - acos_x8(sin_o);
-        let invalid = theta_i.is_nan() | theta_o.is_nan() | fibres.is_nan() | direct.is_nan();
+        let invalid = theta_i.is_nan()
+            | theta_o.is_nan()
+            | fibres.is_nan()
+            | behind.is_nan()
+            | direct.is_nan();
 
         let last = self.records.len() - 1;
         let u = ((theta_i + half_pi) * f32x8::splat(last as f32 / PI))
@@ -408,14 +469,17 @@ impl DualScattering {
         );
         let spread = n * r(ch::BETA_F2);
         let x_b = theta_h - r(ch::DELTA_B);
-        let back_direct =
-            rgb(ch::AB) * (f32x8::splat(2.0 / PI) * inv_cos2_d * gaussian_x8(x_b, r(ch::SIGMA_B2)));
-        let far_light = rgb(ch::G_AMP)
-            * (gaussian_x8(theta_h - r(ch::G_MEAN), r(ch::G_VAR) + spread) * inv_cos2_d);
         let (d_f, d_b) = (
             f32x8::splat(self.settings.forward_density),
             f32x8::splat(self.settings.backward_density),
         );
+        let layers = one - exp_neg_x8(f32x8::splat(2.0) * behind.fast_max(zero) * r(ch::LN_AF_LUM));
+        let a_b = rgb(ch::AB) * layers;
+        let back_direct =
+            a_b * (f32x8::splat(2.0 / PI) * inv_cos2_d * gaussian_x8(x_b, r(ch::SIGMA_B2)));
+        let g_amp = rgb(ch::G_AMP) + a_b * (f32x8::splat(2.0) * d_b);
+        let far_light =
+            g_amp * (gaussian_x8(theta_h - r(ch::G_MEAN), r(ch::G_VAR) + spread) * inv_cos2_d);
         let dv = Vec3x8::new(d, d, d);
         let gap = t_f - dv;
         let scattered = Vec3x8::new(
@@ -582,7 +646,6 @@ fn record(a: &FibreAverages, d_b: f32) -> [f32; 16] {
     // summed amplitude and their (luminance-weighted) mean and variance:
     // the first two moments of the pair for every spread s.
     let back_amp = ab * (2.0 * d_b);
-    let amp = a.g_amplitude + back_amp;
     let (w1, w2) = (a.g_amplitude.dot(lum), back_amp.dot(lum));
     let sigma_b2 = sigma_b * sigma_b;
     let (mean, var) = if w1 + w2 > 1e-20 {
@@ -598,13 +661,14 @@ fn record(a: &FibreAverages, d_b: f32) -> [f32; 16] {
     for c in 0..3 {
         r[ch::LN_AF + c] = a.a_f[c].max(MIN_AF).ln();
         r[ch::AB + c] = ab[c];
-        r[ch::G_AMP + c] = amp[c];
+        r[ch::G_AMP + c] = a.g_amplitude[c];
     }
     r[ch::BETA_F2] = beta_f2;
     r[ch::DELTA_B] = delta_b;
     r[ch::SIGMA_B2] = sigma_b2;
     r[ch::G_MEAN] = mean;
     r[ch::G_VAR] = var;
+    r[ch::LN_AF_LUM] = a.a_f.dot(lum).max(MIN_AF).ln();
     r
 }
 
