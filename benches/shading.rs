@@ -15,7 +15,8 @@
 //!   2,048 samples (in cache): the model's table alone (Marschner 128,
 //!   pbrt 64) against the table plus dual scattering, eight samples at a
 //!   time as the frame's fused pass runs them (`scattering_x8` then
-//!   `DualScattering::shade_x8`), and the scalar twin; hair counts 0-40.
+//!   `DualScattering::shade_layered_x8`, 20 fibres behind), and the scalar
+//!   twin (infinitely deep); hair counts 0-40.
 //! - `marschner_lut_time_vs_error/<layout>/res<N>_err<relative RMS>`: SIMD
 //!   lookup time for every layout and resolution 32..256, with the relative
 //!   RMS error against the direct model in the benchmark id (also printed).
@@ -201,6 +202,9 @@ fn dual_scattering(c: &mut Criterion) {
     let ds_table = DualScattering::from_pbrt(&table, settings).expect("valid settings");
     let mut out = RgbBuffer::zeros(M);
     let mut single = RgbBuffer::zeros(M);
+    // The frame's hair behind each point (the deep map's last plane minus
+    // the point's count): 20 fibres.
+    let behind = f32x8::splat(20.0);
     let mut g = c.benchmark_group("dual_scattering");
     g.throughput(Throughput::Elements(M as u64));
     type Single<'a> = &'a dyn Fn(Vec3x8, Vec3x8, Vec3x8) -> Vec3x8;
@@ -233,7 +237,7 @@ fn dual_scattering(c: &mut Criterion) {
                     let (t, wi, wo) = s.load_block(start);
                     let n = f32x8::new(fibres[start..start + 8].try_into().expect("8"));
                     let d = f32x8::new(direct[start..start + 8].try_into().expect("8"));
-                    let f = ds.shade_x8(single_x8(t, wi, wo), t, wi, wo, n, d);
+                    let f = ds.shade_layered_x8(single_x8(t, wi, wo), t, wi, wo, n, behind, d);
                     out.store_block(start, f);
                 }
             })
