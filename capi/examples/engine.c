@@ -205,8 +205,11 @@ static void lod_and_shading(CoifStrands *guides) {
     check(all_finite(rgb, written * 3), "pbrt colours finite");
 
     /* Dual scattering: tables once per material; per vertex the fibres
-     * between it and the light and the light reaching it unscattered (an
-     * engine takes both from its opacity shadow map). */
+     * between it and the light, the fibres behind it (between it and the
+     * far side of the hair; NULL for infinitely deep hair) and the light
+     * reaching it unscattered (an engine takes all three from its opacity
+     * shadow map: the vertex's hair count, the last layer's count minus
+     * the vertex's, the transmittance). */
     CoifDualScatteringSettings ds_settings = coif_dual_scattering_settings_default();
     ds_settings.resolution = 16;
     CoifDualScattering *ds_lut = NULL, *ds_table = NULL;
@@ -215,30 +218,46 @@ static void lod_and_shading(CoifStrands *guides) {
     expect(coif_dual_scattering_from_pbrt_table(table, &ds_settings, &ds_table), COIF_OK,
            "dual scattering tables (pbrt)");
     float *fibres = xmalloc(written * sizeof(float));
+    float *behind = xmalloc(written * sizeof(float));
     float *direct = xmalloc(written * sizeof(float));
+    float *rgb_deep = xmalloc(written * 3 * sizeof(float));
     for (size_t k = 0; k < written; k++) {
         fibres[k] = (float)(k % 20);           /* deeper into the hair */
+        behind[k] = 19.0f - fibres[k];         /* the last layer holds 19 */
         direct[k] = expf(-0.3f * fibres[k]);   /* the map's transmittance */
     }
     expect(coif_shade_marschner_lut_dual(lut, ds_lut, vertices, written, light, eye, fibres,
-                                         direct, rgb, written),
+                                         behind, direct, rgb, written),
            COIF_OK, "Marschner + dual scattering");
     check(all_finite(rgb, written * 3), "Marschner + dual scattering colours finite");
+    expect(coif_shade_marschner_lut_dual(lut, ds_lut, vertices, written, light, eye, fibres,
+                                         NULL, direct, rgb_deep, written),
+           COIF_OK, "Marschner + dual scattering, deep hair");
+    int shallower = 1;
+    for (size_t k = 0; k < written * 3; k++) shallower &= rgb[k] <= rgb_deep[k];
+    check(shallower, "dual: no more backscatter than infinitely deep hair");
     expect(coif_shade_pbrt_table_dual(table, ds_table, vertices, written, light, eye, fibres,
-                                      direct, rgb, written),
+                                      behind, direct, rgb, written),
            COIF_OK, "pbrt + dual scattering");
     check(all_finite(rgb, written * 3), "pbrt + dual scattering colours finite");
     for (size_t k = 0; k < written * 3; k++) rgb[k] = -1.0f;
     expect(coif_shade_pbrt_table_dual(table, ds_lut, vertices, written, light, eye, fibres,
-                                      direct, rgb, written),
+                                      behind, direct, rgb, written),
            COIF_ERROR_INVALID_ARGUMENT, "dual: tables of another model");
+    behind[0] = -1.0f;
+    expect(coif_shade_pbrt_table_dual(table, ds_table, vertices, written, light, eye, fibres,
+                                      behind, direct, rgb, written),
+           COIF_ERROR_INVALID_ARGUMENT, "dual: a negative count behind");
+    check(strstr(coif_last_error_message(), "behind[0]") != NULL,
+          "dual: the message names the count behind");
+    behind[0] = 0.0f;
     direct[written - 1] = 1.5f;
     expect(coif_shade_marschner_lut_dual(lut, ds_lut, vertices, written, light, eye, fibres,
-                                         direct, rgb, written),
+                                         behind, direct, rgb, written),
            COIF_ERROR_INVALID_ARGUMENT, "dual: a direct fraction above 1");
     check(strstr(coif_last_error_message(), "direct[") != NULL, "dual: the message names it");
     expect(coif_shade_marschner_lut_dual(lut, ds_lut, vertices, written, light, eye, NULL,
-                                         direct, rgb, written),
+                                         behind, direct, rgb, written),
            COIF_ERROR_NULL, "dual: NULL fibres");
     check(all_equal(rgb, written * 3, -1.0f), "dual: nothing written by failed calls");
     ds_settings.forward_density = 0.0f;
@@ -251,7 +270,9 @@ static void lod_and_shading(CoifStrands *guides) {
     coif_dual_scattering_free(ds_lut);
     coif_dual_scattering_free(ds_table);
     free(fibres);
+    free(behind);
     free(direct);
+    free(rgb_deep);
     pp.beta_n = 2.0f;
     CoifPbrtTable *bad_table = table;
     expect(coif_pbrt_table_new(&pp, 16, &bad_table), COIF_ERROR_INVALID_ARGUMENT,

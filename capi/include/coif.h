@@ -307,7 +307,7 @@ typedef struct CoifDualScatteringSettings {
     // Density factor of forward scattering `d_f` in (0, 1] (default 0.4, fitted against
     // the path tracer; the paper's 0.7).
     float forward_density;
-    // Density factor of backward scattering `d_b` in [0, 1] (default 0.4, fitted against
+    // Density factor of backward scattering `d_b` in [0, 1] (default 0.35, fitted against
     // the path tracer; the paper's 0.7).
     float backward_density;
     // Table entries over the light's longitudinal angle, 2..=4096
@@ -1277,7 +1277,7 @@ enum CoifStatus coif_step_colliders_with(struct CoifStrands *s,
                                          const struct CoifSdfSet *sdfs,
                                          const struct CoifExecutor *executor);
 
-// Densities 0.4 and 0.4 (fitted against the path tracer through explicit
+// Densities 0.4 and 0.35 (fitted against the path tracer through explicit
 // fibres) and 64 entries (`DualScatteringSettings::default()`).
 struct CoifDualScatteringSettings coif_dual_scattering_settings_default(void);
 
@@ -1319,26 +1319,35 @@ void coif_dual_scattering_free(struct CoifDualScattering *ds);
 
 // `coif_shade_marschner_lut` with multiple scattering: per vertex `k`,
 // the single scattering of `lut` is turned into dual scattering's `F`
-// (`DualScattering::shade_x8`, the same numbers as
-// `DualScattering::shade_batch` given `Lut::scattering_batch`'s single
-// scattering) from `fibres[k]`, the number of hair fibres between the
-// vertex and the light (>= 0, fractional is fine), and `direct[k]`, the
+// (`DualScattering::shade_layered_x8`, the same numbers as
+// `DualScattering::shade_layered` vertex by vertex given
+// `Lut::scattering_batch`'s single scattering) from `fibres[k]`, the
+// number of hair fibres between the vertex and the light (>= 0,
+// fractional is fine), `behind[k]`, the
+// number of hair fibres between the vertex and the far side of the hair
+// along the light (>= 0, fractional is fine; an opacity shadow map's last
+// layer's hair count minus the vertex's count), and `direct[k]`, the
 // fraction of the light reaching it unscattered (in [0, 1]; a shadow
-// map's transmittance). The result replaces `single * direct` in the
-// lighting (like Marschner's single scattering, it is without the
-// cosine of the light's angle). `ds` must have been built from
-// Marschner tables (`coif_dual_scattering_from_marschner_lut`), best
-// from `lut` itself. Allocates nothing.
+// map's transmittance). The local backscatter comes from the hair behind
+// the vertex: a vertex with nothing behind it gets none. `behind` NULL is
+// infinitely deep hair behind every vertex (`DualScattering::shade_x8`,
+// the same numbers as `DualScattering::shade_batch` given
+// `Lut::scattering_batch`'s single scattering). The result replaces
+// `single * direct` in the lighting (like Marschner's single scattering,
+// it is without the cosine of the light's angle). `ds` must have been
+// built from Marschner tables (`coif_dual_scattering_from_marschner_lut`),
+// best from `lut` itself. Allocates nothing.
 //
 // Errors: as `coif_shade_marschner_lut`, and `COIF_ERROR_NULL` (`ds`,
 // `fibres` or `direct`), `COIF_ERROR_NON_FINITE` (a NaN or infinite fibre
-// count or fraction), `COIF_ERROR_INVALID_ARGUMENT` (a negative fibre
-// count, a fraction outside [0, 1], `ds` built from pbrt tables;
-// `coif_last_error_message` names the index). Nothing is written.
+// count, count behind or fraction), `COIF_ERROR_INVALID_ARGUMENT` (a
+// negative fibre count or count behind, a fraction outside [0, 1], `ds`
+// built from pbrt tables; `coif_last_error_message` names the index).
+// Nothing is written.
 //
 // # Safety
-// `lut` and `ds` are NULL or live handles; `fibres` and `direct` are NULL
-// or point to `count` readable floats; the rest as
+// `lut` and `ds` are NULL or live handles; `fibres`, `behind` and
+// `direct` are NULL or point to `count` readable floats; the rest as
 // `coif_shade_marschner_lut`.
 enum CoifStatus coif_shade_marschner_lut_dual(const struct CoifMarschnerLut *lut,
                                               const struct CoifDualScattering *ds,
@@ -1347,6 +1356,7 @@ enum CoifStatus coif_shade_marschner_lut_dual(const struct CoifMarschnerLut *lut
                                               const float *light_dir,
                                               const float *eye,
                                               const float *fibres,
+                                              const float *behind,
                                               const float *direct,
                                               float *out_rgb,
                                               size_t capacity);
@@ -1366,16 +1376,21 @@ enum CoifStatus coif_shade_marschner_lut_dual_with(const struct CoifMarschnerLut
                                                    const float *light_dir,
                                                    const float *eye,
                                                    const float *fibres,
+                                                   const float *behind,
                                                    const float *direct,
                                                    float *out_rgb,
                                                    size_t capacity,
                                                    const struct CoifExecutor *executor);
 
 // `coif_shade_pbrt_table` with multiple scattering, as
-// `coif_shade_marschner_lut_dual` (the same numbers as
-// `DualScattering::shade_batch` given `Table::scattering_batch`'s single
-// scattering); like pbrt-v3's single scattering the result includes the
-// cosine of the light's angle. `ds` must have been built from pbrt tables
+// `coif_shade_marschner_lut_dual`, `fibres`, `behind` and `direct` as
+// there (`behind[k]` the hair fibres between vertex `k` and the far side
+// of the hair along the light: an opacity shadow map's last layer's hair
+// count minus the vertex's; NULL for infinitely deep hair, the same
+// numbers as `DualScattering::shade_batch` given
+// `Table::scattering_batch`'s single scattering). Like pbrt-v3's single
+// scattering the result includes the cosine of the light's angle. `ds`
+// must have been built from pbrt tables
 // (`coif_dual_scattering_from_pbrt_table`), best from `table` itself.
 // Allocates nothing.
 //
@@ -1391,6 +1406,7 @@ enum CoifStatus coif_shade_pbrt_table_dual(const struct CoifPbrtTable *table,
                                            const float *light_dir,
                                            const float *eye,
                                            const float *fibres,
+                                           const float *behind,
                                            const float *direct,
                                            float *out_rgb,
                                            size_t capacity);
@@ -1409,6 +1425,7 @@ enum CoifStatus coif_shade_pbrt_table_dual_with(const struct CoifPbrtTable *tabl
                                                 const float *light_dir,
                                                 const float *eye,
                                                 const float *fibres,
+                                                const float *behind,
                                                 const float *direct,
                                                 float *out_rgb,
                                                 size_t capacity,

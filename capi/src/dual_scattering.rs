@@ -1,9 +1,11 @@
 //! Multiple scattering in hair by dual scattering (Zinke et al. 2008,
 //! `coif_shading::dual_scattering`): tables built once from a Marschner or
 //! pbrt table handle, then shading calls that take, per vertex, the number
-//! of fibres between it and the light and the fraction of the light that
-//! reaches it unscattered (both from the engine's shadowing: an opacity
-//! shadow map's hair count and transmittance, say).
+//! of fibres between it and the light, optionally the number of fibres
+//! behind it (between it and the far side of the hair along the light),
+//! and the fraction of the light that reaches it unscattered (all from the
+//! engine's shadowing: an opacity shadow map's hair count, its last
+//! layer's count minus the vertex's, and its transmittance, say).
 
 use crate::shading::{shade, CoifMarschnerLut, CoifPbrtTable};
 use crate::CoifRenderVertex;
@@ -152,26 +154,35 @@ pub unsafe extern "C" fn coif_dual_scattering_free(ds: *mut CoifDualScattering) 
 
 /// `coif_shade_marschner_lut` with multiple scattering: per vertex `k`,
 /// the single scattering of `lut` is turned into dual scattering's `F`
-/// (`DualScattering::shade_x8`, the same numbers as
-/// `DualScattering::shade_batch` given `Lut::scattering_batch`'s single
-/// scattering) from `fibres[k]`, the number of hair fibres between the
-/// vertex and the light (>= 0, fractional is fine), and `direct[k]`, the
+/// (`DualScattering::shade_layered_x8`, the same numbers as
+/// `DualScattering::shade_layered` vertex by vertex given
+/// `Lut::scattering_batch`'s single scattering) from `fibres[k]`, the
+/// number of hair fibres between the vertex and the light (>= 0,
+/// fractional is fine), `behind[k]`, the
+/// number of hair fibres between the vertex and the far side of the hair
+/// along the light (>= 0, fractional is fine; an opacity shadow map's last
+/// layer's hair count minus the vertex's count), and `direct[k]`, the
 /// fraction of the light reaching it unscattered (in [0, 1]; a shadow
-/// map's transmittance). The result replaces `single * direct` in the
-/// lighting (like Marschner's single scattering, it is without the
-/// cosine of the light's angle). `ds` must have been built from
-/// Marschner tables (`coif_dual_scattering_from_marschner_lut`), best
-/// from `lut` itself. Allocates nothing.
+/// map's transmittance). The local backscatter comes from the hair behind
+/// the vertex: a vertex with nothing behind it gets none. `behind` NULL is
+/// infinitely deep hair behind every vertex (`DualScattering::shade_x8`,
+/// the same numbers as `DualScattering::shade_batch` given
+/// `Lut::scattering_batch`'s single scattering). The result replaces
+/// `single * direct` in the lighting (like Marschner's single scattering,
+/// it is without the cosine of the light's angle). `ds` must have been
+/// built from Marschner tables (`coif_dual_scattering_from_marschner_lut`),
+/// best from `lut` itself. Allocates nothing.
 ///
 /// Errors: as `coif_shade_marschner_lut`, and `COIF_ERROR_NULL` (`ds`,
 /// `fibres` or `direct`), `COIF_ERROR_NON_FINITE` (a NaN or infinite fibre
-/// count or fraction), `COIF_ERROR_INVALID_ARGUMENT` (a negative fibre
-/// count, a fraction outside [0, 1], `ds` built from pbrt tables;
-/// `coif_last_error_message` names the index). Nothing is written.
+/// count, count behind or fraction), `COIF_ERROR_INVALID_ARGUMENT` (a
+/// negative fibre count or count behind, a fraction outside [0, 1], `ds`
+/// built from pbrt tables; `coif_last_error_message` names the index).
+/// Nothing is written.
 ///
 /// # Safety
-/// `lut` and `ds` are NULL or live handles; `fibres` and `direct` are NULL
-/// or point to `count` readable floats; the rest as
+/// `lut` and `ds` are NULL or live handles; `fibres`, `behind` and
+/// `direct` are NULL or point to `count` readable floats; the rest as
 /// `coif_shade_marschner_lut`.
 #[no_mangle]
 pub unsafe extern "C" fn coif_shade_marschner_lut_dual(
@@ -182,6 +193,7 @@ pub unsafe extern "C" fn coif_shade_marschner_lut_dual(
     light_dir: *const f32,
     eye: *const f32,
     fibres: *const f32,
+    behind: *const f32,
     direct: *const f32,
     out_rgb: *mut f32,
     capacity: usize,
@@ -196,6 +208,7 @@ pub unsafe extern "C" fn coif_shade_marschner_lut_dual(
             light_dir,
             eye,
             fibres,
+            behind,
             direct,
             out_rgb,
             capacity,
@@ -221,6 +234,7 @@ pub unsafe extern "C" fn coif_shade_marschner_lut_dual_with(
     light_dir: *const f32,
     eye: *const f32,
     fibres: *const f32,
+    behind: *const f32,
     direct: *const f32,
     out_rgb: *mut f32,
     capacity: usize,
@@ -240,6 +254,7 @@ pub unsafe extern "C" fn coif_shade_marschner_lut_dual_with(
                 light_dir,
                 eye,
                 fibres,
+                behind,
                 direct,
                 out_rgb,
                 capacity,
@@ -251,10 +266,14 @@ pub unsafe extern "C" fn coif_shade_marschner_lut_dual_with(
 }
 
 /// `coif_shade_pbrt_table` with multiple scattering, as
-/// `coif_shade_marschner_lut_dual` (the same numbers as
-/// `DualScattering::shade_batch` given `Table::scattering_batch`'s single
-/// scattering); like pbrt-v3's single scattering the result includes the
-/// cosine of the light's angle. `ds` must have been built from pbrt tables
+/// `coif_shade_marschner_lut_dual`, `fibres`, `behind` and `direct` as
+/// there (`behind[k]` the hair fibres between vertex `k` and the far side
+/// of the hair along the light: an opacity shadow map's last layer's hair
+/// count minus the vertex's; NULL for infinitely deep hair, the same
+/// numbers as `DualScattering::shade_batch` given
+/// `Table::scattering_batch`'s single scattering). Like pbrt-v3's single
+/// scattering the result includes the cosine of the light's angle. `ds`
+/// must have been built from pbrt tables
 /// (`coif_dual_scattering_from_pbrt_table`), best from `table` itself.
 /// Allocates nothing.
 ///
@@ -272,6 +291,7 @@ pub unsafe extern "C" fn coif_shade_pbrt_table_dual(
     light_dir: *const f32,
     eye: *const f32,
     fibres: *const f32,
+    behind: *const f32,
     direct: *const f32,
     out_rgb: *mut f32,
     capacity: usize,
@@ -286,6 +306,7 @@ pub unsafe extern "C" fn coif_shade_pbrt_table_dual(
             light_dir,
             eye,
             fibres,
+            behind,
             direct,
             out_rgb,
             capacity,
@@ -310,6 +331,7 @@ pub unsafe extern "C" fn coif_shade_pbrt_table_dual_with(
     light_dir: *const f32,
     eye: *const f32,
     fibres: *const f32,
+    behind: *const f32,
     direct: *const f32,
     out_rgb: *mut f32,
     capacity: usize,
@@ -329,6 +351,7 @@ pub unsafe extern "C" fn coif_shade_pbrt_table_dual_with(
                 light_dir,
                 eye,
                 fibres,
+                behind,
                 direct,
                 out_rgb,
                 capacity,
@@ -360,8 +383,9 @@ unsafe fn dual<'a>(
     Ok(&h.ds)
 }
 
-/// Checks `fibres` and `direct` (after the checks of [`shade`]), then
-/// shades with `single` followed by `ds`.
+/// Checks `fibres`, `behind` (NULL: infinitely deep hair) and `direct`
+/// (after the checks of [`shade`]), then shades with `single` followed by
+/// `ds`.
 ///
 /// # Safety
 /// As the public dual shading calls.
@@ -373,6 +397,7 @@ unsafe fn shade_dual(
     light_dir: *const f32,
     eye: *const f32,
     fibres: *const f32,
+    behind: *const f32,
     direct: *const f32,
     out_rgb: *mut f32,
     capacity: usize,
@@ -384,11 +409,18 @@ unsafe fn shade_dual(
     }
     // SAFETY: the caller's contract: `count` readable floats each.
     let (fibres, direct) = unsafe { (crate::input(fibres, count)?, crate::input(direct, count)?) };
-    let check = || {
-        for (k, &n) in fibres.iter().enumerate() {
+    // NULL: infinitely deep hair behind every vertex.
+    let behind = if behind.is_null() {
+        None
+    } else {
+        // SAFETY: as above.
+        Some(unsafe { crate::input(behind, count) }?)
+    };
+    let counts = |name: &str, values: &[f32]| {
+        for (k, &n) in values.iter().enumerate() {
             if !n.is_finite() || n < 0.0 {
                 set_last_error(&format_args!(
-                    "fibres[{k}] = {n} (expected a finite fibre count >= 0)"
+                    "{name}[{k}] = {n} (expected a finite fibre count >= 0)"
                 ));
                 return Err(if n.is_finite() {
                     CoifStatus::COIF_ERROR_INVALID_ARGUMENT
@@ -396,6 +428,13 @@ unsafe fn shade_dual(
                     CoifStatus::COIF_ERROR_NON_FINITE
                 });
             }
+        }
+        Ok(())
+    };
+    let check = || {
+        counts("fibres", fibres)?;
+        if let Some(behind) = behind {
+            counts("behind", behind)?;
         }
         for (k, &d) in direct.iter().enumerate() {
             if !(0.0..=1.0).contains(&d) {
@@ -413,12 +452,18 @@ unsafe fn shade_dual(
     };
     let kernel = |first: usize, t, wi, wo| {
         let s = single(t, wi, wo);
-        ds.shade_x8(
+        let behind = match behind {
+            Some(behind) => load_padded(&behind[first..], 0.0),
+            // Every lane infinity: infinitely deep hair (`shade_x8`).
+            None => load_padded(&[], f32::INFINITY),
+        };
+        ds.shade_layered_x8(
             s,
             t,
             wi,
             wo,
             load_padded(&fibres[first..], 0.0),
+            behind,
             load_padded(&direct[first..], 0.0),
         )
     };

@@ -2,8 +2,10 @@
 //! `coif_shade_marschner_lut_dual` = `Lut::scattering_batch` then
 //! `DualScattering::shade_batch`, `coif_shade_pbrt_table_dual` =
 //! `Table::scattering_batch` then `DualScattering::shade_batch`, bit for
-//! bit, serially and on an executor; bad settings, NULL pointers and bad
-//! per-vertex inputs are refused with a message and write nothing.
+//! bit, serially and on an executor, with `behind` NULL (infinitely deep
+//! hair); with `behind` given, `DualScattering::shade_layered` per vertex;
+//! bad settings, NULL pointers and bad per-vertex inputs are refused with
+//! a message and write nothing.
 
 use coif_capi::*;
 use coif_shading::dual_scattering::{DualScattering, DualScatteringSettings};
@@ -48,6 +50,19 @@ fn shadowing() -> (Vec<f32>, Vec<f32>) {
         })
         .collect();
     (fibres, direct)
+}
+
+/// Fibre counts behind each vertex: none (the far side of the hair), a
+/// fraction of a fibre, and up to about 33 (where the backscatter series
+/// is nearly the deep hair's).
+fn behind() -> Vec<f32> {
+    (0..N)
+        .map(|k| match k % 5 {
+            0 => 0.0,
+            1 => 0.5,
+            _ => (k % 11) as f32 * 3.3,
+        })
+        .collect()
 }
 
 /// The Rust samples of `vertices` lit from `light`, seen from `eye` (as
@@ -199,6 +214,7 @@ fn c_dual_scattering_matches_rust_bit_for_bit() {
                     LIGHT.as_ptr(),
                     EYE.as_ptr(),
                     fibres.as_ptr(),
+                    ptr::null(),
                     direct.as_ptr(),
                     got.as_mut_ptr(),
                     N + 3,
@@ -217,6 +233,7 @@ fn c_dual_scattering_matches_rust_bit_for_bit() {
                     LIGHT.as_ptr(),
                     EYE.as_ptr(),
                     fibres.as_ptr(),
+                    ptr::null(),
                     direct.as_ptr(),
                     got.as_mut_ptr(),
                     N,
@@ -237,6 +254,7 @@ fn c_dual_scattering_matches_rust_bit_for_bit() {
                 LIGHT.as_ptr(),
                 EYE.as_ptr(),
                 fibres.as_ptr(),
+                ptr::null(),
                 direct.as_ptr(),
                 got.as_mut_ptr(),
                 N,
@@ -253,6 +271,7 @@ fn c_dual_scattering_matches_rust_bit_for_bit() {
                 LIGHT.as_ptr(),
                 EYE.as_ptr(),
                 fibres.as_ptr(),
+                ptr::null(),
                 direct.as_ptr(),
                 got.as_mut_ptr(),
                 N,
@@ -268,6 +287,121 @@ fn c_dual_scattering_matches_rust_bit_for_bit() {
         coif_dual_scattering_free(ds_m);
         coif_dual_scattering_free(ds_p);
         coif_dual_scattering_free(ptr::null_mut());
+    }
+}
+
+#[test]
+fn c_dual_scattering_with_behind_matches_shade_layered_bit_for_bit() {
+    let verts = vertices();
+    let (fibres, direct) = shadowing();
+    let behind = behind();
+    let s = samples(&verts, Vec3::from_array(LIGHT), Vec3::from_array(EYE));
+    let mut single = RgbBuffer::default();
+    // Per vertex: the model's single scattering, then `shade_layered`.
+    let layered = |ds: &DualScattering, single: &RgbBuffer| -> Vec<f32> {
+        (0..N)
+            .flat_map(|k| {
+                let (t, wi, wo) = s.get(k);
+                ds.shade_layered(single.get(k), t, wi, wo, fibres[k], behind[k], direct[k])
+                    .to_array()
+            })
+            .collect()
+    };
+    let deep = |ds: &DualScattering, single: &RgbBuffer| -> Vec<f32> {
+        let mut out = RgbBuffer::default();
+        ds.shade_batch(&s, single, &fibres, &direct, &mut out)
+            .unwrap();
+        rgb_flat(&out)
+    };
+
+    let rust_lut = Lut::new(&marschner::Params::default(), 32);
+    let rust_ds = DualScattering::from_marschner(&rust_lut, rust_settings()).unwrap();
+    rust_lut.scattering_batch(&s, &mut single);
+    let want_marschner = layered(&rust_ds, &single);
+    let deep_marschner = deep(&rust_ds, &single);
+    let rust_table = Table::new(&pbrt::Params::default(), 16).unwrap();
+    let rust_ds = DualScattering::from_pbrt(&rust_table, rust_settings()).unwrap();
+    rust_table.scattering_batch(&s, &mut single);
+    let want_pbrt = layered(&rust_ds, &single);
+    let deep_pbrt = deep(&rust_ds, &single);
+    for (layered, deep) in [(&want_marschner, &deep_marschner), (&want_pbrt, &deep_pbrt)] {
+        assert!(layered.iter().all(|c| c.is_finite()));
+        // The hair behind a vertex only adds backscatter: never more than
+        // infinitely deep hair's, less where nothing is behind it.
+        assert!(layered.iter().zip(deep).all(|(l, d)| l <= d));
+        assert!((0..N)
+            .filter(|k| behind[*k] == 0.0)
+            .any(|k| (0..3).all(|c| layered[3 * k + c] < deep[3 * k + c])));
+    }
+
+    let (lut, table) = (new_lut(), new_table());
+    let (mut ds_m, mut ds_p) = (ptr::null_mut(), ptr::null_mut());
+    let exec = executor();
+    // SAFETY: live handles; every buffer holds what its count says.
+    unsafe {
+        assert_eq!(
+            coif_dual_scattering_from_marschner_lut(lut, &settings(), &mut ds_m),
+            CoifStatus::COIF_OK
+        );
+        assert_eq!(
+            coif_dual_scattering_from_pbrt_table(table, &settings(), &mut ds_p),
+            CoifStatus::COIF_OK
+        );
+        let (v, l, e) = (verts.as_ptr(), LIGHT.as_ptr(), EYE.as_ptr());
+        let (f, d) = (fibres.as_ptr(), direct.as_ptr());
+        for executor in [ptr::null(), &exec as *const CoifExecutor] {
+            for (b, want_m, want_p) in [
+                (behind.as_ptr(), &want_marschner, &want_pbrt),
+                (ptr::null(), &deep_marschner, &deep_pbrt),
+            ] {
+                let mut got = vec![-1.0f32; 3 * (N + 3)];
+                let o = got.as_mut_ptr();
+                assert_eq!(
+                    coif_shade_marschner_lut_dual_with(
+                        lut,
+                        ds_m,
+                        v,
+                        N,
+                        l,
+                        e,
+                        f,
+                        b,
+                        d,
+                        o,
+                        N + 3,
+                        executor
+                    ),
+                    CoifStatus::COIF_OK
+                );
+                assert!(same_bits(&got[..3 * N], want_m), "Marschner");
+                assert!(got[3 * N..].iter().all(|&c| c == -1.0), "past the count");
+                assert_eq!(
+                    coif_shade_pbrt_table_dual_with(
+                        table, ds_p, v, N, l, e, f, b, d, o, N, executor
+                    ),
+                    CoifStatus::COIF_OK
+                );
+                assert!(same_bits(&got[..3 * N], want_p), "pbrt");
+                // And without an executor argument.
+                got.fill(-1.0);
+                let o = got.as_mut_ptr();
+                assert_eq!(
+                    coif_shade_marschner_lut_dual(lut, ds_m, v, N, l, e, f, b, d, o, N),
+                    CoifStatus::COIF_OK
+                );
+                assert!(same_bits(&got[..3 * N], want_m), "Marschner");
+                assert_eq!(
+                    coif_shade_pbrt_table_dual(table, ds_p, v, N, l, e, f, b, d, o, N),
+                    CoifStatus::COIF_OK
+                );
+                assert!(same_bits(&got[..3 * N], want_p), "pbrt");
+            }
+        }
+        assert_eq!(last_error(), "");
+        coif_marschner_lut_free(lut);
+        coif_pbrt_table_free(table);
+        coif_dual_scattering_free(ds_m);
+        coif_dual_scattering_free(ds_p);
     }
 }
 
@@ -376,32 +510,44 @@ fn null_pointers_are_refused() {
         );
         let verts = vertices();
         let (fibres, direct) = shadowing();
+        let behind = behind();
         let mut out = vec![-1.0f32; 3 * N];
-        let (v, l, e, f, d, o) = (
+        let (v, l, e, f, b, d, o) = (
             verts.as_ptr(),
             LIGHT.as_ptr(),
             EYE.as_ptr(),
             fibres.as_ptr(),
+            behind.as_ptr(),
             direct.as_ptr(),
             out.as_mut_ptr(),
         );
         let null = ptr::null::<f32>();
         let shades = [
-            coif_shade_marschner_lut_dual(ptr::null(), ds, v, N, l, e, f, d, o, N),
-            coif_shade_marschner_lut_dual(lut, ptr::null(), v, N, l, e, f, d, o, N),
-            coif_shade_marschner_lut_dual(lut, ds, ptr::null(), N, l, e, f, d, o, N),
-            coif_shade_marschner_lut_dual(lut, ds, v, N, null, e, f, d, o, N),
-            coif_shade_marschner_lut_dual(lut, ds, v, N, l, null, f, d, o, N),
-            coif_shade_marschner_lut_dual(lut, ds, v, N, l, e, null, d, o, N),
-            coif_shade_marschner_lut_dual(lut, ds, v, N, l, e, f, null, o, N),
-            coif_shade_marschner_lut_dual(lut, ds, v, N, l, e, f, d, ptr::null_mut(), N),
-            coif_shade_pbrt_table_dual(ptr::null(), ds, v, N, l, e, f, d, o, N),
-            coif_shade_pbrt_table_dual(table, ptr::null(), v, N, l, e, f, d, o, N),
+            coif_shade_marschner_lut_dual(ptr::null(), ds, v, N, l, e, f, b, d, o, N),
+            coif_shade_marschner_lut_dual(lut, ptr::null(), v, N, l, e, f, b, d, o, N),
+            coif_shade_marschner_lut_dual(lut, ds, ptr::null(), N, l, e, f, b, d, o, N),
+            coif_shade_marschner_lut_dual(lut, ds, v, N, null, e, f, b, d, o, N),
+            coif_shade_marschner_lut_dual(lut, ds, v, N, l, null, f, b, d, o, N),
+            coif_shade_marschner_lut_dual(lut, ds, v, N, l, e, null, b, d, o, N),
+            coif_shade_marschner_lut_dual(lut, ds, v, N, l, e, f, b, null, o, N),
+            coif_shade_marschner_lut_dual(lut, ds, v, N, l, e, f, b, d, ptr::null_mut(), N),
+            coif_shade_pbrt_table_dual(ptr::null(), ds, v, N, l, e, f, b, d, o, N),
+            coif_shade_pbrt_table_dual(table, ptr::null(), v, N, l, e, f, b, d, o, N),
             // NULL fibres or fractions even with nothing to shade.
-            coif_shade_marschner_lut_dual(lut, ds, v, 0, l, e, null, d, o, 0),
+            coif_shade_marschner_lut_dual(lut, ds, v, 0, l, e, null, b, d, o, 0),
+            coif_shade_marschner_lut_dual(lut, ds, v, 0, l, e, f, null, null, o, 0),
         ];
-        assert_eq!(shades, [CoifStatus::COIF_ERROR_NULL; 11]);
+        assert_eq!(shades, [CoifStatus::COIF_ERROR_NULL; 12]);
         assert!(out.iter().all(|&c| c == -1.0), "nothing written");
+        // NULL `behind` alone is not an error: infinitely deep hair.
+        assert_eq!(
+            coif_shade_marschner_lut_dual(lut, ds, v, N, l, e, f, null, d, o, N),
+            CoifStatus::COIF_OK
+        );
+        assert_eq!(
+            coif_shade_marschner_lut_dual(lut, ds, v, 0, l, e, f, null, d, o, 0),
+            CoifStatus::COIF_OK
+        );
         coif_dual_scattering_free(ds);
         coif_marschner_lut_free(lut);
         coif_pbrt_table_free(table);
@@ -434,6 +580,7 @@ fn bad_shading_inputs_are_refused_and_write_nothing() {
                 LIGHT.as_ptr(),
                 EYE.as_ptr(),
                 fibres.as_ptr(),
+                ptr::null(),
                 direct.as_ptr(),
                 out.as_mut_ptr(),
                 capacity,
@@ -495,6 +642,7 @@ fn bad_shading_inputs_are_refused_and_write_nothing() {
                     LIGHT.as_ptr(),
                     EYE.as_ptr(),
                     fibres.as_ptr(),
+                    ptr::null(),
                     direct.as_ptr(),
                     out.as_mut_ptr(),
                     N,
@@ -524,6 +672,67 @@ fn bad_shading_inputs_are_refused_and_write_nothing() {
             last_error()
         );
         assert!(out.iter().all(|&c| c == -1.0), "nothing written");
+
+        // Counts behind are refused like the fibre counts, by both calls.
+        let behind = behind();
+        let shade_b = |pbrt: bool, behind: &[f32], out: &mut [f32]| {
+            let (v, l, e) = (verts.as_ptr(), LIGHT.as_ptr(), EYE.as_ptr());
+            let (f, b, d, o) = (
+                fibres.as_ptr(),
+                behind.as_ptr(),
+                direct.as_ptr(),
+                out.as_mut_ptr(),
+            );
+            if pbrt {
+                coif_shade_pbrt_table_dual(table, ds_p, v, N, l, e, f, b, d, o, N)
+            } else {
+                coif_shade_marschner_lut_dual(lut, ds_m, v, N, l, e, f, b, d, o, N)
+            }
+        };
+        for pbrt in [false, true] {
+            let cases = [
+                (
+                    23,
+                    -2.0,
+                    CoifStatus::COIF_ERROR_INVALID_ARGUMENT,
+                    "behind[23] = -2",
+                ),
+                (
+                    100,
+                    f32::NAN,
+                    CoifStatus::COIF_ERROR_NON_FINITE,
+                    "behind[100] = NaN",
+                ),
+                (
+                    0,
+                    f32::INFINITY,
+                    CoifStatus::COIF_ERROR_NON_FINITE,
+                    "behind[0] = inf",
+                ),
+                (
+                    7,
+                    f32::NEG_INFINITY,
+                    CoifStatus::COIF_ERROR_NON_FINITE,
+                    "behind[7] = -inf",
+                ),
+            ];
+            for (k, x, want, message) in cases {
+                assert_eq!(
+                    shade_b(pbrt, &with(&behind, k, x), &mut out),
+                    want,
+                    "{message}"
+                );
+                assert!(last_error().contains(message), "{}", last_error());
+                assert!(
+                    last_error().contains("fibre count >= 0"),
+                    "{}",
+                    last_error()
+                );
+            }
+            assert!(out.iter().all(|&c| c == -1.0), "nothing written");
+            assert_eq!(shade_b(pbrt, &behind, &mut out), CoifStatus::COIF_OK);
+            out.fill(-1.0);
+        }
         coif_dual_scattering_free(ds_m);
         coif_dual_scattering_free(ds_p);
         coif_marschner_lut_free(lut);

@@ -113,3 +113,34 @@ fn header_declares_the_c_names() {
         assert!(h.contains(name), "coif.h lacks `{name}`:\n{h}");
     }
 }
+
+#[test]
+fn dual_shading_takes_the_counts_behind_after_the_fibres() {
+    let h = generate();
+    for name in [
+        "coif_shade_marschner_lut_dual(",
+        "coif_shade_marschner_lut_dual_with(",
+        "coif_shade_pbrt_table_dual(",
+        "coif_shade_pbrt_table_dual_with(",
+    ] {
+        let start = h.find(&format!("enum CoifStatus {name}")).expect(name);
+        let end = start + h[start..].find(");").expect("the declaration ends");
+        let params: Vec<&str> = h[start + 16 + name.len()..end]
+            .split(',')
+            .map(str::trim)
+            .collect();
+        let at = params
+            .iter()
+            .position(|p| *p == "const float *fibres")
+            .expect("fibres");
+        assert_eq!(
+            params[at..at + 3],
+            [
+                "const float *fibres",
+                "const float *behind",
+                "const float *direct"
+            ],
+            "{name}"
+        );
+    }
+}

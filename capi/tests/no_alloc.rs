@@ -5,7 +5,8 @@
 //! `coif_refine`, `coif_hairs_distance_lod`, `coif_hairs_write_vertices`,
 //! `coif_shade_kajiya_kay`, `coif_shade_marschner_lut`,
 //! `coif_shade_pbrt_table` and their `_with` forms, the dual scattering
-//! calls `coif_shade_*_dual` and their `_with` forms, and for cloth
+//! calls `coif_shade_*_dual` and their `_with` forms (counts behind given
+//! and NULL), and for cloth
 //! `coif_patch_set_skinned`, `coif_patch_step`, `coif_patch_step_all` and
 //! `coif_patch_blended`, and for the world around the hair
 //! `coif_step_colliders` and `coif_step_colliders_with` (spheres, capsules,
@@ -238,6 +239,7 @@ fn per_frame_calls_do_not_allocate() {
         // Per-vertex shadowing for dual scattering (an opacity map's counts).
         let fibres: Vec<f32> = (0..vertex_len).map(|k| (k % 11) as f32).collect();
         let direct: Vec<f32> = fibres.iter().map(|n| (-0.3 * n).exp()).collect();
+        let behind: Vec<f32> = fibres.iter().map(|n| 10.0 - n).collect();
         // Warm up: the first step with this rig sizes the sphere scratch,
         // the first refinement at the finest level the refinement scratch.
         assert_eq!(
@@ -346,17 +348,27 @@ fn per_frame_calls_do_not_allocate() {
             ];
             assert_eq!(statuses, [CoifStatus::COIF_OK; 6]);
             let (f, d) = (fibres.as_ptr(), direct.as_ptr());
+            // Counts behind given, and NULL (infinitely deep hair).
+            let (b, deep) = (behind.as_ptr(), ptr::null());
             let statuses = [
-                coif_shade_marschner_lut_dual(lut, ds_m, v, written, l, e, f, d, out, vertex_len),
-                coif_shade_pbrt_table_dual(table, ds_p, v, written, l, e, f, d, out, vertex_len),
+                coif_shade_marschner_lut_dual(
+                    lut, ds_m, v, written, l, e, f, b, d, out, vertex_len,
+                ),
+                coif_shade_pbrt_table_dual(table, ds_p, v, written, l, e, f, b, d, out, vertex_len),
                 coif_shade_marschner_lut_dual_with(
-                    lut, ds_m, v, written, l, e, f, d, out, vertex_len, &exec,
+                    lut, ds_m, v, written, l, e, f, b, d, out, vertex_len, &exec,
                 ),
                 coif_shade_pbrt_table_dual_with(
-                    table, ds_p, v, written, l, e, f, d, out, vertex_len, &exec,
+                    table, ds_p, v, written, l, e, f, b, d, out, vertex_len, &exec,
+                ),
+                coif_shade_marschner_lut_dual(
+                    lut, ds_m, v, written, l, e, f, deep, d, out, vertex_len,
+                ),
+                coif_shade_pbrt_table_dual_with(
+                    table, ds_p, v, written, l, e, f, deep, d, out, vertex_len, &exec,
                 ),
             ];
-            assert_eq!(statuses, [CoifStatus::COIF_OK; 4]);
+            assert_eq!(statuses, [CoifStatus::COIF_OK; 6]);
 
             let (ca, sa) = (capsules.as_ptr(), rig.as_ptr());
             let turn = 0.01 * frame as f32;
