@@ -802,19 +802,20 @@ impl FramePipeline {
                 if let Some(ds) = self.shader.dual_scattering() {
                     // The map's hair count from its transmittance
                     // (`T = exp(-alpha sigma)`), as the fused pass reads it.
-                    let fibres = match self.shadow.map() {
-                        Some(m) if visible > 0.0 && m.hair_opacity() > 0.0 => {
-                            -visible.ln() / m.hair_opacity()
-                        }
-                        _ => 0.0,
-                    };
-                    // All the hair on the light's ray: the map's last plane.
-                    let behind = match self.shadow.map() {
+                    // The hair in front of the point (from its
+                    // transmittance, as the fused pass reads the map) and
+                    // on the light's whole ray through it.
+                    let (fibres, behind) = match self.shadow.map() {
                         Some(m) => {
-                            let far = p - light.to_light * super::prepare::FAR_BEHIND;
-                            (m.hairs_in_front(far) - fibres).max(0.0)
+                            let front = if visible > 0.0 && m.hair_opacity() > 0.0 {
+                                -visible.ln() / m.hair_opacity()
+                            } else {
+                                0.0
+                            };
+                            let (_, through) = m.hairs_in_front_and_through(p);
+                            (front, (through - front).max(0.0))
                         }
-                        None => f32::INFINITY,
+                        None => (0.0, f32::INFINITY),
                     };
                     let (t, wi, wo) = self.samples.get(k);
                     single = ds.shade_layered(single, t, wi, wo, fibres, behind, visible);

@@ -38,11 +38,6 @@ use coif_shading::shadow::OpacityShadowMap;
 use glam::Vec3;
 use wide::f32x8;
 
-/// Metres along the light's direction that take a point behind the
-/// shadow map's last plane, where its lookup gives all the hair on the
-/// light's ray (dual scattering's hair behind the point).
-pub(crate) const FAR_BEHIND: f32 = 1.0e3;
-
 /// What every group of one frame's prepare pass reads.
 pub(crate) struct GroupShading<'a> {
     pub shader: &'a Shader,
@@ -95,9 +90,6 @@ pub(crate) fn shade_group(
     let wi = Vec3x8::splat(light.to_light);
     let eye = Vec3x8::splat(ctx.eye);
     let irradiance = light.irradiance * ctx.shader.light_scale();
-    // A point this far away from the light along its ray is behind the
-    // shadow map's last plane (the hair is at most a few metres deep).
-    let far_from_light = Vec3x8::splat(light.to_light * FAR_BEHIND);
     let ambient = HAIR_AMBIENT_ALBEDO * light.ambient;
     let cosine = ctx.shader.needs_cosine();
     let mut tint = [0.0f32; LANES];
@@ -136,10 +128,9 @@ pub(crate) fn shade_group(
                 Some(ds) => {
                     let (fibres, behind, transmittance) = match ctx.shadow {
                         Some(m) => {
-                            let sigma = m.hairs_in_front_x8(p);
-                            // The map's last plane: all the hair along the
-                            // light's ray through the point.
-                            let through = m.hairs_in_front_x8(p - far_from_light);
+                            // In front of the point, and on the light's
+                            // whole ray through it (the last plane).
+                            let (sigma, through) = m.hairs_in_front_and_through_x8(p);
                             (
                                 sigma,
                                 (through - sigma).fast_max(f32x8::ZERO),

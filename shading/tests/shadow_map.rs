@@ -1,7 +1,7 @@
 //! Opacity shadow maps: settings, the analytic slab, the exact reference,
 //! SIMD against scalar, bad input.
 
-use coif_base::SplitMix64;
+use coif_base::{SplitMix64, Vec3x8, LANES};
 use coif_shading::shadow::{exact_transmittance, OpacityShadowMap, ShadowMode, ShadowSettings};
 use coif_shading::Error;
 use glam::Vec3;
@@ -327,6 +327,60 @@ fn the_map_holds_the_hair_shadow_area() {
         assert!(
             (area - expected).abs() < 1e-3 * expected,
             "{mode:?}: deposited {area} m^2, expected {expected} m^2"
+        );
+    }
+}
+
+#[test]
+fn hairs_through_are_the_count_far_behind_and_simd_equals_scalar() {
+    let pts = random_hair(300, 12, 11);
+    let light = Vec3::new(-0.4, 0.2, 1.0).normalize();
+    let mut rng = SplitMix64::new(6);
+    let queries: Vec<Vec3> = (0..800)
+        .map(|_| rng.unit_vector() * rng.range(0.0, 0.3))
+        .collect();
+    for (mode, layers) in [
+        (ShadowMode::Slices, 16),
+        (ShadowMode::Slices, 5),
+        (ShadowMode::Deep, 3),
+    ] {
+        let mut map = OpacityShadowMap::new(settings(layers, mode, 64)).unwrap();
+        map.build(light, &pts, 12);
+        let mut behind_some = 0;
+        for block in queries.chunks_exact(LANES) {
+            let mut p = Vec3x8::splat(block[0]);
+            for (l, &q) in block.iter().enumerate() {
+                p.set_lane(l, q);
+            }
+            let (front, through) = map.hairs_in_front_and_through_x8(p);
+            let (front, through) = (front.to_array(), through.to_array());
+            assert_eq!(front, map.hairs_in_front_x8(p).to_array());
+            for (l, &q) in block.iter().enumerate() {
+                // The scalar twin, and the count at a point far behind
+                // the hair on the same light ray: the last plane's.
+                let (f, t) = map.hairs_in_front_and_through(q);
+                let far = map.hairs_in_front(q + light * 10.0);
+                assert!(
+                    (f - front[l]).abs() <= 1e-5 * (1.0 + f),
+                    "{mode:?}: {f} vs {}",
+                    front[l]
+                );
+                assert!(
+                    (t - through[l]).abs() <= 1e-5 * (1.0 + t),
+                    "{mode:?}: {t} vs {}",
+                    through[l]
+                );
+                assert!(
+                    (t - far).abs() <= 1e-4 * (1.0 + t),
+                    "{mode:?}: through {t}, far behind {far}"
+                );
+                assert!(t >= f - 1e-4, "{mode:?}: through {t} < in front {f}");
+                behind_some += (t > f + 0.05) as usize;
+            }
+        }
+        assert!(
+            behind_some > 50,
+            "{mode:?}: {behind_some} points with hair behind"
         );
     }
 }

@@ -75,9 +75,27 @@ impl OpacityShadowMap {
     /// a non-finite point and before a build found hair.
     #[inline]
     pub fn hairs_in_front_x8(&self, p: Vec3x8) -> f32x8 {
+        self.sigma_x8::<false>(p).0
+    }
+
+    /// [`OpacityShadowMap::hairs_in_front_x8`] and, from the same texel
+    /// fetches, the hairs on the light's whole ray through each point (the
+    /// last plane's count, blended the same way): the hair in front of and
+    /// behind the point, as dual scattering takes them
+    /// (`crate::dual_scattering::DualScattering::shade_layered_x8`).
+    /// `(0, 0)` for a non-finite point and before a build found hair.
+    #[inline]
+    pub fn hairs_in_front_and_through_x8(&self, p: Vec3x8) -> (f32x8, f32x8) {
+        self.sigma_x8::<true>(p)
+    }
+
+    /// The lookup of sigma at each point, and with `THROUGH` the last
+    /// plane's sigma too (else 0).
+    #[inline(always)]
+    fn sigma_x8<const THROUGH: bool>(&self, p: Vec3x8) -> (f32x8, f32x8) {
         let one = f32x8::ONE;
         if !self.ready {
-            return f32x8::ZERO;
+            return (f32x8::ZERO, f32x8::ZERO);
         }
         let finite = p.finite();
         let p = Vec3x8::select(finite, p, Vec3x8::ZERO);
@@ -135,6 +153,8 @@ impl OpacityShadowMap {
             planes[1] = self.texel_planes_x8(&ct[2], &ct[3]);
         }
         let mut sigma = [f32x8::ZERO; 4];
+        let mut through = [f32x8::ZERO; 4];
+        let last_plane = self.settings.layers - 1;
         for (c, out) in sigma.iter_mut().enumerate() {
             let p = &planes[c / 2][4 * (c % 2)..4 * (c % 2) + 4];
             let base = match self.settings.mode {
@@ -152,11 +172,31 @@ impl OpacityShadowMap {
                 self.plane_pair_lanes(corner[c], s)
             };
             *out = valid[c].select(prev + frac * (next - prev), f32x8::ZERO);
+            if THROUGH {
+                let last = if one_group {
+                    p[last_plane]
+                } else {
+                    let s = i32x8::splat(last_plane as i32);
+                    self.plane_pair_lanes(corner[c], s).1
+                };
+                through[c] = valid[c].select(last, f32x8::ZERO);
+            }
         }
         // 3. Bilinear blend (the exponential is the caller's).
-        let s = (sigma[0] * (one - fx) + sigma[1] * fx) * (one - fy)
-            + (sigma[2] * (one - fx) + sigma[3] * fx) * fy;
-        finite.select(s, f32x8::ZERO)
+        let blend = |v: &[f32x8; 4]| {
+            let s =
+                (v[0] * (one - fx) + v[1] * fx) * (one - fy) + (v[2] * (one - fx) + v[3] * fx) * fy;
+            finite.select(s, f32x8::ZERO)
+        };
+        let front = blend(&sigma);
+        (
+            front,
+            if THROUGH {
+                blend(&through)
+            } else {
+                f32x8::ZERO
+            },
+        )
     }
 
     /// [`super::layers::Layering::locate`] on eight depths: interval

@@ -271,6 +271,40 @@ impl OpacityShadowMap {
     /// Opacity in front of depth `z` in texel `(i, j)`: linear between its
     /// planes; 0 outside the map.
     #[inline(always)]
+    /// [`OpacityShadowMap::hairs_in_front`] and the hairs on the light's
+    /// whole ray through `p` (the last plane's count, blended the same
+    /// way): the scalar twin of
+    /// [`OpacityShadowMap::hairs_in_front_and_through_x8`]. `(0, 0)` where
+    /// there is no map, finite point or hair.
+    pub fn hairs_in_front_and_through(&self, p: Vec3) -> (f32, f32) {
+        let front = self.hairs_in_front(p);
+        if !self.ready || !p.is_finite() {
+            return (front, 0.0);
+        }
+        let l = self.frame.to_light(p);
+        let (u, v) = self.placement.texel_coords(l.x, l.y);
+        if !(u.is_finite() && v.is_finite() && l.z.is_finite()) {
+            return (front, 0.0);
+        }
+        let (fu, fv) = (u.floor(), v.floor());
+        let (fx, fy) = (u - fu, v - fv);
+        let (i0, j0) = (fu as isize, fv as isize);
+        let last = self.settings.layers - 1;
+        let plane = |i: isize, j: isize| {
+            self.texel_index(i, j)
+                .map_or(0.0, |t| self.plane_pair(t, last).1)
+        };
+        let (s00, s10, s01, s11) = (
+            plane(i0, j0),
+            plane(i0 + 1, j0),
+            plane(i0, j0 + 1),
+            plane(i0 + 1, j0 + 1),
+        );
+        let through =
+            (s00 * (1.0 - fx) + s10 * fx) * (1.0 - fy) + (s01 * (1.0 - fx) + s11 * fx) * fy;
+        (front, through)
+    }
+
     fn texel_sigma(&self, i: isize, j: isize, z: f32) -> f32 {
         let Some(t) = self.texel_index(i, j) else {
             return 0.0;
