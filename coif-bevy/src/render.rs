@@ -208,6 +208,7 @@ pub fn build_hair_meshes(
                     continue;
                 }
             };
+        let lod_done = Instant::now();
         let Some((handle, _)) = render.mesh.as_ref() else {
             continue;
         };
@@ -236,6 +237,7 @@ pub fn build_hair_meshes(
             HairPrimitive::Ribbons => 2 * n,
             HairPrimitive::Lines => n,
         };
+        state.stats.lod_ms = (lod_done - start).as_secs_f32() * 1e3;
         state.stats.mesh_ms = start.elapsed().as_secs_f32() * 1e3;
     }
 }
@@ -250,43 +252,44 @@ fn write_mesh(
     eye: Option<cg::Vec3>,
     primitive: HairPrimitive,
 ) {
+    let moved = carry != cg::Affine3A::IDENTITY;
     let world = |v: &RenderVertex| {
-        let p = carry.transform_point3(origin + cg::Vec3::from_array(v.position));
-        let t = carry.transform_vector3(cg::Vec3::from_array(v.tangent));
-        (p, t)
+        let p = origin + cg::Vec3::from_array(v.position);
+        let t = cg::Vec3::from_array(v.tangent);
+        if moved {
+            (carry.transform_point3(p), carry.transform_vector3(t))
+        } else {
+            (p, t)
+        }
     };
+    let ribbons = primitive == HairPrimitive::Ribbons;
     if let Ok(Some(VertexAttributeValues::Float32x3(pos))) =
         mesh.try_attribute_mut_option(Mesh::ATTRIBUTE_POSITION)
     {
         pos.clear();
         for v in vertices {
             let (p, t) = world(v);
-            match primitive {
-                HairPrimitive::Lines => pos.push(p.to_array()),
-                HairPrimitive::Ribbons => {
-                    // Across the hair, facing the eye (or +Y without one).
-                    let to_eye = eye
-                        .map(|e| (e - p).normalize_or_zero())
-                        .unwrap_or(cg::Vec3::Y);
-                    let side = t.cross(to_eye).normalize_or_zero() * (0.5 * v.width);
-                    pos.push((p - side).to_array());
-                    pos.push((p + side).to_array());
-                }
+            if ribbons {
+                // Across the hair, facing the eye (or +Y without one).
+                let to_eye = eye.map_or(cg::Vec3::Y, |e| e - p);
+                let side = t.cross(to_eye).normalize_or_zero() * (0.5 * v.width);
+                pos.push((p - side).to_array());
+                pos.push((p + side).to_array());
+            } else {
+                pos.push(p.to_array());
             }
         }
     }
-    let copies = match primitive {
-        HairPrimitive::Lines => 1,
-        HairPrimitive::Ribbons => 2,
-    };
     if let Ok(Some(VertexAttributeValues::Float32x4(tan))) =
         mesh.try_attribute_mut_option(Mesh::ATTRIBUTE_TANGENT)
     {
         tan.clear();
         for v in vertices {
             let (_, t) = world(v);
-            for _ in 0..copies {
-                tan.push([t.x, t.y, t.z, v.strand_parameter]);
+            let a = [t.x, t.y, t.z, v.strand_parameter];
+            tan.push(a);
+            if ribbons {
+                tan.push(a);
             }
         }
     }
@@ -295,12 +298,11 @@ fn write_mesh(
     {
         uv.clear();
         for v in vertices {
-            match primitive {
-                HairPrimitive::Lines => uv.push([v.strand_parameter, 0.0]),
-                HairPrimitive::Ribbons => {
-                    uv.push([v.strand_parameter, -1.0]);
-                    uv.push([v.strand_parameter, 1.0]);
-                }
+            if ribbons {
+                uv.push([v.strand_parameter, -1.0]);
+                uv.push([v.strand_parameter, 1.0]);
+            } else {
+                uv.push([v.strand_parameter, 0.0]);
             }
         }
     }

@@ -56,9 +56,12 @@ pub struct HairStats {
     /// Wall time of the last fixed step (posing, colliders, coif's step,
     /// positions written), milliseconds.
     pub step_ms: f32,
-    /// Wall time of the last mesh build (refine, interpolate, vertices),
-    /// milliseconds.
+    /// Wall time of the last mesh build (refine, interpolate, render
+    /// vertices, then the mesh's attributes), milliseconds.
     pub mesh_ms: f32,
+    /// The part of `mesh_ms` in coif's LOD (refine, interpolate, render
+    /// vertices), milliseconds.
+    pub lod_ms: f32,
     /// Steps taken so far.
     pub steps: u64,
     /// Strands the last step advanced (coif's sleeping blocks skipped).

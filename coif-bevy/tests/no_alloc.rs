@@ -25,14 +25,14 @@ fn allocations_per_step(executor: HairExecutor) -> (f64, u64) {
     let (bone, hair) = spawn_hair(&mut app, hair);
     app.world_mut().spawn((
         SphereCollider { radius: 0.05 },
-        Transform::from_xyz(0.0, 1.4, 0.1),
+        Transform::from_xyz(0.05, 0.35, 0.12),
     ));
     app.world_mut().spawn((
         CapsuleCollider {
             half_length: 0.1,
             radius: 0.04,
         },
-        Transform::from_xyz(0.0, 1.3, 0.0),
+        Transform::from_xyz(0.0, 0.25, -0.08),
         ChildOf(bone),
     ));
     let mesh = app

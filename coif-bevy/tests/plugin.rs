@@ -191,7 +191,7 @@ fn same_positions_as_coif_directly() {
     let hair_c = Hair::new(groom);
     let params = hair_c.params.clone();
     let (bone, hair) = spawn_hair(&mut app, hair_c);
-    let ball = Vec3::new(0.05, 1.45, 0.1);
+    let ball = Vec3::new(0.05, 0.33, -0.12); // behind the head, in the hair
     app.world_mut().spawn((
         SphereCollider { radius: 0.06 },
         Transform::from_translation(ball),
@@ -278,4 +278,86 @@ fn groom_and_mesh_load_through_the_asset_server() {
         sintel_groom().0.strand_count()
     );
     assert_eq!(app.world().resource::<HairFields>().fields().len(), 1);
+}
+
+/// The mesh each frame: ribbons with unit tangents, every render hair near
+/// the camera and fewer far away; far enough, the hair is not simulated but
+/// carried rigidly by the bone, and simulated again when the camera
+/// returns.
+#[test]
+fn meshes_and_lod_follow_the_camera() {
+    let mut app = app(HairExecutor::TaskPool);
+    let groom = add_groom(&mut app, sintel_groom());
+    let (bone, hair) = spawn_hair(&mut app, Hair::new(groom));
+    let near = Transform::from_xyz(-0.3, 0.4, 0.7).looking_at(Vec3::new(0.0, 0.35, 0.0), Vec3::Y);
+    let camera = app.world_mut().spawn((Camera3d::default(), near)).id();
+    run(&mut app, 5);
+    let stats = |app: &App| app.world().get::<HairState>(hair).unwrap().stats();
+    let mesh_of = |app: &mut App| {
+        let mut q = app.world_mut().query::<(&HairMeshOf, &Mesh3d)>();
+        let (of, mesh) = q.single(app.world()).unwrap();
+        assert_eq!(of.0, hair);
+        app.world()
+            .resource::<Assets<Mesh>>()
+            .get(&mesh.0)
+            .unwrap()
+            .clone()
+    };
+    let s_near = stats(&app);
+    let mesh = mesh_of(&mut app);
+    let Some(bevy::mesh::VertexAttributeValues::Float32x4(tangents)) =
+        mesh.attribute(Mesh::ATTRIBUTE_TANGENT)
+    else {
+        panic!("no tangents")
+    };
+    assert_eq!(tangents.len(), s_near.mesh_vertices);
+    assert!(tangents
+        .iter()
+        .all(|t| (Vec3::new(t[0], t[1], t[2]).length() - 1.0).abs() < 1e-3));
+    assert_eq!(
+        mesh.indices().unwrap().len(),
+        6 * (s_near.mesh_vertices / 2 - s_near.render_hairs)
+    );
+    assert!(!s_near.following);
+
+    // 3 m away: fewer render hairs, still simulated.
+    *app.world_mut().get_mut::<Transform>(camera).unwrap() =
+        Transform::from_xyz(0.0, 0.35, 3.0).looking_at(Vec3::new(0.0, 0.35, 0.0), Vec3::Y);
+    run(&mut app, 3);
+    let s_mid = stats(&app);
+    assert!(
+        s_mid.render_hairs < s_near.render_hairs,
+        "{s_mid:?} {s_near:?}"
+    );
+    assert!(!s_mid.following);
+
+    // 100 m away: carried rigidly, no steps, positions move with the bone.
+    *app.world_mut().get_mut::<Transform>(camera).unwrap() =
+        Transform::from_xyz(0.0, 0.35, 100.0).looking_at(Vec3::new(0.0, 0.35, 0.0), Vec3::Y);
+    run(&mut app, 3);
+    let s_far = stats(&app);
+    assert!(s_far.following, "{s_far:?}");
+    let before = positions(&app, hair);
+    let shift = Vec3::new(0.1, 0.0, 0.0);
+    *app.world_mut().get_mut::<Transform>(bone).unwrap() = Transform::from_translation(shift);
+    run(&mut app, 3);
+    assert_eq!(stats(&app).steps, s_far.steps);
+    let after = positions(&app, hair);
+    for (a, b) in before.iter().zip(&after) {
+        assert!((*b - *a - cg::Vec3::new(0.1, 0.0, 0.0)).length() < 1e-5);
+    }
+    // Back near: simulated again from where the bone carried it.
+    *app.world_mut().get_mut::<Transform>(camera).unwrap() = near;
+    run(&mut app, 3);
+    let s_back = stats(&app);
+    assert!(
+        !s_back.following && s_back.steps > s_far.steps,
+        "{s_back:?}"
+    );
+    let resumed = positions(&app, hair);
+    assert!(rms(&resumed, &after) < 0.01, "{}", rms(&resumed, &after));
+    println!(
+        "render hairs near {}, at 3 m {}, at 100 m following: {}",
+        s_near.render_hairs, s_mid.render_hairs, s_far.following
+    );
 }
