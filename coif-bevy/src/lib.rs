@@ -1,5 +1,22 @@
 //! coif's hair in Bevy: `app.add_plugins(HairPlugin::default())`.
 //!
+//! What an app needs (the root README's "In Bevy"; the asset paths are
+//! under the app's `assets/`):
+//!
+//! ```no_run
+//! use bevy::prelude::*;
+//! use coif_bevy::{Hair, HairPlugin, MeshCollider};
+//!
+//! fn main() {
+//!     App::new().add_plugins((DefaultPlugins, HairPlugin::default())).add_systems(Startup, setup).run();
+//! }
+//! fn setup(mut commands: Commands, assets: Res<AssetServer>) {
+//!     let head = commands.spawn(Transform::default()).id(); // the head bone (animate it)
+//!     commands.spawn((Hair::new(assets.load("sintel/sintel_lite.tfx")), Transform::default(), ChildOf(head)));
+//!     commands.spawn((MeshCollider { mesh: assets.load("sintel/sintel_bust.obj"), cell: 0.004 }, Transform::default(), ChildOf(head)));
+//! }
+//! ```
+//!
 //! - Assets: [`GroomAsset`] (`.tfx`, cyHair `.hair`) and [`BodyMeshAsset`]
 //!   (`.obj`, for mesh colliders), with their loaders.
 //! - Components: [`Hair`] (a groom, every [`coif::kernels::SimParams`]
