@@ -31,7 +31,8 @@
 //!   `GlobalTransform`, coif's step on Bevy's `ComputeTaskPool`);
 //!   `Update`: [`sim::choose_sim_lod`] (simulate or follow rigidly, from
 //!   the active camera);
-//!   `PostUpdate`: [`render::build_hair_meshes`] (refine, interpolate,
+//!   `PostUpdate`: [`render::remove_orphan_meshes`] (meshes of hairs gone),
+//!   [`render::build_hair_meshes`] (refine, interpolate,
 //!   ribbons or lines into the hair's mesh).
 
 /// `log::warn!` once per call site (Bevy's `LogPlugin`, where an app has
@@ -130,7 +131,7 @@ impl Plugin for HairPlugin {
         if self.meshes {
             app.add_systems(
                 PostUpdate,
-                render::build_hair_meshes.in_set(HairSystems::Mesh),
+                (render::remove_orphan_meshes, render::build_hair_meshes).in_set(HairSystems::Mesh),
             );
         }
     }

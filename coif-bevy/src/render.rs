@@ -327,3 +327,17 @@ pub fn write_indices(indices: &mut Vec<u32>, primitive: HairPrimitive, n: usize,
         }
     }
 }
+
+/// Despawns the mesh entity of a hair that is gone (its entity despawned or
+/// its `Hair` removed), and drops the mesh asset with it.
+pub fn remove_orphan_meshes(
+    mut commands: Commands,
+    meshes: Query<(Entity, &HairMeshOf)>,
+    hairs: Query<(), With<Hair>>,
+) {
+    for (entity, of) in &meshes {
+        if hairs.get(of.0).is_err() {
+            commands.entity(entity).despawn();
+        }
+    }
+}

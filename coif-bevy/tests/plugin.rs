@@ -356,6 +356,11 @@ fn meshes_and_lod_follow_the_camera() {
     );
     let resumed = positions(&app, hair);
     assert!(rms(&resumed, &after) < 0.01, "{}", rms(&resumed, &after));
+    // The hair despawned: its mesh entity goes too.
+    app.world_mut().entity_mut(hair).despawn();
+    run(&mut app, 2);
+    let mut q = app.world_mut().query::<&HairMeshOf>();
+    assert_eq!(q.iter(app.world()).count(), 0);
     println!(
         "render hairs near {}, at 3 m {}, at 100 m following: {}",
         s_near.render_hairs, s_mid.render_hairs, s_far.following
