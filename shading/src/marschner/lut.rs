@@ -185,6 +185,22 @@ impl Lut {
         self.m.len() * std::mem::size_of::<Vec4>() + self.n.len() * 2 * std::mem::size_of::<Vec4>()
     }
 
+    /// Table M's texels for a GPU texture: `resolution` rows of
+    /// `resolution` texels, texel `[y * resolution + x]` holding (M_R, M_TT,
+    /// M_TRT, cos theta_d), x from theta_i and y from theta_o (by the
+    /// layout's coordinate). A shader doing [`Lut::scattering`]'s bilinear
+    /// lookups on these gives its results.
+    pub fn table_m(&self) -> &[Vec4] {
+        &self.m
+    }
+
+    /// Table N's texels for GPU textures, laid out as [`Lut::table_m`]:
+    /// per texel `[(N_R, N_TT rgb), (N_TRT rgb, 0)]`, x from cos theta_d and
+    /// y from the azimuth (by the layout's coordinate); two RGBA textures.
+    pub fn table_n(&self) -> &[[Vec4; 2]] {
+        &self.n
+    }
+
     /// S from the tables (scalar lookup). Same robustness rules as
     /// [`super::scattering`]: non-unit directions are fine, zero length gives
     /// zero, non-finite components (or squared lengths overflowing f32) give NaN.

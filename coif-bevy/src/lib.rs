@@ -1,0 +1,138 @@
+//! coif's hair in Bevy: `app.add_plugins(HairPlugin::default())`.
+//!
+//! What an app needs (the root README's "In Bevy"; the asset paths are
+//! under the app's `assets/`):
+//!
+//! ```no_run
+//! use bevy::prelude::*;
+//! use coif_bevy::{Hair, HairPlugin, MeshCollider};
+//!
+//! fn main() {
+//!     App::new().add_plugins((DefaultPlugins, HairPlugin::default())).add_systems(Startup, setup).run();
+//! }
+//! fn setup(mut commands: Commands, assets: Res<AssetServer>) {
+//!     let head = commands.spawn(Transform::default()).id(); // the head bone (animate it)
+//!     commands.spawn((Hair::new(assets.load("sintel/sintel_lite.tfx")), Transform::default(), ChildOf(head)));
+//!     commands.spawn((MeshCollider { mesh: assets.load("sintel/sintel_bust.obj"), cell: 0.004 }, Transform::default(), ChildOf(head)));
+//! }
+//! ```
+//!
+//! - Assets: [`GroomAsset`] (`.tfx`, cyHair `.hair`) and [`BodyMeshAsset`]
+//!   (`.obj`, for mesh colliders), with their loaders.
+//! - Components: [`Hair`] (a groom, every [`coif::kernels::SimParams`]
+//!   field, wind included, and its render settings), spawned under the
+//!   head bone; [`SphereCollider`], [`CapsuleCollider`] and
+//!   [`MeshCollider`].
+//! - Systems, in order (README.md of this crate):
+//!   `PostUpdate`, after transform propagation: [`sim::init_hairs`] (the
+//!   strands at the propagated pose) and [`sim::build_mesh_colliders`] (each
+//!   field once);
+//!   `FixedUpdate`: [`sim::step_hairs`] (pose from the bone's
+//!   `GlobalTransform`, coif's step on Bevy's `ComputeTaskPool`);
+//!   `Update`: [`sim::choose_sim_lod`] (simulate or follow rigidly, from
+//!   the active camera);
+//!   `PostUpdate`: [`render::remove_orphan_meshes`] (meshes of hairs gone),
+//!   [`render::build_hair_meshes`] (refine, interpolate,
+//!   ribbons or lines into the hair's mesh).
+
+/// `log::warn!` once per call site (Bevy's `LogPlugin`, where an app has
+/// it, shows `log` records).
+#[macro_export]
+#[doc(hidden)]
+macro_rules! warn_once {
+    ($($arg:tt)*) => {{
+        static DONE: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+        if !DONE.swap(true, std::sync::atomic::Ordering::Relaxed) {
+            log::warn!($($arg)*);
+        }
+    }};
+}
+
+pub mod assets;
+pub mod components;
+pub mod executor;
+pub mod render;
+pub mod shading;
+pub mod sim;
+
+pub use assets::{BodyMeshAsset, BodyMeshLoader, BodyMeshSettings, GroomAsset, GroomLoader};
+pub use components::{
+    CapsuleCollider, Hair, HairLod, HairPrimitive, HairRender, MeshCollider, SphereCollider,
+};
+pub use executor::TaskPoolExecutor;
+pub use render::HairMeshOf;
+pub use sim::{HairExecutor, HairFields, HairState, HairStats};
+
+use bevy::prelude::*;
+use bevy::transform::TransformSystems;
+
+/// System sets of the plugin, for ordering an app's own systems.
+#[derive(SystemSet, Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum HairSystems {
+    /// `PostUpdate`: new hairs and mesh colliders are built.
+    Init,
+    /// `FixedUpdate`: the step.
+    Step,
+    /// `Update`: simulate or follow, from the camera.
+    Lod,
+    /// `PostUpdate`: the meshes are written.
+    Mesh,
+}
+
+/// The plugin: assets, loaders, the step in `FixedUpdate` and the mesh
+/// building in `PostUpdate`.
+#[derive(Clone, Debug)]
+pub struct HairPlugin {
+    /// Sets `Time<Fixed>` to this period in seconds (None leaves the app's
+    /// own). Each hair steps at its `params.dt`, accumulated from the fixed
+    /// time: with the same period, one step per fixed update.
+    pub fixed_timestep: Option<f64>,
+    /// Who runs the step's tasks.
+    pub executor: HairExecutor,
+    /// Build render meshes (off for a simulation-only app).
+    pub meshes: bool,
+}
+
+impl Default for HairPlugin {
+    fn default() -> Self {
+        HairPlugin {
+            fixed_timestep: Some(1.0 / 60.0),
+            executor: HairExecutor::TaskPool,
+            meshes: true,
+        }
+    }
+}
+
+impl Plugin for HairPlugin {
+    fn build(&self, app: &mut App) {
+        app.init_asset::<GroomAsset>()
+            .init_asset::<BodyMeshAsset>()
+            .register_asset_loader(GroomLoader)
+            .register_asset_loader(BodyMeshLoader);
+        if !app.world().contains_resource::<Assets<Mesh>>() {
+            app.init_asset::<Mesh>();
+        }
+        if let Some(dt) = self.fixed_timestep {
+            app.insert_resource(Time::<Fixed>::from_seconds(dt));
+        }
+        app.insert_resource(self.executor)
+            .init_resource::<sim::HairFields>()
+            .configure_sets(
+                PostUpdate,
+                HairSystems::Init.after(TransformSystems::Propagate),
+            )
+            .configure_sets(PostUpdate, HairSystems::Mesh.after(HairSystems::Init))
+            .add_systems(
+                PostUpdate,
+                (sim::build_mesh_colliders, sim::init_hairs).in_set(HairSystems::Init),
+            )
+            .add_systems(FixedUpdate, sim::step_hairs.in_set(HairSystems::Step))
+            .add_systems(Update, sim::choose_sim_lod.in_set(HairSystems::Lod));
+        if self.meshes {
+            app.add_systems(
+                PostUpdate,
+                (render::remove_orphan_meshes, render::build_hair_meshes).in_set(HairSystems::Mesh),
+            );
+        }
+    }
+}
