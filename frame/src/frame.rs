@@ -802,17 +802,11 @@ impl FramePipeline {
                 if let Some(ds) = self.shader.dual_scattering() {
                     // The map's hair count from its transmittance
                     // (`T = exp(-alpha sigma)`), as the fused pass reads it.
-                    // The hair in front of the point (from its
-                    // transmittance, as the fused pass reads the map) and
-                    // on the light's whole ray through it.
+                    // The hair in front of the point and on the light's
+                    // whole ray through it, as the fused pass reads them.
                     let (fibres, behind) = match self.shadow.map() {
                         Some(m) => {
-                            let front = if visible > 0.0 && m.hair_opacity() > 0.0 {
-                                -visible.ln() / m.hair_opacity()
-                            } else {
-                                0.0
-                            };
-                            let (_, through) = m.hairs_in_front_and_through(p);
+                            let (front, through) = m.hairs_in_front_and_through(p);
                             (front, (through - front).max(0.0))
                         }
                         None => (0.0, f32::INFINITY),

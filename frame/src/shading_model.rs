@@ -8,7 +8,6 @@ use coif_shading::{marschner, pbrt, RgbBuffer, ShadingSamples};
 use glam::Vec3;
 use std::fmt;
 use std::str::FromStr;
-use wide::f32x8;
 
 /// The per-vertex hair shading model.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -225,37 +224,6 @@ impl Shader {
             Shader::KajiyaKay(k) => k.shade_x8(t, wi, wo),
             Shader::Marschner(l, _) => l.scattering_x8(t, wi, wo),
             Shader::Pbrt(p, _) => p.scattering_x8(t, wi, wo),
-        }
-    }
-
-    /// The light a vertex scatters per unit irradiance, shadow included:
-    /// with dual scattering, its `F` for `fibres` hairs between the vertex
-    /// and the light and the direct fraction `direct`
-    /// ([`DualScattering::shade_x8`]); without, single scattering times
-    /// `direct`.
-    #[inline(always)]
-    pub fn lit_x8(
-        &self,
-        t: Vec3x8,
-        wi: Vec3x8,
-        wo: Vec3x8,
-        fibres: f32x8,
-        direct: f32x8,
-    ) -> Vec3x8 {
-        let s = self.scattering_x8(t, wi, wo);
-        match self.dual_scattering() {
-            Some(ds) => ds.shade_x8(s, t, wi, wo, fibres, direct),
-            None => s * direct,
-        }
-    }
-
-    /// [`Shader::lit_x8`] for one sample whose single scattering `single`
-    /// is already known (the stage-by-stage reference pass).
-    #[inline]
-    pub fn lit(&self, single: Vec3, t: Vec3, wi: Vec3, wo: Vec3, fibres: f32, direct: f32) -> Vec3 {
-        match self.dual_scattering() {
-            Some(ds) => ds.shade(single, t, wi, wo, fibres, direct),
-            None => single * direct,
         }
     }
 

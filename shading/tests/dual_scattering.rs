@@ -246,3 +246,51 @@ fn bad_settings_and_mismatched_batches_are_refused_and_nan_stays_in_its_sample()
         }
     }
 }
+
+#[test]
+fn layered_simd_matches_its_scalar_twin_and_less_hair_behind_gives_less_light() {
+    let [ds, _] = both(pbrt::sigma_a_from_concentration(0.3, 0.0));
+    let table = pbrt::Table::new(&pbrt_params(0.3), 32).unwrap();
+    let (samples, fibres, direct) = random_inputs(1003, 12);
+    let mut rng = SplitMix64::new(13);
+    let mut lighter = 0;
+    for start in (0..samples.len()).step_by(8) {
+        let (t, wi, wo) = samples.load_block(start);
+        let mut behind = [0.0f32; 8];
+        let mut n = [0.0f32; 8];
+        let mut d = [0.0f32; 8];
+        for l in 0..8 {
+            behind[l] = rng.range(0.0, 30.0);
+            n[l] = fibres.get(start + l).copied().unwrap_or(0.0);
+            d[l] = direct.get(start + l).copied().unwrap_or(0.0);
+        }
+        let single = table.scattering_x8(t, wi, wo);
+        let simd = ds.shade_layered_x8(
+            single,
+            t,
+            wi,
+            wo,
+            wide::f32x8::new(n),
+            wide::f32x8::new(behind),
+            wide::f32x8::new(d),
+        );
+        for l in 0..8.min(samples.len() - start) {
+            let (s, tl, wil, wol) = (single.lane(l), t.lane(l), wi.lane(l), wo.lane(l));
+            let scalar = ds.shade_layered(s, tl, wil, wol, n[l], behind[l], d[l]);
+            assert_eq!(
+                simd.lane(l).to_array().map(f32::to_bits),
+                scalar.to_array().map(f32::to_bits),
+                "sample {}",
+                start + l
+            );
+            // Finite hair behind never adds light to the deep hair's.
+            let deep = ds.shade(s, tl, wil, wol, n[l], d[l]);
+            assert!(scalar.cmple(deep).all(), "{scalar} > {deep}");
+            lighter += (scalar.x < deep.x) as usize;
+        }
+    }
+    assert!(
+        lighter > 100,
+        "{lighter} samples darker with hair behind them"
+    );
+}

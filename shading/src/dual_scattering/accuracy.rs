@@ -12,33 +12,13 @@
 //! what a perfect shadow map gives), and dual scattering `F(S, n, D) E`
 //! with `n` the number of fibres that ray crosses. The patch's mean of
 //! each is compared; misses count as 0 in all three (no environment light).
+//! The caller traces the patch (`PathTracer::estimate`), then shades its
+//! [`first_hits`] with [`shade_hits`] and compares with [`relative_rms`].
 
 use super::DualScattering;
-use crate::path_tracer::{DirectionalLight, FibreScene, PathTracer};
-use crate::{pbrt, Error};
+use crate::path_tracer::FibreScene;
+use crate::pbrt;
 use glam::{DVec3, Vec3};
-
-/// Mean radiance over a patch of rays: the path-traced reference and the
-/// two approximations.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PatchComparison {
-    /// The path tracer's mean radiance.
-    pub path_traced: Vec3,
-    /// Standard error of that mean (from the per-ray standard errors).
-    pub standard_error: Vec3,
-    /// Dual scattering's mean radiance.
-    pub dual: Vec3,
-    /// Single scattering times the exact shadow.
-    pub single: Vec3,
-    /// Mean number of fibres between the hits and the light.
-    pub mean_fibres: f32,
-    /// Fraction of the hits that see the light directly.
-    pub direct_fraction: f32,
-    /// Rays that hit a fibre.
-    pub hits: usize,
-    /// Rays in the patch.
-    pub rays: usize,
-}
 
 /// What the approximations need at a camera ray's first hit: the fibre's
 /// tangent, the directions, and the exact fibres and visibility toward the
@@ -115,49 +95,6 @@ pub fn shade_hits(
     }
     let count = hits.len().max(1) as f64;
     ((dual / count).as_vec3(), (single / count).as_vec3())
-}
-
-/// The patch `rays` (origin, direction) through `scene`: `paths_per_ray`
-/// paths of `tracer` per ray (seeded with `seed`, on `threads` threads:
-/// the same bytes for any count) against `ds` and `table` (the far field
-/// of the tracer's material) at each ray's first hit, lit by `light`.
-///
-/// # Errors
-///
-/// As [`PathTracer::estimate`].
-#[allow(clippy::too_many_arguments)]
-pub fn compare_patch(
-    scene: &FibreScene,
-    rays: &[(Vec3, Vec3)],
-    tracer: &PathTracer,
-    light: DirectionalLight,
-    table: &pbrt::Table,
-    ds: &DualScattering,
-    paths_per_ray: usize,
-    seed: u64,
-    threads: usize,
-) -> Result<PatchComparison, Error> {
-    let estimates = tracer.estimate_threaded(scene, rays, paths_per_ray, seed, threads)?;
-    let (mut traced, mut var) = (DVec3::ZERO, DVec3::ZERO);
-    for e in &estimates {
-        traced += e.mean.as_dvec3();
-        var += (e.standard_error * e.standard_error).as_dvec3();
-    }
-    let hits = first_hits(scene, rays, light.to_light);
-    let (dual, single) = shade_hits(&hits, table, ds, light.irradiance);
-    let lit: Vec<&HitLighting> = hits.iter().flatten().collect();
-    let per_hit = lit.len().max(1) as f32;
-    let count = rays.len().max(1) as f64;
-    Ok(PatchComparison {
-        path_traced: (traced / count).as_vec3(),
-        standard_error: (DVec3::new(var.x.sqrt(), var.y.sqrt(), var.z.sqrt()) / count).as_vec3(),
-        dual,
-        single,
-        mean_fibres: lit.iter().map(|h| h.fibres).sum::<f32>() / per_hit,
-        direct_fraction: lit.iter().map(|h| h.direct).sum::<f32>() / per_hit,
-        hits: lit.len(),
-        rays: rays.len(),
-    })
 }
 
 /// Relative RMS error of `estimate` against `reference` over a set of

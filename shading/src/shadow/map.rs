@@ -196,6 +196,15 @@ impl OpacityShadowMap {
     /// needs (`crate::dual_scattering`). 0 where the transmittance is 1
     /// for want of a map, a finite point or hair in front.
     pub fn hairs_in_front(&self, p: Vec3) -> f32 {
+        self.blend_texels(p, |t, z| self.texel_sigma_at(t, z))
+    }
+
+    /// Steps 1-3 of [`OpacityShadowMap::hairs_in_front`] with `corner(t,
+    /// z)` the value of texel `t` at light-space depth `z`: the four texels
+    /// around `p`, bilinear (0 outside the map and where there is no map,
+    /// finite point or hair).
+    #[inline]
+    fn blend_texels(&self, p: Vec3, corner: impl Fn(usize, f32) -> f32) -> f32 {
         if !self.ready || !p.is_finite() {
             return 0.0;
         }
@@ -209,11 +218,14 @@ impl OpacityShadowMap {
         let (fu, fv) = (u.floor(), v.floor());
         let (fx, fy) = (u - fu, v - fv);
         let (i0, j0) = (fu as isize, fv as isize);
-        // 2. Opacity in front of the depth in each corner.
-        let s00 = self.texel_sigma(i0, j0, l.z);
-        let s10 = self.texel_sigma(i0 + 1, j0, l.z);
-        let s01 = self.texel_sigma(i0, j0 + 1, l.z);
-        let s11 = self.texel_sigma(i0 + 1, j0 + 1, l.z);
+        // 2. The value at the depth in each corner.
+        let at = |i, j| self.texel_index(i, j).map_or(0.0, |t| corner(t, l.z));
+        let (s00, s10, s01, s11) = (
+            at(i0, j0),
+            at(i0 + 1, j0),
+            at(i0, j0 + 1),
+            at(i0 + 1, j0 + 1),
+        );
         // 3. Bilinear blend (the exponential is the caller's).
         (s00 * (1.0 - fx) + s10 * fx) * (1.0 - fy) + (s01 * (1.0 - fx) + s11 * fx) * fy
     }
@@ -268,47 +280,23 @@ impl OpacityShadowMap {
         (prev, next)
     }
 
-    /// Opacity in front of depth `z` in texel `(i, j)`: linear between its
-    /// planes; 0 outside the map.
-    #[inline(always)]
     /// [`OpacityShadowMap::hairs_in_front`] and the hairs on the light's
     /// whole ray through `p` (the last plane's count, blended the same
     /// way): the scalar twin of
     /// [`OpacityShadowMap::hairs_in_front_and_through_x8`]. `(0, 0)` where
     /// there is no map, finite point or hair.
     pub fn hairs_in_front_and_through(&self, p: Vec3) -> (f32, f32) {
-        let front = self.hairs_in_front(p);
-        if !self.ready || !p.is_finite() {
-            return (front, 0.0);
-        }
-        let l = self.frame.to_light(p);
-        let (u, v) = self.placement.texel_coords(l.x, l.y);
-        if !(u.is_finite() && v.is_finite() && l.z.is_finite()) {
-            return (front, 0.0);
-        }
-        let (fu, fv) = (u.floor(), v.floor());
-        let (fx, fy) = (u - fu, v - fv);
-        let (i0, j0) = (fu as isize, fv as isize);
         let last = self.settings.layers - 1;
-        let plane = |i: isize, j: isize| {
-            self.texel_index(i, j)
-                .map_or(0.0, |t| self.plane_pair(t, last).1)
-        };
-        let (s00, s10, s01, s11) = (
-            plane(i0, j0),
-            plane(i0 + 1, j0),
-            plane(i0, j0 + 1),
-            plane(i0 + 1, j0 + 1),
-        );
-        let through =
-            (s00 * (1.0 - fx) + s10 * fx) * (1.0 - fy) + (s01 * (1.0 - fx) + s11 * fx) * fy;
-        (front, through)
+        (
+            self.hairs_in_front(p),
+            self.blend_texels(p, |t, _| self.plane_pair(t, last).1),
+        )
     }
 
-    fn texel_sigma(&self, i: isize, j: isize, z: f32) -> f32 {
-        let Some(t) = self.texel_index(i, j) else {
-            return 0.0;
-        };
+    /// Opacity in front of depth `z` in texel `t`: linear between its
+    /// planes.
+    #[inline(always)]
+    fn texel_sigma_at(&self, t: usize, z: f32) -> f32 {
         let (s, f) = self.layering.locate(z - self.base_depth(t));
         let (prev, next) = self.plane_pair(t, s);
         prev + f * (next - prev)
