@@ -107,6 +107,7 @@ fn main() {
                 .expect("a translation");
             fields.push(f);
         }
+        "empty" => rig.clear(),
         _ => {}
     }
     let colliders = Colliders {

@@ -86,20 +86,23 @@ impl GridLane for f32x8 {
     ) -> [f32x8; 7] {
         // A node is eight floats, one register: each lane sums its eight
         // nodes' rows (the same multiply-adds in the same order as the
-        // scalar twin, field by field), then one transpose.
-        let base = base.to_array();
+        // scalar twin, field by field), then one transpose. The corners
+        // are the cell's four rows of two nodes (x fastest), each row one
+        // bounds check; `base` is a whole number below 2^24.
+        let base = base.trunc_int().to_array();
         let weights = weights.map(|w| w.to_array());
-        let rows: [f32x8; 8] = std::array::from_fn(|l| {
-            let mut acc = f32x8::ZERO;
-            for (c, off) in offsets.iter().enumerate() {
-                let n = field
-                    .get(base[l] as usize + off)
-                    .copied()
-                    .unwrap_or([0.0; 8]);
-                acc = f32x8::splat(weights[c][l]).mul_add(f32x8::new(n), acc);
+        let mut rows = [f32x8::ZERO; 8];
+        for (l, sum) in rows.iter_mut().enumerate() {
+            let at = base[l].max(0) as usize;
+            for row in 0..4 {
+                let (c0, c1) = (2 * row, 2 * row + 1);
+                let pair = field
+                    .get(at + offsets[c0]..at + offsets[c0] + 2)
+                    .unwrap_or(&[[0.0; 8]; 2]);
+                *sum = f32x8::splat(weights[c0][l]).mul_add(f32x8::new(pair[0]), *sum);
+                *sum = f32x8::splat(weights[c1][l]).mul_add(f32x8::new(pair[1]), *sum);
             }
-            acc
-        });
+        }
         let [a, b, c, d, e, f, g, _] = f32x8::transpose(rows);
         [a, b, c, d, e, f, g]
     }

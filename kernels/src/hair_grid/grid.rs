@@ -24,8 +24,19 @@ pub(crate) struct HairGrid {
     /// Per node: `[dp/dx, dp/dy, dp/dz (per cell), vx, vy, vz, rho /
     /// rho_0, 0]` with `p` the pressure, valid at the touched nodes.
     pub(crate) field: Vec<[f32; 8]>,
-    /// The nodes this step's splat wrote, in the order it first wrote them.
+    /// The nodes this step's splat gave weight, cell by cell in the order
+    /// the splat first reached each cell, corner order within a cell.
     touched: Vec<u32>,
+    /// The cells (by their lowest node) this step's splat reached, in the
+    /// order it first reached them.
+    cells: Vec<u32>,
+    /// Per node: the splat's `stamp` when its cell (the node as a cell's
+    /// lowest corner) was listed in `cells`, and when the node was listed
+    /// in `touched` (no clearing between steps).
+    cell_mark: Vec<u32>,
+    node_mark: Vec<u32>,
+    /// This splat's number (marks equal to it are this step's).
+    stamp: u32,
     /// The pressure at every node and its next sweep; zero between steps.
     pressure: Vec<f32>,
     pressure_next: Vec<f32>,
@@ -48,12 +59,6 @@ const MAX_GRID_REACH: f32 = 1.0e4;
 /// The fastest a vertex's velocity counts in the grid (m/s): one strand
 /// gone wild does not drag the hair around it.
 const MAX_GRID_SPEED: f32 = 100.0;
-
-/// Whether `p` (local) goes into the grid: finite and within reach.
-#[inline]
-fn sane(p: Vec3) -> bool {
-    p.abs().max_element() < MAX_GRID_REACH
-}
 
 impl HairGrid {
     /// Forgets the target (the strands' shares changed): the next build
@@ -167,22 +172,49 @@ impl HairGrid {
     /// than the buffers hold), and the trilinear (cloud-in-cell) splat of
     /// weight and momentum in block, vertex and lane order.
     fn splat(&mut self, s: &Strands, pos: &[Vec3x8], prev: &[Vec3x8], dt: f32, cell: f32) {
+        // Only listed nodes hold weight; the corners of listed cells that
+        // the splat gave none were written with zero weight and are zero.
         for &i in &self.touched {
             self.acc[i as usize] = f32x4::ZERO;
         }
         self.touched.clear();
-        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-        for b in 0..s.blocks {
-            let lanes = s.lanes_in_block(b);
+        self.cells.clear();
+        if self.stamp == u32::MAX {
+            self.cell_mark.fill(0);
+            self.node_mark.fill(0);
+            self.stamp = 0;
+        }
+        self.stamp += 1;
+        // The box of the strands' lanes (not the padding) with every
+        // coordinate within reach, eight lanes at a time (min and max are
+        // exact: the same box in any order).
+        let reach = f32x8::splat(MAX_GRID_REACH);
+        let (mut lo8, mut hi8) = (
+            Vec3x8::splat(Vec3::splat(f32::INFINITY)),
+            Vec3x8::splat(Vec3::splat(f32::NEG_INFINITY)),
+        );
+        for (b, &active) in s.active.iter().enumerate().take(s.blocks) {
             for x in &pos[b * s.verts..(b + 1) * s.verts] {
-                for l in 0..lanes {
-                    let p = x.lane(l);
-                    if sane(p) {
-                        lo = lo.min(p);
-                        hi = hi.max(p);
-                    }
-                }
+                let ok = active
+                    & x.x.abs().simd_lt(reach)
+                    & x.y.abs().simd_lt(reach)
+                    & x.z.abs().simd_lt(reach);
+                lo8 = Vec3x8::new(
+                    f32x8::select(ok, lo8.x.min(x.x), lo8.x),
+                    f32x8::select(ok, lo8.y.min(x.y), lo8.y),
+                    f32x8::select(ok, lo8.z.min(x.z), lo8.z),
+                );
+                hi8 = Vec3x8::new(
+                    f32x8::select(ok, hi8.x.max(x.x), hi8.x),
+                    f32x8::select(ok, hi8.y.max(x.y), hi8.y),
+                    f32x8::select(ok, hi8.z.max(x.z), hi8.z),
+                );
             }
+        }
+        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for l in 0..LANES {
+            lo = lo.min(lo8.lane(l));
+            hi = hi.max(hi8.lane(l));
         }
         self.live = lo.x <= hi.x;
         if !self.live {
@@ -204,7 +236,10 @@ impl HairGrid {
             self.field = vec![[0.0; 8]; self.capacity];
             self.pressure = vec![0.0; self.capacity];
             self.pressure_next = vec![0.0; self.capacity];
-            self.touched = Vec::with_capacity(self.capacity.min(8 * s.blocks * s.verts * LANES));
+            self.touched = Vec::with_capacity(self.capacity);
+            self.cells = Vec::with_capacity(self.capacity);
+            self.cell_mark = vec![0; self.capacity];
+            self.node_mark = vec![0; self.capacity];
         }
         // (A NaN count is never small enough: the loop ends at an infinite cell.)
         while nodes(cell).is_nan() || nodes(cell) > self.capacity as f64 {
@@ -231,10 +266,10 @@ impl HairGrid {
         let one = f32x8::ONE;
         let max_i = (dims - UVec3::splat(2)).as_vec3();
         let origin = Vec3x8::splat(self.origin);
-        let reach = f32x8::splat(MAX_GRID_REACH);
-        let room = self.touched.capacity();
-        let offsets: [usize; 8] =
-            std::array::from_fn(|c| (c & 1) + ((c >> 1) & 1) * nx + ((c >> 2) & 1) * nx * ny);
+        let stamp = self.stamp;
+        let (nxy, span) = (nx * ny, nx * ny + nx + 2);
+        let acc = &mut self.acc[..];
+        let (cells, cell_mark) = (&mut self.cells, &mut self.cell_mark[..]);
         for b in 0..s.blocks {
             let lanes = s.lanes_in_block(b);
             let base = b * s.verts;
@@ -269,10 +304,14 @@ impl HairGrid {
                 let (ix, fx) = axis(u.x, max_i.x);
                 let (iy, fy) = axis(u.y, max_i.y);
                 let (iz, fz) = axis(u.z, max_i.z);
-                let node = iz.mul_add(
-                    f32x8::splat((nx * ny) as f32),
-                    iy.mul_add(f32x8::splat(nx as f32), ix),
-                );
+                // Whole numbers below 2^24 (at most MAX_HAIR_GRID_NODES):
+                // exact in f32 and in the integer conversion.
+                let node = iz
+                    .mul_add(
+                        f32x8::splat((nx * ny) as f32),
+                        iy.mul_add(f32x8::splat(nx as f32), ix),
+                    )
+                    .trunc_int();
                 let (gx, gy, gz) = (one - fx, one - fy, one - fz);
                 let corner: [[f32; 8]; 8] = std::array::from_fn(|c| {
                     (weight
@@ -287,24 +326,38 @@ impl HairGrid {
                     if weight[l] <= 0.0 {
                         continue;
                     }
-                    // [1, v]: one 16-byte multiply-add per node.
+                    // [1, v]: one 16-byte multiply-add per node, to all
+                    // eight corners (a corner of zero weight adds zero),
+                    // in corner order, x fastest: the cell's four rows of
+                    // two nodes.
                     let unit = f32x4::new([1.0, vx[l], vy[l], vz[l]]);
-                    let base_node = node[l] as usize;
-                    for (c, &off) in offsets.iter().enumerate() {
-                        let w = corner[c][l];
-                        if w <= 0.0 {
-                            continue;
-                        }
-                        let i = base_node + off;
-                        let a = &mut self.acc[i];
-                        if a.as_array()[0] == 0.0 {
-                            if self.touched.len() == room {
-                                continue;
-                            }
-                            self.touched.push(i as u32);
-                        }
-                        *a = unit.mul_add(f32x4::splat(w), *a);
+                    let cell_node = node[l].max(0) as usize;
+                    let Some(block) = acc.get_mut(cell_node..cell_node + span) else {
+                        continue;
+                    };
+                    if cell_mark[cell_node] != stamp {
+                        cell_mark[cell_node] = stamp;
+                        cells.push(cell_node as u32);
                     }
+                    for (row, at) in [0, nx, nxy, nxy + nx].into_iter().enumerate() {
+                        let pair = &mut block[at..at + 2];
+                        let (w0, w1) = (corner[2 * row][l], corner[2 * row + 1][l]);
+                        pair[0] = unit.mul_add(f32x4::splat(w0), pair[0]);
+                        pair[1] = unit.mul_add(f32x4::splat(w1), pair[1]);
+                    }
+                }
+            }
+        }
+        // The nodes that took weight, cell by cell: the pressure solve
+        // and the fields run over them (the same set whatever the order).
+        let node_mark = &mut self.node_mark[..];
+        for &c in cells.iter() {
+            let c = c as usize;
+            for at in [0, 1, nx, nx + 1, nxy, nxy + 1, nxy + nx, nxy + nx + 1] {
+                let i = c + at;
+                if acc[i].as_array()[0] > 0.0 && node_mark[i] != stamp {
+                    node_mark[i] = stamp;
+                    self.touched.push(i as u32);
                 }
             }
         }
