@@ -516,12 +516,13 @@ fn project<T: Lane>(c: &mut Chain<'_, T>, s: &mut ChainScratch<T>, a1: T) {
     let mut diag_dot = dot(e, n);
     let mut cp_prev = zero;
     let mut dp_prev = zero;
-    for v in 0..segs {
-        let (len_next, e_next, n_next) = if v + 1 < segs {
-            dir(pos, v + 1)
-        } else {
-            (zero, V3::zero(), V3::zero())
-        };
+    // Row v of the elimination, given segment v + 1's blended direction
+    // (zero past the last segment).
+    let mut row = |v: usize,
+                   (len, e, n): (T, V3<T>, V3<T>),
+                   n_next: V3<T>,
+                   sub_dot: T,
+                   diag_dot: T| {
         let sub = -(w[v] * sub_dot);
         let diag = (w[v] + w[v + 1]) * diag_dot;
         let sup = -(w[v + 1] * dot(e, n_next));
@@ -534,10 +535,17 @@ fn project<T: Lane>(c: &mut Chain<'_, T>, s: &mut ChainScratch<T>, a1: T) {
         cp[v] = cp_prev;
         dp[v] = dp_prev;
         sn[v] = n;
+    };
+    // Every row but the last (the last is peeled: no zeros carried and no
+    // branch in the loop).
+    for v in 0..segs - 1 {
+        let (len_next, e_next, n_next) = dir(pos, v + 1);
+        row(v, (len, e, n), n_next, sub_dot, diag_dot);
         sub_dot = dot(e_next, n);
         diag_dot = dot(e_next, n_next);
         (len, e, n) = (len_next, e_next, n_next);
     }
+    row(segs - 1, (len, e, n), V3::zero(), sub_dot, diag_dot);
     // Back substitution, moving vertices as the multipliers become known.
     let mut lambda_next = zero;
     let mut n_next = V3::zero();
