@@ -456,12 +456,38 @@ pub(crate) fn step_chain<T: SdfLane>(
         for r in &s.capsules {
             r.push_pearls::<true>(c.pos, c.w, c.arc, &s.pearl_off, k.pearls);
         }
-        let rounds = if sub + 1 == n { 2 } else { 1 };
+        // The loop compiled per case (fields or not, friction or not, one
+        // round or two): no test of them per vertex.
+        let last = sub + 1 == n;
+        let (fields, friction, sdfs) = (!s.fields.is_empty(), k.contact.friction_on, world.sdfs);
+        let c = &mut c;
+        let s = &mut *s;
         deep = deep
-            | if s.fields.is_empty() {
-                strain_limit_and_collide::<T, false>(&mut c, k, &mut *s, world.sdfs, rounds)
-            } else {
-                strain_limit_and_collide::<T, true>(&mut c, k, &mut *s, world.sdfs, rounds)
+            | match (fields, friction, last) {
+                (false, false, false) => {
+                    strain_limit_and_collide::<T, false, false, false>(c, k, s, sdfs)
+                }
+                (false, false, true) => {
+                    strain_limit_and_collide::<T, false, false, true>(c, k, s, sdfs)
+                }
+                (false, true, false) => {
+                    strain_limit_and_collide::<T, false, true, false>(c, k, s, sdfs)
+                }
+                (false, true, true) => {
+                    strain_limit_and_collide::<T, false, true, true>(c, k, s, sdfs)
+                }
+                (true, false, false) => {
+                    strain_limit_and_collide::<T, true, false, false>(c, k, s, sdfs)
+                }
+                (true, false, true) => {
+                    strain_limit_and_collide::<T, true, false, true>(c, k, s, sdfs)
+                }
+                (true, true, false) => {
+                    strain_limit_and_collide::<T, true, true, false>(c, k, s, sdfs)
+                }
+                (true, true, true) => {
+                    strain_limit_and_collide::<T, true, true, true>(c, k, s, sdfs)
+                }
             };
     }
     // 7. Velocity over the step (at most FIELD_EXIT_SPEED in a lane that
@@ -518,24 +544,21 @@ fn project<T: Lane>(c: &mut Chain<'_, T>, s: &mut ChainScratch<T>, a1: T) {
     let mut dp_prev = zero;
     // Row v of the elimination, given segment v + 1's blended direction
     // (zero past the last segment).
-    let mut row = |v: usize,
-                   (len, e, n): (T, V3<T>, V3<T>),
-                   n_next: V3<T>,
-                   sub_dot: T,
-                   diag_dot: T| {
-        let sub = -(w[v] * sub_dot);
-        let diag = (w[v] + w[v + 1]) * diag_dot;
-        let sup = -(w[v + 1] * dot(e, n_next));
-        let rhs = rest_len[v] - len;
-        let pivot = sub.mul_add(-cp_prev, diag);
-        let live = pivot.gt(tiny);
-        let inv = pivot.max(tiny).recip();
-        cp_prev = T::select(live, sup * inv, zero);
-        dp_prev = T::select(live, sub.mul_add(-dp_prev, rhs) * inv, zero);
-        cp[v] = cp_prev;
-        dp[v] = dp_prev;
-        sn[v] = n;
-    };
+    let mut row =
+        |v: usize, (len, e, n): (T, V3<T>, V3<T>), n_next: V3<T>, sub_dot: T, diag_dot: T| {
+            let sub = -(w[v] * sub_dot);
+            let diag = (w[v] + w[v + 1]) * diag_dot;
+            let sup = -(w[v + 1] * dot(e, n_next));
+            let rhs = rest_len[v] - len;
+            let pivot = sub.mul_add(-cp_prev, diag);
+            let live = pivot.gt(tiny);
+            let inv = pivot.max(tiny).recip();
+            cp_prev = T::select(live, sup * inv, zero);
+            dp_prev = T::select(live, sub.mul_add(-dp_prev, rhs) * inv, zero);
+            cp[v] = cp_prev;
+            dp[v] = dp_prev;
+            sn[v] = n;
+        };
     // Every row but the last (the last is peeled: no zeros carried and no
     // branch in the loop).
     for v in 0..segs - 1 {
@@ -699,14 +722,19 @@ fn predict<T: Lane, const GUSTS: bool>(
 /// alternating closes in on a point of both: the limit does not pull hair
 /// into the head and the push-out does not stretch it. Returns the lanes
 /// found deep in a field. (`FIELDS`: some field is a candidate; without,
-/// the loop carries neither the previous positions nor the deep lanes.)
+/// the loop carries neither the previous positions nor the deep lanes.
+/// `FRICTION`: `k.contact.friction_on`. `TWO_ROUNDS`: the last substep.)
 #[inline(always)]
-fn strain_limit_and_collide<T: SdfLane, const FIELDS: bool>(
+fn strain_limit_and_collide<
+    T: SdfLane,
+    const FIELDS: bool,
+    const FRICTION: bool,
+    const TWO_ROUNDS: bool,
+>(
     c: &mut Chain<'_, T>,
     k: &Setup,
     s: &mut ChainScratch<T>,
     sdfs: &[Sdf],
-    rounds: usize,
 ) -> T::Mask {
     let ChainScratch {
         spheres,
@@ -726,7 +754,6 @@ fn strain_limit_and_collide<T: SdfLane, const FIELDS: bool>(
     let (pos, prev) = (&mut c.pos[..verts], &mut c.prev[..verts]);
     let (w, rest_len, off) = (&c.w[..verts], &c.rest_len[..verts], &vertex_off[..verts]);
     let arc = &c.arc[..verts];
-    let friction = k.contact.friction_on;
     // The vertices any candidate's roots rule reaches.
     let rooted_end = spheres
         .iter()
@@ -769,25 +796,24 @@ fn strain_limit_and_collide<T: SdfLane, const FIELDS: bool>(
         let mut xp = prev[v];
         let (o, a) = (off[v], arc[v]);
         let (sp, ca) = (&spheres[..live_s], &capsules[..live_c]);
-        x = match (friction, v < rooted_end) {
-            (true, true) => push_shapes::<T, true, true>(sp, ca, v, x, xp, o, a, &k.contact),
-            (true, false) => push_shapes::<T, true, false>(sp, ca, v, x, xp, o, a, &k.contact),
-            (false, true) => push_shapes::<T, false, true>(sp, ca, v, x, xp, o, a, &k.contact),
-            (false, false) => push_shapes::<T, false, false>(sp, ca, v, x, xp, o, a, &k.contact),
+        x = if v < rooted_end {
+            push_shapes::<T, FRICTION, true>(sp, ca, v, x, xp, o, a, &k.contact)
+        } else {
+            push_shapes::<T, FRICTION, false>(sp, ca, v, x, xp, o, a, &k.contact)
         };
         if FIELDS {
             let balls = &mut balls[v * fields_n..][..live_f];
             for (f, ball) in fields[..live_f].iter().zip(balls) {
                 if let Some(sdf) = sdfs.get(f.field.index) {
                     let (pushed, was_deep) =
-                        f.push_vertex(sdf, v, x, &mut xp, o, a, &k.contact, friction, ball);
+                        f.push_vertex(sdf, v, x, &mut xp, o, a, &k.contact, FRICTION, ball);
                     x = pushed;
                     deep = deep | was_deep;
                 }
             }
         }
         // The last substep's second round: friction acts once per substep.
-        if rounds > 1 {
+        if TWO_ROUNDS {
             x = strain(x);
             x = if v < rooted_end {
                 push_shapes::<T, false, true>(sp, ca, v, x, xp, o, a, &k.contact)
