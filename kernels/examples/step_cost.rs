@@ -9,7 +9,7 @@
 //! SCENE changes it: `spheres` (the defaults), `frictionless` (friction 0
 //! and 0), `norule` (frictionless and the roots rule off: the same bytes
 //! as the step before the world round, frictionless, so the two compare
-//! code for code), `capsules` (each sphere a capsule of its radius, 2 radii long),
+//! code for code), `empty` (no collider: the step alone), `capsules` (each sphere a capsule of its radius, 2 radii long),
 //! `wind` (the spheres in a wind of (2, 0, 1) m/s, drag 1 /s), `gusts` (and
 //! turbulence 1 m/s), `hair` (volume and hair friction at 1; `volume`
 //! and `friction` one of them), `field` (the spheres and one 4 mm field of the
