@@ -232,8 +232,14 @@ pub struct DualScattering {
     includes_cosine: bool,
     /// The averages at the table's nodes.
     averages: Vec<FibreAverages>,
-    /// One 16-float record per node ([`ch`]).
+    /// One 16-float record per refined node ([`fast`]).
     records: Vec<[f32x8; 2]>,
+    /// `(records - 1) / pi`: records per radian of `theta_i`.
+    index_scale: f32,
+    /// `records - 1/2`: the lookup rounds `(theta_i + pi/2) index_scale`
+    /// to the nearest record as the truncation of this minus
+    /// `acos(sin theta_i) index_scale`.
+    index_top: f32,
 }
 
 impl DualScattering {
@@ -286,11 +292,14 @@ impl DualScattering {
             }
         }
         records.push(pack(fast_record(&coarse[res - 1], &settings)));
+        let last = records.len() - 1;
         Ok(DualScattering {
             settings,
             includes_cosine,
             averages,
             records,
+            index_scale: last as f32 / PI,
+            index_top: last as f32 + 0.5,
         })
     }
 
@@ -387,13 +396,11 @@ impl DualScattering {
         let sin_o = wo.dot(t);
         let acos_i = acos(sin_i);
         let acos_o = acos(sin_o);
-        let last = self.records.len() - 1;
         // The nearest record: theta_i + pi/2 = pi - acos_i, in steps of
         // pi / last; NaN goes to record 0.
-        let scale = last as f32 / PI;
-        let top = last as f32 + 0.5;
-        let u = minps(maxps(acos_i.mul_add(-scale, top), 0.0), top);
-        let k = (u as usize).min(last);
+        let top = self.index_top;
+        let u = minps(maxps(acos_i.mul_add(-self.index_scale, top), 0.0), top);
+        let k = (u as usize).min(self.records.len() - 1);
         let rec = &self.records[k];
         let r = |c: usize| rec[c / LANES].as_array()[c % LANES];
 
@@ -468,11 +475,9 @@ impl DualScattering {
         let sin_o = wo.dot(t);
         let acos_i = acos_x8(sin_i);
         let acos_o = acos_x8(sin_o);
-        let last = self.records.len() - 1;
-        let scale = last as f32 / PI;
-        let top = f32x8::splat(last as f32 + 0.5);
+        let top = f32x8::splat(self.index_top);
         let u = acos_i
-            .mul_add(f32x8::splat(-scale), top)
+            .mul_add(f32x8::splat(-self.index_scale), top)
             .fast_max(zero)
             .fast_min(top);
         // Byte offsets of the records (64 bytes each), in [0, 64 last].
@@ -821,8 +826,7 @@ mod tests {
             let got = ds.shade_layered(single, t, wi, wo, n, m, d);
             // The record the lookup takes, before its folding.
             let last = ds.records.len() - 1;
-            let scale = last as f32 / PI;
-            let u = acos(wi.dot(t)).mul_add(-scale, last as f32 + 0.5);
+            let u = acos(wi.dot(t)).mul_add(-ds.index_scale, ds.index_top);
             let k = (u.max(0.0) as usize).min(last);
             let (node, j) = (k / REFINE, k % REFINE);
             let r: [f32; 16] = if node + 1 < coarse.len() {
