@@ -56,9 +56,15 @@
 //! hair from behind, and was dropped.
 //!
 //! The averages are tabulated once per material over `theta_i`
-//! ([`DualScattering::new`]) and refined four times linearly; a lookup
-//! takes the nearest 16-float record, then six exponentials and three
-//! divisions and square roots.
+//! ([`DualScattering::new`]) and refined four times linearly. Everything
+//! that depends only on `theta_i` (the local backscatter's Gaussian, the
+//! amplitudes with the densities and the constants, the widths in the
+//! units of a base-2 exponential) is folded into a 16-float record per
+//! refined node; a lookup takes the nearest record, then two arccosines,
+//! six exponentials `2^-q` (a degree-4 polynomial, 2.9e-6 relative, and the
+//! exponent bits), two divisions and three square roots. NaN in any input
+//! but `single` reaches every channel of the result through the
+//! arithmetic (the clamps keep it), without a mask.
 //! [`DualScattering::shade`] (one sample), [`DualScattering::shade_x8`]
 //! (eight lanes) and the batches [`DualScattering::shade_batch`] /
 //! [`scalar::shade_batch`] run the same operations in the same order (the
@@ -766,9 +772,7 @@ mod tests {
         single: Vec3,
         sin_i: f32,
         sin_o: f32,
-        n: f64,
-        m: f64,
-        d: f64,
+        [n, m, d]: [f64; 3],
     ) -> [f64; 3] {
         let g = |x: f64, v: f64| {
             let v = v.max(MIN_VARIANCE as f64);
@@ -843,9 +847,7 @@ mod tests {
                 single,
                 wi.dot(t),
                 wo.dot(t),
-                n as f64,
-                m as f64,
-                d as f64,
+                [n, m, d].map(f64::from),
             );
             for c in 0..3 {
                 let err = (got[c] as f64 - want[c]).abs() / want[c].abs().max(1e-3);
