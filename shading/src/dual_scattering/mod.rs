@@ -56,9 +56,15 @@
 //! hair from behind, and was dropped.
 //!
 //! The averages are tabulated once per material over `theta_i`
-//! ([`DualScattering::new`]) and refined four times linearly; a lookup
-//! takes the nearest 16-float record, then six exponentials and three
-//! divisions and square roots.
+//! ([`DualScattering::new`]) and refined four times linearly. Everything
+//! that depends only on `theta_i` (the local backscatter's Gaussian, the
+//! amplitudes with the densities and the constants, the widths in the
+//! units of a base-2 exponential) is folded into a 16-float record per
+//! refined node; a lookup takes the nearest record, then two arccosines,
+//! six exponentials `2^-q` (a degree-4 polynomial, 2.9e-6 relative, and the
+//! exponent bits), two divisions and three square roots. NaN in any input
+//! but `single` reaches every channel of the result through the
+//! arithmetic (the clamps keep it), without a mask.
 //! [`DualScattering::shade`] (one sample), [`DualScattering::shade_x8`]
 //! (eight lanes) and the batches [`DualScattering::shade_batch`] /
 //! [`scalar::shade_batch`] run the same operations in the same order (the
@@ -75,7 +81,7 @@ pub use averages::FibreAverages;
 use crate::pbrt::fast_acos::{acos, acos_x8};
 use crate::{marschner, pbrt, Error, RgbBuffer, ShadingSamples};
 use coif_base::{Vec3x8, LANES};
-use fast_exp::{exp_neg, exp_neg_x8};
+use fast_exp::{exp2_neg, exp2_neg_x8};
 use glam::Vec3;
 use std::f32::consts::PI;
 use wide::{f32x8, i32x8};
@@ -140,7 +146,8 @@ impl DualScatteringSettings {
     }
 }
 
-/// Channels of a table record (two `f32x8`).
+/// Channels of the averages' record (the quantities of the module docs, one
+/// node; refined linearly between nodes, then turned into a [`fast`] record).
 mod ch {
     /// `ln a_f`, RGB.
     pub const LN_AF: usize = 0;
@@ -164,6 +171,43 @@ mod ch {
     pub const LN_AF_LUM: usize = 14;
 }
 
+/// Channels of a lookup record (two `f32x8`): the averages' record with
+/// everything that does not depend on the sample's hair counts folded in,
+/// per `theta_i`. With `s = acos(sin theta_i) + acos(sin theta_o)` (so
+/// `theta_h = pi/2 - s/2`), `c_2 = 1 + cos theta_i cos theta_o + sin
+/// theta_i sin theta_o` (`2 cos^2 theta_d`) and `2^-q` the exponentials:
+///
+/// * `T_f = 2^-(n NL_AF)`, the layers behind `1 - 2^-(m NL_LUM2)`;
+/// * the local backscatter `BACK 2^-(y^2) layers c / c_2` with `y = s
+///   B_SLOPE + B_SHIFT`;
+/// * the scattered light `(G_AMP + BACK RHO layers) 2^-(x^2 w) sqrt(w) c /
+///   c_2` with `x = s / 2 + G_SHIFT` and `1 / w = G_VAR + n BETA_F2`.
+mod fast {
+    /// `-log2 a_f`, RGB (at least [`super::MIN_RATE`]).
+    pub const NL_AF: usize = 0;
+    /// The local backscatter's amplitude `A_b d_b (4 / pi) / sqrt(2 pi
+    /// sigma_b^2)`, RGB.
+    pub const BACK: usize = 3;
+    /// The global amplitude `g_amp K`, `K = 2 d_f / sqrt(2 pi log2(e) / 2)`,
+    /// RGB.
+    pub const G_AMP: usize = 6;
+    /// `-2 log2 a_f`, luminance-weighted (at least [`super::MIN_RATE`]).
+    pub const NL_LUM2: usize = 9;
+    /// `K pi / 2 sqrt(2 pi sigma_b^2)`: `BACK RHO` is the scattered
+    /// backscatter's amplitude `2 d_b A_b K`.
+    pub const RHO: usize = 10;
+    /// `k / 2`, `k = sqrt(log2(e) / (2 sigma_b^2))`.
+    pub const B_SLOPE: usize = 11;
+    /// `(delta_b - pi / 2) k`.
+    pub const B_SHIFT: usize = 12;
+    /// `mean - pi / 2` of the scattered light's Gaussian.
+    pub const G_SHIFT: usize = 13;
+    /// Its variance before the spread over `log2(e) / 2`.
+    pub const G_VAR: usize = 14;
+    /// `beta_f^2` over `log2(e) / 2` (at least [`super::MIN_RATE`]).
+    pub const BETA_F2: usize = 15;
+}
+
 /// Records per interval of the computed nodes: lookups take the nearest
 /// record (at 64 nodes, every 0.7 degrees: `a_f^n` at `n = 20` moves by at
 /// most 2 % between records) instead of blending two.
@@ -171,10 +215,17 @@ const REFINE: usize = 4;
 
 /// Smallest variance of a Gaussian lobe (radians^2; 0.6 degrees).
 const MIN_VARIANCE: f32 = 1e-4;
+/// [`MIN_VARIANCE`] over `log2(e) / 2` (the scale of [`fast::G_VAR`]).
+const MIN_VARIANCE_G: f32 = MIN_VARIANCE / HALF_LOG2_E;
 /// Smallest `cos^2 theta_d` (Marschner's `MIN_COS_THETA_D` squared).
 const MIN_COS2_D: f32 = marschner::MIN_COS_THETA_D * marschner::MIN_COS_THETA_D;
 /// Smallest `a_f` whose logarithm is stored (`ln` of it is about -23).
 const MIN_AF: f32 = 1e-10;
+/// Smallest rate of an exponential `2^-(n r)` or spread per fibre, so
+/// that an infinite `n` gives `2^-inf` (0) or an infinite variance, not NaN.
+const MIN_RATE: f32 = 1e-30;
+/// `log2(e) / 2`: `exp(-x^2 / (2 v)) = 2^-(x^2 HALF_LOG2_E / v)`.
+const HALF_LOG2_E: f32 = 0.5 * std::f32::consts::LOG2_E;
 /// Largest `a_f^2` in the backscatter sums (their denominators `1 - a_f^2`
 /// vanish for a lossless fibre).
 const MAX_AF2: f32 = 0.99;
@@ -187,8 +238,14 @@ pub struct DualScattering {
     includes_cosine: bool,
     /// The averages at the table's nodes.
     averages: Vec<FibreAverages>,
-    /// One 16-float record per node ([`ch`]).
+    /// One 16-float record per refined node ([`fast`]).
     records: Vec<[f32x8; 2]>,
+    /// `(records - 1) / pi`: records per radian of `theta_i`.
+    index_scale: f32,
+    /// `records - 1/2`: the lookup rounds `(theta_i + pi/2) index_scale`
+    /// to the nearest record as the truncation of this minus
+    /// `acos(sin theta_i) index_scale`.
+    index_top: f32,
 }
 
 impl DualScattering {
@@ -236,17 +293,19 @@ impl DualScattering {
         for pair in coarse.windows(2) {
             for j in 0..REFINE {
                 let f = j as f32 / REFINE as f32;
-                records.push(pack(std::array::from_fn(|c| {
-                    (pair[1][c] - pair[0][c]).mul_add(f, pair[0][c])
-                })));
+                let r = std::array::from_fn(|c| (pair[1][c] - pair[0][c]).mul_add(f, pair[0][c]));
+                records.push(pack(fast_record(&r, &settings)));
             }
         }
-        records.push(pack(coarse[res - 1]));
+        records.push(pack(fast_record(&coarse[res - 1], &settings)));
+        let last = records.len() - 1;
         Ok(DualScattering {
             settings,
             includes_cosine,
             averages,
             records,
+            index_scale: last as f32 / PI,
+            index_top: last as f32 + 0.5,
         })
     }
 
@@ -335,55 +394,55 @@ impl DualScattering {
         behind: f32,
         direct: f32,
     ) -> Vec3 {
-        // Unclamped: the arccosine clamps, and NaN stays NaN through it.
+        // Unclamped: the arccosine clamps, and NaN stays NaN through it
+        // (every clamp below that could replace a NaN sample's value has
+        // the value second, where `maxps` / `minps` keep it, or is on a
+        // path that also goes through one that keeps it).
         let sin_i = wi.dot(t);
         let sin_o = wo.dot(t);
-        let (theta_i, theta_o) = (0.5 * PI - acos(sin_i), 0.5 * PI - acos(sin_o));
-        if theta_i.is_nan()
-            || theta_o.is_nan()
-            || fibres.is_nan()
-            || behind.is_nan()
-            || direct.is_nan()
-        {
-            return Vec3::NAN;
-        }
-        let last = self.records.len() - 1;
-        let u = ((theta_i + 0.5 * PI) * (last as f32 / PI)).clamp(0.0, last as f32);
-        let k = ((u + 0.5).floor() as usize).min(last);
+        let acos_i = acos(sin_i);
+        let acos_o = acos(sin_o);
+        // The nearest record: theta_i + pi/2 = pi - acos_i, in steps of
+        // pi / last; NaN goes to record 0.
+        let top = self.index_top;
+        let u = minps(maxps(acos_i.mul_add(-self.index_scale, top), 0.0), top);
+        let k = (u as usize).min(self.records.len() - 1);
         let rec = &self.records[k];
-        let r: [f32; 16] = std::array::from_fn(|c| rec[c / LANES].as_array()[c % LANES]);
-        let rgb = |c: usize| Vec3::new(r[c], r[c + 1], r[c + 2]);
+        let r = |c: usize| rec[c / LANES].as_array()[c % LANES];
 
-        let n = fibres.max(0.0);
-        let d = direct.clamp(0.0, 1.0);
-        let theta_h = 0.5 * (theta_i + theta_o);
-        let cos_i = (1.0 - sin_i * sin_i).max(0.0).sqrt();
-        let cos_o = (1.0 - sin_o * sin_o).max(0.0).sqrt();
-        let cos2_d = (0.5 * (1.0 + cos_i * cos_o + sin_i * sin_o)).max(MIN_COS2_D);
-        let inv_cos2_d = 1.0 / cos2_d;
-        let c = if self.includes_cosine { cos_i } else { 1.0 };
+        let n = maxps(0.0, fibres);
+        let m = maxps(0.0, behind);
+        let d = minps(1.0, maxps(0.0, direct));
+        let s = acos_i + acos_o;
+        let cos_i = maxps((-sin_i).mul_add(sin_i, 1.0), 0.0).sqrt();
+        let cos_o = maxps((-sin_o).mul_add(sin_o, 1.0), 0.0).sqrt();
+        let c2 = cos_i.mul_add(cos_o, sin_i.mul_add(sin_o, 1.0));
+        let inv2 = 1.0 / maxps(c2, 2.0 * MIN_COS2_D);
+        let inv2c = if self.includes_cosine {
+            inv2 * cos_i
+        } else {
+            inv2
+        };
 
-        let ln_af = rgb(ch::LN_AF);
-        let t_f = Vec3::new(
-            exp_neg(n * ln_af.x),
-            exp_neg(n * ln_af.y),
-            exp_neg(n * ln_af.z),
-        );
-        let spread = n * r[ch::BETA_F2];
-        let x_b = theta_h - r[ch::DELTA_B];
-        let (d_f, d_b) = (
-            self.settings.forward_density,
-            self.settings.backward_density,
-        );
-        let layers = 1.0 - exp_neg(2.0 * behind.max(0.0) * r[ch::LN_AF_LUM]);
-        let a_b = rgb(ch::AB) * layers;
-        let back_direct = a_b * (2.0 / PI * inv_cos2_d * gaussian(x_b, r[ch::SIGMA_B2]));
-        let far_light = (rgb(ch::G_AMP) + a_b * (2.0 * d_b))
-            * (gaussian(theta_h - r[ch::G_MEAN], r[ch::G_VAR] + spread) * inv_cos2_d);
-        let scattered = (t_f - Vec3::splat(d)).max(Vec3::ZERO);
-        let local = single + back_direct * (d_b * c);
-        let far = far_light * (d_f * c);
-        local * d + scattered * far
+        let t_f = [0, 1, 2].map(|c| exp2_neg(n * r(fast::NL_AF + c)));
+        let layers = 1.0 - exp2_neg(m * r(fast::NL_LUM2));
+        let y = s.mul_add(r(fast::B_SLOPE), r(fast::B_SHIFT));
+        let e_b = exp2_neg(y * y);
+        let w = 1.0 / maxps(n.mul_add(r(fast::BETA_F2), r(fast::G_VAR)), MIN_VARIANCE_G);
+        let x = s.mul_add(0.5, r(fast::G_SHIFT));
+        let e_g = exp2_neg(x * x * w);
+        let s_b = e_b * (layers * inv2c);
+        let s_g = e_g * w.sqrt() * inv2c;
+        let rl = r(fast::RHO) * layers;
+        let single = single.to_array();
+        let out: [f32; 3] = std::array::from_fn(|c| {
+            let back = r(fast::BACK + c);
+            let local = back.mul_add(s_b, single[c]);
+            let far = back.mul_add(rl, r(fast::G_AMP + c)) * s_g;
+            let scattered = maxps(0.0, t_f[c] - d);
+            local.mul_add(d, scattered * far)
+        });
+        Vec3::from_array(out)
     }
 
     /// [`DualScattering::shade`] for eight samples: the same steps, lane by
@@ -417,85 +476,74 @@ impl DualScattering {
     ) -> Vec3x8 {
         let one = f32x8::ONE;
         let zero = f32x8::ZERO;
-        let half_pi = f32x8::splat(0.5 * PI);
-        // Unclamped: the arccosine clamps, and NaN stays NaN through it.
+        // As the scalar twin, operation for operation.
         let sin_i = wi.dot(t);
         let sin_o = wo.dot(t);
-        let theta_i = half_pi - acos_x8(sin_i);
-        let theta_o = half_pi - acos_x8(sin_o);
-        let invalid = theta_i.is_nan()
-            | theta_o.is_nan()
-            | fibres.is_nan()
-            | behind.is_nan()
-            | direct.is_nan();
-
-        let last = self.records.len() - 1;
-        let u = ((theta_i + half_pi) * f32x8::splat(last as f32 / PI))
+        let acos_i = acos_x8(sin_i);
+        let acos_o = acos_x8(sin_o);
+        let top = f32x8::splat(self.index_top);
+        let u = acos_i
+            .mul_add(f32x8::splat(-self.index_scale), top)
             .fast_max(zero)
-            .fast_min(f32x8::splat(last as f32));
-        // NaN lanes (NaN out anyway) are clamped to record 0.
-        let ki = (u + f32x8::splat(0.5))
-            .floor()
-            .trunc_int()
-            .max(i32x8::ZERO)
-            .min(i32x8::splat(last as i32))
-            .to_array();
-        let mut lo = [[f32x8::ZERO; LANES]; 2];
+            .fast_min(top);
+        // Byte offsets of the records (64 bytes each), in [0, 64 last].
+        let k: i32x8 = u.fast_trunc_int();
+        let offsets: [i32; LANES] = (k << 6_i32).to_array();
+        let base = self.records.as_ptr().cast::<u8>();
+        let mut lo = [[zero; LANES]; 2];
         for l in 0..LANES {
-            // SAFETY: ki[l] is in [0, last] and last < len.
-            let rec = unsafe { self.records.get_unchecked(ki[l] as usize) };
+            // SAFETY: u is in [0, last + 1/2] (a NaN is replaced by 0 by
+            // the `fast_max`), so its truncation is a record index in
+            // [0, last], last < len, and a record is 64 bytes.
+            let rec = unsafe { &*base.add(offsets[l] as u32 as usize).cast::<[f32x8; 2]>() };
             lo[0][l] = rec[0];
             lo[1][l] = rec[1];
         }
         let [r0, r1] = [f32x8::transpose(lo[0]), f32x8::transpose(lo[1])];
         let r = |c: usize| if c < LANES { r0[c] } else { r1[c - LANES] };
-        let rgb = |c: usize| Vec3x8::new(r(c), r(c + 1), r(c + 2));
 
-        let n = fibres.fast_max(zero);
-        let d = direct.fast_max(zero).fast_min(one);
-        let theta_h = f32x8::splat(0.5) * (theta_i + theta_o);
-        let cos_i = (one - sin_i * sin_i).fast_max(zero).sqrt();
-        let cos_o = (one - sin_o * sin_o).fast_max(zero).sqrt();
-        let cos2_d = (f32x8::splat(0.5) * (one + cos_i * cos_o + sin_i * sin_o))
-            .fast_max(f32x8::splat(MIN_COS2_D));
-        let inv_cos2_d = one / cos2_d;
-        let c = if self.includes_cosine { cos_i } else { one };
+        let n = zero.fast_max(fibres);
+        let m = zero.fast_max(behind);
+        let d = one.fast_min(zero.fast_max(direct));
+        let s = acos_i + acos_o;
+        let cos_i = sin_i.mul_neg_add(sin_i, one).fast_max(zero).sqrt();
+        let cos_o = sin_o.mul_neg_add(sin_o, one).fast_max(zero).sqrt();
+        let c2 = cos_i.mul_add(cos_o, sin_i.mul_add(sin_o, one));
+        let inv2 = one / c2.fast_max(f32x8::splat(2.0 * MIN_COS2_D));
+        let inv2c = if self.includes_cosine {
+            inv2 * cos_i
+        } else {
+            inv2
+        };
 
-        let ln_af = rgb(ch::LN_AF);
-        let t_f = Vec3x8::new(
-            exp_neg_x8(n * ln_af.x),
-            exp_neg_x8(n * ln_af.y),
-            exp_neg_x8(n * ln_af.z),
-        );
-        let spread = n * r(ch::BETA_F2);
-        let x_b = theta_h - r(ch::DELTA_B);
-        let (d_f, d_b) = (
-            f32x8::splat(self.settings.forward_density),
-            f32x8::splat(self.settings.backward_density),
-        );
-        let layers = one - exp_neg_x8(f32x8::splat(2.0) * behind.fast_max(zero) * r(ch::LN_AF_LUM));
-        let a_b = rgb(ch::AB) * layers;
-        let back_direct =
-            a_b * (f32x8::splat(2.0 / PI) * inv_cos2_d * gaussian_x8(x_b, r(ch::SIGMA_B2)));
-        let g_amp = rgb(ch::G_AMP) + a_b * (f32x8::splat(2.0) * d_b);
-        let far_light =
-            g_amp * (gaussian_x8(theta_h - r(ch::G_MEAN), r(ch::G_VAR) + spread) * inv_cos2_d);
-        let dv = Vec3x8::new(d, d, d);
-        let gap = t_f - dv;
-        let scattered = Vec3x8::new(
-            gap.x.fast_max(zero),
-            gap.y.fast_max(zero),
-            gap.z.fast_max(zero),
-        );
-        let local = single + back_direct * (d_b * c);
-        let far = far_light * (d_f * c);
-        let out = local * d
-            + Vec3x8::new(
-                scattered.x * far.x,
-                scattered.y * far.y,
-                scattered.z * far.z,
-            );
-        Vec3x8::select(invalid, Vec3x8::splat(Vec3::NAN), out)
+        let t_f = [
+            exp2_neg_x8(n * r(fast::NL_AF)),
+            exp2_neg_x8(n * r(fast::NL_AF + 1)),
+            exp2_neg_x8(n * r(fast::NL_AF + 2)),
+        ];
+        let layers = one - exp2_neg_x8(m * r(fast::NL_LUM2));
+        let y = s.mul_add(r(fast::B_SLOPE), r(fast::B_SHIFT));
+        let e_b = exp2_neg_x8(y * y);
+        let w = one
+            / n.mul_add(r(fast::BETA_F2), r(fast::G_VAR))
+                .fast_max(f32x8::splat(MIN_VARIANCE_G));
+        let x = s.mul_add(f32x8::splat(0.5), r(fast::G_SHIFT));
+        let e_g = exp2_neg_x8(x * x * w);
+        let s_b = e_b * (layers * inv2c);
+        let s_g = e_g * w.sqrt() * inv2c;
+        let rl = r(fast::RHO) * layers;
+        let channel = |c: usize, single: f32x8| {
+            let back = r(fast::BACK + c);
+            let local = back.mul_add(s_b, single);
+            let far = back.mul_add(rl, r(fast::G_AMP + c)) * s_g;
+            let scattered = zero.fast_max(t_f[c] - d);
+            local.mul_add(d, scattered * far)
+        };
+        Vec3x8::new(
+            channel(0, single.x),
+            channel(1, single.y),
+            channel(2, single.z),
+        )
     }
 
     /// `F` for a batch (SIMD, eight samples per step): `single[k]` the
@@ -569,22 +617,6 @@ fn load_padded(a: &[f32], start: usize) -> f32x8 {
 
 /// `1 / sqrt(2 pi)`.
 const INV_SQRT_2PI: f32 = 0.398_942_3;
-
-/// The normalised Gaussian `g(x, v) = exp(-x^2 / (2 v)) / sqrt(2 pi v)`,
-/// as `exp(-x^2 w / 2) sqrt(w) / sqrt(2 pi)` with `w = 1 / v` (one
-/// division).
-#[inline(always)]
-fn gaussian(x: f32, variance: f32) -> f32 {
-    let w = 1.0 / variance.max(MIN_VARIANCE);
-    exp_neg(-0.5 * (x * x) * w) * (w.sqrt() * INV_SQRT_2PI)
-}
-
-/// [`gaussian`] in eight lanes.
-#[inline(always)]
-fn gaussian_x8(x: f32x8, variance: f32x8) -> f32x8 {
-    let w = f32x8::ONE / variance.fast_max(f32x8::splat(MIN_VARIANCE));
-    exp_neg_x8(f32x8::splat(-0.5) * (x * x) * w) * (w.sqrt() * f32x8::splat(INV_SQRT_2PI))
-}
 
 /// Keeps the attenuations physical: each in [0, 1] and their sum at most 1
 /// in every channel. A model that is not energy conserving (Marschner's
@@ -672,10 +704,156 @@ fn record(a: &FibreAverages, d_b: f32) -> [f32; 16] {
     r
 }
 
+/// The lookup record ([`fast`]) of an averages' record ([`ch`]).
+fn fast_record(a: &[f32; 16], settings: &DualScatteringSettings) -> [f32; 16] {
+    let (d_f, d_b) = (settings.forward_density, settings.backward_density);
+    let sigma_b2 = a[ch::SIGMA_B2].max(MIN_VARIANCE);
+    // 1 / sqrt(2 pi sigma_b^2): the backscatter's Gaussian's peak.
+    let peak_b = INV_SQRT_2PI / sigma_b2.sqrt();
+    let k_b = (HALF_LOG2_E / sigma_b2).sqrt();
+    // The scattered light's Gaussian is 2^-(x^2 w) sqrt(w) / sqrt(2 pi
+    // HALF_LOG2_E) with w = HALF_LOG2_E / v, and 1 / cos^2 theta_d = 2 / c_2.
+    let k_far = 2.0 * d_f * INV_SQRT_2PI / HALF_LOG2_E.sqrt();
+    let mut r = [0.0f32; 16];
+    for c in 0..3 {
+        r[fast::NL_AF + c] = (-a[ch::LN_AF + c] * std::f32::consts::LOG2_E).max(MIN_RATE);
+        r[fast::BACK + c] = a[ch::AB + c] * (d_b * (4.0 / PI) * peak_b);
+        r[fast::G_AMP + c] = a[ch::G_AMP + c] * k_far;
+    }
+    r[fast::NL_LUM2] = (-2.0 * a[ch::LN_AF_LUM] * std::f32::consts::LOG2_E).max(MIN_RATE);
+    r[fast::RHO] = k_far * (0.5 * PI) / peak_b;
+    r[fast::B_SLOPE] = 0.5 * k_b;
+    r[fast::B_SHIFT] = (a[ch::DELTA_B] - 0.5 * PI) * k_b;
+    r[fast::G_SHIFT] = a[ch::G_MEAN] - 0.5 * PI;
+    r[fast::G_VAR] = a[ch::G_VAR] / HALF_LOG2_E;
+    r[fast::BETA_F2] = (a[ch::BETA_F2] / HALF_LOG2_E).max(MIN_RATE);
+    r
+}
+
+/// `if a > b { a } else { b }`: `maxps(a, b)` as [`f32x8::fast_max`] gives
+/// it (NaN in either gives `b`).
+#[inline(always)]
+fn maxps(a: f32, b: f32) -> f32 {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+/// `if a < b { a } else { b }`: `minps(a, b)` (NaN in either gives `b`).
+#[inline(always)]
+fn minps(a: f32, b: f32) -> f32 {
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+
 /// Sixteen floats as two vectors.
 fn pack(r: [f32; 16]) -> [f32x8; 2] {
     [
         f32x8::new(std::array::from_fn(|c| r[c])),
         f32x8::new(std::array::from_fn(|c| r[LANES + c])),
     ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use coif_base::rng::SplitMix64;
+
+    /// `F` by the module docs' formulas, in `f64` with `libm`'s
+    /// exponential, from the averages' record `r` ([`ch`]).
+    fn reference(
+        ds: &DualScattering,
+        r: &[f32; 16],
+        single: Vec3,
+        sin_i: f32,
+        sin_o: f32,
+        [n, m, d]: [f64; 3],
+    ) -> [f64; 3] {
+        let g = |x: f64, v: f64| {
+            let v = v.max(MIN_VARIANCE as f64);
+            (-x * x / (2.0 * v)).exp() / (2.0 * std::f64::consts::PI * v).sqrt()
+        };
+        let r = r.map(f64::from);
+        let (si, so) = (sin_i as f64, sin_o as f64);
+        let theta_h = 0.5 * (si.asin() + so.asin());
+        let (ci, co) = ((1.0 - si * si).sqrt(), (1.0 - so * so).sqrt());
+        let inv_cos2_d = 1.0 / (0.5 * (1.0 + ci * co + si * so)).max(MIN_COS2_D as f64);
+        let c = if ds.includes_cosine { ci } else { 1.0 };
+        let (d_f, d_b) = (
+            ds.settings.forward_density as f64,
+            ds.settings.backward_density as f64,
+        );
+        let layers = 1.0 - (2.0 * m * r[ch::LN_AF_LUM]).exp();
+        let g_b = g(theta_h - r[ch::DELTA_B], r[ch::SIGMA_B2]);
+        let g_g = g(theta_h - r[ch::G_MEAN], r[ch::G_VAR] + n * r[ch::BETA_F2]);
+        std::array::from_fn(|k| {
+            let t_f = (n * r[ch::LN_AF + k]).exp();
+            let a_b = r[ch::AB + k] * layers;
+            let back = a_b * 2.0 / std::f64::consts::PI * inv_cos2_d * g_b;
+            let far = (r[ch::G_AMP + k] + 2.0 * d_b * a_b) * g_g * inv_cos2_d;
+            (single[k] as f64 + back * d_b * c) * d + (t_f - d).max(0.0) * far * d_f * c
+        })
+    }
+
+    #[test]
+    fn fast_records_give_the_formulas() {
+        let blond = crate::pbrt::sigma_a_from_concentration(0.3, 0.0);
+        let table = pbrt::Table::new(
+            &pbrt::Params {
+                sigma_a: blond,
+                ..pbrt::Params::default()
+            },
+            32,
+        )
+        .unwrap();
+        let settings = DualScatteringSettings {
+            resolution: 16,
+            ..DualScatteringSettings::default()
+        };
+        let ds = DualScattering::from_pbrt(&table, settings).unwrap();
+        let coarse: Vec<[f32; 16]> = ds
+            .averages
+            .iter()
+            .map(|a| record(a, settings.backward_density))
+            .collect();
+        let mut rng = SplitMix64::new(21);
+        let mut worst = 0.0f64;
+        for _ in 0..2000 {
+            let (t, wi, wo) = (rng.unit_vector(), rng.unit_vector(), rng.unit_vector());
+            let (n, m, d) = (rng.range(0.0, 40.0), rng.range(0.0, 30.0), rng.next_f32());
+            let single = table.scattering(t, wi, wo);
+            let got = ds.shade_layered(single, t, wi, wo, n, m, d);
+            // The record the lookup takes, before its folding.
+            let last = ds.records.len() - 1;
+            let u = acos(wi.dot(t)).mul_add(-ds.index_scale, ds.index_top);
+            let k = (u.max(0.0) as usize).min(last);
+            let (node, j) = (k / REFINE, k % REFINE);
+            let r: [f32; 16] = if node + 1 < coarse.len() {
+                let f = j as f32 / REFINE as f32;
+                std::array::from_fn(|c| {
+                    (coarse[node + 1][c] - coarse[node][c]).mul_add(f, coarse[node][c])
+                })
+            } else {
+                coarse[node]
+            };
+            let want = reference(
+                &ds,
+                &r,
+                single,
+                wi.dot(t),
+                wo.dot(t),
+                [n, m, d].map(f64::from),
+            );
+            for c in 0..3 {
+                let err = (got[c] as f64 - want[c]).abs() / want[c].abs().max(1e-3);
+                worst = worst.max(err);
+            }
+        }
+        assert!(worst < 3e-5, "relative error {worst}");
+    }
 }

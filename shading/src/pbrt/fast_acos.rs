@@ -42,13 +42,15 @@ pub fn acos(x: f32) -> f32 {
 /// Eight arccosines, the same operations lane by lane as [`acos`].
 #[inline]
 pub fn acos_x8(x: f32x8) -> f32x8 {
-    let ax = x.abs().simd_gt(f32x8::ONE).bitselect(f32x8::ONE, x.abs());
+    // minps(1, |x|): 1 above 1, and NaN stays NaN (as the scalar's test).
+    let ax = f32x8::ONE.fast_min(x.abs());
     let mut p = f32x8::splat(A[7]);
     for &c in A[..7].iter().rev() {
         p = p.mul_add(ax, f32x8::splat(c));
     }
     let r = (f32x8::ONE - ax).sqrt() * p;
-    x.simd_lt(f32x8::ZERO).bitselect(f32x8::splat(PI) - r, r)
+    // One blend (the mask is all ones or all zeros per lane).
+    x.simd_lt(f32x8::ZERO).select(f32x8::splat(PI) - r, r)
 }
 
 #[cfg(test)]
