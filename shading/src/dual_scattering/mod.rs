@@ -167,8 +167,6 @@ mod ch {
     /// Its variance before the spread (moment-matched from `v_g` and
     /// `sigma_b^2`).
     pub const G_VAR: usize = 13;
-    /// `ln a_f`, luminance-weighted (the depth factor of the backscatter).
-    pub const LN_AF_LUM: usize = 14;
 }
 
 /// Channels of a lookup record (two `f32x8`): the averages' record with
@@ -177,7 +175,8 @@ mod ch {
 /// `theta_h = pi/2 - s/2`), `c_2 = 1 + cos theta_i cos theta_o + sin
 /// theta_i sin theta_o` (`2 cos^2 theta_d`) and `2^-q` the exponentials:
 ///
-/// * `T_f = 2^-(n NL_AF)`, the layers behind `1 - 2^-(m NL_LUM2)`;
+/// * `T_f = 2^-(n NL_AF)`, the layers behind `1 - 2^-(2 m NL_AF)` (per
+///   channel);
 /// * the local backscatter `BACK 2^-(y^2) layers c / c_2` with `y = s
 ///   B_SLOPE + B_SHIFT`;
 /// * the scattered light `(G_AMP + BACK RHO layers) 2^-(x^2 w) sqrt(w) c /
@@ -191,21 +190,19 @@ mod fast {
     /// The global amplitude `g_amp K`, `K = 2 d_f / sqrt(2 pi log2(e) / 2)`,
     /// RGB.
     pub const G_AMP: usize = 6;
-    /// `-2 log2 a_f`, luminance-weighted (at least [`super::MIN_RATE`]).
-    pub const NL_LUM2: usize = 9;
     /// `K pi / 2 sqrt(2 pi sigma_b^2)`: `BACK RHO` is the scattered
     /// backscatter's amplitude `2 d_b A_b K`.
-    pub const RHO: usize = 10;
+    pub const RHO: usize = 9;
     /// `k / 2`, `k = sqrt(log2(e) / (2 sigma_b^2))`.
-    pub const B_SLOPE: usize = 11;
+    pub const B_SLOPE: usize = 10;
     /// `(delta_b - pi / 2) k`.
-    pub const B_SHIFT: usize = 12;
+    pub const B_SHIFT: usize = 11;
     /// `mean - pi / 2` of the scattered light's Gaussian.
-    pub const G_SHIFT: usize = 13;
+    pub const G_SHIFT: usize = 12;
     /// Its variance before the spread over `log2(e) / 2`.
-    pub const G_VAR: usize = 14;
+    pub const G_VAR: usize = 13;
     /// `beta_f^2` over `log2(e) / 2` (at least [`super::MIN_RATE`]).
-    pub const BETA_F2: usize = 15;
+    pub const BETA_F2: usize = 14;
 }
 
 /// Records per interval of the computed nodes: lookups take the nearest
@@ -379,7 +376,7 @@ impl DualScattering {
     /// local backscatter is the paper's series over the layers behind the
     /// point, light going `k` layers in and `k` back: with `m` layers it
     /// stops at `k = m`, `A_1 (1 - a_f^(2m))` (and the same factor on
-    /// `A_3`, with `a_f` luminance-weighted), so a fibre with no hair
+    /// `A_3`, per channel), so a fibre with no hair
     /// behind it gets no backscatter. A deep opacity map gives `behind` as
     /// its last plane's hair count minus the point's.
     #[inline]
@@ -425,20 +422,20 @@ impl DualScattering {
         };
 
         let t_f = [0, 1, 2].map(|c| exp2_neg(n * r(fast::NL_AF + c)));
-        let layers = 1.0 - exp2_neg(m * r(fast::NL_LUM2));
+        let m2 = m + m;
+        let layers = [0, 1, 2].map(|c| 1.0 - exp2_neg(m2 * r(fast::NL_AF + c)));
         let y = s.mul_add(r(fast::B_SLOPE), r(fast::B_SHIFT));
         let e_b = exp2_neg(y * y);
         let w = 1.0 / maxps(n.mul_add(r(fast::BETA_F2), r(fast::G_VAR)), MIN_VARIANCE_G);
         let x = s.mul_add(0.5, r(fast::G_SHIFT));
         let e_g = exp2_neg(x * x * w);
-        let s_b = e_b * (layers * inv2c);
+        let s_b = e_b * inv2c;
         let s_g = e_g * w.sqrt() * inv2c;
-        let rl = r(fast::RHO) * layers;
         let single = single.to_array();
         let out: [f32; 3] = std::array::from_fn(|c| {
-            let back = r(fast::BACK + c);
+            let back = r(fast::BACK + c) * layers[c];
             let local = back.mul_add(s_b, single[c]);
-            let far = back.mul_add(rl, r(fast::G_AMP + c)) * s_g;
+            let far = back.mul_add(r(fast::RHO), r(fast::G_AMP + c)) * s_g;
             let scattered = maxps(0.0, t_f[c] - d);
             local.mul_add(d, scattered * far)
         });
@@ -521,7 +518,12 @@ impl DualScattering {
             exp2_neg_x8(n * r(fast::NL_AF + 1)),
             exp2_neg_x8(n * r(fast::NL_AF + 2)),
         ];
-        let layers = one - exp2_neg_x8(m * r(fast::NL_LUM2));
+        let m2 = m + m;
+        let layers = [
+            one - exp2_neg_x8(m2 * r(fast::NL_AF)),
+            one - exp2_neg_x8(m2 * r(fast::NL_AF + 1)),
+            one - exp2_neg_x8(m2 * r(fast::NL_AF + 2)),
+        ];
         let y = s.mul_add(r(fast::B_SLOPE), r(fast::B_SHIFT));
         let e_b = exp2_neg_x8(y * y);
         let w = one
@@ -529,13 +531,12 @@ impl DualScattering {
                 .fast_max(f32x8::splat(MIN_VARIANCE_G));
         let x = s.mul_add(f32x8::splat(0.5), r(fast::G_SHIFT));
         let e_g = exp2_neg_x8(x * x * w);
-        let s_b = e_b * (layers * inv2c);
+        let s_b = e_b * inv2c;
         let s_g = e_g * w.sqrt() * inv2c;
-        let rl = r(fast::RHO) * layers;
         let channel = |c: usize, single: f32x8| {
-            let back = r(fast::BACK + c);
+            let back = r(fast::BACK + c) * layers[c];
             let local = back.mul_add(s_b, single);
-            let far = back.mul_add(rl, r(fast::G_AMP + c)) * s_g;
+            let far = back.mul_add(r(fast::RHO), r(fast::G_AMP + c)) * s_g;
             let scattered = zero.fast_max(t_f[c] - d);
             local.mul_add(d, scattered * far)
         };
@@ -700,7 +701,6 @@ fn record(a: &FibreAverages, d_b: f32) -> [f32; 16] {
     r[ch::SIGMA_B2] = sigma_b2;
     r[ch::G_MEAN] = mean;
     r[ch::G_VAR] = var;
-    r[ch::LN_AF_LUM] = a.a_f.dot(lum).max(MIN_AF).ln();
     r
 }
 
@@ -720,7 +720,6 @@ fn fast_record(a: &[f32; 16], settings: &DualScatteringSettings) -> [f32; 16] {
         r[fast::BACK + c] = a[ch::AB + c] * (d_b * (4.0 / PI) * peak_b);
         r[fast::G_AMP + c] = a[ch::G_AMP + c] * k_far;
     }
-    r[fast::NL_LUM2] = (-2.0 * a[ch::LN_AF_LUM] * std::f32::consts::LOG2_E).max(MIN_RATE);
     r[fast::RHO] = k_far * (0.5 * PI) / peak_b;
     r[fast::B_SLOPE] = 0.5 * k_b;
     r[fast::B_SHIFT] = (a[ch::DELTA_B] - 0.5 * PI) * k_b;
@@ -788,11 +787,11 @@ mod tests {
             ds.settings.forward_density as f64,
             ds.settings.backward_density as f64,
         );
-        let layers = 1.0 - (2.0 * m * r[ch::LN_AF_LUM]).exp();
         let g_b = g(theta_h - r[ch::DELTA_B], r[ch::SIGMA_B2]);
         let g_g = g(theta_h - r[ch::G_MEAN], r[ch::G_VAR] + n * r[ch::BETA_F2]);
         std::array::from_fn(|k| {
             let t_f = (n * r[ch::LN_AF + k]).exp();
+            let layers = 1.0 - (2.0 * m * r[ch::LN_AF + k]).exp();
             let a_b = r[ch::AB + k] * layers;
             let back = a_b * 2.0 / std::f64::consts::PI * inv_cos2_d * g_b;
             let far = (r[ch::G_AMP + k] + 2.0 * d_b * a_b) * g_g * inv_cos2_d;
