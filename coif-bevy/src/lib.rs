@@ -51,6 +51,10 @@ macro_rules! warn_once {
 pub mod assets;
 pub mod components;
 pub mod executor;
+#[cfg(feature = "render")]
+pub mod headless;
+#[cfg(feature = "render")]
+pub mod material;
 pub mod render;
 pub mod shading;
 pub mod sim;
@@ -60,6 +64,8 @@ pub use components::{
     CapsuleCollider, Hair, HairLod, HairPrimitive, HairRender, MeshCollider, SphereCollider,
 };
 pub use executor::TaskPoolExecutor;
+#[cfg(feature = "render")]
+pub use material::{DefaultHairMaterial, HairLook, HairMaterial};
 pub use render::HairMeshOf;
 pub use sim::{HairExecutor, HairFields, HairState, HairStats};
 
@@ -91,6 +97,11 @@ pub struct HairPlugin {
     pub executor: HairExecutor,
     /// Build render meshes (off for a simulation-only app).
     pub meshes: bool,
+    /// With the `render` feature: draw each hair mesh with
+    /// [`HairMaterial`] where the app has Bevy's renderer (`PbrPlugin`
+    /// added before this plugin, as `DefaultPlugins` does); an app
+    /// without it (e.g. `MinimalPlugins`) runs as without the feature.
+    pub material: bool,
 }
 
 impl Default for HairPlugin {
@@ -99,6 +110,7 @@ impl Default for HairPlugin {
             fixed_timestep: Some(1.0 / 60.0),
             executor: HairExecutor::TaskPool,
             meshes: true,
+            material: true,
         }
     }
 }
@@ -133,6 +145,18 @@ impl Plugin for HairPlugin {
                 PostUpdate,
                 (render::remove_orphan_meshes, render::build_hair_meshes).in_set(HairSystems::Mesh),
             );
+            #[cfg(feature = "render")]
+            if self.material && app.is_plugin_added::<bevy::pbr::PbrPlugin>() {
+                material::register_shader(app);
+                app.add_plugins(bevy::pbr::MaterialPlugin::<HairMaterial>::default())
+                    .init_resource::<HairLook>()
+                    .add_systems(
+                        PostUpdate,
+                        material::attach_hair_material
+                            .after(render::build_hair_meshes)
+                            .in_set(HairSystems::Mesh),
+                    );
+            }
         }
     }
 }
