@@ -98,7 +98,7 @@ fn sintel_hair_is_drawn() {
                 close_when_requested: false,
                 ..default()
             })
-            .disable::<WinitPlugin>()
+            .disable::<WinitPlugin>(),
     )
     .add_plugins(HairPlugin::default())
     .insert_resource(TimeUpdateStrategy::ManualDuration(Duration::from_secs_f64(
