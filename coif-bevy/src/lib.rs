@@ -14,6 +14,7 @@
 //!     let head = commands.spawn(Transform::default()).id(); // the head bone (animate it)
 //!     commands.spawn((Hair::new(assets.load("sintel/sintel_lite.tfx")), Transform::default(), ChildOf(head)));
 //!     commands.spawn((MeshCollider { mesh: assets.load("sintel/sintel_bust.obj"), cell: 0.004 }, Transform::default(), ChildOf(head)));
+//!     commands.spawn((Camera3d::default(), Transform::from_xyz(0.0, 0.35, 0.8).looking_at(Vec3::new(0.0, 0.33, 0.0), Vec3::Y)));
 //! }
 //! ```
 //!
@@ -33,7 +34,12 @@
 //!   the active camera);
 //!   `PostUpdate`: [`render::remove_orphan_meshes`] (meshes of hairs gone),
 //!   [`render::build_hair_meshes`] (refine, interpolate,
-//!   ribbons or lines into the hair's mesh).
+//!   ribbons or lines into the hair's mesh), then with the `render`
+//!   feature `material::attach_hair_material` (the default
+//!   `HairMaterial` on each hair mesh, where the app has `PbrPlugin`).
+//! - Feature `render` (default): `material` (the bevy_pbr material over
+//!   the hair WGSL, coif's tables as textures) and `headless` (rendering
+//!   into an image and reading it back, without a window).
 
 /// `log::warn!` once per call site (Bevy's `LogPlugin`, where an app has
 /// it, shows `log` records).
@@ -98,7 +104,7 @@ pub struct HairPlugin {
     /// Build render meshes (off for a simulation-only app).
     pub meshes: bool,
     /// With the `render` feature: draw each hair mesh with
-    /// [`HairMaterial`] where the app has Bevy's renderer (`PbrPlugin`
+    /// `HairMaterial` where the app has Bevy's renderer (`PbrPlugin`
     /// added before this plugin, as `DefaultPlugins` does); an app
     /// without it (e.g. `MinimalPlugins`) runs as without the feature.
     pub material: bool,
