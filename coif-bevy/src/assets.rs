@@ -18,6 +18,42 @@ pub struct GroomAsset(pub Groom);
 #[derive(Asset, TypePath, Debug, Clone)]
 pub struct BodyMeshAsset(pub TriangleMesh);
 
+impl BodyMeshAsset {
+    /// The body as a Bevy triangle-list [`Mesh`] to draw (positions in
+    /// metres, area-weighted smooth normals; a triangle whose index is out
+    /// of range is left out).
+    pub fn to_mesh(&self) -> Mesh {
+        use bevy::asset::RenderAssetUsages;
+        use bevy::mesh::{Indices, PrimitiveTopology};
+        let positions: Vec<[f32; 3]> = self.0.positions().iter().map(|p| p.to_array()).collect();
+        let n = positions.len();
+        let mut normals = vec![coif::glam::Vec3::ZERO; n];
+        let mut indices = Vec::with_capacity(3 * self.0.triangles().len());
+        for t in self.0.triangles() {
+            if t.iter().any(|&i| i as usize >= n) {
+                continue;
+            }
+            let [a, b, c] = t.map(|i| self.0.positions()[i as usize]);
+            let area_normal = (b - a).cross(c - a);
+            for &i in t {
+                normals[i as usize] += area_normal;
+            }
+            indices.extend_from_slice(t);
+        }
+        let normals: Vec<[f32; 3]> = normals
+            .iter()
+            .map(|v| v.try_normalize().unwrap_or(coif::glam::Vec3::Y).to_array())
+            .collect();
+        Mesh::new(
+            PrimitiveTopology::TriangleList,
+            RenderAssetUsages::default(),
+        )
+        .with_inserted_attribute(Mesh::ATTRIBUTE_POSITION, positions)
+        .with_inserted_attribute(Mesh::ATTRIBUTE_NORMAL, normals)
+        .with_inserted_indices(Indices::U32(indices))
+    }
+}
+
 /// Loads `.tfx` (TressFX) and `.hair` (cyHair) files: the format is told
 /// by the bytes, as [`coif::groom::load`] does.
 #[derive(Default, TypePath)]

@@ -6,9 +6,13 @@
 // everywhere). Directions: t the hair's unit tangent, wi to the light, wo to
 // the eye, both pointing away from the fibre.
 //
-// Validated by naga at test time (coif-bevy/tests/wgsl.rs), which also
-// checks a line-by-line Rust port of these functions against coif's CPU
-// shading.
+// This file has the shading functions only: they read the module-scope
+// `shading` uniform and the `lut_m`, `lut_n0`, `lut_n1` textures, which the
+// file appended to it binds: hair_standalone.wgsl (its own pipeline,
+// `HAIR_WGSL`) or hair_material.wgsl (Bevy's material, `HAIR_MATERIAL_WGSL`).
+// Both are validated by naga at test time (coif-bevy/tests/wgsl.rs), which
+// also checks a line-by-line Rust port of these functions against coif's
+// CPU shading.
 
 struct HairShading {
     // Kajiya-Kay: diffuse K_d (w unused), each highlight's colour (rgb) and
@@ -24,17 +28,6 @@ struct HairShading {
     // The light: direction to it (xyz), intensity (w).
     light: vec4<f32>,
 };
-
-struct HairView {
-    clip_from_world: mat4x4<f32>,
-    eye: vec4<f32>,
-};
-
-@group(0) @binding(0) var<uniform> view: HairView;
-@group(0) @binding(1) var<uniform> shading: HairShading;
-@group(0) @binding(2) var lut_m: texture_2d<f32>;
-@group(0) @binding(3) var lut_n0: texture_2d<f32>;
-@group(0) @binding(4) var lut_n1: texture_2d<f32>;
 
 const MIN_LENGTH_SQUARED: f32 = 1e-30;
 const MIN_SIN_O: f32 = 1e-6;
@@ -143,39 +136,4 @@ fn hair_radiance(t: vec3<f32>, wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
     let w = shading.lut.z;
     let c = kajiya_kay(t, wi, wo) * (1.0 - w) + marschner(t, wi, wo) * w;
     return c * shading.light.w;
-}
-
-// A standalone pipeline over the plugin's hair mesh: world positions,
-// ATTRIBUTE_TANGENT (xyz the hair's tangent, w along the hair), UV_0.
-struct VertexIn {
-    @location(0) position: vec3<f32>,
-    @location(1) tangent: vec4<f32>,
-    @location(2) uv: vec2<f32>,
-};
-
-struct VertexOut {
-    @builtin(position) clip: vec4<f32>,
-    @location(0) world: vec3<f32>,
-    @location(1) tangent: vec3<f32>,
-    @location(2) along: f32,
-};
-
-@vertex
-fn vertex(in: VertexIn) -> VertexOut {
-    var out: VertexOut;
-    out.clip = view.clip_from_world * vec4<f32>(in.position, 1.0);
-    out.world = in.position;
-    out.tangent = in.tangent.xyz;
-    out.along = in.tangent.w;
-    return out;
-}
-
-@fragment
-fn fragment(in: VertexOut) -> @location(0) vec4<f32> {
-    let t = normalize(in.tangent);
-    let wo = normalize(view.eye.xyz - in.world);
-    let wi = normalize(shading.light.xyz);
-    // A little ambient so the unlit side is not black, darker at the root.
-    let ambient = shading.diffuse.xyz * (0.15 + 0.1 * in.along);
-    return vec4<f32>(hair_radiance(t, wi, wo) + ambient, 1.0);
 }

@@ -14,6 +14,7 @@
 //!     let head = commands.spawn(Transform::default()).id(); // the head bone (animate it)
 //!     commands.spawn((Hair::new(assets.load("sintel/sintel_lite.tfx")), Transform::default(), ChildOf(head)));
 //!     commands.spawn((MeshCollider { mesh: assets.load("sintel/sintel_bust.obj"), cell: 0.004 }, Transform::default(), ChildOf(head)));
+//!     commands.spawn((Camera3d::default(), Transform::from_xyz(0.0, 0.35, 0.8).looking_at(Vec3::new(0.0, 0.33, 0.0), Vec3::Y)));
 //! }
 //! ```
 //!
@@ -33,7 +34,12 @@
 //!   the active camera);
 //!   `PostUpdate`: [`render::remove_orphan_meshes`] (meshes of hairs gone),
 //!   [`render::build_hair_meshes`] (refine, interpolate,
-//!   ribbons or lines into the hair's mesh).
+//!   ribbons or lines into the hair's mesh), then with the `render`
+//!   feature `material::attach_hair_material` (the default
+//!   `HairMaterial` on each hair mesh, where the app has `PbrPlugin`).
+//! - Feature `render` (default): `material` (the bevy_pbr material over
+//!   the hair WGSL, coif's tables as textures) and `headless` (rendering
+//!   into an image and reading it back, without a window).
 
 /// `log::warn!` once per call site (Bevy's `LogPlugin`, where an app has
 /// it, shows `log` records).
@@ -51,6 +57,10 @@ macro_rules! warn_once {
 pub mod assets;
 pub mod components;
 pub mod executor;
+#[cfg(feature = "render")]
+pub mod headless;
+#[cfg(feature = "render")]
+pub mod material;
 pub mod render;
 pub mod shading;
 pub mod sim;
@@ -60,6 +70,8 @@ pub use components::{
     CapsuleCollider, Hair, HairLod, HairPrimitive, HairRender, MeshCollider, SphereCollider,
 };
 pub use executor::TaskPoolExecutor;
+#[cfg(feature = "render")]
+pub use material::{DefaultHairMaterial, HairLook, HairMaterial};
 pub use render::HairMeshOf;
 pub use sim::{HairExecutor, HairFields, HairState, HairStats};
 
@@ -91,6 +103,11 @@ pub struct HairPlugin {
     pub executor: HairExecutor,
     /// Build render meshes (off for a simulation-only app).
     pub meshes: bool,
+    /// With the `render` feature: draw each hair mesh with
+    /// `HairMaterial` where the app has Bevy's renderer (`PbrPlugin`
+    /// added before this plugin, as `DefaultPlugins` does); an app
+    /// without it (e.g. `MinimalPlugins`) runs as without the feature.
+    pub material: bool,
 }
 
 impl Default for HairPlugin {
@@ -99,6 +116,7 @@ impl Default for HairPlugin {
             fixed_timestep: Some(1.0 / 60.0),
             executor: HairExecutor::TaskPool,
             meshes: true,
+            material: true,
         }
     }
 }
@@ -133,6 +151,18 @@ impl Plugin for HairPlugin {
                 PostUpdate,
                 (render::remove_orphan_meshes, render::build_hair_meshes).in_set(HairSystems::Mesh),
             );
+            #[cfg(feature = "render")]
+            if self.material && app.is_plugin_added::<bevy::pbr::PbrPlugin>() {
+                material::register_shader(app);
+                app.add_plugins(bevy::pbr::MaterialPlugin::<HairMaterial>::default())
+                    .init_resource::<HairLook>()
+                    .add_systems(
+                        PostUpdate,
+                        material::attach_hair_material
+                            .after(render::build_hair_meshes)
+                            .in_set(HairSystems::Mesh),
+                    );
+            }
         }
     }
 }

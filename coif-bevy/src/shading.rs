@@ -6,9 +6,27 @@ use coif::glam::{Vec3, Vec4};
 use coif::shading::kajiya_kay::KajiyaKay;
 use coif::shading::marschner::{Lut, LutLayout};
 
-/// The shader: `kajiya_kay`, `marschner` (table lookups), `hair_radiance`
-/// and a vertex/fragment pair over the plugin's hair mesh.
-pub const HAIR_WGSL: &str = include_str!("hair.wgsl");
+/// The shading functions alone (`hair.wgsl`): `kajiya_kay`, `marschner`
+/// (table lookups), `hair_radiance`; they read the `shading` uniform and
+/// the `lut_m`, `lut_n0`, `lut_n1` textures, which the file after them
+/// binds.
+pub const HAIR_FUNCTIONS_WGSL: &str = include_str!("hair.wgsl");
+
+/// A standalone shader: the functions and a vertex/fragment pair over the
+/// plugin's hair mesh with its own bind group 0 (view, `HairShading`, three
+/// tables), for a renderer that is not Bevy's.
+pub const HAIR_WGSL: &str = concat!(
+    include_str!("hair.wgsl"),
+    include_str!("hair_standalone.wgsl")
+);
+
+/// The shader of the Bevy material (`HairMaterial`, feature `render`): the
+/// functions, Bevy's view uniform (group 0, binding 0), the material's
+/// bindings in group 3 and the vertex/fragment pair.
+pub const HAIR_MATERIAL_WGSL: &str = concat!(
+    include_str!("hair.wgsl"),
+    include_str!("hair_material.wgsl")
+);
 
 /// The `HairShading` uniform block of [`HAIR_WGSL`], 6 vec4s.
 #[repr(C)]

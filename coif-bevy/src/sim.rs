@@ -182,6 +182,9 @@ pub fn init_hairs(
                             Mesh3d(mesh.clone()),
                             Transform::IDENTITY,
                             crate::render::HairMeshOf(entity),
+                            // Rewritten every frame: bounds computed once
+                            // would cull the hair once it moves out of them.
+                            bevy::camera::visibility::NoFrustumCulling,
                         ))
                         .id();
                     render.mesh = Some((mesh, mesh_entity));

@@ -7,17 +7,18 @@ use coif::shading::kajiya_kay::KajiyaKay;
 use coif::shading::marschner::{Lut, LutLayout, Params};
 use coif_bevy::shading::{lut_textures, texel, HairShadingUniform, HAIR_WGSL};
 
-#[test]
-fn wgsl_parses_and_validates() {
-    let module = naga::front::wgsl::parse_str(HAIR_WGSL)
-        .unwrap_or_else(|e| panic!("{}", e.emit_to_string(HAIR_WGSL)));
+/// Parses and validates a shader with naga (wgpu 29's, Bevy 0.19's
+/// front end), panicking with its diagnostics.
+fn validate(name: &str, source: &str) -> naga::Module {
+    let module = naga::front::wgsl::parse_str(source)
+        .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
     let info = naga::valid::Validator::new(
         naga::valid::ValidationFlags::all(),
         naga::valid::Capabilities::empty(),
     )
     .validate(&module);
     if let Err(e) = info {
-        panic!("{}", e.emit_to_string(HAIR_WGSL));
+        panic!("{name}: {}", e.emit_to_string(source));
     }
     let names: Vec<&str> = module
         .functions
@@ -25,9 +26,136 @@ fn wgsl_parses_and_validates() {
         .map(|(_, f)| f.name.as_deref().unwrap_or(""))
         .collect();
     for f in ["kajiya_kay", "marschner", "hair_radiance"] {
-        assert!(names.contains(&f), "{f} missing: {names:?}");
+        assert!(names.contains(&f), "{name}: {f} missing: {names:?}");
     }
-    assert_eq!(module.entry_points.len(), 2);
+    let stages: Vec<naga::ShaderStage> = module.entry_points.iter().map(|e| e.stage).collect();
+    assert_eq!(
+        stages,
+        [naga::ShaderStage::Vertex, naga::ShaderStage::Fragment],
+        "{name}"
+    );
+    module
+}
+
+/// (group, binding, name) of the module's bound globals, sorted.
+fn bindings(module: &naga::Module) -> Vec<(u32, u32, String)> {
+    let mut out: Vec<(u32, u32, String)> = module
+        .global_variables
+        .iter()
+        .filter_map(|(_, g)| {
+            let b = g.binding.as_ref()?;
+            Some((b.group, b.binding, g.name.clone().unwrap_or_default()))
+        })
+        .collect();
+    out.sort();
+    out
+}
+
+#[test]
+fn wgsl_parses_and_validates() {
+    let module = validate("HAIR_WGSL", HAIR_WGSL);
+    let b = bindings(&module);
+    let want: Vec<(u32, u32, String)> = ["view", "shading", "lut_m", "lut_n0", "lut_n1"]
+        .iter()
+        .enumerate()
+        .map(|(i, n)| (0, i as u32, n.to_string()))
+        .collect();
+    assert_eq!(b, want);
+}
+
+/// The material's shader: valid WGSL as it is (no Bevy import), Bevy's
+/// view uniform at group 0 binding 0 and the material's four bindings in
+/// bevy_pbr's material group, in the order `HairMaterial`'s `AsBindGroup`
+/// derive gives them.
+#[cfg(feature = "render")]
+#[test]
+fn material_wgsl_parses_and_validates() {
+    use coif_bevy::shading::HAIR_MATERIAL_WGSL;
+    let module = validate("HAIR_MATERIAL_WGSL", HAIR_MATERIAL_WGSL);
+    let group = bevy::pbr::MATERIAL_BIND_GROUP_INDEX as u32;
+    let mut want = vec![(0, 0, "view".to_string())];
+    for (i, n) in ["shading", "lut_m", "lut_n0", "lut_n1"].iter().enumerate() {
+        want.push((group, i as u32, n.to_string()));
+    }
+    assert_eq!(bindings(&module), want);
+}
+
+/// The material shader declares the leading fields of Bevy's `View`
+/// uniform only: their offsets (naga's layout of the WGSL struct) must be
+/// where Bevy's `ViewUniform` puts them (encase's layout of the Rust
+/// struct, written with a marker value per field and read back there).
+#[cfg(feature = "render")]
+#[test]
+fn material_view_prefix_matches_bevys_view_uniform() {
+    use bevy::math::{Mat3, Mat4, Vec2 as BVec2, Vec3 as BVec3, Vec4 as BVec4};
+    use bevy::render::render_resource::encase::UniformBuffer;
+    use bevy::render::view::{ColorGradingUniform, ViewUniform};
+    use coif_bevy::shading::HAIR_MATERIAL_WGSL;
+    let module = naga::front::wgsl::parse_str(HAIR_MATERIAL_WGSL).expect("parses");
+    let mut layouter = naga::proc::Layouter::default();
+    layouter.update(module.to_ctx()).expect("layout");
+    let (_, ty) = module
+        .types
+        .iter()
+        .find(|(_, t)| t.name.as_deref() == Some("BevyViewPrefix"))
+        .expect("BevyViewPrefix");
+    let naga::TypeInner::Struct { members, .. } = &ty.inner else {
+        panic!("not a struct");
+    };
+    let mat = |k: f32| Mat4::from_cols_array(&std::array::from_fn(|i| k * 100.0 + i as f32));
+    let view = ViewUniform {
+        clip_from_world: mat(1.0),
+        unjittered_clip_from_world: mat(2.0),
+        world_from_clip: mat(3.0),
+        world_from_view: mat(4.0),
+        view_from_world: mat(5.0),
+        clip_from_view: mat(6.0),
+        view_from_clip: mat(7.0),
+        world_position: BVec3::new(801.0, 802.0, 803.0),
+        exposure: 901.0,
+        viewport: BVec4::ZERO,
+        main_pass_viewport: BVec4::ZERO,
+        frustum: [BVec4::ZERO; 6],
+        lod_view_world_position: BVec3::ZERO,
+        color_grading: ColorGradingUniform {
+            balance: Mat3::ZERO,
+            saturation: BVec3::ZERO,
+            contrast: BVec3::ZERO,
+            gamma: BVec3::ZERO,
+            gain: BVec3::ZERO,
+            lift: BVec3::ZERO,
+            midtone_range: BVec2::ZERO,
+            exposure: 0.0,
+            hue: 0.0,
+            post_saturation: 0.0,
+        },
+        mip_bias: 0.0,
+        frame_count: 0,
+    };
+    let mut buffer = UniformBuffer::new(Vec::<u8>::new());
+    buffer.write(&view).expect("encase writes the view");
+    let bytes = buffer.into_inner();
+    let float_at =
+        |offset: usize| f32::from_le_bytes(bytes[offset..offset + 4].try_into().expect("4 bytes"));
+    let want: [(&str, f32); 9] = [
+        ("clip_from_world", 100.0),
+        ("unjittered_clip_from_world", 200.0),
+        ("world_from_clip", 300.0),
+        ("world_from_view", 400.0),
+        ("view_from_world", 500.0),
+        ("clip_from_view", 600.0),
+        ("view_from_clip", 700.0),
+        ("world_position", 801.0),
+        ("exposure", 901.0),
+    ];
+    assert_eq!(members.len(), want.len());
+    for (m, (name, first)) in members.iter().zip(want) {
+        assert_eq!(m.name.as_deref(), Some(name));
+        assert_eq!(float_at(m.offset as usize), first, "{name} at {}", m.offset);
+    }
+    // The matrices' last element and the position's last component too.
+    assert_eq!(float_at(members[6].offset as usize + 60), 715.0);
+    assert_eq!(float_at(members[7].offset as usize + 8), 803.0);
 }
 
 /// The shader's uniform block and tables, for the port.
