@@ -10,6 +10,7 @@
 //! and 0), `norule` (frictionless and the roots rule off: the same bytes
 //! as the step before the world round, frictionless, so the two compare
 //! code for code), `empty` (no collider: the step alone), `capsules` (each sphere a capsule of its radius, 2 radii long),
+//! `drag` (drag 1 /s in still air: what drag costs the step itself),
 //! `wind` (the spheres in a wind of (2, 0, 1) m/s, drag 1 /s), `gusts` (and
 //! turbulence 1 m/s), `hair` (volume and hair friction at 1; `volume`
 //! and `friction` one of them), `field` (the spheres and one 4 mm field of the
@@ -75,6 +76,7 @@ fn main() {
                 .collect();
             rig.clear();
         }
+        "drag" => params.drag = 1.0,
         "wind" | "gusts" => {
             params.wind = Vec3::new(2.0, 0.0, 1.0);
             params.drag = 1.0;
