@@ -739,3 +739,146 @@ impl Bench {
         (simd, scalar)
     }
 }
+
+/// Diagnostics of the comparison (`examples/ms_diagnose.rs`): per colour
+/// and patch, the tracer's radiance split by scattering order (paths cut
+/// after 1, 2 and 3 scatterings, the same random numbers, so the
+/// differences are the orders' contributions), the hits' geometry toward
+/// the light (`n`, `m`, `D`), and dual scattering's three terms (`D S`,
+/// the local backscatter `D d_b f_back c`, the scattered light), as text.
+pub mod diagnose {
+    use super::*;
+
+    /// The traced means of one patch: orders 1, 2, 3 and all, and the
+    /// standard error of all.
+    #[derive(Clone, Debug)]
+    pub struct Traced {
+        /// Mean radiance of paths cut after 1, 2, 3 scatterings, and uncut.
+        pub cut: [Vec3; 4],
+        /// Standard error of the uncut mean.
+        pub standard_error: Vec3,
+        /// Per ray: the means cut after 1, 2 scatterings and uncut.
+        pub per_ray: Vec<[Vec3; 3]>,
+    }
+
+    /// One patch's description: set name, scene index, hits.
+    pub struct PatchInfo<'a> {
+        /// "training", "held-out" or "crown".
+        pub set: &'static str,
+        /// The patch's light.
+        pub light: DirectionalLight,
+        /// First hits.
+        pub hits: &'a [Option<HitLighting>],
+        /// Mean over the hits of the fibres behind along the light's line
+        /// (`m`) and of the hemisphere's: the mean over 64 directions
+        /// `w` uniform in the hemisphere around `-wi` of the fibres crossed
+        /// times `cos(w, -wi)` (equal to `m` in a laterally infinite slab).
+        pub behind: (f32, f32),
+    }
+
+    /// [`PatchInfo::behind`] of a patch.
+    fn hemisphere(scene: &FibreScene, rays: &[(Vec3, Vec3)], wi: Vec3) -> (f32, f32) {
+        let mut rng = SplitMix64::new(11);
+        let (mut line, mut hemi, mut count) = (0.0f64, 0.0f64, 0usize);
+        let back = -wi;
+        let (u, v) = back.any_orthonormal_pair();
+        for &(o, d) in rays {
+            let Some(hit) = scene.intersect(o, d, f32::INFINITY) else {
+                continue;
+            };
+            let Some((a, b)) = scene.segment(hit.segment) else {
+                continue;
+            };
+            let ab = b - a;
+            let t = ((hit.point - a).dot(ab) / ab.length_squared().max(1e-30)).clamp(0.0, 1.0);
+            let axis = a + ab * t;
+            line += scene.crossings(axis, back, f32::INFINITY) as f64;
+            let mut sum = 0.0f64;
+            for _ in 0..64 {
+                let c = rng.next_f32();
+                let phi = std::f32::consts::TAU * rng.next_f32();
+                let s = (1.0 - c * c).max(0.0).sqrt();
+                let w = back * c + (u * phi.cos() + v * phi.sin()) * s;
+                sum += scene.crossings(axis, w, f32::INFINITY) as f64 * c as f64;
+            }
+            hemi += sum / 64.0;
+            count += 1;
+        }
+        let n = count.max(1) as f64;
+        ((line / n) as f32, (hemi / n) as f32)
+    }
+
+    /// Traces every patch of every colour (orders split) and returns, per
+    /// colour, per patch, the traced means; `rays` and `paths` per patch.
+    /// Then calls `report` with the cases.
+    pub fn run(
+        rays: usize,
+        paths: usize,
+        only_crown: bool,
+        report: impl Fn(&str, f32, &[PatchInfo], &[Traced]),
+    ) {
+        let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let cases = Cases::new(rays);
+        for (name, eumelanin) in ABSORPTIONS {
+            let sigma_a = pbrt::sigma_a_from_concentration(eumelanin, 0.0);
+            let params = pbrt::Params {
+                sigma_a,
+                ..pbrt::Params::default()
+            };
+            let mut infos = Vec::new();
+            let mut traced = Vec::new();
+            for p in &cases.patches {
+                if only_crown && p.set != Set::Crown {
+                    continue;
+                }
+                let mut cut = [Vec3::ZERO; 4];
+                let mut se = Vec3::ZERO;
+                let mut per_ray = vec![[Vec3::ZERO; 3]; p.rays.len()];
+                for (j, depth) in [1, 2, 3, MAX_DEPTH].into_iter().enumerate() {
+                    let tracer = PathTracer::new(&params, Some(p.light), Vec3::ZERO, depth)
+                        .expect("valid tracer");
+                    let est = tracer
+                        .estimate_threaded(
+                            &cases.scenes[p.scene],
+                            &p.rays,
+                            paths,
+                            TRACE_SEED,
+                            threads,
+                        )
+                        .expect("paths");
+                    let n = p.rays.len().max(1) as f32;
+                    cut[j] = est.iter().map(|e| e.mean).sum::<Vec3>() / n;
+                    let slot = [Some(0), Some(1), None, Some(2)][j];
+                    if let Some(slot) = slot {
+                        for (r, e) in per_ray.iter_mut().zip(&est) {
+                            r[slot] = e.mean;
+                        }
+                    }
+                    if depth == MAX_DEPTH {
+                        let var = est
+                            .iter()
+                            .map(|e| e.standard_error * e.standard_error)
+                            .sum::<Vec3>();
+                        se = Vec3::new(var.x.sqrt(), var.y.sqrt(), var.z.sqrt()) / n;
+                    }
+                }
+                traced.push(Traced {
+                    cut,
+                    standard_error: se,
+                    per_ray,
+                });
+                infos.push(PatchInfo {
+                    set: match p.set {
+                        Set::HeldOut => "held-out",
+                        Set::Training => "training",
+                        Set::Crown => "crown",
+                    },
+                    light: p.light,
+                    hits: &p.hits,
+                    behind: hemisphere(&cases.scenes[p.scene], &p.rays, p.light.to_light),
+                });
+            }
+            report(name, eumelanin, &infos, &traced);
+        }
+    }
+}

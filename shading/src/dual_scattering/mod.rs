@@ -55,6 +55,16 @@
 //! from every forward azimuth) tripled the error on views through the
 //! hair from behind, and was dropped.
 //!
+//! A known limit: the local backscatter is the paper's slab, truncated at
+//! the `m` fibres on the light's line behind the point. In sparse hair
+//! (volume fraction 0.005, a region of Sintel's crown) the path tracer's
+//! light scattered back to a fibre does not follow that count (it comes
+//! from the neighbours in every direction; near the edge of the hair half
+//! of them are missing), and the backscatter there is about twice the
+//! tracer's for blond hair per fibre behind (`MULTIPLE_SCATTERING.md`,
+//! "Sintel's crown: the diagnosis"). A fix needs the hair over the
+//! hemisphere behind the point, which a shadow map does not give.
+//!
 //! The averages are tabulated once per material over `theta_i`
 //! ([`DualScattering::new`]) and refined four times linearly. Everything
 //! that depends only on `theta_i` (the local backscatter's Gaussian, the
