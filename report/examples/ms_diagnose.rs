@@ -10,7 +10,9 @@
 //! scattering's terms (`D S`, the local backscatter, the scattered light).
 //!
 //! `cargo run --release -p coif-report --example ms_diagnose -- [--crown]
-//! [-v] [-g] [--grid] [--rays N] [--paths N]`: `--crown` the crown only,
+//! [-v] [-g] [--grid] [--rays N] [--paths N] [--crown-radius MM]`:
+//! `--crown` the crown only, `--crown-radius` its ball's radius (default
+//! `CROWN_BALL_RADIUS`),
 //! `-g` the hits grouped by `(D, m, n)` with the traced and modelled terms
 //! of each group, `--grid` the density grid of `MULTIPLE_SCATTERING.md`
 //! (steps of 0.05 over [0.1, 0.7]^2, optimum of blond^2 + brown^2 on the
@@ -20,6 +22,7 @@ use coif::shading::dual_scattering::accuracy::HitLighting;
 use coif::shading::dual_scattering::{DualScattering, DualScatteringSettings};
 use coif::shading::pbrt;
 use coif_report::multiple_scattering::diagnose::{run, PatchInfo, Traced};
+use coif_report::multiple_scattering::CROWN_BALL_RADIUS;
 use glam::{DVec3, Vec3};
 
 /// Pairs of (estimate, traced) patch means.
@@ -79,11 +82,14 @@ fn main() {
     let verbose = args.iter().any(|a| a == "-v");
     let group = args.iter().any(|a| a == "-g");
     let grid = args.iter().any(|a| a == "--grid");
+    let crown_radius: f32 =
+        arg(&args, "--crown-radius").map_or(CROWN_BALL_RADIUS, |s| s.parse().unwrap());
     let results: std::cell::RefCell<Vec<GridRow>> = Default::default();
     run(
         rays,
         paths,
         crown,
+        crown_radius,
         |name, eumelanin, infos: &[PatchInfo], traced: &[Traced]| {
             let sigma_a = pbrt::sigma_a_from_concentration(eumelanin, 0.0);
             let params = pbrt::Params {

@@ -97,8 +97,18 @@ pub const MARSCHNER_RESOLUTION: usize = 128;
 /// Samples of the timed shading batch.
 pub const TIMED_SAMPLES: usize = 2048;
 
-/// Radius of the ball the Sintel crown region is clipped to (mm).
-pub const CROWN_BALL_RADIUS: f32 = 6.0;
+/// Radius of the ball the Sintel crown region is clipped to (mm): two mean
+/// free paths of light in hair this sparse. A path crosses `2 f / (pi r)`
+/// fibres per mm in hair of volume fraction `f` and fibre radius `r`
+/// (0.08 at `f` = 0.005, `r` = 0.04 mm: 12.6 mm between fibres), so the
+/// hair that sends light back to a shaded point lies up to a few
+/// centimetres round it. A ball of 6 mm (the first choice) cut that hair
+/// away: beside its edge half of a hit's back hemisphere was empty, which
+/// no count of the hair behind along the light can see, and the reference
+/// was a lone wisp rather than a region of a head (MULTIPLE_SCATTERING.md,
+/// "Sintel's crown: the diagnosis", with the errors at 6, 12, 18 and 24 mm;
+/// `ms_diagnose --crown-radius R` measures any).
+pub const CROWN_BALL_RADIUS: f32 = 24.0;
 /// Depth of the ball's centre below the outermost hair above her highest
 /// root (mm): inside the hair, its top layers lit.
 pub const CROWN_DEPTH: f32 = 3.0;
@@ -166,7 +176,7 @@ fn light(to: Vec3) -> DirectionalLight {
 }
 
 impl Cases {
-    fn new(rays: usize) -> Cases {
+    fn new(rays: usize, crown_radius: f32) -> Cases {
         let mut cases = Cases {
             scenes: Vec::new(),
             patches: Vec::new(),
@@ -189,7 +199,7 @@ impl Cases {
         cases.tufts(Set::HeldOut, l2, &[0.1, 0.25], 5.0, &v2, rays);
         cases.tufts(Set::Training, l1, &[0.05, 0.15, 0.3], 3.0, &v1, rays);
         cases.tufts(Set::Training, l3, &[0.08, 0.2], 4.0, &v1, rays);
-        cases.sintel_crown(rays);
+        cases.sintel_crown(rays, crown_radius);
         cases
     }
 
@@ -230,17 +240,17 @@ impl Cases {
     }
 
     /// Sintel's render hairs at a real scalp's density, clipped to the
-    /// crown ball, lit from above, two views.
-    fn sintel_crown(&mut self, rays: usize) {
-        let (runs, counts, length, centre) = crown_hairs();
-        let ball = 4.0 / 3.0 * std::f32::consts::PI * CROWN_BALL_RADIUS.powi(3);
+    /// crown ball of `radius` (mm), lit from above, two views.
+    fn sintel_crown(&mut self, rays: usize, radius: f32) {
+        let (runs, counts, length, centre) = crown_hairs(radius);
+        let ball = 4.0 / 3.0 * std::f32::consts::PI * radius.powi(3);
         let fraction = std::f32::consts::PI * TUFT_RADIUS * TUFT_RADIUS * length / ball;
         let scene = FibreScene::from_strands(&runs, &counts, TUFT_RADIUS).expect("crown hairs");
         self.crown = format!(
             "Sintel crown ({} hairs at {} per cm2 in a {:.0} mm ball; fibre radius {} mm; f {:.3}",
             counts.len(),
             CROWN_HAIRS_PER_CM2,
-            CROWN_BALL_RADIUS,
+            radius,
             TUFT_RADIUS,
             fraction
         );
@@ -249,7 +259,7 @@ impl Cases {
             let rays = coif::shading::path_tracer::orthographic_rays(
                 centre,
                 view,
-                2.0 * CROWN_BALL_RADIUS,
+                2.0 * radius,
                 PATCH_WINDOW,
                 rays,
                 RAY_SEED,
@@ -279,9 +289,10 @@ impl Cases {
 
 /// Sintel's render hairs as the frame interpolates them over her scalp at
 /// [`CROWN_HAIRS_PER_CM2`] (groom at rest after 0.5 s of settling, no
-/// LOD), in millimetres, clipped to the ball around the crown: the runs'
-/// points, their counts, their total length and the ball's centre.
-fn crown_hairs() -> (Vec<Vec3>, Vec<usize>, f32, Vec3) {
+/// LOD), in millimetres, clipped to the ball of `radius` around the crown:
+/// the runs' points, their counts, their total length and the ball's
+/// centre.
+fn crown_hairs(radius: f32) -> (Vec<Vec3>, Vec<usize>, f32, Vec3) {
     use coif::frame::{FramePipeline, FrameSettings, HairScene, PrepareMode, ShadingModel};
     let scene = HairScene::sintel().expect("Sintel's scene");
     let settings = FrameSettings {
@@ -321,7 +332,7 @@ fn crown_hairs() -> (Vec<Vec3>, Vec<usize>, f32, Vec3) {
         .fold(top_root.y, f32::max);
     let centre = Vec3::new(top_root.x, outer - CROWN_DEPTH, top_root.z);
     let strands: Vec<&[Vec3]> = hairs.iter().map(|h| h.as_slice()).collect();
-    let (runs, counts, length) = clip_to_ball(&strands, centre, CROWN_BALL_RADIUS);
+    let (runs, counts, length) = clip_to_ball(&strands, centre, radius);
     (runs, counts, length, centre)
 }
 
@@ -459,7 +470,7 @@ pub fn rows(options: Options) -> Vec<Row> {
         (FULL_RAYS, FULL_PATHS)
     };
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let cases = Cases::new(rays);
+    let cases = Cases::new(rays, CROWN_BALL_RADIUS);
     let bench = Bench::new(options);
     let mut rows = Vec::new();
     for (name, eumelanin) in ABSORPTIONS {
@@ -809,16 +820,18 @@ pub mod diagnose {
     }
 
     /// Traces every patch of every colour (orders split) and returns, per
-    /// colour, per patch, the traced means; `rays` and `paths` per patch.
-    /// Then calls `report` with the cases.
+    /// colour, per patch, the traced means; `rays` and `paths` per patch,
+    /// the crown's ball of `crown_radius` (mm). Then calls `report` with
+    /// the cases.
     pub fn run(
         rays: usize,
         paths: usize,
         only_crown: bool,
+        crown_radius: f32,
         report: impl Fn(&str, f32, &[PatchInfo], &[Traced]),
     ) {
         let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-        let cases = Cases::new(rays);
+        let cases = Cases::new(rays, crown_radius);
         for (name, eumelanin) in ABSORPTIONS {
             let sigma_a = pbrt::sigma_a_from_concentration(eumelanin, 0.0);
             let params = pbrt::Params {
