@@ -260,6 +260,10 @@ pub(crate) struct ChainScratch<T: Lane> {
     /// in `fields`): the ball round its last lookup that the skin provably
     /// does not reach (`narrow::ClearBall`), reset every block step.
     field_balls: Vec<ClearBall<T>>,
+    /// The block's candidates as (first vertex that may touch it, index
+    /// in the step's candidate list), sorted by the first: the collider
+    /// lists are filled in this order, so no collider is moved to sort.
+    order: Vec<(usize, usize)>,
 }
 
 impl<T: Lane> ChainScratch<T> {
@@ -278,6 +282,7 @@ impl<T: Lane> ChainScratch<T> {
             capsules: Vec::new(),
             fields: Vec::new(),
             field_balls: Vec::new(),
+            order: Vec::new(),
         }
     }
 
@@ -290,6 +295,7 @@ impl<T: Lane> ChainScratch<T> {
         grow(&mut self.spheres, spheres);
         grow(&mut self.capsules, capsules);
         grow(&mut self.fields, fields);
+        grow(&mut self.order, spheres + capsules + fields);
         let balls = self.qfix.len() * fields;
         if self.field_balls.len() < balls {
             self.field_balls.resize(balls, ClearBall::none());
@@ -357,10 +363,23 @@ pub(crate) fn step_chain<T: SdfLane>(
     // 5., 6. (set-up) This block's candidate colliders, splatted, with the
     // depth of its roots' targets in each (the roots rule), and the pinned
     // vertices and segments kept out of the collisions.
+    // Listed by the first vertex that may touch them (the rig's order
+    // among equals), each kind a prefix per vertex: the small (first,
+    // index) pairs are sorted, not the colliders.
     s.spheres.clear();
     s.capsules.clear();
     s.fields.clear();
-    for cand in candidates.iter().filter(|cand| cand.touches(block)) {
+    s.order.clear();
+    for (at, cand) in candidates.iter().enumerate() {
+        if cand.touches(block) {
+            s.order.push((cand.first[block] as usize, at));
+        }
+    }
+    sort_by_first(&mut s.order, |o| o.0);
+    for &(_, at) in &s.order {
+        let Some(cand) = candidates.get(at) else {
+            continue;
+        };
         let (i, first) = (cand.index as usize, cand.first[block]);
         match cand.kind {
             Kind::Sphere => s.spheres.push(ShapeReach::new(
@@ -388,9 +407,6 @@ pub(crate) fn step_chain<T: SdfLane>(
             }
         }
     }
-    sort_by_first(&mut s.spheres, |r| r.first);
-    sort_by_first(&mut s.capsules, |r| r.first);
-    sort_by_first(&mut s.fields, |r| r.first);
     // No vertex has looked a field up yet this step (the slots follow the
     // new candidate list). Sized by `reserve`; grown here only if it was
     // not called.

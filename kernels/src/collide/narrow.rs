@@ -147,6 +147,8 @@ pub(crate) struct ShapeReach<T: Lane> {
     /// The ends' motion over one substep.
     a_sub: V3<T>,
     b_sub: V3<T>,
+    /// It did not move over the step (`from == to`): placed once.
+    still: bool,
     reach: T,
     reach2: T,
     /// `(reach + slop)^2`: touching, for friction.
@@ -200,6 +202,7 @@ impl<T: Lane> ShapeReach<T> {
             touch_bound2: T::splat(0.0),
             a_sub: V3::splat((s.to[0] - s.from[0]) * inv_n),
             b_sub: V3::splat((s.to[1] - s.from[1]) * inv_n),
+            still: s.from == s.to,
             reach,
             reach2: reach * reach,
             touch2: T::splat(touch * touch),
@@ -264,7 +267,7 @@ impl<T: Lane> ShapeReach<T> {
     #[inline(always)]
     pub(crate) fn advance(&mut self, sub: u32, n: u32) {
         // A still shape stays where `new` placed it.
-        if self.from == self.to {
+        if self.still {
             return;
         }
         let ends = if sub + 1 >= n {
