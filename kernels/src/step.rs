@@ -264,6 +264,9 @@ pub(crate) struct ChainScratch<T: Lane> {
     /// in the step's candidate list), sorted by the first: the collider
     /// lists are filled in this order, so no collider is moved to sort.
     order: Vec<(usize, usize)>,
+    /// The vertices `..rooted_end` fall under some candidate's roots rule
+    /// (set once per block step).
+    rooted_end: usize,
 }
 
 impl<T: Lane> ChainScratch<T> {
@@ -283,6 +286,7 @@ impl<T: Lane> ChainScratch<T> {
             fields: Vec::new(),
             field_balls: Vec::new(),
             order: Vec::new(),
+            rooted_end: 0,
         }
     }
 
@@ -407,6 +411,14 @@ pub(crate) fn step_chain<T: SdfLane>(
             }
         }
     }
+    // The vertices any candidate's roots rule reaches.
+    s.rooted_end = s
+        .spheres
+        .iter()
+        .chain(s.capsules.iter())
+        .map(|r| r.rooted_until())
+        .max()
+        .unwrap_or(0);
     // No vertex has looked a field up yet this step (the slots follow the
     // new candidate list). Sized by `reserve`; grown here only if it was
     // not called.
@@ -758,8 +770,10 @@ fn strain_limit_and_collide<
         fields,
         vertex_off,
         field_balls,
+        rooted_end,
         ..
     } = s;
+    let rooted_end = *rooted_end;
     let fields_n = fields.len();
     let balls = &mut field_balls[..c.pos.len() * fields_n];
     let mut deep = !T::all_lanes();
@@ -770,13 +784,6 @@ fn strain_limit_and_collide<
     let (pos, prev) = (&mut c.pos[..verts], &mut c.prev[..verts]);
     let (w, rest_len, off) = (&c.w[..verts], &c.rest_len[..verts], &vertex_off[..verts]);
     let arc = &c.arc[..verts];
-    // The vertices any candidate's roots rule reaches.
-    let rooted_end = spheres
-        .iter()
-        .chain(capsules.iter())
-        .map(|r| r.rooted_until())
-        .max()
-        .unwrap_or(0);
     let (mut live_s, mut live_c, mut live_f) = (0, 0, 0);
     for v in 1..verts {
         while live_s < spheres.len() && spheres[live_s].first <= v {

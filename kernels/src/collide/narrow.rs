@@ -410,9 +410,13 @@ impl<T: Lane> ShapeReach<T> {
             let start = self.first.saturating_sub(1);
             // The roots rule's segments first, then the rest at one reach.
             let rooted = self.rooted_until.clamp(start, verts - 1);
-            for v in start..rooted {
-                let reach = self.reach(v, arc[v].mul_add(u, arc[v + 1] * t));
-                self.push_pearl::<CAPSULE>(pos, w, off, v, t, u, reach);
+            // (Tested first: most shapes hold no root, and the loop's
+            // set-up is then not made.)
+            if rooted > start {
+                for v in start..rooted {
+                    let reach = self.reach(v, arc[v].mul_add(u, arc[v + 1] * t));
+                    self.push_pearl::<CAPSULE>(pos, w, off, v, t, u, reach);
+                }
             }
             for v in rooted..verts - 1 {
                 self.push_pearl::<CAPSULE>(pos, w, off, v, t, u, (self.reach, self.reach2));
