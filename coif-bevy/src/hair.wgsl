@@ -9,7 +9,8 @@
 // This file has the shading functions only: they read the module-scope
 // `shading` uniform and the `lut_m`, `lut_n0`, `lut_n1` textures, which the
 // file appended to it binds: hair_standalone.wgsl (its own pipeline,
-// `HAIR_WGSL`) or hair_material.wgsl (Bevy's material, `HAIR_MATERIAL_WGSL`).
+// `HAIR_WGSL`) or hair_material.wgsl (Bevy's material, `HAIR_MATERIAL_WGSL`),
+// then hair_mesh.wgsl, the vertex and fragment stages both share.
 // Both are validated by naga at test time (coif-bevy/tests/wgsl.rs), which
 // also checks a line-by-line Rust port of these functions against coif's
 // CPU shading.

@@ -17,7 +17,8 @@ pub const HAIR_FUNCTIONS_WGSL: &str = include_str!("hair.wgsl");
 /// tables), for a renderer that is not Bevy's.
 pub const HAIR_WGSL: &str = concat!(
     include_str!("hair.wgsl"),
-    include_str!("hair_standalone.wgsl")
+    include_str!("hair_standalone.wgsl"),
+    include_str!("hair_mesh.wgsl")
 );
 
 /// The shader of the Bevy material (`HairMaterial`, feature `render`): the
@@ -25,7 +26,8 @@ pub const HAIR_WGSL: &str = concat!(
 /// bindings in group 3 and the vertex/fragment pair.
 pub const HAIR_MATERIAL_WGSL: &str = concat!(
     include_str!("hair.wgsl"),
-    include_str!("hair_material.wgsl")
+    include_str!("hair_material.wgsl"),
+    include_str!("hair_mesh.wgsl")
 );
 
 /// The `HairShading` uniform block of [`HAIR_WGSL`], 6 vec4s.

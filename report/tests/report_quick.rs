@@ -205,45 +205,36 @@ fn quick_report_rows_are_finite_and_files_are_written() {
     // several times closer to the path tracer than single scattering
     // (measured 0.16 against 0.80), and the tracer's white furnace is 1
     // (measured 2e-5).
-    let ms = |kernel: &str, method: &str| {
+    // The SIMD row's error of a method on a set (a part of the setting).
+    let ms = |kernel: &str, method: &str, set: &str| {
         rows.iter()
             .find(|r| {
                 r.kernel == kernel
                     && r.setting.starts_with(method)
-                    && r.setting.contains("held-out")
+                    && r.setting.contains(set)
                     && r.path == Path::Simd
             })
-            .unwrap_or_else(|| panic!("no held-out {method} row of {kernel}"))
+            .unwrap_or_else(|| panic!("no {set} {method} row of {kernel}"))
             .error
     };
     let (dual, single) = (
-        ms("multiple scattering blond", "dual"),
-        ms("multiple scattering blond", "single"),
+        ms("multiple scattering blond", "dual", "held-out"),
+        ms("multiple scattering blond", "single", "held-out"),
     );
     assert!(dual < 0.5 * single, "dual {dual} single {single}");
     // On Sintel's crown (real geometry, held out) too: blond dual
     // scattering at least twice as close as single scattering and blond
     // and brown within 15 % (quick run measured: blond 0.052 against
     // 0.221, brown 0.097; the tracer's noise 0.016 and 0.008).
-    let crown = |kernel: &str, method: &str| {
-        rows.iter()
-            .find(|r| {
-                r.kernel == kernel
-                    && r.setting.starts_with(method)
-                    && r.setting.contains("Sintel crown")
-                    && r.path == Path::Simd
-            })
-            .unwrap_or_else(|| panic!("no crown {method} row of {kernel}"))
-            .error
-    };
+    let crown = "Sintel crown";
     let (dual, single) = (
-        crown("multiple scattering blond", "dual"),
-        crown("multiple scattering blond", "single"),
+        ms("multiple scattering blond", "dual", crown),
+        ms("multiple scattering blond", "single", crown),
     );
     assert!(dual < 0.5 * single, "crown: dual {dual} single {single}");
     for colour in ["blond", "brown"] {
         let kernel = format!("multiple scattering {colour}");
-        let dual = crown(&kernel, "dual");
+        let dual = ms(&kernel, "dual", crown);
         assert!(dual < 0.15, "crown, {colour}: dual {dual}");
     }
     let furnace = rows

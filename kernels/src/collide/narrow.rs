@@ -202,7 +202,7 @@ impl<T: Lane> ShapeReach<T> {
             touch_bound2: T::splat(0.0),
             a_sub: V3::splat((s.to[0] - s.from[0]) * inv_n),
             b_sub: V3::splat((s.to[1] - s.from[1]) * inv_n),
-            still: s.from == s.to,
+            still: s.still(),
             reach,
             reach2: reach * reach,
             touch2: T::splat(touch * touch),
