@@ -481,6 +481,10 @@ pub(crate) struct ClearBall<T: Lane> {
     radius2: T,
 }
 
+/// [`ClearBall`]'s radius squared after a lookup that pushed a lane (no
+/// ball, as -1 is for none).
+const TOUCHED: f32 = -2.0;
+
 impl<T: Lane> ClearBall<T> {
     /// No ball: every point is outside it.
     pub(crate) fn none() -> Self {
@@ -494,6 +498,21 @@ impl<T: Lane> ClearBall<T> {
     #[cfg(test)]
     pub(crate) fn radius2(&self) -> T {
         self.radius2
+    }
+
+    /// No ball, after a lookup that pushed some lane: the next round goes
+    /// straight to the lookup.
+    fn touched_now() -> Self {
+        ClearBall {
+            centre: V3::zero(),
+            radius2: T::splat(TOUCHED),
+        }
+    }
+
+    /// The last lookup pushed some lane ([`ClearBall::touched_now`]).
+    #[inline(always)]
+    fn touched(&self) -> bool {
+        !T::any(self.radius2.gt(T::splat(0.5 * (TOUCHED - 1.0))))
     }
 
     /// Every lane's point lies strictly inside (a NaN point never does).
@@ -610,19 +629,24 @@ impl<T: SdfLane> FieldReach<T> {
         if ball.holds(p) {
             return (x, !T::all_lanes());
         }
-        let entry = T::block_entry(sdf, p);
         let skin = T::splat(k.pearl_radius);
         // The far map proves every lane out of reach: no lookup; the far
-        // clearance bounds the field from below.
-        if k.pearl_radius < sdf.far_clearance() && !T::any(!T::far(entry, p)) {
-            let d = T::splat(sdf.far_clearance());
-            *ball = ClearBall {
-                centre: p,
-                radius2: T::clear_radius2(sdf, p, d, (d + off) - skin, entry),
-            };
-            return (x, !T::all_lanes());
+        // clearance bounds the field from below. Not tried where the last
+        // lookup pushed a lane (hair in contact stays near the surface).
+        let mut entry = None;
+        if k.pearl_radius < sdf.far_clearance() && !ball.touched() {
+            let e = T::block_entry(sdf, p);
+            if !T::any(!T::far(e, p)) {
+                let d = T::splat(sdf.far_clearance());
+                *ball = ClearBall {
+                    centre: p,
+                    radius2: T::clear_radius2(sdf, p, d, (d + off) - skin, e),
+                };
+                return (x, !T::all_lanes());
+            }
+            entry = Some(e);
         }
-        let (d, g) = T::sample(sdf, p);
+        let (d, g) = T::sample_for_skin(sdf, p, k.pearl_radius);
         let reach = if v < self.rooted_until {
             reach_at(T::splat(k.pearl_radius), self.root_depth, arc, k.root_exit)
         } else {
@@ -633,6 +657,7 @@ impl<T: SdfLane> FieldReach<T> {
         // `off` is +inf for a pinned vertex: never hit.
         let hit = (d + off).lt(reach) & n2.gt(T::splat(1.0e-12));
         if !T::any(hit) {
+            let entry = entry.unwrap_or_else(|| T::block_entry(sdf, p));
             *ball = ClearBall {
                 centre: p,
                 radius2: T::clear_radius2(sdf, p, d, (d + off) - skin, entry),
@@ -641,8 +666,9 @@ impl<T: SdfLane> FieldReach<T> {
         }
         // A lane is pushed: its margin `d + off - pearl_radius` is below
         // zero (`reach <= pearl_radius`), so it has no ball and the next
-        // round looks up whatever the others' balls are: none for all.
-        ball.radius2 = T::splat(-1.0);
+        // round looks up whatever the others' balls are: none for all,
+        // marked as touched (the far map is not tried next round).
+        *ball = ClearBall::touched_now();
         let nrm = n * n2.max(T::splat(1.0e-12)).inv_sqrt();
         let depth = reach - d;
         // What this substep's motion relative to the surface can have put

@@ -47,7 +47,19 @@ pub(crate) trait SdfLane: Lane {
     /// Signed distance and gradient at `p_mesh` (the generic [`sample`]).
     #[inline(always)]
     fn sample(sdf: &Sdf, p_mesh: V3<Self>) -> (Self, V3<Self>) {
-        sample(&sdf.grid, p_mesh)
+        sample(&sdf.grid, p_mesh, true)
+    }
+    /// [`SdfLane::sample`] for a skin of thickness `skin` (the strand
+    /// step's pushes): exact wherever the value is below `skin`. When every
+    /// node on the grid box's faces clears `skin` ([`Grid::outside_floor`]),
+    /// a point outside the box can never be within it (its value is a
+    /// face's interpolant plus its distance to the box), so outside lanes
+    /// get the value and gradient at their clamped point (a lower bound of
+    /// the exact value, still at least `skin`) and the outside formula is
+    /// skipped.
+    #[inline(always)]
+    fn sample_for_skin(sdf: &Sdf, p_mesh: V3<Self>, skin: f32) -> (Self, V3<Self>) {
+        sample(&sdf.grid, p_mesh, !(skin < sdf.grid.outside_floor))
     }
     /// The far map's entry for the block of each lane's point (mesh
     /// frame): `+1 / L` where the block is far, `-1 / L` where not, `L` the
@@ -206,7 +218,10 @@ fn lerp<T: Lane>(a: T, b: T, t: T) -> T {
 /// Signed distance and gradient (mesh frame, per metre, not normalised) at
 /// `p` in the mesh frame: the module's formulas, one body for both widths.
 #[inline(always)]
-pub(crate) fn sample<T: SdfLane>(g: &Grid, p: V3<T>) -> (T, V3<T>) {
+///
+/// `outside`: the outside formula for lanes outside the box; without it they
+/// get the clamped point's value and gradient (`SdfLane::sample_for_skin`).
+pub(crate) fn sample<T: SdfLane>(g: &Grid, p: V3<T>, outside: bool) -> (T, V3<T>) {
     let inv = T::splat(g.inv_cell);
     let zero = T::splat(0.0);
     let u = V3::new(
@@ -248,6 +263,9 @@ pub(crate) fn sample<T: SdfLane>(g: &Grid, p: V3<T>) -> (T, V3<T>) {
     let gz = c1 - c0;
 
     let g_in = V3::new(gx, gy, gz) * inv;
+    if !outside {
+        return (inside, g_in);
+    }
 
     // Outside the box: + |o| cell, and the outward unit direction. Skipped
     // when no lane is outside (the usual case); the selects below make the
@@ -369,6 +387,55 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The lookup for a skin: the outside floor lies below every value
+    /// outside the box (and above the skins the step uses); points inside
+    /// the box, on its faces and outside it get the exact lookup's bits
+    /// wherever that is below the skin, and a value still at least the
+    /// skin (at most the exact one) elsewhere; a skin beyond the floor
+    /// gets the exact lookup everywhere.
+    #[test]
+    fn the_lookup_for_a_skin_is_exact_within_it() {
+        let sdf = sphere_sdf();
+        let (lo, hi) = sdf.bounds();
+        let floor = sdf.grid.outside_floor;
+        // The box's margin is at least MARGIN_CELLS cells from the surface.
+        let margin = super::super::MARGIN_CELLS as f32 * sdf.cell();
+        assert!(floor > 0.99 * margin && floor < 0.2, "{floor}");
+        let mut s = 0x2545_F491_4F6C_DD1Du64;
+        let mut rnd = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let (mut outside, mut within) = (0, 0);
+        for k in 0..40_000 {
+            let t = Vec3::new(rnd(), rnd(), rnd());
+            let mut p = lo + (hi - lo) * (t * 1.4 - Vec3::splat(0.2));
+            if k % 4 == 0 {
+                p[k % 3] = if rnd() < 0.5 { lo[k % 3] } else { hi[k % 3] };
+            }
+            let v = V3::from_vec3(p);
+            let (d, g) = <f32 as SdfLane>::sample(&sdf, v);
+            if p.cmplt(lo).any() || p.cmpgt(hi).any() {
+                outside += 1;
+                assert!(d >= floor, "{p}: {d} below the floor {floor}");
+            }
+            for skin in [0.0, 0.002, 0.01] {
+                let (ds, gs) = <f32 as SdfLane>::sample_for_skin(&sdf, v, skin);
+                if d < skin {
+                    within += 1;
+                    assert!(same(d, ds) && g.to_vec3() == gs.to_vec3(), "{p}");
+                } else {
+                    assert!(ds >= skin && ds <= d, "{p}: {ds} against {d}");
+                }
+            }
+            let (ds, _) = <f32 as SdfLane>::sample_for_skin(&sdf, v, floor + 0.01);
+            assert!(same(d, ds), "{p}: a thick skin takes the exact lookup");
+        }
+        assert!(outside > 10_000 && within > 1_000, "{outside} {within}");
     }
 
     /// The gradient is the derivative of the value: central differences

@@ -79,6 +79,13 @@ pub(crate) struct Grid {
     /// The largest radius of a clear ball (`SdfLane::clear_radius2`): just
     /// under a block width, `FAR_BLOCK cell (1 - 1e-3)`.
     pub ball_cap: f32,
+    /// A lower bound of the field at every point outside the box: the
+    /// least node value on the box's six faces, less a slack for the
+    /// interpolant's rounding (`1e-5` of the largest face value, `1e-6` m;
+    /// the value outside is a face's interpolant plus the distance to the
+    /// box). A skin thinner than this never reaches outside the box
+    /// (`SdfLane::sample_for_skin`).
+    pub outside_floor: f32,
 }
 
 impl Grid {
@@ -106,11 +113,35 @@ impl Grid {
             far_inv: 1.0 / (cell * build::FAR_BLOCK as f32),
             far_clearance: (build::FAR_RING as f32 - 0.8661) * cell,
             ball_cap: build::FAR_BLOCK as f32 * cell * (1.0 - 1.0e-3),
+            outside_floor: f32::NEG_INFINITY,
         }
     }
 
     pub fn node_count(&self) -> usize {
         (self.dims.x * self.dims.y * self.dims.z) as usize
+    }
+
+    /// [`Grid::outside_floor`] of `values`: the least value on the box's
+    /// faces less its slack (`-inf` if a value there is not finite).
+    fn outside_floor(&self, values: &[f32]) -> f32 {
+        let [nx, ny, nz] = self.dims.to_array().map(|n| n as usize);
+        let (mut least, mut largest) = (f32::INFINITY, 0.0f32);
+        for z in 0..nz {
+            for y in 0..ny {
+                let row = &values[(z * ny + y) * nx..][..nx];
+                // A whole row on the z or y faces; its two ends otherwise.
+                let whole = z == 0 || z + 1 == nz || y == 0 || y + 1 == ny;
+                let step = if whole { 1 } else { nx - 1 };
+                for &v in row.iter().step_by(step) {
+                    if !v.is_finite() {
+                        return f32::NEG_INFINITY;
+                    }
+                    least = least.min(v);
+                    largest = largest.max(v.abs());
+                }
+            }
+        }
+        least - 1.0e-5 * largest - 1.0e-6
     }
 }
 
@@ -215,6 +246,7 @@ impl Sdf {
         let mut grid = Grid::new(dims, origin, cell);
         let (values, band) = build::build(&grid, positions, triangles);
         let (far, blocks) = build::far_map(&grid, &values, &band);
+        grid.outside_floor = grid.outside_floor(&values);
         grid.values = values;
         grid.far = far;
         grid.far_max = (blocks - UVec3::ONE).as_vec3();
