@@ -59,7 +59,9 @@ pub(crate) trait SdfLane: Lane {
     /// skipped.
     #[inline(always)]
     fn sample_for_skin(sdf: &Sdf, p_mesh: V3<Self>, skin: f32) -> (Self, V3<Self>) {
-        sample(&sdf.grid, p_mesh, !(skin < sdf.grid.outside_floor))
+        // A NaN skin takes the exact formula.
+        let clears = skin < sdf.grid.outside_floor;
+        sample(&sdf.grid, p_mesh, !clears)
     }
     /// The far map's entry for the block of each lane's point (mesh
     /// frame): `+1 / L` where the block is far, `-1 / L` where not, `L` the
