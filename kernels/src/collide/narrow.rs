@@ -537,6 +537,8 @@ pub(crate) struct FieldReach<T: Lane> {
     motion_t: V3<T>,
     /// `local_from_mesh` after the previous substep.
     last: glam::Affine3A,
+    /// It did not move over the step: placed once, no surface motion.
+    still: bool,
     rooted_until: usize,
     root_depth: T,
 }
@@ -563,6 +565,7 @@ impl<T: SdfLane> FieldReach<T> {
             motion_m: columns(Mat3::ZERO),
             motion_t: V3::zero(),
             last: end,
+            still: field.still(),
             rooted_until: 0,
             root_depth: T::splat(0.0),
         };
@@ -574,7 +577,7 @@ impl<T: SdfLane> FieldReach<T> {
         if T::any(inside) {
             r.rooted_until = rooted_until(r.root_depth, arc, k.root_exit);
         }
-        r.last = field.at(0.0);
+        r.last = if r.still { end } else { field.at(0.0) };
         r
     }
 
@@ -594,6 +597,10 @@ impl<T: SdfLane> FieldReach<T> {
     /// Moves it to where it is after substep `sub` of `n`.
     #[inline(always)]
     pub(crate) fn advance(&mut self, sub: u32, n: u32) {
+        // A still field stays where `new` placed it.
+        if self.still {
+            return;
+        }
         self.place(self.field.at((sub + 1) as f32 / n as f32));
     }
 
@@ -674,7 +681,11 @@ impl<T: SdfLane> FieldReach<T> {
         // What this substep's motion relative to the surface can have put
         // it in is pushed out whole; beyond that it was found deep, and
         // leaves at FIELD_EXIT_SPEED.
-        let motion = affine(&self.motion_m, self.motion_t, p);
+        let motion = if self.still {
+            V3::zero()
+        } else {
+            affine(&self.motion_m, self.motion_t, p)
+        };
         let rel = (x - *prev) - motion;
         let rel2 = dot(rel, rel).max(T::splat(1.0e-30));
         let cap = T::splat(k.field_push) + rel2 * rel2.inv_sqrt();

@@ -92,6 +92,11 @@ pub(crate) struct LocalField {
 }
 
 impl LocalField {
+    /// True if it did not move over the step.
+    pub(crate) fn still(&self) -> bool {
+        self.from_rotation == self.to_rotation && self.from_translation == self.to_translation
+    }
+
     /// `local_from_mesh` at the share `f` in [0, 1] of the step.
     #[inline]
     pub(crate) fn at(&self, f: f32) -> Affine3A {
