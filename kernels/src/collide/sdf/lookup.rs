@@ -324,6 +324,16 @@ mod tests {
         Sdf::from_mesh(&p, &t, 0.01).unwrap()
     }
 
+    /// Numbers in [0, 1) from a xorshift generator seeded by `s`.
+    fn unit_numbers(mut s: u64) -> impl FnMut() -> f32 {
+        move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 40) as f32 / (1u64 << 24) as f32
+        }
+    }
+
     fn same(a: f32, b: f32) -> bool {
         a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
     }
@@ -337,13 +347,7 @@ mod tests {
         let sdf = sphere_sdf();
         let (lo, hi) = sdf.bounds();
         assert!(sdf.distance(Vec3::ZERO) < -0.08);
-        let mut s = 0x9E37_79B9_7F4A_7C15u64;
-        let mut rnd = || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut rnd = unit_numbers(0x9E37_79B9_7F4A_7C15);
         let mut points = vec![];
         for k in 0..6000 {
             let t = Vec3::new(rnd(), rnd(), rnd());
@@ -405,13 +409,7 @@ mod tests {
         // The box's margin is at least MARGIN_CELLS cells from the surface.
         let margin = super::super::MARGIN_CELLS as f32 * sdf.cell();
         assert!(floor > 0.99 * margin && floor < 0.2, "{floor}");
-        let mut s = 0x2545_F491_4F6C_DD1Du64;
-        let mut rnd = || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut rnd = unit_numbers(0x2545_F491_4F6C_DD1D);
         let (mut outside, mut within) = (0, 0);
         for k in 0..40_000 {
             let t = Vec3::new(rnd(), rnd(), rnd());
