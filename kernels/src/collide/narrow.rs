@@ -477,7 +477,8 @@ fn columns<T: Lane>(m: Mat3) -> [V3<T>; 3] {
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ClearBall<T: Lane> {
     centre: V3<T>,
-    /// The radius squared; -1 for none.
+    /// The radius squared; -1 for none, `TOUCHED` for none after a
+    /// lookup that pushed a lane.
     radius2: T,
 }
 

@@ -219,10 +219,10 @@ fn lerp<T: Lane>(a: T, b: T, t: T) -> T {
 
 /// Signed distance and gradient (mesh frame, per metre, not normalised) at
 /// `p` in the mesh frame: the module's formulas, one body for both widths.
-#[inline(always)]
 ///
 /// `outside`: the outside formula for lanes outside the box; without it they
 /// get the clamped point's value and gradient (`SdfLane::sample_for_skin`).
+#[inline(always)]
 pub(crate) fn sample<T: SdfLane>(g: &Grid, p: V3<T>, outside: bool) -> (T, V3<T>) {
     let inv = T::splat(g.inv_cell);
     let zero = T::splat(0.0);
