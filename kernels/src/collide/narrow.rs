@@ -501,16 +501,7 @@ impl<T: Lane> ClearBall<T> {
         self.radius2
     }
 
-    /// No ball, after a lookup that pushed some lane: the next round goes
-    /// straight to the lookup.
-    fn touched_now() -> Self {
-        ClearBall {
-            centre: V3::zero(),
-            radius2: T::splat(TOUCHED),
-        }
-    }
-
-    /// The last lookup pushed some lane ([`ClearBall::touched_now`]).
+    /// The last lookup pushed some lane (its radius is `TOUCHED`).
     #[inline(always)]
     fn touched(&self) -> bool {
         !T::any(self.radius2.gt(T::splat(0.5 * (TOUCHED - 1.0))))
@@ -676,7 +667,7 @@ impl<T: SdfLane> FieldReach<T> {
         // zero (`reach <= pearl_radius`), so it has no ball and the next
         // round looks up whatever the others' balls are: none for all,
         // marked as touched (the far map is not tried next round).
-        *ball = ClearBall::touched_now();
+        ball.radius2 = T::splat(TOUCHED);
         let nrm = n * n2.max(T::splat(1.0e-12)).inv_sqrt();
         let depth = reach - d;
         // What this substep's motion relative to the surface can have put
