@@ -87,18 +87,21 @@ impl GridLane for f32x8 {
         // A node is eight floats, one register: each lane sums its eight
         // nodes' rows (the same multiply-adds in the same order as the
         // scalar twin, field by field), then one transpose. The corners
-        // are the cell's four rows of two nodes (x fastest), each row one
-        // bounds check; `base` is a whole number below 2^24.
+        // are the cell's four rows of two nodes (x fastest), one bounds
+        // check per lane for the whole cell (`offsets[7] + 1` nodes from
+        // its lowest); `base` is a whole number below 2^24.
         let base = base.trunc_int().to_array();
         let weights = weights.map(|w| w.to_array());
+        let span = offsets[7] + 1;
         let mut rows = [f32x8::ZERO; 8];
         for (l, sum) in rows.iter_mut().enumerate() {
-            let at = base[l].max(0) as usize;
+            let at = base[l] as u32 as usize;
+            let Some(cell) = field.get(at..at + span) else {
+                continue;
+            };
             for row in 0..4 {
                 let (c0, c1) = (2 * row, 2 * row + 1);
-                let pair = field
-                    .get(at + offsets[c0]..at + offsets[c0] + 2)
-                    .unwrap_or(&[[0.0; 8]; 2]);
+                let pair = &cell[offsets[c0]..offsets[c0] + 2];
                 *sum = f32x8::splat(weights[c0][l]).mul_add(f32x8::new(pair[0]), *sum);
                 *sum = f32x8::splat(weights[c1][l]).mul_add(f32x8::new(pair[1]), *sum);
             }

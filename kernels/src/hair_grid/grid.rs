@@ -4,7 +4,7 @@ use super::{MAX_HAIR_GRID_NODES, ROOT_RAMP};
 use crate::lanes::{Vec3x8, LANES};
 use crate::Strands;
 use glam::{UVec3, Vec3};
-use wide::{f32x4, f32x8};
+use wide::f32x8;
 
 /// Jacobi sweeps of the pressure solve per step (module doc, step 2):
 /// measured on the draped head against pushing down the excess's own
@@ -20,7 +20,7 @@ const PAD: u32 = 2;
 pub(crate) struct HairGrid {
     /// Per node: `[sum s, sum s vx, sum s vy, sum s vz]`; zero at every
     /// node but this step's `touched` ones.
-    acc: Vec<f32x4>,
+    acc: Vec<[f32; 4]>,
     /// Per node: `[dp/dx, dp/dy, dp/dz (per cell), vx, vy, vz, rho /
     /// rho_0, 0]` with `p` the pressure, valid at the touched nodes.
     pub(crate) field: Vec<[f32; 8]>,
@@ -40,6 +40,8 @@ pub(crate) struct HairGrid {
     /// The pressure at every node and its next sweep; zero between steps.
     pressure: Vec<f32>,
     pressure_next: Vec<f32>,
+    /// The excess `max(rho / rho_0 - 1, 0)` of each `touched` node.
+    excess: Vec<f32>,
     /// Nodes the buffers hold (set at the first build, never grown).
     capacity: usize,
     /// This step's grid, in the strands' local frame.
@@ -92,7 +94,7 @@ impl HairGrid {
         let densest = self
             .touched
             .iter()
-            .map(|&i| self.acc[i as usize].as_array()[0])
+            .map(|&i| self.acc[i as usize][0])
             .fold(0.0f32, f32::max)
             * inv_volume;
         // No hair away from the roots: any density is excess-free.
@@ -128,19 +130,31 @@ impl HairGrid {
             self.dims.z as usize,
         );
         let acc = &self.acc;
-        let e = |i: usize| (acc[i].as_array()[0] * inv_target - 1.0).max(0.0);
         let (sy, sz) = (nx, nx * ny);
         let _ = nz;
+        // The excess `e` per touched node, in their order.
+        self.excess.clear();
+        self.excess.extend(
+            self.touched
+                .iter()
+                .map(|&t| (acc[t as usize][0] * inv_target - 1.0).max(0.0)),
+        );
         // The pressure: `JACOBI_SWEEPS` Jacobi sweeps of `-lap(p) = e` (grid
         // units) over the hair's nodes, `p = 0` where there is no hair,
         // from zero; two buffers, node order fixed: the same bytes always.
-        for _ in 0..JACOBI_SWEEPS {
-            for &t in &self.touched {
+        // With no excess anywhere every sweep gives zero: none is run.
+        let sweeps = if self.excess.iter().any(|&e| e > 0.0) {
+            JACOBI_SWEEPS
+        } else {
+            0
+        };
+        for _ in 0..sweeps {
+            let (p, next) = (&self.pressure[..], &mut self.pressure_next[..]);
+            for (&t, &e) in self.touched.iter().zip(&self.excess) {
                 let i = t as usize;
-                let p = &self.pressure;
                 let around =
                     (p[i + 1] + p[i - 1]) + (p[i + sy] + p[i - sy]) + (p[i + sz] + p[i - sz]);
-                self.pressure_next[i] = (around + e(i)) * (1.0 / 6.0);
+                next[i] = (around + e) * (1.0 / 6.0);
             }
             std::mem::swap(&mut self.pressure, &mut self.pressure_next);
         }
@@ -154,7 +168,7 @@ impl HairGrid {
                 0.5 * (q(i + sy) - q(i - sy)),
                 0.5 * (q(i + sz) - q(i - sz)),
             ];
-            let a = acc[i].to_array();
+            let a = acc[i];
             let v = [a[1] / a[0], a[2] / a[0], a[3] / a[0]];
             let relative = a[0] * inv_target;
             self.field[i] = [g[0], g[1], g[2], v[0], v[1], v[2], relative, 0.0];
@@ -175,7 +189,7 @@ impl HairGrid {
         // Only listed nodes hold weight; the corners of listed cells that
         // the splat gave none were written with zero weight and are zero.
         for &i in &self.touched {
-            self.acc[i as usize] = f32x4::ZERO;
+            self.acc[i as usize] = [0.0; 4];
         }
         self.touched.clear();
         self.cells.clear();
@@ -187,7 +201,8 @@ impl HairGrid {
         self.stamp += 1;
         // The box of the strands' lanes (not the padding) with every
         // coordinate within reach, eight lanes at a time (min and max are
-        // exact: the same box in any order).
+        // exact: the same box in any order; a lane out of reach, NaN
+        // included, is not selected, so the fast min and max serve).
         let reach = f32x8::splat(MAX_GRID_REACH);
         let (mut lo8, mut hi8) = (
             Vec3x8::splat(Vec3::splat(f32::INFINITY)),
@@ -200,14 +215,14 @@ impl HairGrid {
                     & x.y.abs().simd_lt(reach)
                     & x.z.abs().simd_lt(reach);
                 lo8 = Vec3x8::new(
-                    f32x8::select(ok, lo8.x.min(x.x), lo8.x),
-                    f32x8::select(ok, lo8.y.min(x.y), lo8.y),
-                    f32x8::select(ok, lo8.z.min(x.z), lo8.z),
+                    f32x8::select(ok, lo8.x.fast_min(x.x), lo8.x),
+                    f32x8::select(ok, lo8.y.fast_min(x.y), lo8.y),
+                    f32x8::select(ok, lo8.z.fast_min(x.z), lo8.z),
                 );
                 hi8 = Vec3x8::new(
-                    f32x8::select(ok, hi8.x.max(x.x), hi8.x),
-                    f32x8::select(ok, hi8.y.max(x.y), hi8.y),
-                    f32x8::select(ok, hi8.z.max(x.z), hi8.z),
+                    f32x8::select(ok, hi8.x.fast_max(x.x), hi8.x),
+                    f32x8::select(ok, hi8.y.fast_max(x.y), hi8.y),
+                    f32x8::select(ok, hi8.z.fast_max(x.z), hi8.z),
                 );
             }
         }
@@ -232,11 +247,12 @@ impl HairGrid {
             // and for eight nodes per vertex.
             let want = (nodes(cell) * 8.0).clamp(32.0 * 32.0 * 32.0, MAX_HAIR_GRID_NODES as f64);
             self.capacity = want as usize;
-            self.acc = vec![f32x4::ZERO; self.capacity];
+            self.acc = vec![[0.0; 4]; self.capacity];
             self.field = vec![[0.0; 8]; self.capacity];
             self.pressure = vec![0.0; self.capacity];
             self.pressure_next = vec![0.0; self.capacity];
             self.touched = Vec::with_capacity(self.capacity);
+            self.excess = Vec::with_capacity(self.capacity);
             self.cells = Vec::with_capacity(self.capacity);
             self.cell_mark = vec![0; self.capacity];
             self.node_mark = vec![0; self.capacity];
@@ -313,25 +329,26 @@ impl HairGrid {
                     )
                     .trunc_int();
                 let (gx, gy, gz) = (one - fx, one - fy, one - fz);
-                let corner: [[f32; 8]; 8] = std::array::from_fn(|c| {
-                    (weight
+                // Per lane (after the transposes): the eight corner weights,
+                // and `[1, v, 1, v]`.
+                let corner = f32x8::transpose(std::array::from_fn(|c| {
+                    weight
                         * if c & 1 == 1 { fx } else { gx }
                         * if (c >> 1) & 1 == 1 { fy } else { gy }
-                        * if (c >> 2) & 1 == 1 { fz } else { gz })
-                    .to_array()
-                });
+                        * if (c >> 2) & 1 == 1 { fz } else { gz }
+                }));
+                let unit = f32x8::transpose([one, vel.x, vel.y, vel.z, one, vel.x, vel.y, vel.z]);
                 let (node, weight) = (node.to_array(), weight.to_array());
-                let (vx, vy, vz) = (vel.x.to_array(), vel.y.to_array(), vel.z.to_array());
                 for l in 0..lanes {
                     if weight[l] <= 0.0 {
                         continue;
                     }
-                    // [1, v]: one 16-byte multiply-add per node, to all
-                    // eight corners (a corner of zero weight adds zero),
-                    // in corner order, x fastest: the cell's four rows of
-                    // two nodes.
-                    let unit = f32x4::new([1.0, vx[l], vy[l], vz[l]]);
-                    let cell_node = node[l].max(0) as usize;
+                    // One 32-byte multiply-add per row of two nodes, to all
+                    // eight corners (a corner of zero weight adds zero), in
+                    // corner order, x fastest: the cell's four rows. Each
+                    // float is the same fused multiply-add as one 16-byte
+                    // multiply-add per node.
+                    let cell_node = node[l] as u32 as usize;
                     let Some(block) = acc.get_mut(cell_node..cell_node + span) else {
                         continue;
                     };
@@ -340,10 +357,13 @@ impl HairGrid {
                         cells.push(cell_node as u32);
                     }
                     for (row, at) in [0, nx, nxy, nxy + nx].into_iter().enumerate() {
-                        let pair = &mut block[at..at + 2];
-                        let (w0, w1) = (corner[2 * row][l], corner[2 * row + 1][l]);
-                        pair[0] = unit.mul_add(f32x4::splat(w0), pair[0]);
-                        pair[1] = unit.mul_add(f32x4::splat(w1), pair[1]);
+                        let Ok(pair): Result<&mut [f32; 8], _> =
+                            block[at..at + 2].as_flattened_mut().try_into()
+                        else {
+                            continue;
+                        };
+                        let w = row_weights(corner[l], row);
+                        *pair = unit[l].mul_add(w, f32x8::new(*pair)).to_array();
                     }
                 }
             }
@@ -355,13 +375,36 @@ impl HairGrid {
             let c = c as usize;
             for at in [0, 1, nx, nx + 1, nxy, nxy + 1, nxy + nx, nxy + nx + 1] {
                 let i = c + at;
-                if acc[i].as_array()[0] > 0.0 && node_mark[i] != stamp {
+                if acc[i][0] > 0.0 && node_mark[i] != stamp {
                     node_mark[i] = stamp;
                     self.touched.push(i as u32);
                 }
             }
         }
     }
+}
+
+/// `[w_2r x4, w_2r+1 x4]` from a lane's eight corner weights `w`: the
+/// weights of the cell's row `r` of two nodes, four floats each.
+#[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+#[inline(always)]
+fn row_weights(w: f32x8, row: usize) -> f32x8 {
+    use std::arch::x86_64::{__m256, __m256i, _mm256_permutevar8x32_ps};
+    let (a, b) = (2 * row as i32, 2 * row as i32 + 1);
+    let index: __m256i = wide::bytemuck::cast(wide::i32x8::new([a, a, a, a, b, b, b, b]));
+    let w: __m256 = wide::bytemuck::cast(w);
+    // SAFETY: AVX2 is enabled (cfg above); the permute reads only its two
+    // register operands.
+    wide::bytemuck::cast(unsafe { _mm256_permutevar8x32_ps(w, index) })
+}
+
+/// Plain moves where AVX2 is not enabled.
+#[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
+#[inline(always)]
+fn row_weights(w: f32x8, row: usize) -> f32x8 {
+    let w = w.to_array();
+    let (a, b) = (w[2 * row], w[2 * row + 1]);
+    f32x8::new([a, a, a, a, b, b, b, b])
 }
 
 #[cfg(test)]
@@ -387,16 +430,16 @@ mod tests {
         g.build(&s, &s.pos, &prev, 0.1, 0.01);
         assert!(g.live);
         let n = (g.dims.x * g.dims.y * g.dims.z) as usize;
-        let total: f32 = g.acc[..n].iter().map(|a| a.as_array()[0]).sum();
+        let total: f32 = g.acc[..n].iter().map(|a| a[0]).sum();
         let expected: f32 = (0..41)
             .map(|i| (0.005 * i as f32 / ROOT_RAMP).clamp(0.0, 1.0))
             .sum();
         assert!((total - expected).abs() < 1e-3, "{total} {expected}");
-        let py: f32 = g.acc[..n].iter().map(|a| a.as_array()[2]).sum();
+        let py: f32 = g.acc[..n].iter().map(|a| a[2]).sum();
         assert!((py - expected).abs() < 1e-3, "{py}");
         // The hair's velocity is (0, 1, 0) wherever there is hair.
         for &i in &g.touched {
-            let (a, f) = (g.acc[i as usize].as_array()[0], g.field[i as usize]);
+            let (a, f) = (g.acc[i as usize][0], g.field[i as usize]);
             if a > 1e-3 {
                 assert!((f[4] - 1.0).abs() < 1e-4 && f[3].abs() < 1e-4, "{f:?}");
             }
@@ -406,6 +449,15 @@ mod tests {
             .touched
             .iter()
             .all(|&i| g.field[i as usize][..3] == [0.0; 3]));
+    }
+
+    #[test]
+    fn a_rows_weights_repeat_its_two_corners_four_times() {
+        let w = f32x8::new([0.5, 1.5, 2.5, 3.5, 4.5, 5.5, 6.5, 7.5]);
+        for row in 0..4 {
+            let (a, b) = (w.as_array()[2 * row], w.as_array()[2 * row + 1]);
+            assert_eq!(row_weights(w, row).to_array(), [a, a, a, a, b, b, b, b]);
+        }
     }
 
     #[test]

@@ -10,8 +10,8 @@
 //! 1. **Splat** (`grid.rs`, one thread, block after block, so the sums are
 //!    the same bytes on any thread count): every vertex `i` adds its weight
 //!    `s_i` and momentum `s_i v_i` (`v_i = (x_i - x_prev_i) / dt`) to the
-//!    eight nodes of its cell, trilinearly (cloud in cell), one 16-byte
-//!    multiply-add per node. The first vertex in a cell lists the cell
+//!    eight nodes of its cell, trilinearly (cloud in cell), one 32-byte
+//!    multiply-add per row of two nodes. The first vertex in a cell lists the cell
 //!    (a per-node stamp, never cleared); after the splat the listed cells'
 //!    nodes that took weight are the step's nodes, over which everything
 //!    below runs, so the cost follows the hair, not its box. `s_i` ramps
