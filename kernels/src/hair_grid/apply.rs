@@ -61,9 +61,14 @@ impl GridLane for f32 {
         offsets: [usize; 8],
         weights: [f32; 8],
     ) -> [f32; 7] {
+        // One bounds check for the whole cell, as the SIMD path's per lane.
         let mut out = [0.0f32; 7];
-        for (off, w) in offsets.iter().zip(weights) {
-            let n = field.get(base as usize + off).copied().unwrap_or([0.0; 8]);
+        let at = base as u32 as usize;
+        let Some(cell) = field.get(at..at + offsets[7] + 1) else {
+            return out;
+        };
+        for (&off, w) in offsets.iter().zip(weights) {
+            let n = cell[off];
             for k in 0..7 {
                 out[k] = w.mul_add(n[k], out[k]);
             }

@@ -11,12 +11,12 @@
 //!    the same bytes on any thread count): every vertex `i` adds its weight
 //!    `s_i` and momentum `s_i v_i` (`v_i = (x_i - x_prev_i) / dt`) to the
 //!    eight nodes of its cell, trilinearly (cloud in cell), one 32-byte
-//!    multiply-add per row of two nodes. The first vertex in a cell lists the cell
-//!    (a per-node stamp, never cleared); after the splat the listed cells'
-//!    nodes that took weight are the step's nodes, over which everything
-//!    below runs, so the cost follows the hair, not its box. `s_i` ramps
-//!    from 0 at the root to 1 at [`ROOT_RAMP`] of arc length: the roots'
-//!    crowd on the scalp is the groom's, not hair to push apart.
+//!    multiply-add per row of two nodes. The first vertex in a cell lists
+//!    the cell (a per-node stamp, never cleared); after the splat the listed
+//!    cells' nodes that took weight are the step's nodes, over which
+//!    everything below runs, so the cost follows the hair, not its box.
+//!    `s_i` ramps from 0 at the root to 1 at [`ROOT_RAMP`] of arc length:
+//!    the roots' crowd on the scalp is the groom's, not hair to push apart.
 //! 2. **Fields** per node: the density `rho = sum s / cell^3`, its excess
 //!    `e = max(rho / rho_0 - 1, 0)` over the target `rho_0` (the densest
 //!    node of the groomed pose, gridded the same way, `HairGrid::target`),
