@@ -1,8 +1,8 @@
 //! The step's driver, shared by the SIMD path and its scalar twin: the
 //! colliders to the local frame, the tasks (runs of whole groups of
-//! blocks), per group the sleep decision and the broad phase, per block
-//! the chain (`step.rs`), the guard's restore and the stillness that puts
-//! blocks to sleep.
+//! blocks), per group the sleep decision and the broad phase, per pair of
+//! blocks that run the chains (`step.rs`), per block the guard's restore
+//! and the stillness that puts blocks to sleep.
 
 use crate::collide::broad_phase::{roots_aabb, select_strand_candidates, Aabb, BlockBounds};
 use crate::collide::Colliders;
@@ -35,6 +35,10 @@ pub(crate) struct TaskParts<'a> {
 /// tasks each).
 pub const MAX_STEP_TASKS: usize = 64;
 
+/// Blocks stepped together: the SIMD path walks two blocks' strain limits
+/// side by side (`step::step_chains`), the scalar twin one after the other.
+pub(crate) const PAIR: usize = 2;
+
 /// The fewest blocks a task takes (128 strands): about 0.1 ms of work at
 /// 32 vertices (about 30 ns per vertex-step), so a job system's cost per
 /// job (about a microsecond) stays near 1 %; a 2,048-guide head makes 16
@@ -62,9 +66,11 @@ pub(crate) fn task_count(blocks: usize) -> usize {
 /// asleep and woken by its roots or a moving sphere, or asleep and
 /// skipped), 1. the broad phase (`block_box` gives block `b`'s swept box; a
 /// sleeping block's is the one kept when it fell asleep) and steps 2.-7. of
-/// each block of the group that runs (`block(strands, state, scratch,
-/// setup, b, g)`, which returns the lanes that went bad); those lanes are
-/// restored; 8. the block's stillness.
+/// the group's blocks that run, [`PAIR`] at a time in block order (the
+/// last alone when their count is odd: `block(strands, states, scratch,
+/// world, setup, ids)` with one state and one `(b, g)`, set index and
+/// index in the group, per block, which returns each block's lanes that
+/// went bad); those lanes are restored; 8. each block's stillness.
 ///
 /// The moving state (`pos`, `prev`, the blocks' sleep) leaves the set for
 /// the step, so the tasks share the rest of it read-only and each writes
@@ -80,13 +86,12 @@ pub(crate) fn drive(
     block_box: impl Fn(&Strands, &BlockState<'_>, usize, &Setup) -> Aabb + Sync,
     block: impl Fn(
             &Strands,
-            &mut BlockState<'_>,
+            &mut [BlockState<'_>],
             &mut Scratch,
             &StepColliders<'_>,
             &Setup,
-            usize,
-            usize,
-        ) -> u32
+            &[(usize, usize)],
+        ) -> [u32; PAIR]
         + Sync,
     hair: impl Fn(&Strands, &mut BlockState<'_>, &HairGrid, &GridSetup, usize) -> bool + Sync,
 ) {
@@ -226,35 +231,68 @@ pub(crate) fn drive(
                         &mut scratch.candidates,
                     );
                 }
-                for (g, &run) in runs.iter().enumerate().take(n) {
-                    let (b, r) = (t * per_task + first + g, (first + g) * verts);
-                    if !run {
-                        sleep[first + g].stepped = false;
-                        continue;
+                // 2.-7. The blocks that run, two at a time (the last one
+                // alone when their count is odd).
+                let mut g = 0;
+                while g < n {
+                    let mut ids = [(0, 0); PAIR];
+                    let mut count = 0;
+                    while g < n && count < PAIR {
+                        if runs[g] {
+                            ids[count] = (t * per_task + first + g, g);
+                            count += 1;
+                        } else {
+                            sleep[first + g].stepped = false;
+                        }
+                        g += 1;
                     }
-                    let mut st = BlockState {
-                        pos: &mut pos[r..r + verts],
-                        prev: &mut prev[r..r + verts],
-                    };
-                    let moved = roots_moved(&st, s.active[b]);
-                    if k.sleep {
-                        scratch.start.copy_from_slice(st.pos);
+                    if count == 0 {
+                        break;
                     }
-                    let bad = block(s, &mut st, scratch, &world, &k, b, g);
-                    scratch.restored += restore_lanes(s, &mut st, b, bad);
-                    // 8. Stillness: a block still for `still_steps` steps in a
-                    // row (roots included) falls asleep at rest.
-                    let still = k.sleep
-                        && !moved
-                        && block_is_still(st.pos, &scratch.start, s.active[b], k.still_move2);
-                    let sl = &mut sleep[first + g];
-                    sl.stepped = true;
-                    sl.still = if still { sl.still.saturating_add(1) } else { 0 };
-                    sl.asleep = false;
-                    if sl.still >= k.still_steps {
-                        fall_asleep(&mut st);
-                        sl.asleep = true;
-                        sl.bounds = block_box(s, &st, b, &k);
+                    let ids = &ids[..count];
+                    // The blocks' states, cut from the task's positions in
+                    // block order.
+                    let mut states: [BlockState<'_>; PAIR] = std::array::from_fn(|_| BlockState {
+                        pos: &mut [],
+                        prev: &mut [],
+                    });
+                    let (mut pos_rest, mut prev_rest) = (&mut pos[..], &mut prev[..]);
+                    let mut cut = 0;
+                    for (st, &(_, g)) in states.iter_mut().zip(ids) {
+                        let at = (first + g) * verts - cut;
+                        let (block_pos, tail) = pos_rest[at..].split_at_mut(verts);
+                        pos_rest = tail;
+                        let (block_prev, tail) = prev_rest[at..].split_at_mut(verts);
+                        prev_rest = tail;
+                        (st.pos, st.prev) = (block_pos, block_prev);
+                        cut = (first + g + 1) * verts;
+                    }
+                    let states = &mut states[..count];
+                    let mut moved = [false; PAIR];
+                    for (i, (st, &(b, _))) in states.iter().zip(ids).enumerate() {
+                        moved[i] = roots_moved(st, s.active[b]);
+                        if k.sleep {
+                            scratch.start[i * verts..(i + 1) * verts].copy_from_slice(st.pos);
+                        }
+                    }
+                    let bad = block(s, states, scratch, &world, &k, ids);
+                    for (i, (st, &(b, g))) in states.iter_mut().zip(ids).enumerate() {
+                        scratch.restored += restore_lanes(s, st, b, bad[i]);
+                        // 8. Stillness: a block still for `still_steps` steps
+                        // in a row (roots included) falls asleep at rest.
+                        let start = &scratch.start[i * verts..(i + 1) * verts];
+                        let still = k.sleep
+                            && !moved[i]
+                            && block_is_still(st.pos, start, s.active[b], k.still_move2);
+                        let sl = &mut sleep[first + g];
+                        sl.stepped = true;
+                        sl.still = if still { sl.still.saturating_add(1) } else { 0 };
+                        sl.asleep = false;
+                        if sl.still >= k.still_steps {
+                            fall_asleep(st);
+                            sl.asleep = true;
+                            sl.bounds = block_box(s, st, b, &k);
+                        }
                     }
                 }
                 first += n;

@@ -65,6 +65,20 @@
 //!    moved at most `sleep_speed dt` per step for `SLEEP_AFTER` seconds
 //!    falls asleep at rest.
 //!
+//! **Two blocks side by side.** Steps 4 and 6 walk each strand from root
+//! to tip, each vertex waiting on its parent: a chain of dependent
+//! operations (a square root, the pushes, Coulomb friction) that leaves
+//! most of the core idle. The SIMD path steps the blocks that run two at
+//! a time ([`step_chains`]): each block's every operation is its own and
+//! in its own order (the same bytes as alone, tested), but the strain
+//! limit's walk takes vertex `v` of both blocks before `v + 1` of either,
+//! so the core overlaps two independent chains. Measured on the mohawk at
+//! the defaults: 41.0 -> 38.0 ns per vertex-step for 3 % more
+//! instructions (`kernels/README.md`, "Two blocks side by side"). The
+//! projection's elimination walked in step too was slower (two chains'
+//! running values do not fit the registers), and so were four blocks
+//! side by side.
+//!
 //! No division and no square root in the body: `1/sqrt` and `1/x` are the
 //! hardware estimates plus one Newton step ([`Lane::inv_sqrt`],
 //! [`Lane::recip`]), which read the same tables in both widths, so the SIMD
@@ -76,7 +90,7 @@ use crate::collide::rig::LocalRig;
 use crate::collide::sdf::{Sdf, SdfLane};
 use crate::collide::Colliders;
 use crate::constraints::{BLOWN_UP, MIN_LENGTH};
-use crate::drive::drive;
+use crate::drive::{drive, BlockState, PAIR};
 use crate::fused::{cross, dot, length_dir, madd, offset_unless, rotate};
 use crate::hair_grid::apply_block;
 use crate::lanes::{Lane, V3};
@@ -320,6 +334,14 @@ fn sort_by_first<X>(list: &mut [X], first: impl Fn(&X) -> usize) {
     }
 }
 
+/// One block's chain with its scratch: what [`step_chains`] advances.
+pub(crate) struct ChainJob<'c, 'a, T: Lane> {
+    pub c: &'c mut Chain<'a, T>,
+    pub s: &'c mut ChainScratch<T>,
+    /// The block's index (its candidates' first vertices).
+    pub block: usize,
+}
+
 /// Advances one chain (or eight, in lanes) by one step; returns the lanes
 /// that stayed finite and within [`BLOWN_UP`] (the caller restores the
 /// others). On entry `pos[0]` is the root's target and `prev[0]` where it was.
@@ -332,15 +354,85 @@ pub(crate) fn step_chain<T: SdfLane>(
     candidates: &[ShapeCandidate],
     block: usize,
 ) -> T::Mask {
+    let [ok] = step_chains([ChainJob { c, s, block }], k, world, candidates);
+    ok
+}
+
+/// [`step_chain`] for `N` chains at once (two blocks, on the SIMD path):
+/// each chain's every operation is its own and in the same order as
+/// alone, so the bytes are those of `N` calls of [`step_chain`]; only the
+/// strain limit's walk, a chain of dependent operations from root to tip,
+/// visits vertex `v` of every chain before `v + 1` of any, which gives the
+/// core `N` independent chains to overlap.
+#[inline(always)]
+pub(crate) fn step_chains<T: SdfLane, const N: usize>(
+    mut jobs: [ChainJob<'_, '_, T>; N],
+    k: &Setup,
+    world: &StepColliders<'_>,
+    candidates: &[ShapeCandidate],
+) -> [T::Mask; N] {
+    let mut ends = [(V3::zero(), V3::zero()); N];
+    for (end, j) in ends.iter_mut().zip(jobs.iter_mut()) {
+        *end = begin_chain(j.c, j.s, k, world, candidates, j.block);
+    }
+    // Lanes found deep in a field this step (their speed is capped in 7.).
+    let mut deep = [!T::all_lanes(); N];
+    let n = k.substeps;
+    for sub in 0..n {
+        // 2.-5. Chain by chain.
+        for (j, &(from, to)) in jobs.iter_mut().zip(&ends) {
+            substep_to_strain_limit(j.c, j.s, k, sub, from, to);
+        }
+        // 6. The loop compiled per case (fields or not, friction or not,
+        // one round or two): no test of them per vertex.
+        let last = sub + 1 == n;
+        let fields = jobs.iter().any(|j| !j.s.fields.is_empty());
+        let (friction, sdfs) = (k.contact.friction_on, world.sdfs);
+        let j = &mut jobs;
+        let found = match (fields, friction, last) {
+            (false, false, false) => {
+                strain_limit_and_collide::<T, false, false, false, N>(j, k, sdfs)
+            }
+            (false, false, true) => {
+                strain_limit_and_collide::<T, false, false, true, N>(j, k, sdfs)
+            }
+            (false, true, false) => {
+                strain_limit_and_collide::<T, false, true, false, N>(j, k, sdfs)
+            }
+            (false, true, true) => strain_limit_and_collide::<T, false, true, true, N>(j, k, sdfs),
+            (true, false, false) => {
+                strain_limit_and_collide::<T, true, false, false, N>(j, k, sdfs)
+            }
+            (true, false, true) => strain_limit_and_collide::<T, true, false, true, N>(j, k, sdfs),
+            (true, true, false) => strain_limit_and_collide::<T, true, true, false, N>(j, k, sdfs),
+            (true, true, true) => strain_limit_and_collide::<T, true, true, true, N>(j, k, sdfs),
+        };
+        for (d, f) in deep.iter_mut().zip(found) {
+            *d = *d | f;
+        }
+    }
+    let mut ok = [T::all_lanes(); N];
+    for ((ok, j), &deep) in ok.iter_mut().zip(jobs.iter_mut()).zip(&deep) {
+        *ok = finish_chain(j.c, k, deep);
+    }
+    ok
+}
+
+/// The step's set-up of one chain (2., 3., 5. and 6. below); returns where
+/// the root was and its target.
+#[inline(always)]
+fn begin_chain<T: SdfLane>(
+    c: &mut Chain<'_, T>,
+    s: &mut ChainScratch<T>,
+    k: &Setup,
+    world: &StepColliders<'_>,
+    candidates: &[ShapeCandidate],
+    block: usize,
+) -> (V3<T>, V3<T>) {
     let verts = c.pos.len();
     let segs = verts - 1;
     let zero = T::splat(0.0);
     let n = k.substeps;
-    let d = T::splat(k.damping);
-    let g = V3::<T>::splat(k.gravity_h2);
-    let a1 = T::splat(k.direction[0]);
-    let a0 = T::splat(k.direction[1]);
-    let am = T::splat(k.direction[2]);
     let (pos, prev, w) = (&mut c.pos[..verts], &mut c.prev[..verts], &c.w[..verts]);
     let root_from = prev[0];
     let root_to = pos[0];
@@ -435,92 +527,82 @@ pub(crate) fn step_chain<T: SdfLane>(
             pearl_off[v - 1] = offset_unless::<T>(free & w[v - 1].gt(zero));
         }
     }
-    // Lanes found deep in a field this step (their speed is capped in 7.).
-    let mut deep = !T::all_lanes();
-    for sub in 0..n {
-        // 2. Prediction: the root on its path, Verlet for the free vertices
-        // (with the gusts' pull when on), and the fixed part of the
-        // directions of segment v - 1 from the positions before the
-        // prediction; the colliders to where they are after this substep.
-        let root = if sub + 1 == n {
-            root_to
-        } else {
-            root_from + (root_to - root_from) * T::splat((sub + 1) as f32 / n as f32)
-        };
-        if k.gusts.is_some() {
-            predict::<T, true>(pos, prev, w, &mut s.qfix, &s.gust, root, d, g, a0, am);
-        } else {
-            predict::<T, false>(pos, prev, w, &mut s.qfix, &s.gust, root, d, g, a0, am);
-        }
-        for r in s.spheres.iter_mut().chain(s.capsules.iter_mut()) {
-            r.advance(sub, n);
-        }
-        for f in &mut s.fields {
-            f.advance(sub, n);
-        }
-        let mut c = Chain {
-            pos: &mut *pos,
-            prev: &mut *prev,
-            ..*c
-        };
-        // 3. Shape: local (TressFX 4), then global.
-        if k.local_shape > 0.0 {
-            local_shape(&mut c, s, k);
-        }
-        if k.shape > 0.0 {
-            global_shape(&mut c, k);
-        }
-        // 4. Projections of the length constraints (and bending).
-        for _ in 0..k.iterations {
-            project(&mut c, s, a1);
-            if k.bend > 0.0 {
-                bend(&mut c, T::splat(k.bend));
-            }
-        }
-        // 5. Pearls, 6. strain limit with push-out.
-        for r in &s.spheres {
-            r.push_pearls::<false>(c.pos, c.w, c.arc, &s.pearl_off, k.pearls);
-        }
-        for r in &s.capsules {
-            r.push_pearls::<true>(c.pos, c.w, c.arc, &s.pearl_off, k.pearls);
-        }
-        // The loop compiled per case (fields or not, friction or not, one
-        // round or two): no test of them per vertex.
-        let last = sub + 1 == n;
-        let (fields, friction, sdfs) = (!s.fields.is_empty(), k.contact.friction_on, world.sdfs);
-        let c = &mut c;
-        let s = &mut *s;
-        deep = deep
-            | match (fields, friction, last) {
-                (false, false, false) => {
-                    strain_limit_and_collide::<T, false, false, false>(c, k, s, sdfs)
-                }
-                (false, false, true) => {
-                    strain_limit_and_collide::<T, false, false, true>(c, k, s, sdfs)
-                }
-                (false, true, false) => {
-                    strain_limit_and_collide::<T, false, true, false>(c, k, s, sdfs)
-                }
-                (false, true, true) => {
-                    strain_limit_and_collide::<T, false, true, true>(c, k, s, sdfs)
-                }
-                (true, false, false) => {
-                    strain_limit_and_collide::<T, true, false, false>(c, k, s, sdfs)
-                }
-                (true, false, true) => {
-                    strain_limit_and_collide::<T, true, false, true>(c, k, s, sdfs)
-                }
-                (true, true, false) => {
-                    strain_limit_and_collide::<T, true, true, false>(c, k, s, sdfs)
-                }
-                (true, true, true) => {
-                    strain_limit_and_collide::<T, true, true, true>(c, k, s, sdfs)
-                }
-            };
+    (root_from, root_to)
+}
+
+/// Substep `sub` of one chain up to its strain limit: 2. the prediction,
+/// 3. shape, 4. the projections and 5. the pearls. (A function of its own:
+/// compiled apart from the strain limit's walk of two chains, it keeps
+/// its registers.)
+#[inline(never)]
+fn substep_to_strain_limit<T: SdfLane>(
+    c: &mut Chain<'_, T>,
+    s: &mut ChainScratch<T>,
+    k: &Setup,
+    sub: u32,
+    root_from: V3<T>,
+    root_to: V3<T>,
+) {
+    let n = k.substeps;
+    let d = T::splat(k.damping);
+    let g = V3::<T>::splat(k.gravity_h2);
+    let a0 = T::splat(k.direction[1]);
+    let am = T::splat(k.direction[2]);
+    // 2. Prediction: the root on its path, Verlet for the free vertices
+    // (with the gusts' pull when on), and the fixed part of the
+    // directions of segment v - 1 from the positions before the
+    // prediction; the colliders to where they are after this substep.
+    let root = if sub + 1 == n {
+        root_to
+    } else {
+        root_from + (root_to - root_from) * T::splat((sub + 1) as f32 / n as f32)
+    };
+    let (pos, prev, w) = (&mut *c.pos, &mut *c.prev, c.w);
+    if k.gusts.is_some() {
+        predict::<T, true>(pos, prev, w, &mut s.qfix, &s.gust, root, d, g, a0, am);
+    } else {
+        predict::<T, false>(pos, prev, w, &mut s.qfix, &s.gust, root, d, g, a0, am);
     }
-    // 7. Velocity over the step (at most FIELD_EXIT_SPEED in a lane that
-    // was deep in a field: hair pulled out is not shot out), and the guard.
-    let nn = T::splat(n as f32);
+    for r in s.spheres.iter_mut().chain(s.capsules.iter_mut()) {
+        r.advance(sub, n);
+    }
+    for f in &mut s.fields {
+        f.advance(sub, n);
+    }
+    // 3. Shape: local (TressFX 4), then global.
+    if k.local_shape > 0.0 {
+        local_shape(c, s, k);
+    }
+    if k.shape > 0.0 {
+        global_shape(c, k);
+    }
+    let a1 = T::splat(k.direction[0]);
+    // 4. Projections of the length constraints (and bending).
+    for _ in 0..k.iterations {
+        project(c, s, a1);
+        if k.bend > 0.0 {
+            bend(c, T::splat(k.bend));
+        }
+    }
+    // 5. Pearls.
+    for r in &s.spheres {
+        r.push_pearls::<false>(c.pos, c.w, c.arc, &s.pearl_off, k.pearls);
+    }
+    for r in &s.capsules {
+        r.push_pearls::<true>(c.pos, c.w, c.arc, &s.pearl_off, k.pearls);
+    }
+}
+
+/// Step 7 of one chain: the velocity over the step (at most
+/// [`FIELD_EXIT_SPEED`] in a lane that was deep in a field: hair pulled out
+/// is not shot out), and the guard: the lanes that stayed finite and in
+/// bounds.
+#[inline(always)]
+fn finish_chain<T: Lane>(c: &mut Chain<'_, T>, k: &Setup, deep: T::Mask) -> T::Mask {
+    let verts = c.pos.len();
+    let (pos, prev, w) = (&mut c.pos[..verts], &mut c.prev[..verts], &c.w[..verts]);
+    let zero = T::splat(0.0);
+    let nn = T::splat(k.substeps as f32);
     let big = T::splat(BLOWN_UP);
     let mut ok = T::all_lanes();
     let capped = T::any(deep);
@@ -749,21 +831,83 @@ fn predict<T: Lane, const GUSTS: bool>(
 /// is final and outside the colliders, so the two sets meet and
 /// alternating closes in on a point of both: the limit does not pull hair
 /// into the head and the push-out does not stretch it. Returns the lanes
-/// found deep in a field. (`FIELDS`: some field is a candidate; without,
-/// the loop carries neither the previous positions nor the deep lanes.
-/// `FRICTION`: `k.contact.friction_on`. `TWO_ROUNDS`: the last substep.)
+/// found deep in a field, per chain. (`FIELDS`: some field is a candidate
+/// of some chain; without, the loop carries neither the previous
+/// positions nor the deep lanes. `FRICTION`: `k.contact.friction_on`.
+/// `TWO_ROUNDS`: the last substep.) The `N` chains walk in step, vertex
+/// `v` of each before `v + 1` of any: each walk is a chain of dependent
+/// operations, and `N` of them side by side let the core overlap them.
 #[inline(always)]
 fn strain_limit_and_collide<
     T: SdfLane,
     const FIELDS: bool,
     const FRICTION: bool,
     const TWO_ROUNDS: bool,
+    const N: usize,
 >(
-    c: &mut Chain<'_, T>,
+    jobs: &mut [ChainJob<'_, '_, T>; N],
     k: &Setup,
-    s: &mut ChainScratch<T>,
     sdfs: &[Sdf],
-) -> T::Mask {
+) -> [T::Mask; N] {
+    let mut deep = [!T::all_lanes(); N];
+    let verts = jobs.first().map_or(0, |j| j.c.pos.len());
+    if verts < 2 {
+        return deep;
+    }
+    match jobs.as_mut_slice() {
+        [a, b] => {
+            let mut a = strain_walk(a.c, a.s, verts);
+            let mut b = strain_walk(b.c, b.s, verts);
+            for v in 1..verts {
+                a.vertex::<FIELDS, FRICTION, TWO_ROUNDS>(v, k, sdfs);
+                b.vertex::<FIELDS, FRICTION, TWO_ROUNDS>(v, k, sdfs);
+            }
+            deep[0] = a.deep;
+            deep[1] = b.deep;
+        }
+        jobs => {
+            for (j, deep) in jobs.iter_mut().zip(&mut deep) {
+                let mut a = strain_walk(j.c, j.s, verts);
+                for v in 1..verts {
+                    a.vertex::<FIELDS, FRICTION, TWO_ROUNDS>(v, k, sdfs);
+                }
+                *deep = a.deep;
+            }
+        }
+    }
+    deep
+}
+
+/// Vertex `v`'s own values in [`StrainWalk`]: its position and previous
+/// position, and its segment's rest length, its inverse mass, contact
+/// offset and rest arc.
+type VertexRefs<'w, T> = (
+    ((&'w mut V3<T>, &'w mut V3<T>), (&'w T, &'w T)),
+    (&'w T, &'w T),
+);
+
+/// One chain's walk of [`strain_limit_and_collide`]: its vertices from 1
+/// (one zipped iterator, so one bound test per vertex), the parent's final
+/// position, and where it stands in its candidate lists.
+struct StrainWalk<'w, T: SdfLane, I> {
+    verts: I,
+    parent: V3<T>,
+    spheres: &'w [ShapeReach<T>],
+    capsules: &'w [ShapeReach<T>],
+    fields: &'w [FieldReach<T>],
+    balls: &'w mut [ClearBall<T>],
+    rooted_end: usize,
+    live: [usize; 3],
+    deep: T::Mask,
+}
+
+/// The walk of chain `c` (`verts` vertices) with its scratch `s`.
+#[inline(always)]
+fn strain_walk<'w, T: SdfLane>(
+    c: &'w mut Chain<'_, T>,
+    s: &'w mut ChainScratch<T>,
+    verts: usize,
+) -> StrainWalk<'w, T, impl Iterator<Item = VertexRefs<'w, T>>> {
     let ChainScratch {
         spheres,
         capsules,
@@ -773,34 +917,56 @@ fn strain_limit_and_collide<
         rooted_end,
         ..
     } = s;
-    let rooted_end = *rooted_end;
-    let fields_n = fields.len();
-    let balls = &mut field_balls[..c.pos.len() * fields_n];
-    let mut deep = !T::all_lanes();
-    let verts = c.pos.len();
-    let zero = T::splat(0.0);
-    let factor = T::splat(k.stretch_factor);
-    let shrink = T::splat(k.shrink_factor);
-    let (pos, prev) = (&mut c.pos[..verts], &mut c.prev[..verts]);
-    let (w, rest_len, off) = (&c.w[..verts], &c.rest_len[..verts], &vertex_off[..verts]);
-    let arc = &c.arc[..verts];
-    let (mut live_s, mut live_c, mut live_f) = (0, 0, 0);
-    for v in 1..verts {
-        while live_s < spheres.len() && spheres[live_s].first <= v {
-            live_s += 1;
+    let balls_n = verts * fields.len();
+    let (root, pos) = c.pos[..verts].split_at_mut(1);
+    let parent = root[0];
+    let prev = &mut c.prev[1..verts];
+    let own = c.rest_len[..verts - 1].iter().zip(&c.w[1..verts]);
+    let contact = vertex_off[1..verts].iter().zip(&c.arc[1..verts]);
+    StrainWalk {
+        verts: pos.iter_mut().zip(prev.iter_mut()).zip(own).zip(contact),
+        parent,
+        spheres,
+        capsules,
+        fields,
+        balls: &mut field_balls[..balls_n],
+        rooted_end: *rooted_end,
+        live: [0; 3],
+        deep: !T::all_lanes(),
+    }
+}
+
+impl<'w, T: SdfLane, I: Iterator<Item = VertexRefs<'w, T>>> StrainWalk<'w, T, I> {
+    /// The next vertex, `v`: its strain limit and pushes (its parent final).
+    #[inline(always)]
+    fn vertex<const FIELDS: bool, const FRICTION: bool, const TWO_ROUNDS: bool>(
+        &mut self,
+        v: usize,
+        k: &Setup,
+        sdfs: &[Sdf],
+    ) {
+        let Some((((x_at, xp_at), (&rest_len, &w)), (&o, &a))) = self.verts.next() else {
+            return;
+        };
+        let (spheres, capsules, fields) = (self.spheres, self.capsules, self.fields);
+        let [live_s, live_c, live_f] = &mut self.live;
+        while *live_s < spheres.len() && spheres[*live_s].first <= v {
+            *live_s += 1;
         }
-        while live_c < capsules.len() && capsules[live_c].first <= v {
-            live_c += 1;
+        while *live_c < capsules.len() && capsules[*live_c].first <= v {
+            *live_c += 1;
         }
         if FIELDS {
-            while live_f < fields.len() && fields[live_f].first <= v {
-                live_f += 1;
+            while *live_f < fields.len() && fields[*live_f].first <= v {
+                *live_f += 1;
             }
         }
-        let limit = rest_len[v - 1] * factor;
-        let floor = rest_len[v - 1] * shrink;
-        let free = w[v].gt(zero);
-        let parent = pos[v - 1];
+        let (live_s, live_c, live_f) = (*live_s, *live_c, *live_f);
+        let zero = T::splat(0.0);
+        let limit = rest_len * T::splat(k.stretch_factor);
+        let floor = rest_len * T::splat(k.shrink_factor);
+        let free = w.gt(zero);
+        let parent = self.parent;
         let strain = |x: V3<T>| {
             let d = x - parent;
             let d2 = dot(d, d);
@@ -815,52 +981,53 @@ fn strain_limit_and_collide<
                 x
             }
         };
-        let mut x = strain(pos[v]);
-        let mut xp = prev[v];
-        let (o, a) = (off[v], arc[v]);
+        let mut x = strain(*x_at);
+        let mut xp = *xp_at;
         let (sp, ca) = (&spheres[..live_s], &capsules[..live_c]);
-        x = if v < rooted_end {
+        let rooted = v < self.rooted_end;
+        x = if rooted {
             push_shapes::<T, FRICTION, true>(sp, ca, v, x, xp, o, a, &k.contact)
         } else {
             push_shapes::<T, FRICTION, false>(sp, ca, v, x, xp, o, a, &k.contact)
         };
+        let fields_n = fields.len();
         if FIELDS {
-            let balls = &mut balls[v * fields_n..][..live_f];
+            let balls = &mut self.balls[v * fields_n..][..live_f];
             for (f, ball) in fields[..live_f].iter().zip(balls) {
                 if let Some(sdf) = sdfs.get(f.field.index) {
                     let (pushed, was_deep) =
                         f.push_vertex(sdf, v, x, &mut xp, o, a, &k.contact, FRICTION, ball);
                     x = pushed;
-                    deep = deep | was_deep;
+                    self.deep = self.deep | was_deep;
                 }
             }
         }
         // The last substep's second round: friction acts once per substep.
         if TWO_ROUNDS {
             x = strain(x);
-            x = if v < rooted_end {
+            x = if rooted {
                 push_shapes::<T, false, true>(sp, ca, v, x, xp, o, a, &k.contact)
             } else {
                 push_shapes::<T, false, false>(sp, ca, v, x, xp, o, a, &k.contact)
             };
             if FIELDS {
-                let balls = &mut balls[v * fields_n..][..live_f];
+                let balls = &mut self.balls[v * fields_n..][..live_f];
                 for (f, ball) in fields[..live_f].iter().zip(balls) {
                     if let Some(sdf) = sdfs.get(f.field.index) {
                         let (pushed, was_deep) =
                             f.push_vertex(sdf, v, x, &mut xp, o, a, &k.contact, false, ball);
                         x = pushed;
-                        deep = deep | was_deep;
+                        self.deep = self.deep | was_deep;
                     }
                 }
             }
         }
-        pos[v] = x;
+        *x_at = x;
+        self.parent = x;
         if FIELDS {
-            prev[v] = xp;
+            *xp_at = xp;
         }
     }
-    deep
 }
 
 /// Every live sphere, then capsule, pushes vertex `v` (friction and the
@@ -941,25 +1108,39 @@ pub fn step_colliders_with(
         colliders,
         executor,
         |s, st, b, k| block_sweep_aabb(st.pos, st.prev, k.gravity_dt2, s.active[b]),
-        |strands, st, scratch, world, k, b, g| {
-            let r = b * strands.verts..(b + 1) * strands.verts;
-            // 2.-7.
-            let mut c = Chain {
-                pos: st.pos,
-                prev: st.prev,
-                w: &strands.inv_mass[r.clone()],
-                rest_len: &strands.rest_len[r.clone()],
-                rest_vec: &strands.rest_vec[r.clone()],
-                rest_dir: &strands.rest_dir[r.clone()],
-                rest_offset: &strands.rest_offset[r.clone()],
-                bend_len: &strands.bend_len[r.clone()],
-                bend_share: &strands.bend_share[r.clone()],
-                shape_weight: &strands.shape_weight[r.clone()],
-                arc: &strands.rest_arc[r],
-            };
-            let ok: f32x8 =
-                step_chain(&mut c, &mut scratch.chain, k, world, &scratch.candidates, g);
-            (!ok).to_bitmask()
+        |strands, states, scratch, world, k, ids| {
+            // 2.-7., two blocks side by side where two run.
+            let cands = &scratch.candidates;
+            let mut bad = [0; PAIR];
+            match (states, ids, &mut scratch.chains) {
+                ([sa, sb], &[(ba, ga), (bb, gb)], [ta, tb, ..]) => {
+                    let (mut ca, mut cb) =
+                        (block_chain(strands, ba, sa), block_chain(strands, bb, sb));
+                    let jobs = [
+                        ChainJob {
+                            c: &mut ca,
+                            s: ta,
+                            block: ga,
+                        },
+                        ChainJob {
+                            c: &mut cb,
+                            s: tb,
+                            block: gb,
+                        },
+                    ];
+                    let ok: [f32x8; 2] = step_chains(jobs, k, world, cands);
+                    bad[0] = (!ok[0]).to_bitmask();
+                    bad[1] = (!ok[1]).to_bitmask();
+                }
+                (states, ids, [t, ..]) => {
+                    for ((st, &(b, g)), bad) in states.iter_mut().zip(ids).zip(&mut bad) {
+                        let mut c = block_chain(strands, b, st);
+                        let ok: f32x8 = step_chain(&mut c, t, k, world, cands, g);
+                        *bad = (!ok).to_bitmask();
+                    }
+                }
+            }
+            bad
         },
         |s, st, grid, gk, b| {
             let r = b * s.verts..(b + 1) * s.verts;
@@ -974,6 +1155,24 @@ pub fn step_colliders_with(
             (moved & s.active[b]).any()
         },
     );
+}
+
+/// Block `b`'s chain: its moving state `st` and its rest data in `s`.
+fn block_chain<'a>(s: &'a Strands, b: usize, st: &'a mut BlockState<'_>) -> Chain<'a, f32x8> {
+    let r = b * s.verts..(b + 1) * s.verts;
+    Chain {
+        pos: &mut *st.pos,
+        prev: &mut *st.prev,
+        w: &s.inv_mass[r.clone()],
+        rest_len: &s.rest_len[r.clone()],
+        rest_vec: &s.rest_vec[r.clone()],
+        rest_dir: &s.rest_dir[r.clone()],
+        rest_offset: &s.rest_offset[r.clone()],
+        bend_len: &s.bend_len[r.clone()],
+        bend_share: &s.bend_share[r.clone()],
+        shape_weight: &s.shape_weight[r.clone()],
+        arc: &s.rest_arc[r],
+    }
 }
 
 /// The colliders of one step as a block's chain sees them: the local rig
@@ -1059,15 +1258,106 @@ mod tests {
             assert_ne!(bits(&skipping), without_field, "SIMD {simd}: no contact");
             let balls = skipping.scratch.tasks.iter().any(|t| {
                 if simd {
-                    t.chain
-                        .field_balls
-                        .iter()
-                        .any(|b| b.radius2().as_array().iter().any(|&r| r > 0.0))
+                    t.chains.iter().any(|c| {
+                        c.field_balls
+                            .iter()
+                            .any(|b| b.radius2().as_array().iter().any(|&r| r > 0.0))
+                    })
                 } else {
                     t.lane.chain.field_balls.iter().any(|b| b.radius2() > 0.0)
                 }
             });
             assert!(balls, "SIMD {simd}: no clear ball");
         }
+    }
+
+    /// Three blocks of 8 strands (24 in a row, hanging over a ball field
+    /// that turns under them, a capsule and a sphere beside, in a side
+    /// wind, friction on), stepped in their order and with the last block
+    /// moved first: the SIMD path pairs blocks 0 and 1 and steps 2 alone in
+    /// the first set, pairs 2 with 0 and steps 1 alone in the second. Every
+    /// strand ends with the same bytes in both, and as the scalar twin's,
+    /// which steps one lane at a time: a chain's step does not depend on
+    /// the chain beside it. (The roots' mean, the sets' local origin, is
+    /// exactly the same in both: every root is on a 1/256 m grid.)
+    #[test]
+    fn two_blocks_side_by_side_give_the_bytes_of_each_alone() {
+        let m = icosphere(3, 0.07);
+        let sdf = Sdf::from_mesh(&m.0, &m.1, 0.004).unwrap();
+        let strand = |i: usize| -> Vec<Vec3> {
+            let root = Vec3::new((i as f32 - 11.5) / 128.0, 0.0, 0.0);
+            (0..20)
+                .map(move |v| root - Vec3::Y * (0.012 * v as f32))
+                .collect()
+        };
+        let order_a: Vec<usize> = (0..24).collect();
+        let order_b: Vec<usize> = (16..24).chain(0..16).collect();
+        let caps = [crate::Capsule {
+            a: Vec3::new(-0.3, -0.05, 0.04),
+            b: Vec3::new(0.3, -0.05, 0.04),
+            radius: 0.02,
+        }];
+        let spheres = [crate::Sphere {
+            center: Vec3::new(0.05, -0.2, 0.0),
+            radius: 0.04,
+        }];
+        let params = SimParams {
+            wind: Vec3::new(0.0, 0.0, -1.5),
+            drag: 2.0,
+            ..Default::default()
+        };
+        let run = |order: &[usize], simd: bool| -> Vec<Vec<u32>> {
+            let pts: Vec<Vec3> = order.iter().flat_map(|&i| strand(i)).collect();
+            let mut s = Strands::from_polylines(&pts, 20).unwrap();
+            let mut fields = vec![sdf.clone()];
+            for i in 0..40 {
+                let q = Quat::from_rotation_z(0.4 * (i as f32 * 0.07).sin());
+                let t = Vec3::new(0.03 * (i as f32 * 0.1).sin(), -0.13, 0.0);
+                fields[0]
+                    .set_transform(Affine3A::from_rotation_translation(q, t))
+                    .unwrap();
+                let c = Colliders {
+                    spheres: &spheres,
+                    capsules: &caps,
+                    sdfs: &fields,
+                };
+                if simd {
+                    step_colliders(&mut s, &params, &c);
+                } else {
+                    scalar::step_colliders(&mut s, &params, &c);
+                }
+            }
+            // Each strand's bits, by its index in `order_a`.
+            let mut by_strand = vec![Vec::new(); 24];
+            for (chunk, &i) in s.positions().chunks(20).zip(order) {
+                by_strand[i] = chunk
+                    .iter()
+                    .flat_map(|p| p.to_array())
+                    .map(f32::to_bits)
+                    .collect();
+            }
+            by_strand
+        };
+        let a = run(&order_a, true);
+        let still: Vec<Vec<u32>> = (0..24)
+            .map(|i| {
+                strand(i)
+                    .iter()
+                    .flat_map(|p| p.to_array())
+                    .map(f32::to_bits)
+                    .collect()
+            })
+            .collect();
+        assert!(
+            a.iter().zip(&still).all(|(x, y)| x != y),
+            "some strand never moved"
+        );
+        assert_eq!(
+            a,
+            run(&order_b, true),
+            "SIMD: the pairing changed the bytes"
+        );
+        assert_eq!(a, run(&order_a, false), "SIMD against scalar");
+        assert_eq!(a, run(&order_b, false), "scalar, reordered");
     }
 }

@@ -102,11 +102,12 @@ pub(crate) struct StepScratch {
 pub(crate) struct Scratch {
     /// Colliders that may touch the current group of blocks.
     pub(crate) candidates: Vec<crate::collide::broad_phase::ShapeCandidate>,
-    /// The SIMD step's per-chain scratch.
-    pub(crate) chain: crate::step::ChainScratch<f32x8>,
+    /// The SIMD step's per-chain scratch, one per block stepped together.
+    pub(crate) chains: [crate::step::ChainScratch<f32x8>; crate::drive::PAIR],
     /// The scalar step's copy of one lane.
     pub(crate) lane: crate::scalar::LaneBuffers,
-    /// A block's positions at the start of its step (sleeping on).
+    /// The positions of the blocks stepped together at the start of their
+    /// step (sleeping on), one after the other.
     pub(crate) start: Vec<Vec3x8>,
     /// Strands this task restored in the last step.
     pub(crate) restored: u64,
@@ -145,16 +146,18 @@ impl Scratch {
         let n = counts.iter().sum::<usize>();
         self.candidates
             .reserve(n.saturating_sub(self.candidates.len()));
-        self.chain.reserve(counts);
+        for c in &mut self.chains {
+            c.reserve(counts);
+        }
         self.lane.reserve(counts);
     }
 
     fn new(verts: usize) -> Scratch {
         Scratch {
             candidates: Vec::new(),
-            chain: crate::step::ChainScratch::new(verts),
+            chains: std::array::from_fn(|_| crate::step::ChainScratch::new(verts)),
             lane: crate::scalar::LaneBuffers::new(verts),
-            start: vec![Vec3x8::ZERO; verts],
+            start: vec![Vec3x8::ZERO; verts * crate::drive::PAIR],
             restored: 0,
         }
     }

@@ -18,7 +18,7 @@
 //!    beyond 10^6 m is restored).
 
 use super::broad_phase::block_sweep_aabb;
-use crate::drive::drive;
+use crate::drive::{drive, PAIR};
 use crate::hair_grid::apply_block;
 use crate::lanes::{Vec3x8, V3};
 use crate::step::{step_chain, Chain, ChainScratch};
@@ -113,50 +113,54 @@ pub fn step_colliders_with(
         colliders,
         executor,
         |s, st, b, k| block_sweep_aabb(st.pos, st.prev, k.gravity_dt2, s.lanes_in_block(b)),
-        |strands, st, scratch, world, k, b, g| {
-            let (verts, base) = (strands.verts, b * strands.verts);
-            let mut bad = 0u32;
-            for l in 0..strands.lanes_in_block(b) {
-                let lb = &mut scratch.lane;
-                for v in 0..verts {
-                    let i = base + v;
-                    lb.pos[v] = lane3(&st.pos[v], l);
-                    lb.prev[v] = lane3(&st.prev[v], l);
-                    lb.w[v] = lane1(&strands.inv_mass[i], l);
-                    lb.rest_len[v] = lane1(&strands.rest_len[i], l);
-                    lb.rest_vec[v] = lane3(&strands.rest_vec[i], l);
-                    lb.rest_dir[v] = lane3(&strands.rest_dir[i], l);
-                    lb.rest_offset[v] = lane3(&strands.rest_offset[i], l);
-                    lb.bend_len[v] = lane1(&strands.bend_len[i], l);
-                    let sh = strands.bend_share[i];
-                    lb.bend_share[v] = [lane1(&sh[0], l), lane1(&sh[1], l)];
-                    lb.shape_weight[v] = lane1(&strands.shape_weight[i], l);
-                    lb.arc[v] = lane1(&strands.rest_arc[i], l);
-                }
-                // 2.-7.
-                let mut c = Chain {
-                    pos: &mut lb.pos,
-                    prev: &mut lb.prev,
-                    w: &lb.w,
-                    rest_len: &lb.rest_len,
-                    rest_vec: &lb.rest_vec,
-                    rest_dir: &lb.rest_dir,
-                    rest_offset: &lb.rest_offset,
-                    bend_len: &lb.bend_len,
-                    bend_share: &lb.bend_share,
-                    shape_weight: &lb.shape_weight,
-                    arc: &lb.arc,
-                };
-                let ok: bool = step_chain(&mut c, &mut lb.chain, k, world, &scratch.candidates, g);
-                for v in 0..verts {
-                    st.pos[v].set_lane(l, lb.pos[v].to_vec3());
-                    st.prev[v].set_lane(l, lb.prev[v].to_vec3());
-                }
-                if !ok {
-                    bad |= 1 << l;
+        |strands, states, scratch, world, k, ids| {
+            // The blocks one after the other, each lane on its own.
+            let mut bads = [0u32; PAIR];
+            for ((st, &(b, g)), bad) in states.iter_mut().zip(ids).zip(&mut bads) {
+                let (verts, base) = (strands.verts, b * strands.verts);
+                for l in 0..strands.lanes_in_block(b) {
+                    let lb = &mut scratch.lane;
+                    for v in 0..verts {
+                        let i = base + v;
+                        lb.pos[v] = lane3(&st.pos[v], l);
+                        lb.prev[v] = lane3(&st.prev[v], l);
+                        lb.w[v] = lane1(&strands.inv_mass[i], l);
+                        lb.rest_len[v] = lane1(&strands.rest_len[i], l);
+                        lb.rest_vec[v] = lane3(&strands.rest_vec[i], l);
+                        lb.rest_dir[v] = lane3(&strands.rest_dir[i], l);
+                        lb.rest_offset[v] = lane3(&strands.rest_offset[i], l);
+                        lb.bend_len[v] = lane1(&strands.bend_len[i], l);
+                        let sh = strands.bend_share[i];
+                        lb.bend_share[v] = [lane1(&sh[0], l), lane1(&sh[1], l)];
+                        lb.shape_weight[v] = lane1(&strands.shape_weight[i], l);
+                        lb.arc[v] = lane1(&strands.rest_arc[i], l);
+                    }
+                    // 2.-7.
+                    let mut c = Chain {
+                        pos: &mut lb.pos,
+                        prev: &mut lb.prev,
+                        w: &lb.w,
+                        rest_len: &lb.rest_len,
+                        rest_vec: &lb.rest_vec,
+                        rest_dir: &lb.rest_dir,
+                        rest_offset: &lb.rest_offset,
+                        bend_len: &lb.bend_len,
+                        bend_share: &lb.bend_share,
+                        shape_weight: &lb.shape_weight,
+                        arc: &lb.arc,
+                    };
+                    let ok: bool =
+                        step_chain(&mut c, &mut lb.chain, k, world, &scratch.candidates, g);
+                    for v in 0..verts {
+                        st.pos[v].set_lane(l, lb.pos[v].to_vec3());
+                        st.prev[v].set_lane(l, lb.prev[v].to_vec3());
+                    }
+                    if !ok {
+                        *bad |= 1 << l;
+                    }
                 }
             }
-            bad
+            bads
         },
         |s, st, grid, gk, b| {
             // One lane, one vertex at a time: the same body as the SIMD
