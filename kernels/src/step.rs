@@ -1189,6 +1189,69 @@ mod tests {
     use coif_testkit::meshes::icosphere;
     use glam::{Affine3A, Quat, Vec3};
 
+    /// A capsule across the hair at depth `z`, a sphere below it at `x`,
+    /// and the parameters: a side wind of `wind` m/s along -z, drag 2 /s.
+    fn side_rig(z: f32, x: f32, wind: f32) -> ([crate::Capsule; 1], [crate::Sphere; 1], SimParams) {
+        let caps = [crate::Capsule {
+            a: Vec3::new(-0.3, -0.05, z),
+            b: Vec3::new(0.3, -0.05, z),
+            radius: 0.02,
+        }];
+        let spheres = [crate::Sphere {
+            center: Vec3::new(x, -0.2, 0.0),
+            radius: 0.04,
+        }];
+        let params = SimParams {
+            wind: Vec3::new(0.0, 0.0, -wind),
+            drag: 2.0,
+            ..Default::default()
+        };
+        (caps, spheres, params)
+    }
+
+    /// `steps` steps over a ball field turning by up to `turn` radians
+    /// about z (`rate` radians of phase per step) and swaying by `sway` m
+    /// along x, `depth` m below the roots: each step its pose set, then the
+    /// step against it and the side rig's shapes, SIMD or scalar.
+    fn step_over_turning_field(
+        s: &mut Strands,
+        fields: &mut [Sdf],
+        rig: &([crate::Capsule; 1], [crate::Sphere; 1], SimParams),
+        steps: usize,
+        motion: (f32, f32, f32, f32),
+        simd: bool,
+    ) {
+        for i in 0..steps {
+            step_field_once(s, fields, rig, i, motion, simd);
+        }
+    }
+
+    fn step_field_once(
+        s: &mut Strands,
+        fields: &mut [Sdf],
+        (caps, spheres, params): &([crate::Capsule; 1], [crate::Sphere; 1], SimParams),
+        i: usize,
+        (turn, rate, sway, depth): (f32, f32, f32, f32),
+        simd: bool,
+    ) {
+        let q = Quat::from_rotation_z(turn * (i as f32 * rate).sin());
+        let t = Vec3::new(sway * (i as f32 * 0.1).sin(), -depth, 0.0);
+        for f in fields.iter_mut() {
+            f.set_transform(Affine3A::from_rotation_translation(q, t))
+                .unwrap();
+        }
+        let c = Colliders {
+            spheres,
+            capsules: caps,
+            sdfs: fields,
+        };
+        if simd {
+            step_colliders(s, params, &c);
+        } else {
+            scalar::step_colliders(s, params, &c);
+        }
+    }
+
     /// A curtain of 40 strands of 25 x 1.2 cm draped over a ball field of
     /// 7 cm that turns and shifts under it, with a capsule and a sphere
     /// beside, in a side wind: stepped with the field as built and with its
@@ -1206,41 +1269,11 @@ mod tests {
                 (0..25).map(move |v| root - Vec3::Y * (0.012 * v as f32))
             })
             .collect();
-        let caps = [crate::Capsule {
-            a: Vec3::new(-0.3, -0.05, 0.05),
-            b: Vec3::new(0.3, -0.05, 0.05),
-            radius: 0.02,
-        }];
-        let spheres = [crate::Sphere {
-            center: Vec3::new(0.12, -0.2, 0.0),
-            radius: 0.04,
-        }];
-        let params = SimParams {
-            wind: Vec3::new(0.0, 0.0, -1.0),
-            drag: 2.0,
-            ..Default::default()
-        };
+        let rig = side_rig(0.05, 0.12, 1.0);
         let run = |field: Option<Sdf>, simd: bool| {
             let mut fields: Vec<Sdf> = field.into_iter().collect();
             let mut s = Strands::from_polylines(&pts, 25).unwrap();
-            for i in 0..60 {
-                let q = Quat::from_rotation_z(0.3 * (i as f32 * 0.05).sin());
-                let t = Vec3::new(0.02 * (i as f32 * 0.1).sin(), -0.14, 0.0);
-                for f in &mut fields {
-                    f.set_transform(Affine3A::from_rotation_translation(q, t))
-                        .unwrap();
-                }
-                let c = Colliders {
-                    spheres: &spheres,
-                    capsules: &caps,
-                    sdfs: &fields,
-                };
-                if simd {
-                    step_colliders(&mut s, &params, &c);
-                } else {
-                    scalar::step_colliders(&mut s, &params, &c);
-                }
-            }
+            step_over_turning_field(&mut s, &mut fields, &rig, 60, (0.3, 0.05, 0.02, 0.14), simd);
             s
         };
         let bits = |s: &Strands| -> Vec<u32> {
@@ -1292,41 +1325,12 @@ mod tests {
         };
         let order_a: Vec<usize> = (0..24).collect();
         let order_b: Vec<usize> = (16..24).chain(0..16).collect();
-        let caps = [crate::Capsule {
-            a: Vec3::new(-0.3, -0.05, 0.04),
-            b: Vec3::new(0.3, -0.05, 0.04),
-            radius: 0.02,
-        }];
-        let spheres = [crate::Sphere {
-            center: Vec3::new(0.05, -0.2, 0.0),
-            radius: 0.04,
-        }];
-        let params = SimParams {
-            wind: Vec3::new(0.0, 0.0, -1.5),
-            drag: 2.0,
-            ..Default::default()
-        };
+        let rig = side_rig(0.04, 0.05, 1.5);
         let run = |order: &[usize], simd: bool| -> Vec<Vec<u32>> {
             let pts: Vec<Vec3> = order.iter().flat_map(|&i| strand(i)).collect();
             let mut s = Strands::from_polylines(&pts, 20).unwrap();
             let mut fields = vec![sdf.clone()];
-            for i in 0..40 {
-                let q = Quat::from_rotation_z(0.4 * (i as f32 * 0.07).sin());
-                let t = Vec3::new(0.03 * (i as f32 * 0.1).sin(), -0.13, 0.0);
-                fields[0]
-                    .set_transform(Affine3A::from_rotation_translation(q, t))
-                    .unwrap();
-                let c = Colliders {
-                    spheres: &spheres,
-                    capsules: &caps,
-                    sdfs: &fields,
-                };
-                if simd {
-                    step_colliders(&mut s, &params, &c);
-                } else {
-                    scalar::step_colliders(&mut s, &params, &c);
-                }
-            }
+            step_over_turning_field(&mut s, &mut fields, &rig, 40, (0.4, 0.07, 0.03, 0.13), simd);
             // Each strand's bits, by its index in `order_a`.
             let mut by_strand = vec![Vec::new(); 24];
             for (chunk, &i) in s.positions().chunks(20).zip(order) {
