@@ -1364,4 +1364,41 @@ mod tests {
         assert_eq!(a, run(&order_a, false), "SIMD against scalar");
         assert_eq!(a, run(&order_b, false), "scalar, reordered");
     }
+
+    /// The shortest strands (two vertices, one segment) in two blocks that
+    /// run side by side, swinging onto a sphere: the walk of a pair covers
+    /// the single segment, SIMD as the scalar twin, bit for bit.
+    #[test]
+    fn two_vertex_strands_step_side_by_side() {
+        let pts: Vec<Vec3> = (0..16)
+            .flat_map(|i| {
+                let root = Vec3::new(i as f32 * 0.01 - 0.08, 0.0, 0.0);
+                [root, root + Vec3::new(0.1, 0.0, 0.02)]
+            })
+            .collect();
+        let rig = [crate::Sphere {
+            center: Vec3::new(0.0, -0.12, 0.0),
+            radius: 0.06,
+        }];
+        let params = SimParams::default();
+        let mut simd = Strands::from_polylines(&pts, 2).unwrap();
+        let mut reference = simd.clone();
+        for _ in 0..40 {
+            crate::step(&mut simd, &params, &rig);
+            scalar::step(&mut reference, &params, &rig);
+        }
+        let bits = |s: &Strands| -> Vec<u32> {
+            s.positions()
+                .iter()
+                .flat_map(|p| p.to_array())
+                .map(f32::to_bits)
+                .collect()
+        };
+        assert_eq!(bits(&simd), bits(&reference));
+        let tips = simd.positions();
+        assert!(
+            tips.iter().skip(1).step_by(2).all(|p| p.y < -0.05),
+            "the tips did not swing down"
+        );
+    }
 }
