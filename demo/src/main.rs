@@ -247,6 +247,15 @@ fn parse_size(s: &str) -> Result<(usize, usize), String> {
     Ok((w, h))
 }
 
+/// Hair-against-hair volume and friction from the options: each as given;
+/// an unset volume is 1 where the hair sits on a body mesh (Sintel, a
+/// groom with `--mesh`) and 0 otherwise, and an unset friction follows the
+/// volume (so `--volume 0` turns the hair grid off).
+fn hair_against_hair(volume: Option<f32>, friction: Option<f32>, on_body: bool) -> (f32, f32) {
+    let volume = volume.unwrap_or(if on_body { 1.0 } else { 0.0 });
+    (volume, friction.unwrap_or(volume))
+}
+
 fn main() -> ExitCode {
     match run(Cli::parse()) {
         Ok(()) => ExitCode::SUCCESS,
@@ -520,14 +529,15 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     } else {
         (0.0, 0.0)
     };
-    let hair_default = if scene.body.is_some() { 1.0 } else { 0.0 };
+    let (volume_stiffness, hair_friction) =
+        hair_against_hair(cli.volume, cli.hair_friction, scene.body.is_some());
     let settings = FrameSettings {
         simulation: SimParams {
             local_shape_stiffness: local_shape,
             drag,
             turbulence,
-            volume_stiffness: cli.volume.unwrap_or(hair_default),
-            hair_friction: cli.hair_friction.unwrap_or(hair_default),
+            volume_stiffness,
+            hair_friction,
             ..settings.simulation
         },
         ..settings
@@ -622,4 +632,20 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         out!("wrote {} (frames {:?})", path.display(), sheet_frames);
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::hair_against_hair;
+
+    #[test]
+    fn hair_friction_follows_the_volume_unless_given() {
+        assert_eq!(hair_against_hair(None, None, true), (1.0, 1.0));
+        assert_eq!(hair_against_hair(None, None, false), (0.0, 0.0));
+        // `--volume 0` on Sintel turns the grid off (friction follows).
+        assert_eq!(hair_against_hair(Some(0.0), None, true), (0.0, 0.0));
+        assert_eq!(hair_against_hair(Some(0.5), None, false), (0.5, 0.5));
+        assert_eq!(hair_against_hair(Some(0.0), Some(1.0), true), (0.0, 1.0));
+        assert_eq!(hair_against_hair(None, Some(0.0), true), (1.0, 0.0));
+    }
 }
