@@ -8,19 +8,25 @@
 //! core (`--threads`). `--scene sphere` is the built-in sphere head with
 //! grown guides and a bow's silk ribbons. See `--help`.
 
-/// `println!` that ends the program quietly (exit code 0) when standard
-/// output is closed, as when it is piped into `head`: `println!` panics on
-/// a broken pipe.
+/// `println!` that goes quiet once standard output is closed, as when it
+/// is piped into `head` (`println!` panics on a broken pipe): the run goes
+/// on and still writes every file it was asked for.
 macro_rules! out {
     ($($arg:tt)*) => {{
         use std::io::Write as _;
-        if let Err(e) = writeln!(std::io::stdout(), $($arg)*) {
-            if e.kind() == std::io::ErrorKind::BrokenPipe {
-                std::process::exit(0);
+        use std::sync::atomic::Ordering;
+        if !crate::STDOUT_CLOSED.load(Ordering::Relaxed) {
+            if let Err(e) = writeln!(std::io::stdout(), $($arg)*) {
+                if e.kind() == std::io::ErrorKind::BrokenPipe {
+                    crate::STDOUT_CLOSED.store(true, Ordering::Relaxed);
+                }
             }
         }
     }};
 }
+
+/// Standard output was closed (a broken pipe): [`out!`] prints nothing more.
+static STDOUT_CLOSED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
 mod crowd;
 
@@ -42,11 +48,13 @@ use std::time::Instant;
 #[command(
     name = "coif",
     version,
-    about = "Simulate, level-of-detail, shade and rasterise hair; write a PNG and a per-stage timing table."
+    about = "Simulate, level-of-detail, shade and rasterise hair; write a PNG and a per-stage timing table.",
+    allow_negative_numbers = true
 )]
 struct Cli {
     /// The built-in scene: sintel (her bust and groom, the default) or
-    /// sphere (a sphere head with 2,048 grown guides and a bow's ribbons).
+    /// sphere (a sphere head with guides grown over its scalp, 1,783 of the
+    /// 2,048 grown kept off the face, and a bow's ribbons).
     /// With --groom: sintel puts the groom on Sintel's bust, sphere on the
     /// head proxy fitted to its roots.
     #[arg(long, value_parser = parse_scene)]
@@ -60,7 +68,12 @@ struct Cli {
     /// Body mesh for --groom (Wavefront OBJ in the groom's frame and
     /// units, centimetres): drawn under the hair, the guides collide with
     /// its distance field.
-    #[arg(long, value_name = "PATH", requires = "groom")]
+    #[arg(
+        long,
+        value_name = "PATH",
+        requires = "groom",
+        conflicts_with = "scene"
+    )]
     mesh: Option<PathBuf>,
     /// Local shape stiffness in [0, 1]: each segment keeps its groomed
     /// direction in its parent's frame (TressFX 4). Default: 1 for Sintel
@@ -93,17 +106,17 @@ struct Cli {
     /// Frames of motion to simulate (at --fps); the last one is written.
     #[arg(long, default_value_t = 90)]
     frames: usize,
-    /// Frames per second of the motion.
-    #[arg(long, default_value_t = 30.0)]
+    /// Frames per second of the motion (above 0, at most 1000).
+    #[arg(long, default_value_t = 30.0, value_parser = parse_fps)]
     fps: f32,
     /// Image size, WIDTHxHEIGHT (overrides --width and --height).
     #[arg(long, value_name = "WxH", value_parser = parse_size)]
     size: Option<(usize, usize)>,
-    /// Image width in pixels.
-    #[arg(long, default_value_t = 512)]
+    /// Image width in pixels (1 to 8192).
+    #[arg(long, default_value_t = 512, value_parser = pixels)]
     width: usize,
-    /// Image height in pixels.
-    #[arg(long, default_value_t = 512)]
+    /// Image height in pixels (1 to 8192).
+    #[arg(long, default_value_t = 512, value_parser = pixels)]
     height: usize,
     /// Output PNG of the last frame.
     #[arg(long, short, default_value = "hair.png")]
@@ -115,8 +128,9 @@ struct Cli {
     /// frame, 0 = only the written ones). Other frames only simulate.
     #[arg(long, default_value_t = 10, value_name = "N")]
     render_every: usize,
-    /// Most guides kept from a groom (every k-th strand).
-    #[arg(long, default_value_t = 2048)]
+    /// Most guides kept from a groom (every k-th strand; at least 4, to
+    /// fit a head to their roots).
+    #[arg(long, default_value_t = 2048, value_parser = parse_max_guides)]
     max_guides: usize,
     /// Camera direction from the hair, X,Y,Z (default: the scene's own; the
     /// built-in head is seen from the front left, grooms from the side).
@@ -132,8 +146,9 @@ struct Cli {
     /// Render hairs per cm^2 (each widened to keep a real scalp's coverage).
     /// Default: 20 for Sintel and grooms on a mesh (half the hairs of 40
     /// and the same picture at 512 px: the distance LOD draws about 7,000
-    /// either way), 40 for the sphere head and grooms on a head proxy.
-    #[arg(long)]
+    /// either way), 40 for the sphere head and grooms on a head proxy. At
+    /// most 250 (a real scalp's density).
+    #[arg(long, value_parser = parse_density)]
     density: Option<f32>,
     /// Prepare pass: fused (one pass per group of hairs) or reference
     /// (stage by stage, the shadow map from every hair).
@@ -159,15 +174,16 @@ struct Cli {
     animation_every: usize,
     /// Simulate a crowd of N characters instead (no picture): the
     /// simulation cost with and without simulation LOD, off-screen
-    /// following and sleeping, and the error per level.
-    #[arg(long, value_name = "N")]
+    /// following and sleeping, and the error per level. Steps of 1/60 s
+    /// (--fps does not apply); N from 1 to 1024.
+    #[arg(long, value_name = "N", value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=1024))]
     crowd: Option<usize>,
     /// Threads running the frame's parallel stages (the hair's and the
     /// ribbons' simulation, the shadow-map build, the prepare pass, the
     /// hair's runs of tiles; with --crowd, the characters): one rayon pool of
     /// N threads, 0 = one per core; 1 = the calling thread only (no pool).
-    /// The picture has the same bytes at any thread count.
-    #[arg(long, default_value_t = 0, value_name = "N")]
+    /// The picture has the same bytes at any thread count. At most 256.
+    #[arg(long, default_value_t = 0, value_name = "N", value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(0..=256))]
     threads: usize,
 }
 
@@ -225,14 +241,19 @@ fn parse_view(s: &str) -> Result<glam::Vec3, String> {
         .split(',')
         .map(|c| c.trim().parse::<f32>().map_err(|e| format!("{c:?}: {e}")))
         .collect::<Result<_, _>>()?;
-    match v[..] {
-        [x, y, z] if (x * x + y * y + z * z) > 1e-12 && (x + y + z).is_finite() => {
-            Ok(glam::Vec3::new(x, y, z))
+    // Any finite direction: scaled by its largest component first, so
+    // that neither 1e30 (whose square overflows) nor 1e-30 is lost.
+    let direction = match v[..] {
+        [x, y, z] => {
+            let v = glam::Vec3::new(x, y, z);
+            let m = v.abs().max_element();
+            (v.is_finite() && m > 0.0)
+                .then(|| (v / m).try_normalize())
+                .flatten()
         }
-        _ => Err(format!(
-            "expected three numbers X,Y,Z not all zero, got {s:?}"
-        )),
-    }
+        _ => None,
+    };
+    direction.ok_or_else(|| format!("expected three finite numbers X,Y,Z, not all zero, got {s:?}"))
 }
 
 fn parse_size(s: &str) -> Result<(usize, usize), String> {
@@ -245,6 +266,48 @@ fn parse_size(s: &str) -> Result<(usize, usize), String> {
         return Err("width and height must be 1..=8192".into());
     }
     Ok((w, h))
+}
+
+/// `--width` and `--height`: 1 to 8192, as `--size`.
+fn pixels(s: &str) -> Result<usize, String> {
+    match s.trim().parse::<usize>() {
+        Ok(n) if (1..=8192).contains(&n) => Ok(n),
+        Ok(_) => Err("must be 1..=8192".into()),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+/// `--max-guides`: at least 4 (a head is fitted to the kept roots).
+fn parse_max_guides(s: &str) -> Result<usize, String> {
+    match s.trim().parse::<usize>() {
+        Ok(n) if n >= 4 => Ok(n),
+        Ok(_) => Err("at least 4 guides (a head is fitted to their roots)".into()),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+/// `--fps`: a finite rate above 0 and at most 1000 frames per second.
+fn parse_fps(s: &str) -> Result<f32, String> {
+    let fps: f32 = s.trim().parse().map_err(|e| format!("{s:?}: {e}"))?;
+    if fps.is_finite() && fps > 0.0 && fps <= 1000.0 {
+        Ok(fps)
+    } else {
+        Err(format!(
+            "frames per second must be above 0 and at most 1000, got {s:?}"
+        ))
+    }
+}
+
+/// `--density`: render hairs per cm^2, above 0 and at most 250.
+fn parse_density(s: &str) -> Result<f32, String> {
+    let d: f32 = s.trim().parse().map_err(|e| format!("{s:?}: {e}"))?;
+    if d.is_finite() && d > 0.0 && d <= 250.0 {
+        Ok(d)
+    } else {
+        Err(format!(
+            "render hairs per cm^2 must be above 0 and at most 250, got {s:?}"
+        ))
+    }
 }
 
 /// Hair-against-hair volume and friction from the options: each as given;
@@ -416,9 +479,10 @@ impl Animation {
         encoder.set_color(png::ColorType::Rgb);
         encoder.set_depth(png::BitDepth::Eight);
         encoder.set_animated(count as u32, 0)?;
-        // Delay every / fps seconds as a fraction with a 1/100 s grain.
-        let den = (fps * 100.0).round().clamp(1.0, u16::MAX as f32) as u16;
-        let num = (every * 100).min(u16::MAX as usize) as u16;
+        // Delay every / fps seconds as a fraction with a 1/100 s grain,
+        // reduced (so that 1000 fps or every 1000th frame still fits the
+        // 16-bit numerator and denominator exactly).
+        let (num, den) = frame_delay(every, fps);
         encoder.set_frame_delay(num, den)?;
         Ok(Animation {
             writer: encoder.write_header()?,
@@ -442,6 +506,22 @@ impl Animation {
     }
 }
 
+/// The APNG frame delay `every / fps` seconds as a 16-bit fraction: `fps`
+/// to 1/100 (`--fps` is at most 1000), reduced by the greatest common
+/// divisor, each part clamped to 16 bits only if it still does not fit.
+fn frame_delay(every: usize, fps: f32) -> (u16, u16) {
+    let mut num = every as u64 * 100;
+    let mut den = ((fps as f64 * 100.0).round() as u64).max(1);
+    let (mut a, mut b) = (num, den);
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    num /= a;
+    den /= a;
+    let fit = |x: u64| x.clamp(1, u16::MAX as u64) as u16;
+    (fit(num), fit(den))
+}
+
 /// Runs `--frames` frames of the built-in head motion: frames that are
 /// written (the last, the sheet's) or timed (every `--render-every`-th)
 /// render, the others only simulate.
@@ -452,7 +532,7 @@ fn run_motion(
     executor: &dyn Executor,
 ) -> Result<Motion, Box<dyn std::error::Error>> {
     let frames = cli.frames.max(1);
-    let dt = 1.0 / cli.fps.max(1.0);
+    let dt = 1.0 / cli.fps;
     let sheet_frames: Vec<usize> = (0..6).map(|k| (k * (frames - 1)) / 5).collect();
     let mut tiles = Vec::new();
     let pivot = pipeline.pivot();
@@ -472,8 +552,12 @@ fn run_motion(
             animated || f + 1 == frames || (cli.sheet.is_some() && sheet_frames.contains(&f));
         if wanted || (cli.render_every > 0 && f % cli.render_every == 0) {
             last = pipeline.frame_with(dt, pose, executor);
-            if cli.sheet.is_some() && sheet_frames.contains(&f) {
-                tiles.push(pipeline.image());
+            if cli.sheet.is_some() {
+                // A motion shorter than six frames shows a frame in more
+                // than one tile.
+                for _ in sheet_frames.iter().filter(|&&s| s == f) {
+                    tiles.push(pipeline.image());
+                }
             }
             if let Some(a) = animation.as_mut().filter(|_| animated) {
                 a.push(pipeline)?;
@@ -575,7 +659,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
             (width, height),
             cli.frames.max(1),
             cli.animation_every,
-            cli.fps.max(1.0),
+            cli.fps,
         )?),
         None => None,
     };
@@ -636,7 +720,45 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
 
 #[cfg(test)]
 mod tests {
-    use super::hair_against_hair;
+    use super::{frame_delay, hair_against_hair, parse_density, parse_fps, parse_view};
+
+    #[test]
+    fn a_view_is_any_finite_direction() {
+        let x = glam::Vec3::X;
+        for s in ["1,0,0", "1e30,0,0", "3e38,0,0", "1e-30,0,0", " 2 , 0 , 0 "] {
+            let v = parse_view(s).unwrap_or_else(|e| panic!("{s}: {e}"));
+            assert!((v - x).length() < 1e-6, "{s}: {v}");
+        }
+        let v = parse_view("1e30,1e30,0").unwrap();
+        assert!((v - glam::Vec3::new(1.0, 1.0, 0.0).normalize()).length() < 1e-6);
+        for s in ["0,0,0", "inf,0,0", "nan,1,0", "1,2", "1,2,3,4", "a,b,c"] {
+            assert!(parse_view(s).is_err(), "{s} accepted");
+        }
+    }
+
+    #[test]
+    fn rates_and_densities_are_checked() {
+        assert_eq!(parse_fps("0.5"), Ok(0.5));
+        assert_eq!(parse_fps("1000"), Ok(1000.0));
+        for s in ["0", "-5", "nan", "inf", "1001", "x"] {
+            assert!(parse_fps(s).is_err(), "--fps {s} accepted");
+        }
+        assert_eq!(parse_density("250"), Ok(250.0));
+        for s in ["0", "-1", "nan", "inf", "251", "1000"] {
+            assert!(parse_density(s).is_err(), "--density {s} accepted");
+        }
+    }
+
+    #[test]
+    fn animation_delays_are_exact_fractions() {
+        // every / fps seconds.
+        assert_eq!(frame_delay(1, 30.0), (1, 30));
+        assert_eq!(frame_delay(2, 30.0), (1, 15));
+        assert_eq!(frame_delay(1, 1000.0), (1, 1000));
+        assert_eq!(frame_delay(1000, 30.0), (100, 3));
+        assert_eq!(frame_delay(3, 0.5), (6, 1));
+        assert_eq!(frame_delay(1, 29.97), (100, 2997));
+    }
 
     #[test]
     fn hair_friction_follows_the_volume_unless_given() {

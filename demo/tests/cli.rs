@@ -336,12 +336,22 @@ fn every_thread_count_writes_the_same_bytes() {
 
 #[test]
 fn a_closed_pipe_ends_the_program_quietly() {
-    // `coif ... | head -1`: standard output closes after the first line.
+    // `coif ... | head -1`: standard output closes after the first line;
+    // the run still writes every file it was asked for. Three frames on a
+    // sheet of six: each frame fills two tiles.
     use std::io::{BufRead, BufReader};
     use std::process::Stdio;
     let path = out_dir().join("pipe.png");
+    let (sheet, csv) = (out_dir().join("pipe_sheet.png"), out_dir().join("pipe.csv"));
+    for p in [&path, &sheet, &csv] {
+        let _ = std::fs::remove_file(p);
+    }
     let mut child = Command::new(env!("CARGO_BIN_EXE_coif"))
         .args(["--size", "64x64", "--frames", "3", "--density", "8"])
+        .arg("--sheet")
+        .arg(&sheet)
+        .arg("--timings-csv")
+        .arg(&csv)
         .args(["--render-every", "0", "--output"])
         .arg(&path)
         .stdout(Stdio::piped())
@@ -358,6 +368,11 @@ fn a_closed_pipe_ends_the_program_quietly() {
     assert!(first.starts_with("coif:"), "{first}");
     assert!(out.status.success(), "{:?}: {err}", out.status);
     assert!(!err.contains("panicked"), "{err}");
+    assert_eq!(png_size(&path), (64, 64));
+    // Three tiles by two of 64 x 64, with 4 px gaps and borders.
+    assert_eq!(png_size(&sheet), (3 * 64 + 4 * 4, 2 * 64 + 3 * 4));
+    let timings = std::fs::read_to_string(&csv).expect("the timings CSV");
+    assert!(timings.contains("simulate"), "{timings}");
 }
 
 #[test]

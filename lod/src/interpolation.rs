@@ -43,8 +43,11 @@ use wide::f32x8;
 /// Square metres per square centimetre.
 pub const M2_PER_CM2: f32 = 1e-4;
 
-/// Upper bound on the number of render hairs one [`Interpolation`] may hold.
-pub const MAX_RENDER_HAIRS: usize = 1 << 24;
+/// Upper bound on the number of render hairs one [`Interpolation`] may hold:
+/// 2^20 = 1,048,576, ten times a real head's hair count (a frame pipeline
+/// holds about 11 KB per render hair, so this keeps a bad density to about
+/// 12 GB instead of the hundreds that 2^24 allowed).
+pub const MAX_RENDER_HAIRS: usize = 1 << 20;
 
 /// Up to [`LANES`] render hairs sharing one scalp triangle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -145,7 +148,7 @@ impl Interpolation {
             return Err(Error::InvalidParameter {
                 name: "hairs_per_cm2",
                 value: hairs_per_cm2 as f64,
-                expected: "a density giving at most MAX_RENDER_HAIRS hairs on this scalp",
+                expected: "a density giving at most 1,048,576 (2^20, MAX_RENDER_HAIRS) hairs on this scalp",
             });
         }
 
