@@ -89,7 +89,7 @@ typedef struct CoifSimParams {
     float damping;
     // Acceleration in m/s^2 (default 0, -9.81, 0).
     float gravity[3];
-    // Projections of the length constraints per substep (default 1).
+    // Projections of the length constraints per substep (0..=256, default 1).
     uint32_t iterations;
     // Collision points per segment besides its end vertices (0..=64, default 1).
     uint32_t pearls_per_segment;
@@ -913,10 +913,12 @@ enum CoifStatus coif_fit_head_sphere(const struct CoifStrands *guides, struct Co
 // `COIF_ERROR_BUFFER_TOO_SMALL`, so a first call with `capacity` 0 sizes
 // the buffer.
 //
-// Errors: `COIF_ERROR_NULL` (`guides`, `center` or `out_count`; or
-// `out_indices` with a nonzero capacity), `COIF_ERROR_NON_FINITE` (a NaN
-// or infinite centre), `COIF_ERROR_INVALID_ARGUMENT` (no triangle: fewer
-// than three roots around the centre), `COIF_ERROR_BUFFER_TOO_SMALL`.
+// Errors (nothing written, but the count with `COIF_ERROR_BUFFER_TOO_SMALL`):
+// `COIF_ERROR_NULL` (`guides`, `center` or `out_count`; or `out_indices`
+// with a nonzero capacity), `COIF_ERROR_NON_FINITE` (a NaN or infinite
+// centre), `COIF_ERROR_INVALID_ARGUMENT` (no triangle: fewer than three
+// roots around the centre; a misaligned `out_count` or `out_indices`; a
+// capacity whose `3 * capacity` overflows), `COIF_ERROR_BUFFER_TOO_SMALL`.
 //
 // # Safety
 // `guides` is NULL or a live handle; `center` is NULL or 3 readable

@@ -93,7 +93,7 @@ pub struct CoifSimParams {
     pub damping: f32,
     /// Acceleration in m/s^2 (default 0, -9.81, 0).
     pub gravity: [f32; 3],
-    /// Projections of the length constraints per substep (default 1).
+    /// Projections of the length constraints per substep (0..=256, default 1).
     pub iterations: u32,
     /// Collision points per segment besides its end vertices (0..=64, default 1).
     pub pearls_per_segment: u32,
@@ -411,22 +411,29 @@ pub(crate) unsafe fn free_handle<T>(p: *mut T) {
     })
 }
 
-/// The handle behind `p`, or `COIF_ERROR_NULL`.
+/// The handle or caller's struct behind `p`, or `COIF_ERROR_NULL` (NULL)
+/// or `COIF_ERROR_INVALID_ARGUMENT` (misaligned: a struct the caller
+/// placed at an odd address is refused, not read).
 ///
 /// # Safety
-/// `p` is NULL or a live handle not written during `'a`.
+/// `p` is NULL, misaligned, or a live handle (a readable struct) not
+/// written during `'a`.
 pub(crate) unsafe fn handle<'a, T>(p: *const T) -> Result<&'a T, CoifStatus> {
-    // SAFETY: the caller's contract.
-    unsafe { p.as_ref() }.ok_or(CoifStatus::COIF_ERROR_NULL)
+    check_slice(p, 1)?;
+    // SAFETY: non-NULL and aligned (checked); live per the caller's contract.
+    Ok(unsafe { &*p })
 }
 
-/// The handle behind `p` for writing, or `COIF_ERROR_NULL`.
+/// [`handle`] for writing.
 ///
 /// # Safety
-/// `p` is NULL or a live handle not aliased during `'a`.
+/// `p` is NULL, misaligned, or a live handle (a writable struct) not
+/// aliased during `'a`.
 pub(crate) unsafe fn handle_mut<'a, T>(p: *mut T) -> Result<&'a mut T, CoifStatus> {
-    // SAFETY: the caller's contract.
-    unsafe { p.as_mut() }.ok_or(CoifStatus::COIF_ERROR_NULL)
+    check_slice(p.cast_const(), 1)?;
+    // SAFETY: non-NULL and aligned (checked); live and unaliased per the
+    // caller's contract.
+    Ok(unsafe { &mut *p })
 }
 
 /// `count` readable values at `ptr` (NULL is fine when `count` is 0).
@@ -510,8 +517,9 @@ pub extern "C" fn coif_sim_params_default() -> CoifSimParams {
 #[no_mangle]
 pub unsafe extern "C" fn coif_sim_params_validate(params: *const CoifSimParams) -> CoifStatus {
     guard(|| {
-        // SAFETY: the caller passes NULL or a valid pointer; NULL is refused.
-        let p = unsafe { params.as_ref() }.ok_or(CoifStatus::COIF_ERROR_NULL)?;
+        // SAFETY: the caller passes NULL or a valid pointer; NULL and a
+        // misaligned pointer are refused.
+        let p = unsafe { handle(params) }?;
         validate_params(p).map(|_| ())
     })
 }
@@ -735,8 +743,8 @@ pub(crate) unsafe fn step_inputs<'a>(
     sphere_count: usize,
     executor: *const CoifExecutor,
 ) -> Result<(SimParams, tasks::Exec, &'a [CoifSphere]), CoifStatus> {
-    // SAFETY: the caller's contract.
-    let p = unsafe { params.as_ref() }.ok_or(CoifStatus::COIF_ERROR_NULL)?;
+    // SAFETY: the caller's contract (NULL and misaligned refused).
+    let p = unsafe { handle(params) }?;
     let params = validate_params(p)?;
     // SAFETY: the caller's contract.
     let exec = unsafe { tasks::executor(executor) }?;

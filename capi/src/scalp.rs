@@ -63,8 +63,9 @@ pub unsafe extern "C" fn coif_fit_head_sphere(
     guard(|| {
         // SAFETY: NULL or a live handle (the caller's contract).
         let h = unsafe { handle(guides) }?;
-        // SAFETY: NULL or writable (the caller's contract).
-        let out = unsafe { out.as_mut() }.ok_or(CoifStatus::COIF_ERROR_NULL)?;
+        // SAFETY: NULL, misaligned (both refused) or writable (the
+        // caller's contract).
+        let out = unsafe { crate::handle_mut(out) }?;
         let s = fit_sphere(&current_roots(h)).ok_or(CoifStatus::COIF_ERROR_INVALID_ARGUMENT)?;
         *out = CoifSphere {
             center: s.center.to_array(),
@@ -84,10 +85,12 @@ pub unsafe extern "C" fn coif_fit_head_sphere(
 /// `COIF_ERROR_BUFFER_TOO_SMALL`, so a first call with `capacity` 0 sizes
 /// the buffer.
 ///
-/// Errors: `COIF_ERROR_NULL` (`guides`, `center` or `out_count`; or
-/// `out_indices` with a nonzero capacity), `COIF_ERROR_NON_FINITE` (a NaN
-/// or infinite centre), `COIF_ERROR_INVALID_ARGUMENT` (no triangle: fewer
-/// than three roots around the centre), `COIF_ERROR_BUFFER_TOO_SMALL`.
+/// Errors (nothing written, but the count with `COIF_ERROR_BUFFER_TOO_SMALL`):
+/// `COIF_ERROR_NULL` (`guides`, `center` or `out_count`; or `out_indices`
+/// with a nonzero capacity), `COIF_ERROR_NON_FINITE` (a NaN or infinite
+/// centre), `COIF_ERROR_INVALID_ARGUMENT` (no triangle: fewer than three
+/// roots around the centre; a misaligned `out_count` or `out_indices`; a
+/// capacity whose `3 * capacity` overflows), `COIF_ERROR_BUFFER_TOO_SMALL`.
 ///
 /// # Safety
 /// `guides` is NULL or a live handle; `center` is NULL or 3 readable
@@ -104,10 +107,19 @@ pub unsafe extern "C" fn coif_scalp_triangles(
     guard(|| {
         // SAFETY: NULL or a live handle (the caller's contract).
         let h = unsafe { handle(guides) }?;
-        // SAFETY: NULL or writable (the caller's contract).
-        let count = unsafe { out_count.as_mut() }.ok_or(CoifStatus::COIF_ERROR_NULL)?;
+        // SAFETY: NULL, misaligned (both refused) or writable (the
+        // caller's contract).
+        let count = unsafe { crate::handle_mut(out_count) }?;
         // SAFETY: NULL or 3 readable floats (the caller's contract).
         let c = unsafe { crate::vec3_arg(center) }?;
+        // Every argument is checked before anything is written: an error
+        // changes nothing (BUFFER_TOO_SMALL writes only the count).
+        let indices = capacity
+            .checked_mul(3)
+            .ok_or(CoifStatus::COIF_ERROR_INVALID_ARGUMENT)?;
+        if capacity > 0 {
+            crate::check_slice(out_indices.cast_const(), indices)?;
+        }
         let triangles = scalp_triangles(&current_roots(h), c);
         if triangles.is_empty() {
             return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
@@ -116,10 +128,8 @@ pub unsafe extern "C" fn coif_scalp_triangles(
         if capacity < triangles.len() {
             return Err(CoifStatus::COIF_ERROR_BUFFER_TOO_SMALL);
         }
-        if out_indices.is_null() {
-            return Err(CoifStatus::COIF_ERROR_NULL);
-        }
-        // SAFETY: non-NULL, `3 * capacity >= 3 * len` writable (the caller's contract).
+        // SAFETY: non-NULL and aligned (checked, `capacity >= len > 0`),
+        // `3 * capacity >= 3 * len` writable (the caller's contract).
         let out = unsafe { std::slice::from_raw_parts_mut(out_indices, 3 * triangles.len()) };
         for (dst, t) in out.chunks_exact_mut(3).zip(&triangles) {
             dst.copy_from_slice(t);

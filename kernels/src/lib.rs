@@ -58,7 +58,7 @@ pub use drive::MAX_STEP_TASKS;
 pub use error::Error;
 pub use fixed_step::FixedStep;
 pub use measure::{measure, Measures};
-pub use params::{SimParams, MAX_PEARLS_PER_SEGMENT, MAX_SUBSTEPS, SLEEP_AFTER};
+pub use params::{SimParams, MAX_ITERATIONS, MAX_PEARLS_PER_SEGMENT, MAX_SUBSTEPS, SLEEP_AFTER};
 pub use patch::{Patch, Ribbon};
 pub use step::{step, step_colliders, step_colliders_with, step_with};
 pub use strands::Strands;

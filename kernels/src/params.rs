@@ -25,7 +25,7 @@ pub struct SimParams {
     /// Strands: projections of the length constraints per substep (Newton
     /// iterations of the chain's tridiagonal solve; default 1: at substeps
     /// of 1/240 s one converges, a second changed no measured figure).
-    /// Patches: Gauss-Seidel sweeps per step.
+    /// Patches: Gauss-Seidel sweeps per step. At most [`MAX_ITERATIONS`].
     pub iterations: u32,
     /// Collision points per segment besides its two end vertices, at
     /// t = j / (k + 1) (Nalu's pearls). Default 1. At most 64.
@@ -260,6 +260,12 @@ pub const STANDARD_GRAVITY: f64 = 9.81;
 /// Largest accepted `pearls_per_segment`.
 pub const MAX_PEARLS_PER_SEGMENT: u32 = 64;
 
+/// Most projections per substep (strands) or sweeps per step (patches)
+/// [`SimParams::validate`] accepts: 256, the report's converged reference.
+/// Without a bound a step's cost had none (`u32::MAX` iterations ran for
+/// minutes per step).
+pub const MAX_ITERATIONS: u32 = 256;
+
 fn check(name: &'static str, value: f32, ok: bool, expected: &'static str) -> Result<(), Error> {
     if ok && value.is_finite() {
         Ok(())
@@ -289,6 +295,12 @@ impl SimParams {
         for g in self.gravity.to_array() {
             check("gravity", g, true, "finite components")?;
         }
+        check(
+            "iterations",
+            self.iterations as f32,
+            self.iterations <= MAX_ITERATIONS,
+            "at most 256 iterations",
+        )?;
         check(
             "pearls_per_segment",
             self.pearls_per_segment as f32,

@@ -57,6 +57,10 @@ fn default_is_valid_and_bad_values_are_reported() {
             ..Default::default()
         },
         SimParams {
+            iterations: coif_kernels::MAX_ITERATIONS + 1,
+            ..Default::default()
+        },
+        SimParams {
             local_shape_stiffness: 1.01,
             ..Default::default()
         },
