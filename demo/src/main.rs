@@ -106,7 +106,7 @@ struct Cli {
     /// Frames of motion to simulate (at --fps); the last one is written.
     #[arg(long, default_value_t = 90)]
     frames: usize,
-    /// Frames per second of the motion (above 0, at most 1000).
+    /// Frames per second of the motion (1 to 1000).
     #[arg(long, default_value_t = 30.0, value_parser = parse_fps)]
     fps: f32,
     /// Image size, WIDTHxHEIGHT (overrides --width and --height).
@@ -286,15 +286,13 @@ fn parse_max_guides(s: &str) -> Result<usize, String> {
     }
 }
 
-/// `--fps`: a finite rate above 0 and at most 1000 frames per second.
+/// `--fps`: 1 to 1000 frames per second (a step of at most a second).
 fn parse_fps(s: &str) -> Result<f32, String> {
     let fps: f32 = s.trim().parse().map_err(|e| format!("{s:?}: {e}"))?;
-    if fps.is_finite() && fps > 0.0 && fps <= 1000.0 {
+    if (1.0..=1000.0).contains(&fps) {
         Ok(fps)
     } else {
-        Err(format!(
-            "frames per second must be above 0 and at most 1000, got {s:?}"
-        ))
+        Err(format!("frames per second must be 1 to 1000, got {s:?}"))
     }
 }
 
@@ -738,9 +736,10 @@ mod tests {
 
     #[test]
     fn rates_and_densities_are_checked() {
-        assert_eq!(parse_fps("0.5"), Ok(0.5));
+        assert_eq!(parse_fps("1"), Ok(1.0));
+        assert_eq!(parse_fps("29.97"), Ok(29.97));
         assert_eq!(parse_fps("1000"), Ok(1000.0));
-        for s in ["0", "-5", "nan", "inf", "1001", "x"] {
+        for s in ["0.5", "0", "-5", "nan", "inf", "1001", "x"] {
             assert!(parse_fps(s).is_err(), "--fps {s} accepted");
         }
         assert_eq!(parse_density("250"), Ok(250.0));
@@ -756,7 +755,7 @@ mod tests {
         assert_eq!(frame_delay(2, 30.0), (1, 15));
         assert_eq!(frame_delay(1, 1000.0), (1, 1000));
         assert_eq!(frame_delay(1000, 30.0), (100, 3));
-        assert_eq!(frame_delay(3, 0.5), (6, 1));
+        assert_eq!(frame_delay(3, 1.0), (3, 1));
         assert_eq!(frame_delay(1, 29.97), (100, 2997));
     }
 
