@@ -227,28 +227,60 @@ pub struct FramePipeline {
     stats: FrameStats,
 }
 
+/// Most seconds [`FramePipeline::new`] settles the hair for (an infinite
+/// settle never ended).
+pub const MAX_SETTLE_SECONDS: f32 = 600.0;
+
+/// Most render vertices at the finest level a [`FramePipeline`] sizes its
+/// buffers for: 2^26 (about 67 million, 38 times the default scene's;
+/// each costs some tens of bytes across the frame's buffers).
+pub const MAX_RENDER_VERTICES: usize = 1 << 26;
+
 impl FramePipeline {
     /// Builds the pipeline for `scene`: the simulation, interpolation,
     /// shading tables and every per-frame buffer (sized for all render
     /// hairs at the finest level). The hair is first settled for
-    /// `settle_seconds` at rest, and the camera framed on the settled hair.
+    /// `settle_seconds` at rest (0 to [`MAX_SETTLE_SECONDS`]), and the
+    /// camera framed on the settled hair. Errors: a setting out of range,
+    /// a settle out of range, more than [`MAX_RENDER_VERTICES`] render
+    /// vertices, or the scene's own.
     pub fn new(
         scene: &HairScene,
         settings: FrameSettings,
         settle_seconds: f32,
     ) -> Result<FramePipeline, Error> {
         validate(&settings)?;
+        if !(0.0..=MAX_SETTLE_SECONDS).contains(&settle_seconds) {
+            return Err(Error::Setting {
+                name: "settle_seconds",
+                expected: "0 to 600 seconds",
+            });
+        }
         let mut strands = Strands::from_polylines(&scene.guides, scene.verts_per_strand)?;
         let params = settings.simulation.clone();
         let fixed = FixedStep::new(params.dt, settings.max_substeps.max(1))?;
         let rest_roots: Vec<Vec3> = scene.roots().collect();
-        let settle_steps = (settle_seconds.max(0.0) / params.dt).round() as usize;
+        let settle_steps = (settle_seconds / params.dt).round() as usize;
         let interpolation = Interpolation::new(
             &rest_roots,
             &scene.triangles,
             settings.render_hairs_per_cm2,
             settings.seed,
         )?;
+        // Every render vertex at the finest level, bounded before any
+        // buffer is sized (a density and a span count that pass their own
+        // checks could still ask for tens of gigabytes together).
+        let capacity = interpolation
+            .hair_count()
+            .checked_mul(lod::refined_len(
+                strands.verts_per_strand(),
+                settings.max_segments_per_span.max(1),
+            ))
+            .filter(|&c| c <= MAX_RENDER_VERTICES)
+            .ok_or(Error::Setting {
+                name: "render_hairs_per_cm2 x max_segments_per_span",
+                expected: "at most 2^26 render vertices at the finest level",
+            })?;
         // Each guide weighs in the hair grid as the render hairs it carries.
         strands.set_hair_shares(&interpolation.guide_shares())?;
         let body = scene.body.as_ref().map(BodyStage::new);
@@ -266,11 +298,6 @@ impl FramePipeline {
         let visibility = Visibility::new(strands.strand_count(), interpolation.group_count());
         let guides = RefinedGuides::new(strands.blocks(), settings.max_segments_per_span.max(1))?;
         let hairs = RenderHairs::new(&interpolation, &guides);
-        let capacity = interpolation.hair_count()
-            * lod::refined_len(
-                strands.verts_per_strand(),
-                settings.max_segments_per_span.max(1),
-            );
         let render_width = render_width(&settings);
         let shader = Shader::with_material(
             settings.shading,

@@ -71,6 +71,9 @@ impl HairScene {
     /// drapes it. A bow's two silk tails ([`bow_tails`]) hang from the
     /// upper left of the back of the head, the side the default camera sees.
     pub fn procedural(options: &GrowOptions) -> Result<HairScene, Error> {
+        options
+            .validate()
+            .map_err(coif_geometry::scalp::ScalpError::from)?;
         let grown = scene::grow_on_sphere(options);
         let rig = scene::body_rig(&grown.head, 2);
         let head = grown.head.clone();

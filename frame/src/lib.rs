@@ -51,7 +51,8 @@ pub use coif_geometry::triangulate;
 
 pub use error::Error;
 pub use frame::{
-    strand_tint, FramePipeline, FrameStats, BACKGROUND, HAIR_AMBIENT_ALBEDO, SKIN_ALBEDO,
+    strand_tint, FramePipeline, FrameStats, BACKGROUND, HAIR_AMBIENT_ALBEDO, MAX_RENDER_VERTICES,
+    MAX_SETTLE_SECONDS, SKIN_ALBEDO,
 };
 pub use hair_scene::{HairScene, GROOM_RIBBON_ATTACH, PROCEDURAL_RIBBON_ATTACH};
 pub use settings::{FrameSettings, Light, PrepareMode, DEFAULT_SHADOW_THINNING};

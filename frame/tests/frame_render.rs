@@ -217,3 +217,46 @@ fn culling_hair_behind_the_head_keeps_every_byte() {
         );
     }
 }
+
+#[test]
+fn a_settle_or_buffers_out_of_bounds_are_refused_before_any_work() {
+    use coif_frame::Error;
+    use coif_geometry::scene::GrowOptions;
+    // An infinite settle used to loop without end.
+    for settle in [f32::INFINITY, f32::NAN, -1.0, 601.0] {
+        let got = FramePipeline::new(&scene(), FrameSettings::small(64), settle);
+        assert!(
+            matches!(
+                got,
+                Err(Error::Setting {
+                    name: "settle_seconds",
+                    ..
+                })
+            ),
+            "settle {settle}"
+        );
+    }
+    // A density and a span count each within range that together ask for
+    // tens of gigabytes of render vertices (it aborted out of memory).
+    let big = HairScene::procedural(&GrowOptions::default()).unwrap();
+    let settings = FrameSettings {
+        max_segments_per_span: 256,
+        render_hairs_per_cm2: 1300.0,
+        ..FrameSettings::small(64)
+    };
+    let got = FramePipeline::new(&big, settings, 0.0);
+    assert!(
+        matches!(got, Err(Error::Setting { name, .. }) if name.contains("max_segments_per_span")),
+        "{:?}",
+        got.err()
+    );
+    // Growth options that would allocate without bound are refused.
+    let huge = GrowOptions {
+        strand_count: 1 << 40,
+        ..Default::default()
+    };
+    assert!(matches!(
+        HairScene::procedural(&huge),
+        Err(Error::Geometry(_))
+    ));
+}

@@ -82,8 +82,8 @@ impl Growth {
         if !(self.length > 0.0 && self.length.is_finite()) {
             return Err(InvalidGrowth("length must be finite and > 0"));
         }
-        if self.verts_per_strand < 2 {
-            return Err(InvalidGrowth("at least 2 vertices per strand"));
+        if !(2..=MAX_GROWN_VERTS).contains(&self.verts_per_strand) {
+            return Err(InvalidGrowth("2 to 4096 vertices per strand"));
         }
         if !self.curl.is_finite() {
             return Err(InvalidGrowth("curl must be finite"));
@@ -92,14 +92,18 @@ impl Growth {
     }
 }
 
+/// Most vertices per grown strand ([`Growth::validate`]; [`grow`] clamps to
+/// it).
+pub const MAX_GROWN_VERTS: usize = 4096;
+
 /// Grows one strand per root along its unit normal (curling around it, see
-/// the module docs). Returns `roots.len() * max(verts_per_strand, 2)`
-/// points, strand after strand, root first; strand i grows from `roots[i]`.
-///
-/// Panics if `roots` and `normals` differ in length.
+/// the module docs). Returns `n * verts` points, `n` the shorter of `roots`
+/// and `normals` (one normal per root) and `verts` = `verts_per_strand`
+/// clamped to `2..=MAX_GROWN_VERTS`, strand after strand, root first;
+/// strand i grows from `roots[i]`.
 pub fn grow(roots: &[Vec3], normals: &[Vec3], growth: &Growth) -> Vec<Vec3> {
-    assert_eq!(roots.len(), normals.len(), "one normal per root");
-    let verts = growth.verts_per_strand.max(2);
+    let verts = growth.verts_per_strand.clamp(2, MAX_GROWN_VERTS);
+    let roots = &roots[..roots.len().min(normals.len())];
     let seg = growth.length / (verts - 1) as f32;
     let mut rng = SplitMix64::new(growth.seed);
     let mut points = Vec::with_capacity(roots.len() * verts);

@@ -268,12 +268,16 @@ impl TriangleMesh {
 
 /// Area-weighted vertex normals: per vertex, the sum of the cross products
 /// `(b - a) x (c - a)` of the triangles it belongs to (twice their areas
-/// along their normals), normalised; +y where that sum is zero. Triangles
-/// must index `positions` (checked by the callers).
+/// along their normals), normalised; +y where that sum is zero. A triangle
+/// with an index outside `positions` is skipped (the callers check them;
+/// this never panics).
 pub fn vertex_normals(positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec<Vec3> {
     let mut normals = vec![Vec3::ZERO; positions.len()];
     for t in triangles {
-        let [a, b, c] = t.map(|i| positions[i as usize]);
+        let corner = |i: u32| positions.get(i as usize).copied();
+        let (Some(a), Some(b), Some(c)) = (corner(t[0]), corner(t[1]), corner(t[2])) else {
+            continue;
+        };
         let n = (b - a).cross(c - a);
         for &i in t {
             normals[i as usize] += n;

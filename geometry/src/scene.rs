@@ -3,7 +3,7 @@
 //! rigs, and a sphere fitted to an authored groom's roots (a stand-in head
 //! for grooms that come without one).
 
-use crate::grow::{grow, Growth};
+use crate::grow::{grow, Growth, InvalidGrowth};
 use coif_base::Sphere;
 use glam::Vec3;
 
@@ -41,7 +41,26 @@ pub struct GrowOptions {
     pub seed: u64,
 }
 
+/// Most strands [`GrowOptions::validate`] accepts.
+pub const MAX_GROWN_STRANDS: usize = 1 << 20;
+
 impl GrowOptions {
+    /// The options' ranges: at most [`MAX_GROWN_STRANDS`] strands, a finite
+    /// head of positive radius, a lowest root in [-1, 1], and the growth's
+    /// own ([`Growth::validate`]).
+    pub fn validate(&self) -> Result<(), InvalidGrowth> {
+        if self.strand_count > MAX_GROWN_STRANDS {
+            return Err(InvalidGrowth("at most 2^20 strands"));
+        }
+        if !(self.center.is_finite() && self.radius.is_finite() && self.radius > 0.0) {
+            return Err(InvalidGrowth("a finite head of radius > 0"));
+        }
+        if !(-1.0..=1.0).contains(&self.lowest_root) {
+            return Err(InvalidGrowth("lowest root in [-1, 1]"));
+        }
+        self.growth().validate()
+    }
+
     /// The strand growth part of the options, for [`grow`].
     pub fn growth(&self) -> Growth {
         Growth {
@@ -124,8 +143,12 @@ pub fn horizontal_strand(root: Vec3, length: f32, verts: usize) -> Vec<Vec3> {
 /// roots of an authored groom: each centre sits below its root, against the
 /// direction of the strand's first segment (hair leaves the scalp along its
 /// normal). A stand-in head for grooms that come without one.
+/// Strands of fewer than two points have no first segment: none.
 pub fn scalp_spheres(points: &[Vec3], verts: usize, count: usize, radius: f32) -> Vec<Sphere> {
-    let strands = points.len().checked_div(verts).unwrap_or(0);
+    if verts < 2 {
+        return Vec::new();
+    }
+    let strands = points.len() / verts;
     (0..count.min(strands))
         .filter_map(|k| {
             let s = (2 * k + 1) * strands / (2 * count);

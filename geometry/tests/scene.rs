@@ -76,3 +76,54 @@ fn the_sphere_head_and_the_scalp_mesh_grow_through_the_same_grower() {
         assert!((s[1] - s[0]).normalize().dot(*n) > 0.9);
     }
 }
+
+#[test]
+fn hostile_inputs_give_errors_or_nothing_never_a_panic() {
+    use coif_geometry::grow::MAX_GROWN_VERTS;
+    use coif_geometry::mesh::vertex_normals;
+    use coif_geometry::scene::scalp_spheres;
+    // A triangle naming a missing vertex is skipped.
+    let n = vertex_normals(&[Vec3::ZERO, Vec3::X, Vec3::Y], &[[0, 1, 7], [0, 1, 2]]);
+    assert_eq!(n.len(), 3);
+    assert!(n.iter().all(|v| (v.length() - 1.0).abs() < 1e-6));
+    // Strands of one point have no first segment: no sphere.
+    assert!(scalp_spheres(&[Vec3::ZERO], 1, 1, 0.1).is_empty());
+    assert!(scalp_spheres(&[Vec3::ZERO, Vec3::X, Vec3::Y], 1, 3, 0.1).is_empty());
+    assert!(scalp_spheres(&[Vec3::ZERO], 0, 1, 0.1).is_empty());
+    // One normal per root: the extra roots are not grown; the vertex count
+    // is clamped, never allocated as asked.
+    let growth = Growth::default();
+    assert!(grow(&[Vec3::ZERO, Vec3::X], &[Vec3::Y], &growth).len() == growth.verts_per_strand);
+    let huge = Growth {
+        verts_per_strand: 1 << 40,
+        ..Growth::default()
+    };
+    assert!(huge.validate().is_err());
+    assert_eq!(
+        grow(&[Vec3::ZERO], &[Vec3::Y], &huge).len(),
+        MAX_GROWN_VERTS
+    );
+    // The scene's options refuse what would allocate without bound.
+    let options = |o: GrowOptions| o.validate();
+    assert!(options(GrowOptions::default()).is_ok());
+    for bad in [
+        GrowOptions {
+            strand_count: 1 << 40,
+            ..Default::default()
+        },
+        GrowOptions {
+            verts_per_strand: 1 << 40,
+            ..Default::default()
+        },
+        GrowOptions {
+            radius: f32::NAN,
+            ..Default::default()
+        },
+        GrowOptions {
+            lowest_root: 2.0,
+            ..Default::default()
+        },
+    ] {
+        assert!(options(bad).is_err());
+    }
+}
