@@ -307,7 +307,7 @@ impl FramePipeline {
         let raster = HairRaster::new(settings.width, settings.height, capacity).map_err(|_| {
             Error::Setting {
                 name: "width x height",
-                expected: "at most 2,097,120 pixels per side",
+                expected: "at most 4,194,240 pixels per side and 2^28 pixels",
             }
         })?;
         let group_count = interpolation.group_count();

@@ -91,15 +91,28 @@ const MIN_TASK_STRANDS: usize = 64;
 pub const TILE: usize = 64;
 const TILE_PIXELS: usize = TILE * TILE;
 
+/// Most pixels a [`HairRaster`] frame has (2^28: 16,384 x 16,384).
+pub const MAX_RASTER_PIXELS: usize = 1 << 28;
+
+/// Most vertices a [`HairRaster`] is sized for (2^28; its buffers hold
+/// about 80 bytes per vertex).
+pub const MAX_RASTER_VERTICES: usize = 1 << 28;
+
 /// Why a [`HairRaster`] cannot be built.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Error {
-    /// The frame is empty or has more than 65,535 tiles along a side.
+    /// The frame is empty, has more than 65,535 tiles along a side or more
+    /// than [`MAX_RASTER_PIXELS`] pixels.
     Size {
         /// Frame width in pixels.
         width: usize,
         /// Frame height in pixels.
         height: usize,
+    },
+    /// More than [`MAX_RASTER_VERTICES`] vertices asked for.
+    Capacity {
+        /// The vertex capacity asked for.
+        vertices: usize,
     },
 }
 
@@ -108,8 +121,13 @@ impl std::fmt::Display for Error {
         match self {
             Error::Size { width, height } => write!(
                 f,
-                "frame {width} x {height}: expected 1 to {} pixels per side",
+                "frame {width} x {height}: expected 1 to {} pixels per side and at most \
+                 {MAX_RASTER_PIXELS} pixels",
                 TILE * u16::MAX as usize
+            ),
+            Error::Capacity { vertices } => write!(
+                f,
+                "{vertices} vertices: expected at most {MAX_RASTER_VERTICES}"
             ),
         }
     }
@@ -183,8 +201,18 @@ impl HairRaster {
         bin_capacity: usize,
     ) -> Result<HairRaster, Error> {
         let (tiles_x, tiles_y) = (width.div_ceil(TILE), height.div_ceil(TILE));
-        if width == 0 || height == 0 || tiles_x > u16::MAX as usize || tiles_y > u16::MAX as usize {
+        if width == 0
+            || height == 0
+            || tiles_x > u16::MAX as usize
+            || tiles_y > u16::MAX as usize
+            || width.saturating_mul(height) > MAX_RASTER_PIXELS
+        {
             return Err(Error::Size { width, height });
+        }
+        if vertex_capacity > MAX_RASTER_VERTICES {
+            return Err(Error::Capacity {
+                vertices: vertex_capacity,
+            });
         }
         let tiles = tiles_x * tiles_y;
         let bin_capacity = bin_capacity.max(tiles).min(u32::MAX as usize);

@@ -537,3 +537,25 @@ fn segments_hidden_behind_occluders_are_culled_without_changing_a_bit() {
         hidden[0]
     );
 }
+
+#[test]
+fn frames_and_capacities_that_would_not_fit_in_memory_are_refused() {
+    use coif_render::raster::{Error, MAX_RASTER_PIXELS, MAX_RASTER_VERTICES};
+    // 65,535 tiles of 64 along each side passed before: 17 TB of pixels.
+    let side = 64 * 65_535;
+    assert!(matches!(
+        HairRaster::new(side, side, 0),
+        Err(Error::Size { .. })
+    ));
+    // Within the tile bound per side, above the pixel bound in all.
+    assert!(64 * 65_535 * 65 > MAX_RASTER_PIXELS);
+    assert!(matches!(
+        HairRaster::new(64 * 65_535, 65, 0),
+        Err(Error::Size { .. })
+    ));
+    assert!(matches!(
+        HairRaster::new(64, 64, MAX_RASTER_VERTICES + 1),
+        Err(Error::Capacity { .. })
+    ));
+    assert!(HairRaster::new(64, 64, 1024).is_ok());
+}

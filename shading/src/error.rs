@@ -57,10 +57,13 @@ impl fmt::Display for Error {
                 write!(f, "invalid shading parameter {name} = {value}")
             }
             Error::InvalidResolution(r) => {
-                write!(f, "invalid table resolution {r} (must be at least 2)")
+                write!(
+                    f,
+                    "invalid table resolution {r} (below 2 or above the table's maximum)"
+                )
             }
             Error::InvalidQuadratureOrder(n) => {
-                write!(f, "invalid quadrature order {n} (must be at least 1)")
+                write!(f, "invalid quadrature order {n} (must be 1 to 8192)")
             }
             Error::BufferTooSmall { needed, got } => {
                 write!(

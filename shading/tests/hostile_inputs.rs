@@ -331,3 +331,36 @@ fn rgb_buffer_has_non_panicking_accessors() {
     assert!(b.try_set(usize::MAX, glam::Vec3::ONE).is_err());
     assert!(std::panic::catch_unwind(|| b.get(3)).is_err());
 }
+
+#[test]
+fn sizes_that_would_not_fit_in_memory_are_refused() {
+    // Each bound alone passed: 8192^2 texels x 64 RGBA groups is 64 GiB.
+    let huge = ShadowSettings {
+        resolution: shadow::MAX_RESOLUTION,
+        layers: shadow::MAX_LAYERS,
+        ..ShadowSettings::default()
+    };
+    assert!(huge.validate().is_err());
+    assert!(OpacityShadowMap::new(huge).is_err());
+    let largest = ShadowSettings {
+        resolution: 2048,
+        layers: 64,
+        ..ShadowSettings::default()
+    };
+    assert!(largest.validate().is_ok(), "2048^2 x 16 groups is the cap");
+    // A table of 2^20 nodes per axis, a quadrature of 2^30 nodes.
+    let p = pbrt::Params::default();
+    assert!(matches!(
+        Table::new(&p, 1 << 20),
+        Err(Error::InvalidResolution(_))
+    ));
+    assert!(matches!(
+        Table::new(&p, pbrt::MAX_TABLE_RESOLUTION + 1),
+        Err(Error::InvalidResolution(_))
+    ));
+    assert!(matches!(
+        FarField::new(&p, 1 << 30),
+        Err(Error::InvalidQuadratureOrder(_))
+    ));
+    assert!(FarField::new(&p, pbrt::MAX_FAR_FIELD_ORDER).is_ok());
+}

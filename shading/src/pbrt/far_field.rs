@@ -26,6 +26,11 @@ pub const DEFAULT_QUADRATURE_ORDER: usize = 72;
 /// Largest order [`recommended_order`] returns.
 pub const MAX_QUADRATURE_ORDER: usize = 2048;
 
+/// Most Gauss-Legendre nodes [`FarField::new`] accepts: four times
+/// [`MAX_QUADRATURE_ORDER`], the accuracy references' order
+/// (`quality::reference_order`).
+pub const MAX_FAR_FIELD_ORDER: usize = 4 * MAX_QUADRATURE_ORDER;
+
 /// The quadrature order that resolves the narrowest azimuthal lobe.
 ///
 /// Along h the R lobe's logistic has width about `s / 2` in gamma
@@ -121,10 +126,10 @@ impl FarField {
     /// # Errors
     ///
     /// As [`Params::validate`], and [`Error::InvalidQuadratureOrder`] on
-    /// `order == 0`.
+    /// `order == 0` or above [`MAX_FAR_FIELD_ORDER`].
     pub fn new(params: &Params, order: usize) -> Result<FarField, Error> {
         params.validate()?;
-        if order == 0 {
+        if !(1..=MAX_FAR_FIELD_ORDER).contains(&order) {
             return Err(Error::InvalidQuadratureOrder(order));
         }
         let nodes = quadrature_nodes(order);

@@ -33,13 +33,13 @@ pub mod table;
 
 pub use far_field::{
     gauss_legendre, recommended_order, scattering, world_angles, FarField,
-    DEFAULT_QUADRATURE_ORDER, MAX_QUADRATURE_ORDER,
+    DEFAULT_QUADRATURE_ORDER, MAX_FAR_FIELD_ORDER, MAX_QUADRATURE_ORDER,
 };
 pub use melanin::{sigma_a_from_concentration, sigma_a_from_reflectance};
 pub use monte_carlo::{local_directions, scattering_batch_monte_carlo, scattering_monte_carlo};
 pub use params::{Lobes, Params};
 pub use sample::{ap_pdf, luminance, pdf, sample, HairSample};
-pub use table::{Parameterisation, Table};
+pub use table::{Parameterisation, Table, MAX_TABLE_RESOLUTION};
 
 use attenuation::{ap, P_MAX};
 use azimuthal::np;

@@ -51,6 +51,11 @@ const M_CH: usize = 6;
 /// Channels used in an N cell (`N_0, N_1, N_2` rgb), stored in two `f32x8`.
 const N_CH: usize = 9;
 
+/// Largest [`Table`] resolution accepted (nodes per axis): the tables
+/// hold about 100 bytes per node pair (100 MB at 1024), and their build is
+/// a quadrature per node pair.
+pub const MAX_TABLE_RESOLUTION: usize = 1024;
+
 /// The far-field pbrt model in two `res x res` tables with bilinear lookup.
 #[derive(Clone, Debug)]
 pub struct Table {
@@ -78,7 +83,8 @@ impl Table {
     ///
     /// # Errors
     ///
-    /// As [`Params::validate`], and [`Error::InvalidResolution`] below 2.
+    /// As [`Params::validate`], and [`Error::InvalidResolution`] below 2
+    /// or above [`MAX_TABLE_RESOLUTION`].
     pub fn with_axes(
         params: &Params,
         resolution: usize,
@@ -93,14 +99,15 @@ impl Table {
     ///
     /// # Errors
     ///
-    /// [`Error::InvalidResolution`] below 2.
+    /// [`Error::InvalidResolution`] below 2 or above
+    /// [`MAX_TABLE_RESOLUTION`].
     pub fn from_far_field(
         ff: &FarField,
         resolution: usize,
         axes: Parameterisation,
     ) -> Result<Table, Error> {
         let res = resolution;
-        if res < 2 {
+        if !(2..=MAX_TABLE_RESOLUTION).contains(&res) {
             return Err(Error::InvalidResolution(res));
         }
         // Grid node k of an axis, as (sin theta, cos theta) or phi.

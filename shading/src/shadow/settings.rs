@@ -44,11 +44,15 @@ pub struct ShadowSettings {
     pub hair_radius: f32,
 }
 
-/// Largest accepted [`ShadowSettings::resolution`] (a 8192^2 map of 16
-/// slices already takes 4 GiB).
+/// Largest accepted [`ShadowSettings::resolution`] (with at most 4
+/// layers: the whole map is bounded by [`MAX_MAP_TEXELS`]).
 pub const MAX_RESOLUTION: usize = 8192;
 /// Largest accepted [`ShadowSettings::layers`].
 pub const MAX_LAYERS: usize = 256;
+
+/// Most RGBA texels a map holds, `resolution^2 x ceil(layers / 4)`:
+/// 2^26 (1 GiB of `f32` texels; 8192^2 at 4 layers, 2048^2 at 64).
+pub const MAX_MAP_TEXELS: usize = 1 << 26;
 
 impl Default for ShadowSettings {
     fn default() -> Self {
@@ -95,6 +99,15 @@ impl ShadowSettings {
         }
         if !(1..=MAX_LAYERS).contains(&self.layers) {
             return bad("layers", self.layers as f32, "1 <= layers <= 256");
+        }
+        // Each bound alone allows 64 GiB (8192^2 texels x 64 RGBA groups):
+        // the map as a whole is bounded too.
+        if self.resolution * self.resolution * self.groups() > MAX_MAP_TEXELS {
+            return bad(
+                "resolution",
+                self.resolution as f32,
+                "resolution^2 x ceil(layers / 4) <= 2^26 RGBA texels (1 GiB)",
+            );
         }
         if !(self.density.is_finite() && self.density >= 0.0) {
             return bad("density", self.density, "a finite density >= 0");
