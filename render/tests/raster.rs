@@ -548,7 +548,7 @@ fn frames_and_capacities_that_would_not_fit_in_memory_are_refused() {
         Err(Error::Size { .. })
     ));
     // Within the tile bound per side, above the pixel bound in all.
-    assert!(64 * 65_535 * 65 > MAX_RASTER_PIXELS);
+    const _: () = assert!(64 * 65_535 * 65 > MAX_RASTER_PIXELS);
     assert!(matches!(
         HairRaster::new(64 * 65_535, 65, 0),
         Err(Error::Size { .. })
