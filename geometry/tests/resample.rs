@@ -120,3 +120,14 @@ fn bad_requests_are_refused() {
     let out = groom.resampled(4, 2.0).unwrap();
     assert_eq!(&out[4..], &[Vec3::Y * 2.0; 4]);
 }
+
+#[test]
+fn resampling_refuses_sizes_that_would_not_fit_in_memory() {
+    use coif_geometry::groom::Groom;
+    use glam::Vec3;
+    // A 2-point groom asked for 2^28 points grew to 3 GB before.
+    let groom = Groom::from_strands(vec![Vec3::ZERO, Vec3::X], &[2]).unwrap();
+    assert!(groom.resampled(1 << 28, 1.0).is_err());
+    assert!(groom.resampled((1 << 16) + 1, 1.0).is_err());
+    assert_eq!(groom.resampled(1 << 16, 1.0).unwrap().len(), 1 << 16);
+}

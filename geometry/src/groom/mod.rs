@@ -179,7 +179,8 @@ impl Groom {
     ///
     /// # Errors
     /// [`Error::BadResample`] for `verts_per_strand < 2`, a scale that is
-    /// not finite and positive, or more than 2^28 points;
+    /// not finite and positive, more than 2^16 points per strand or more
+    /// than 2^24 points in all;
     /// [`Error::NonFinite`] if scaling overflows a point.
     ///
     /// ```
@@ -250,13 +251,16 @@ impl Groom {
         if verts < 2 {
             return Err(Error::BadResample("fewer than two points per strand"));
         }
+        if verts > 1 << 16 {
+            return Err(Error::BadResample("more than 2^16 points per strand"));
+        }
         if !(scale.is_finite() && scale > 0.0) {
             return Err(Error::BadResample("the scale must be finite and positive"));
         }
         let total = strands.clone().count().checked_mul(verts);
         let total = total
-            .filter(|&n| n <= 1 << 28)
-            .ok_or(Error::BadResample("more than 2^28 points"))?;
+            .filter(|&n| n <= 1 << 24)
+            .ok_or(Error::BadResample("more than 2^24 points (200 MB)"))?;
         let mut out = vec![Vec3::ZERO; total];
         let mut scaled = Vec::new();
         for (strand, dst) in strands.zip(out.chunks_exact_mut(verts)) {
