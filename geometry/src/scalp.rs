@@ -82,6 +82,8 @@ impl ScalpMesh {
     /// A procedural scalp: the cap of a sphere above height `lowest` (a
     /// fraction of the radius from the centre, -1..1), as `rings` rings of
     /// `segments` vertices around a pole vertex, triangles wound outward.
+    /// `rings` is clamped to `1..=1024` and `segments` to `3..=4096` (at
+    /// most about 4 million vertices: it allocated without bound).
     pub fn sphere_cap(
         center: Vec3,
         radius: f32,
@@ -89,7 +91,7 @@ impl ScalpMesh {
         segments: usize,
         lowest: f32,
     ) -> ScalpMesh {
-        let (rings, segments) = (rings.max(1), segments.max(3));
+        let (rings, segments) = (rings.clamp(1, 1024), segments.clamp(3, 4096));
         let lowest = lowest.clamp(-0.99, 0.99);
         let max_polar = lowest.acos();
         let mut positions = vec![center + Vec3::Y * radius];

@@ -82,3 +82,10 @@ fn bad_meshes_and_options_are_errors() {
         ));
     }
 }
+
+#[test]
+fn a_sphere_cap_of_absurd_size_is_clamped_not_allocated() {
+    // 2^16 x 2^16 grew to 6 GB and aborted.
+    let mesh = ScalpMesh::sphere_cap(Vec3::ZERO, 0.1, 1 << 16, usize::MAX, 0.0);
+    assert_eq!(mesh.positions().len(), 1 + 1024 * 4096);
+}
