@@ -366,13 +366,10 @@ impl Strands {
             .expect("Strands keeps blocks * verts positions")
     }
 
-    /// Per block: all bits set in lanes holding a real strand (a `select` mask).
-    ///
-    /// # Panics
-    ///
-    /// If `b >= block_count()` (as slice indexing does).
+    /// Per block: all bits set in lanes holding a real strand (a `select`
+    /// mask); no bit set for a block `b >= block_count()`.
     pub fn block_active_mask(&self, b: usize) -> f32x8 {
-        self.active[b]
+        self.active.get(b).copied().unwrap_or(f32x8::ZERO)
     }
 
     /// Current positions in world space, strand after strand, root first.
@@ -506,14 +503,24 @@ impl Strands {
         }
     }
 
+    /// Rebases on the root nearest the local origin when even that one is
+    /// more than [`REBASE_DISTANCE`] away: the hair has moved off as a
+    /// whole. One strand sent far (a bad root, 1e30 m) is not the nearest
+    /// and moves nothing; a mean would have dragged the origin after it
+    /// and every other strand out of range or precision.
     fn rebase_if_far(&mut self) {
-        let mut sum = Vec3::ZERO;
-        for root in &self.roots {
-            sum += root.lane(0);
+        let mut nearest = Vec3::splat(f32::INFINITY);
+        for i in 0..self.strand_count {
+            let Some(block) = self.roots.get(i / LANES) else {
+                break;
+            };
+            let root = block.lane(i % LANES);
+            if root.is_finite() && root.length_squared() < nearest.length_squared() {
+                nearest = root;
+            }
         }
-        let centre = sum / self.blocks as f32;
-        if centre.length() > REBASE_DISTANCE || !centre.is_finite() {
-            self.rebase(self.origin + centre.as_dvec3());
+        if nearest.is_finite() && nearest.length() > REBASE_DISTANCE {
+            self.rebase(self.origin + nearest.as_dvec3());
         }
     }
 
@@ -553,9 +560,20 @@ impl Strands {
             return Err(Error::NonFinite { index });
         }
         let m = Mat3::from(xform.matrix3);
-        // local' = M local + (A(origin) - origin), the translation part in f64.
-        let moved_origin = xform.matrix3.as_dmat3() * self.origin + xform.translation.as_dvec3();
-        let t = (moved_origin - self.origin).as_vec3();
+        let rigid = (m.transpose() * m - Mat3::IDENTITY)
+            .to_cols_array()
+            .iter()
+            .all(|e| e.abs() <= 1e-3)
+            && m.determinant() > 0.0;
+        if !rigid {
+            return Err(Error::InvalidTransform {
+                reason: "not a rotation and a translation",
+            });
+        }
+        // world' = M (origin + local) + T: the origin takes M origin + T in
+        // f64 and the local positions turn by M, so no translation, however
+        // far, rounds them.
+        self.origin = xform.matrix3.as_dmat3() * self.origin + xform.translation.as_dvec3();
         for p in self
             .pos
             .iter_mut()
@@ -563,7 +581,7 @@ impl Strands {
             .chain(self.roots.iter_mut())
         {
             for l in 0..LANES {
-                p.set_lane(l, m * p.lane(l) + t);
+                p.set_lane(l, m * p.lane(l));
             }
         }
         self.rest_rotation = m * self.rest_rotation;
@@ -853,6 +871,23 @@ fn validate_polylines(points: &[Vec3], verts_per_strand: usize) -> Result<(), Er
     }
     if let Some(index) = points.iter().position(|p| !p.is_finite()) {
         return Err(Error::NonFinite { index });
+    }
+    // A strand farther than the step's guard from its root (1e6 m) is
+    // restored to its rest pose every step: refused here instead (points
+    // near f32::MAX made segments of infinite length).
+    for strand in points.chunks_exact(verts_per_strand) {
+        let root = strand[0];
+        if let Some(far) = strand
+            .iter()
+            .map(|p| (*p - root).length())
+            .find(|d| d.is_nan() || *d > crate::constraints::BLOWN_UP)
+        {
+            return Err(Error::InvalidParameter {
+                name: "points",
+                value: far,
+                expected: "every point within 1e6 m of its strand's root",
+            });
+        }
     }
     Ok(())
 }

@@ -242,3 +242,99 @@ fn sdf_from_hostile_meshes() {
     let _ = sdf.distance(Vec3::NAN);
     let _ = sdf.distance(Vec3::INFINITY);
 }
+
+/// 16 hanging strands with 16 m of spacing headroom: stepped `steps` times
+/// with roots `roots(step)`; their positions.
+fn step_hanging(params: &SimParams, steps: usize, roots: impl Fn(usize) -> Vec<Vec3>) -> Vec<Vec3> {
+    let mut s = Strands::from_polylines(&hanging(16, 6), 6).unwrap();
+    for i in 0..steps {
+        s.set_roots(&roots(i)).unwrap();
+        coif_kernels::step(&mut s, params, &[]);
+    }
+    s.positions()
+}
+
+#[test]
+fn a_bad_hair_grid_cell_neither_panics_nor_hangs() {
+    // NaN and infinity put every vertex on node 0 (an index below zero),
+    // zero never grew coarser (a hang), negative likewise.
+    for cell in [
+        f32::NAN,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        0.0,
+        -0.01,
+        1e-38,
+    ] {
+        let params = SimParams {
+            volume_stiffness: 1.0,
+            hair_friction: 1.0,
+            hair_grid_cell: cell,
+            ..Default::default()
+        };
+        let got = step_hanging(&params, 3, |_| {
+            hanging(16, 6).into_iter().step_by(6).collect()
+        });
+        assert!(got.iter().all(|p| p.is_finite()), "cell {cell}");
+    }
+}
+
+#[test]
+fn one_root_sent_far_moves_no_other_strand() {
+    // Strand 8 is lane 0 of block 1: the old rebase averaged lane 0 of each
+    // block, so its root dragged the origin (and every strand) after it.
+    let rest: Vec<Vec3> = hanging(16, 6).into_iter().step_by(6).collect();
+    let params = SimParams::default();
+    let clean = step_hanging(&params, 10, |_| rest.clone());
+    for far in [1e5f32, 1e7, 1e30] {
+        let moved = step_hanging(&params, 10, |_| {
+            let mut r = rest.clone();
+            r[8] = Vec3::new(far, 0.0, 0.0);
+            r
+        });
+        for (i, (a, b)) in clean.iter().zip(&moved).enumerate() {
+            if i / 6 != 8 {
+                assert_eq!(a, b, "root of strand 8 at {far} m moved vertex {i}");
+            }
+        }
+    }
+}
+
+#[test]
+fn teleports_are_rigid_and_lose_no_precision() {
+    let mut s = Strands::from_polylines(&hanging(16, 6), 6).unwrap();
+    let start = s.positions();
+    // A scale is not a teleport.
+    assert!(matches!(
+        s.teleport(Affine3A::from_scale(Vec3::splat(1e30))),
+        Err(Error::InvalidTransform { .. })
+    ));
+    assert_eq!(s.positions(), start, "a refused teleport changed something");
+    // There and back by a million metres (2.75 cm off before: the
+    // translation rounded the local positions).
+    s.teleport(Affine3A::from_translation(Vec3::X * 1e6))
+        .unwrap();
+    // (World positions there are f32: an ulp at 1e6 m is 6 cm.)
+    let there = s.positions();
+    assert!((there[1].x - start[1].x - 1e6).abs() <= 0.0625);
+    s.teleport(Affine3A::from_translation(Vec3::X * -1e6))
+        .unwrap();
+    for (a, b) in start.iter().zip(s.positions()) {
+        assert!((*a - b).length() < 1e-6, "{a} -> {b}");
+    }
+}
+
+#[test]
+fn points_beyond_the_steps_guard_and_blocks_past_the_end_are_refused() {
+    // A segment near f32::MAX has an infinite length: the strand was
+    // restored to its rest pose at every step, forever.
+    let mut pts = hanging(2, 3);
+    pts[4] = Vec3::new(3e38, 0.0, 0.0);
+    assert!(matches!(
+        Strands::from_polylines(&pts, 3),
+        Err(Error::InvalidParameter { name: "points", .. })
+    ));
+    let s = Strands::from_polylines(&hanging(9, 3), 3).unwrap();
+    assert_eq!(s.block_active_mask(99).to_array(), [0.0; 8]);
+    assert_ne!(s.block_active_mask(1).to_array()[0], 0.0);
+}

@@ -62,3 +62,27 @@ fn steps_against_every_collider_allocate_nothing() {
         );
     }
 }
+
+#[test]
+fn new_hair_shares_every_frame_allocate_nothing() {
+    // The target density is computed again after new shares: its pose
+    // buffer is kept (it was allocated in every step after a change).
+    let (pts, rig) = common::curly_strands(64, 12, 5);
+    let params = SimParams {
+        volume_stiffness: 1.0,
+        hair_friction: 1.0,
+        ..Default::default()
+    };
+    let mut s = Strands::from_polylines(&pts, 12).unwrap();
+    let mut shares = vec![1.0f32; s.strand_count()];
+    coif_kernels::step(&mut s, &params, &rig);
+    s.set_hair_shares(&shares).unwrap();
+    coif_kernels::step(&mut s, &params, &rig);
+    let mine = allocations();
+    for i in 0..10 {
+        shares[i % 64] = 1.0 + i as f32;
+        s.set_hair_shares(&shares).unwrap();
+        coif_kernels::step(&mut s, &params, &rig);
+    }
+    assert_eq!(allocations() - mine, 0, "a step after new shares allocated");
+}

@@ -52,6 +52,9 @@ pub(crate) struct HairGrid {
     pub(crate) live: bool,
     /// Target density, weight per m^3 (`None` until the first build).
     target: Option<f32>,
+    /// The groomed pose gridded for the target, kept so that a target
+    /// computed again (after `Strands::set_hair_shares`) allocates nothing.
+    pose: Vec<Vec3x8>,
 }
 
 /// Farther than this from the strands' origin (metres), a vertex is out
@@ -76,7 +79,9 @@ impl HairGrid {
         if let Some(t) = self.target {
             return t;
         }
-        let mut pose = vec![Vec3x8::ZERO; s.blocks * s.verts];
+        let mut pose = std::mem::take(&mut self.pose);
+        pose.clear();
+        pose.resize(s.blocks * s.verts, Vec3x8::ZERO);
         for b in 0..s.blocks {
             for v in 0..s.verts {
                 let root = s.roots[b];
@@ -90,6 +95,7 @@ impl HairGrid {
         }
         // The same grid as a step's, with zero velocity.
         self.splat(s, &pose, &pose, 1.0, cell);
+        self.pose = pose;
         let inv_volume = 1.0 / (self.cell * self.cell * self.cell);
         let densest = self
             .touched
@@ -199,6 +205,13 @@ impl HairGrid {
             self.stamp = 0;
         }
         self.stamp += 1;
+        // A cell that is not a finite positive length (the step takes
+        // `SimParams` unvalidated) grids nothing: 0 never grew coarser, and
+        // NaN or infinity put every vertex on node 0.
+        if !(cell.is_finite() && cell > 0.0) {
+            self.live = false;
+            return;
+        }
         // The box of the strands' lanes (not the padding) with every
         // coordinate within reach, eight lanes at a time (min and max are
         // exact: the same box in any order; a lane out of reach, NaN

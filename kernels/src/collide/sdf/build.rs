@@ -90,7 +90,9 @@ pub(crate) fn layout(lo: Vec3, hi: Vec3, cell: f32) -> Result<(UVec3, Vec3), Err
     let half =
         glam::DVec3::new(cells[0] as f64, cells[1] as f64, cells[2] as f64) * (cell as f64 * 0.5);
     let origin = (center - half).as_vec3();
-    if !origin.is_finite() {
+    // Both corners of the grid in f32 (a mesh near f32::MAX gave a box whose
+    // far corner overflowed, and NaN distances at finite points).
+    if !(origin.is_finite() && (center + half).as_vec3().is_finite()) {
         return Err(Error::NonFinite { index: 0 });
     }
     Ok((dims, origin))
