@@ -555,21 +555,11 @@ impl Strands {
     /// [`Error::InvalidTransform`] on a non-finite or non-rigid `xform`;
     /// nothing changes then.
     pub fn teleport(&mut self, xform: Affine3A) -> Result<(), Error> {
-        let cols = xform.to_cols_array();
-        if let Some(index) = cols.iter().position(|c| !c.is_finite()) {
-            return Err(Error::NonFinite { index });
-        }
-        let m = Mat3::from(xform.matrix3);
-        let rigid = (m.transpose() * m - Mat3::IDENTITY)
-            .to_cols_array()
-            .iter()
-            .all(|e| e.abs() <= 1e-3)
-            && m.determinant() > 0.0;
-        if !rigid {
+        let Some(m) = rigid_rotation(xform)? else {
             return Err(Error::InvalidTransform {
                 reason: "not a rotation and a translation",
             });
-        }
+        };
         // world' = M (origin + local) + T: the origin takes M origin + T in
         // f64 and the local positions turn by M, so no translation, however
         // far, rounds them.
@@ -618,23 +608,13 @@ impl Strands {
     /// assert!(root.distance(turn.transform_point3(groom[0])) < 1e-5);
     /// ```
     pub fn set_head_pose(&mut self, world_from_rest: Affine3A) -> Result<(), Error> {
-        let cols = world_from_rest.to_cols_array();
-        if let Some(index) = cols.iter().position(|c| !c.is_finite()) {
-            return Err(Error::NonFinite { index });
-        }
-        let m = Mat3::from(world_from_rest.matrix3);
-        let rigid = (m.transpose() * m - Mat3::IDENTITY)
-            .to_cols_array()
-            .iter()
-            .all(|e| e.abs() <= 1e-3)
-            && m.determinant() > 0.0;
-        if !rigid {
+        let Some(m) = rigid_rotation(world_from_rest)? else {
             return Err(Error::InvalidParameter {
                 name: "world_from_rest",
-                value: m.determinant(),
+                value: Mat3::from(world_from_rest.matrix3).determinant(),
                 expected: "a rotation and a translation",
             });
-        }
+        };
         let (m64, t64) = (
             world_from_rest.matrix3.as_dmat3(),
             world_from_rest.translation.as_dvec3(),
@@ -856,6 +836,22 @@ impl Strands {
 }
 
 /// The input checks of [`Strands::from_polylines`].
+/// The rotation of a rigid transform: [`Error::NonFinite`] for a
+/// non-finite entry, `None` when the 3x3 part is not a rotation (columns
+/// orthonormal within 1e-3, determinant above 0).
+fn rigid_rotation(xform: Affine3A) -> Result<Option<Mat3>, Error> {
+    let cols = xform.to_cols_array();
+    if let Some(index) = cols.iter().position(|c| !c.is_finite()) {
+        return Err(Error::NonFinite { index });
+    }
+    let m = Mat3::from(xform.matrix3);
+    let orthonormal = (m.transpose() * m - Mat3::IDENTITY)
+        .to_cols_array()
+        .iter()
+        .all(|e| e.abs() <= 1e-3);
+    Ok((orthonormal && m.determinant() > 0.0).then_some(m))
+}
+
 fn validate_polylines(points: &[Vec3], verts_per_strand: usize) -> Result<(), Error> {
     if verts_per_strand < 2 {
         return Err(Error::TooFewVertices { verts_per_strand });
