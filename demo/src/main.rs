@@ -128,8 +128,8 @@ struct Cli {
     /// frame, 0 = only the written ones). Other frames only simulate.
     #[arg(long, default_value_t = 10, value_name = "N")]
     render_every: usize,
-    /// Most guides kept from a groom (every k-th strand; at least 4, to
-    /// fit a head to their roots).
+    /// Most guides kept from a groom (every k-th strand; 4, to fit a head
+    /// to their roots, to 2^20).
     #[arg(long, default_value_t = 2048, value_parser = parse_max_guides)]
     max_guides: usize,
     /// Camera direction from the hair, X,Y,Z (default: the scene's own; the
@@ -146,8 +146,8 @@ struct Cli {
     /// Render hairs per cm^2 (each widened to keep a real scalp's coverage).
     /// Default: 20 for Sintel and grooms on a mesh (half the hairs of 40
     /// and the same picture at 512 px: the distance LOD draws about 7,000
-    /// either way), 40 for the sphere head and grooms on a head proxy. At
-    /// most 250 (a real scalp's density).
+    /// either way), 40 for the sphere head and grooms on a head proxy. From
+    /// 0.01 to 250 (a real scalp's density).
     #[arg(long, value_parser = parse_density)]
     density: Option<f32>,
     /// Prepare pass: fused (one pass per group of hairs) or reference
@@ -176,14 +176,14 @@ struct Cli {
     /// simulation cost with and without simulation LOD, off-screen
     /// following and sleeping, and the error per level. Steps of 1/60 s
     /// (--fps does not apply); N from 1 to 1024.
-    #[arg(long, value_name = "N", value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=1024))]
+    #[arg(long, value_name = "N", value_parser = parse_crowd)]
     crowd: Option<usize>,
     /// Threads running the frame's parallel stages (the hair's and the
     /// ribbons' simulation, the shadow-map build, the prepare pass, the
     /// hair's runs of tiles; with --crowd, the characters): one rayon pool of
     /// N threads, 0 = one per core; 1 = the calling thread only (no pool).
     /// The picture has the same bytes at any thread count. At most 256.
-    #[arg(long, default_value_t = 0, value_name = "N", value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(0..=256))]
+    #[arg(long, default_value_t = 0, value_name = "N", value_parser = parse_threads)]
     threads: usize,
 }
 
@@ -268,44 +268,53 @@ fn parse_size(s: &str) -> Result<(usize, usize), String> {
     Ok((w, h))
 }
 
-/// `--width` and `--height`: 1 to 8192, as `--size`.
-fn pixels(s: &str) -> Result<usize, String> {
-    match s.trim().parse::<usize>() {
-        Ok(n) if (1..=8192).contains(&n) => Ok(n),
-        Ok(_) => Err("must be 1..=8192".into()),
-        Err(e) => Err(e.to_string()),
+/// A number in `range` (NaN never is), or a message with the range.
+fn in_range<T>(s: &str, range: std::ops::RangeInclusive<T>) -> Result<T, String>
+where
+    T: std::str::FromStr + PartialOrd + std::fmt::Display,
+    T::Err: std::fmt::Display,
+{
+    let v: T = s.trim().parse().map_err(|e| format!("{s:?}: {e}"))?;
+    if range.contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!(
+            "expected {} to {}, got {s:?}",
+            range.start(),
+            range.end()
+        ))
     }
 }
 
-/// `--max-guides`: at least 4 (a head is fitted to the kept roots).
+/// `--width` and `--height`: 1 to 8192, as `--size`.
+fn pixels(s: &str) -> Result<usize, String> {
+    in_range(s, 1..=8192)
+}
+
+/// `--max-guides`: at least 4 (a head is fitted to the kept roots), at
+/// most 2^20.
 fn parse_max_guides(s: &str) -> Result<usize, String> {
-    match s.trim().parse::<usize>() {
-        Ok(n) if n >= 4 => Ok(n),
-        Ok(_) => Err("at least 4 guides (a head is fitted to their roots)".into()),
-        Err(e) => Err(e.to_string()),
-    }
+    in_range(s, 4..=1 << 20)
 }
 
 /// `--fps`: 1 to 1000 frames per second (a step of at most a second).
 fn parse_fps(s: &str) -> Result<f32, String> {
-    let fps: f32 = s.trim().parse().map_err(|e| format!("{s:?}: {e}"))?;
-    if (1.0..=1000.0).contains(&fps) {
-        Ok(fps)
-    } else {
-        Err(format!("frames per second must be 1 to 1000, got {s:?}"))
-    }
+    in_range(s, 1.0..=1000.0)
 }
 
-/// `--density`: render hairs per cm^2, above 0 and at most 250.
+/// `--density`: render hairs per cm^2, 0.01 to 250.
 fn parse_density(s: &str) -> Result<f32, String> {
-    let d: f32 = s.trim().parse().map_err(|e| format!("{s:?}: {e}"))?;
-    if d.is_finite() && d > 0.0 && d <= 250.0 {
-        Ok(d)
-    } else {
-        Err(format!(
-            "render hairs per cm^2 must be above 0 and at most 250, got {s:?}"
-        ))
-    }
+    in_range(s, 0.01..=250.0)
+}
+
+/// `--crowd`: 1 to 1024 characters.
+fn parse_crowd(s: &str) -> Result<usize, String> {
+    in_range(s, 1..=1024)
+}
+
+/// `--threads`: 0 (one per core) to 256.
+fn parse_threads(s: &str) -> Result<usize, String> {
+    in_range(s, 0..=256)
 }
 
 /// Hair-against-hair volume and friction from the options: each as given;

@@ -1191,6 +1191,15 @@ mod tests {
 
     /// A capsule across the hair at depth `z`, a sphere below it at `x`,
     /// and the parameters: a side wind of `wind` m/s along -z, drag 2 /s.
+    /// The bits of every coordinate, point after point.
+    fn bits(points: &[Vec3]) -> Vec<u32> {
+        points
+            .iter()
+            .flat_map(|p| p.to_array())
+            .map(f32::to_bits)
+            .collect()
+    }
+
     fn side_rig(z: f32, x: f32, wind: f32) -> ([crate::Capsule; 1], [crate::Sphere; 1], SimParams) {
         let caps = [crate::Capsule {
             a: Vec3::new(-0.3, -0.05, z),
@@ -1265,19 +1274,13 @@ mod tests {
             step_over_turning_field(&mut s, &mut fields, &rig, 60, (0.3, 0.05, 0.02, 0.14), simd);
             s
         };
-        let bits = |s: &Strands| -> Vec<u32> {
-            s.positions()
-                .iter()
-                .flat_map(|p| p.to_array())
-                .map(f32::to_bits)
-                .collect()
-        };
-        let without_field = bits(&run(None, true));
+        let without_field = bits(&run(None, true).positions());
         for simd in [true, false] {
             let skipping = run(Some(built.clone()), simd);
             let looking = run(Some(built.clone().without_clear_balls()), simd);
-            assert_eq!(bits(&skipping), bits(&looking), "SIMD {simd}");
-            assert_ne!(bits(&skipping), without_field, "SIMD {simd}: no contact");
+            let skipped = bits(&skipping.positions());
+            assert_eq!(skipped, bits(&looking.positions()), "SIMD {simd}");
+            assert_ne!(skipped, without_field, "SIMD {simd}: no contact");
             let balls = skipping.scratch.tasks.iter().any(|t| {
                 if simd {
                     t.chains.iter().any(|c| {
@@ -1323,24 +1326,12 @@ mod tests {
             // Each strand's bits, by its index in `order_a`.
             let mut by_strand = vec![Vec::new(); 24];
             for (chunk, &i) in s.positions().chunks(20).zip(order) {
-                by_strand[i] = chunk
-                    .iter()
-                    .flat_map(|p| p.to_array())
-                    .map(f32::to_bits)
-                    .collect();
+                by_strand[i] = bits(chunk);
             }
             by_strand
         };
         let a = run(&order_a, true);
-        let still: Vec<Vec<u32>> = (0..24)
-            .map(|i| {
-                strand(i)
-                    .iter()
-                    .flat_map(|p| p.to_array())
-                    .map(f32::to_bits)
-                    .collect()
-            })
-            .collect();
+        let still: Vec<Vec<u32>> = (0..24).map(|i| bits(&strand(i))).collect();
         assert!(
             a.iter().zip(&still).all(|(x, y)| x != y),
             "some strand never moved"
@@ -1376,14 +1367,7 @@ mod tests {
             crate::step(&mut simd, &params, &rig);
             scalar::step(&mut reference, &params, &rig);
         }
-        let bits = |s: &Strands| -> Vec<u32> {
-            s.positions()
-                .iter()
-                .flat_map(|p| p.to_array())
-                .map(f32::to_bits)
-                .collect()
-        };
-        assert_eq!(bits(&simd), bits(&reference));
+        assert_eq!(bits(&simd.positions()), bits(&reference.positions()));
         let tips = simd.positions();
         assert!(
             tips.iter().skip(1).step_by(2).all(|p| p.y < -0.05),
