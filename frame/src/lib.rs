@@ -44,6 +44,7 @@ mod settings;
 mod shading_model;
 mod shadow;
 pub mod sim_lod;
+pub mod style;
 pub mod timings;
 /// Scalp triangles from guide roots (moved to `coif_geometry`; this path
 /// stays).

@@ -311,6 +311,7 @@ pub(crate) fn drive(
     scratch.rig.remember(colliders);
     strands.scratch = scratch;
     strands.time += params.dt as f64;
+    strands.stepped_rotation = strands.rest_rotation;
 }
 
 /// True if a root of block `b` (an active lane) was moved since the last

@@ -28,16 +28,6 @@ pub(crate) fn dot<T: Lane>(a: V3<T>, b: V3<T>) -> T {
     a.x.mul_add(b.x, a.y.mul_add(b.y, a.z * b.z))
 }
 
-/// `a x b`, each component `p q - (r s)` fused.
-#[inline(always)]
-pub(crate) fn cross<T: Lane>(a: V3<T>, b: V3<T>) -> V3<T> {
-    V3::new(
-        a.y.mul_add(b.z, -(a.z * b.y)),
-        a.z.mul_add(b.x, -(a.x * b.z)),
-        a.x.mul_add(b.y, -(a.y * b.x)),
-    )
-}
-
 /// `m * v` as `x_axis v.x + y_axis v.y + z_axis v.z`.
 #[inline(always)]
 pub(crate) fn rotate<T: Lane>(m: &Mat3, v: V3<T>) -> V3<T> {

@@ -91,7 +91,7 @@ use crate::collide::sdf::{Sdf, SdfLane};
 use crate::collide::Colliders;
 use crate::constraints::{BLOWN_UP, MIN_LENGTH};
 use crate::drive::{drive, BlockState, PAIR};
-use crate::fused::{cross, dot, length_dir, madd, offset_unless, rotate};
+use crate::fused::{dot, length_dir, madd, offset_unless, rotate};
 use crate::hair_grid::apply_block;
 use crate::lanes::{Lane, V3};
 use crate::wind::Gusts;
@@ -104,11 +104,6 @@ use wide::f32x8;
 /// this are replaced by the current direction (the blend means nothing once
 /// a segment turned by more than 60 degrees within a substep).
 pub(crate) const MIN_DIRECTION_COSINE: f32 = 0.5;
-/// Local shape correction per [`LOCAL_SHAPE_H_REF`] at stiffness 1.
-pub(crate) const LOCAL_SHAPE_MAX: f32 = 0.99;
-/// Substep length at which [`LOCAL_SHAPE_MAX`] was measured (s).
-pub(crate) const LOCAL_SHAPE_H_REF: f32 = 1.0 / 240.0;
-
 /// Per-step values shared by the SIMD and scalar paths.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Setup {
@@ -132,11 +127,21 @@ pub(crate) struct Setup {
     /// `FIELD_EXIT_SPEED dt`: the most a lane that was deep in a field
     /// keeps as its velocity over the step.
     pub exit_move: f32,
-    /// Per substep: local shape share, global shape pull, bending stiffness.
-    pub local_shape: f32,
+    /// Local shape: `(c h)^2` for the shape springs' wave speed `c`
+    /// ([`crate::shape::wave_speed`]) and the substep `h` (0 = off); a
+    /// segment of rest length `l` gets `alpha = (c h / l)^2`.
+    pub shape_alpha: f32,
+    /// The springs' share `h / (h + beta)` of the shape rows (the rest is
+    /// their damping; `crate::shape::DAMPING_TIME`).
+    pub shape_keep: f32,
+    /// Per substep: global shape pull, bending stiffness.
     pub shape: f32,
     pub bend: f32,
+    /// The groom frame's orientation at the end of this step and of the
+    /// last one (the shape springs turn from one to the other over the
+    /// substeps).
     pub rotation: Mat3,
+    pub rotation_from: Mat3,
     /// Broad-phase margin: pearl radius plus one longest rest segment.
     pub margin: f32,
     /// Sleeping on (`sleep_speed > 0`).
@@ -146,22 +151,6 @@ pub(crate) struct Setup {
     pub still_move2: f32,
     /// Still steps in a row before a block sleeps, `ceil(SLEEP_AFTER / dt)`.
     pub still_steps: u32,
-}
-
-/// The local shape correction per substep of length `h` for the user's
-/// stiffness `k` in [0, 1]: `c / (1 - c) = (c_ref / (1 - c_ref)) (h / h_ref)`
-/// with `c_ref = 0.99 k`, `h_ref = 1/240 s`. Measured on the mohawk, this
-/// keeps the rest drift, lag and return flat from 4 to 8 substeps per 1/60 s;
-/// the exponential `1 - (1 - c_ref)^(h / h_ref)` (the decay of an
-/// undisturbed error) let the mohawk drift 66 % at 8 substeps.
-pub(crate) fn local_shape_per_substep(k: f32, h: f32) -> f32 {
-    let k = k.clamp(0.0, 1.0);
-    if k <= 0.0 || h.is_nan() {
-        return 0.0;
-    }
-    let c_ref = LOCAL_SHAPE_MAX * k;
-    let s = c_ref / (1.0 - c_ref) * (h / LOCAL_SHAPE_H_REF);
-    s / (1.0 + s)
 }
 
 /// A per-step pull `k` in [0, 1] spread over `n` substeps: `1 - (1 - k)^(1/n)`.
@@ -209,10 +198,13 @@ impl Setup {
             },
             gusts: Gusts::new(p, drag, h, s.time, s.origin),
             exit_move: FIELD_EXIT_SPEED * p.dt,
-            local_shape: local_shape_per_substep(p.local_shape_stiffness, h),
+            shape_alpha: crate::shape::alpha_scale(p.local_shape_stiffness, h)
+                / crate::shape::keep(h),
+            shape_keep: crate::shape::keep(h),
             shape: per_substep(p.shape_stiffness, n),
             bend: per_substep(p.bend_stiffness, n),
             rotation: s.rest_rotation,
+            rotation_from: s.stepped_rotation,
             margin: p.pearl_radius.max(0.0) + s.max_rest_segment,
             sleep: p.sleep_speed > 0.0 && p.dt > 0.0 && !(p.turbulence > 0.0 && drag > 0.0),
             still_move2: (p.sleep_speed * p.dt) * (p.sleep_speed * p.dt),
@@ -232,9 +224,9 @@ pub(crate) struct Chain<'a, T: Lane> {
     pub w: &'a [T],
     /// Rest length of segment v -> v + 1.
     pub rest_len: &'a [T],
-    /// Rest vector and unit rest direction of segment v -> v + 1, groom frame.
+    /// The shape springs' rest vector of segment v -> v + 1, groom frame
+    /// (the groom's segment, or its sag-free rest).
     pub rest_vec: &'a [V3<T>],
-    pub rest_dir: &'a [V3<T>],
     /// Rest offset of vertex v from the root, groom frame.
     pub rest_offset: &'a [V3<T>],
     /// Rest distance v -> v + 2 and the mass shares of that constraint.
@@ -255,8 +247,10 @@ pub(crate) struct ChainScratch<T: Lane> {
     n: Vec<V3<T>>,
     cp: Vec<T>,
     dp: Vec<T>,
-    rvec: Vec<V3<T>>,
-    rdir: Vec<V3<T>>,
+    /// The shape springs' tridiagonal factors for this step
+    /// (`shape::factor`): `-c'_v`, `1 / den_v`, `a_v / den_v`, and the
+    /// rest vectors' part of the right-hand side over `den_v`.
+    shape: crate::shape::Factors<T>,
     /// The gusts' pull per vertex over one substep (gusts on).
     gust: Vec<V3<T>>,
     /// Per segment: 0 where both ends are free, +inf where one is pinned
@@ -290,8 +284,7 @@ impl<T: Lane> ChainScratch<T> {
             n: vec![V3::zero(); verts],
             cp: vec![T::splat(0.0); verts],
             dp: vec![T::splat(0.0); verts],
-            rvec: vec![V3::zero(); verts],
-            rdir: vec![V3::zero(); verts],
+            shape: crate::shape::Factors::new(verts),
             gust: vec![V3::zero(); verts],
             pearl_off: vec![T::splat(0.0); verts],
             vertex_off: vec![T::splat(0.0); verts],
@@ -430,7 +423,6 @@ fn begin_chain<T: SdfLane>(
     block: usize,
 ) -> (V3<T>, V3<T>) {
     let verts = c.pos.len();
-    let segs = verts - 1;
     let zero = T::splat(0.0);
     let n = k.substeps;
     let (pos, prev, w) = (&mut c.pos[..verts], &mut c.prev[..verts], &c.w[..verts]);
@@ -449,12 +441,16 @@ fn begin_chain<T: SdfLane>(
             *gust = gusts.offset(*x);
         }
     }
-    // 3. (set-up) The rest vectors in the groom frame's current orientation.
-    if k.local_shape > 0.0 {
-        for v in 0..segs {
-            s.rvec[v] = rotate(&k.rotation, c.rest_vec[v]);
-            s.rdir[v] = rotate(&k.rotation, c.rest_dir[v]);
-        }
+    // 3. (set-up) The shape springs' factors, with the rest vectors in the
+    // groom frame's current orientation.
+    if k.shape_alpha > 0.0 {
+        s.shape.factor(
+            w,
+            c.rest_len,
+            c.rest_vec,
+            [&k.rotation_from, &k.rotation],
+            T::splat(k.shape_alpha),
+        );
     }
     // 5., 6. (set-up) This block's candidate colliders, splatted, with the
     // depth of its roots' targets in each (the roots rule), and the pinned
@@ -569,17 +565,22 @@ fn substep_to_strain_limit<T: SdfLane>(
     for f in &mut s.fields {
         f.advance(sub, n);
     }
-    // 3. Shape: local (TressFX 4), then global.
-    if k.local_shape > 0.0 {
-        local_shape(c, s, k);
+    // 3. Shape: the shape springs (implicit), then the global pull.
+    if k.shape_alpha > 0.0 {
+        let along = T::splat((sub + 1) as f32 / n as f32);
+        s.shape.solve(c.pos, c.prev, T::splat(k.shape_keep), along);
     }
     if k.shape > 0.0 {
         global_shape(c, k);
     }
     let a1 = T::splat(k.direction[0]);
-    // 4. Projections of the length constraints (and bending).
+    // 4. Projections of the length constraints (and bending). With the
+    // shape springs on, the strain limit (6.) holds the lengths instead
+    // (`shape.rs`, "Lengths").
     for _ in 0..k.iterations {
-        project(c, s, a1);
+        if k.shape_alpha <= 0.0 {
+            project(c, s, a1);
+        }
         if k.bend > 0.0 {
             bend(c, T::splat(k.bend));
         }
@@ -720,50 +721,6 @@ fn bend<T: Lane>(c: &mut Chain<'_, T>, stiffness: T) {
         let share = c.bend_share[v];
         c.pos[v] = madd(delta, k * share[0], c.pos[v]);
         c.pos[v + 2] = madd(delta, -(k * share[1]), c.pos[v + 2]);
-    }
-}
-
-/// Step 3: TressFX 4's local shape constraint, root to tip. Segment s should
-/// point along its rest vector carried by the minimal rotation that takes
-/// the parent's rest direction `a` to the parent's current direction `b`
-/// (Rodrigues: `r cos + (a x b) x r + (a x b) ((a x b).r) / (1 + cos)`); the
-/// root segment along its rest vector in the groom frame. The child takes
-/// the whole correction (the parent is final, as in Follow-The-Leader):
-/// sharing it with the parent, as TressFX does, let gravity win on the
-/// mohawk (65 % tip drift at stiffness 1).
-#[inline(always)]
-fn local_shape<T: Lane>(c: &mut Chain<'_, T>, s: &ChainScratch<T>, k: &Setup) {
-    let verts = c.pos.len();
-    let segs = verts - 1;
-    let zero = T::splat(0.0);
-    let one = T::splat(1.0);
-    let eps = T::splat(1.0e-6);
-    let stiff = T::splat(k.local_shape);
-    let (pos, w) = (&mut c.pos[..verts], &c.w[..verts]);
-    let (rvec, rdir) = (&s.rvec[..verts], &s.rdir[..verts]);
-    for v in 0..segs {
-        let rest = rvec[v];
-        let target = if v == 0 {
-            rest
-        } else {
-            let a = rdir[v - 1];
-            let (_, b) = length_dir(pos[v] - pos[v - 1]);
-            let cos = dot(a, b);
-            let axis = cross(a, b);
-            let denom = one + cos;
-            let ok = denom.gt(eps);
-            let turned = madd(
-                axis,
-                dot(axis, rest) * denom.max(eps).recip(),
-                madd(rest, cos, cross(axis, rest)),
-            );
-            V3::select(ok, turned, rest)
-        };
-        let err = pos[v] + target - pos[v + 1];
-        // A pinned child moves by err * 0 (a select of the positions would
-        // compile to masked stores, slow on AMD).
-        let pull = T::select(w[v + 1].gt(zero), stiff, zero);
-        pos[v + 1] = madd(err, pull, pos[v + 1]);
     }
 }
 
@@ -1166,7 +1123,6 @@ fn block_chain<'a>(s: &'a Strands, b: usize, st: &'a mut BlockState<'_>) -> Chai
         w: &s.inv_mass[r.clone()],
         rest_len: &s.rest_len[r.clone()],
         rest_vec: &s.rest_vec[r.clone()],
-        rest_dir: &s.rest_dir[r.clone()],
         rest_offset: &s.rest_offset[r.clone()],
         bend_len: &s.bend_len[r.clone()],
         bend_share: &s.bend_share[r.clone()],

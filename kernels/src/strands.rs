@@ -41,10 +41,10 @@ pub struct Strands {
     pub(crate) inv_mass: Vec<f32x8>,
     /// Rest length of segment v -> v + 1 (the last vertex's entry is 0).
     pub(crate) rest_len: Vec<f32x8>,
-    /// Rest vector of segment v -> v + 1 in the groom frame (local shape).
+    /// The shape springs' rest vector of segment v -> v + 1 in the groom
+    /// frame: the groom's segment, or its sag-free rest
+    /// ([`Strands::solve_sag_free`]).
     pub(crate) rest_vec: Vec<Vec3x8>,
-    /// Its unit direction.
-    pub(crate) rest_dir: Vec<Vec3x8>,
     /// Mass shares of the bending constraint v -> v + 2:
     /// `w_v / (w_v + w_{v+2})` and `w_{v+2} / (w_v + w_{v+2})` (0 where both are pinned).
     pub(crate) bend_share: Vec<[f32x8; 2]>,
@@ -63,6 +63,13 @@ pub struct Strands {
     pub(crate) max_rest_segment: f32,
     /// Rotation applied to `rest_offset` (the groom frame's orientation).
     pub(crate) rest_rotation: Mat3,
+    /// The groom frame's orientation at the end of the last step: the
+    /// next step turns the shape springs' rest vectors from it to
+    /// `rest_rotation` over its substeps, as it moves the roots.
+    pub(crate) stepped_rotation: Mat3,
+    /// The pose [`Strands::solve_sag_free`] left (a hash of its bits):
+    /// a second call finds it and does not relax it again.
+    pub(crate) relaxed_pose: Option<u64>,
     /// Strands restored to rest after going non-finite, since creation.
     pub(crate) restored: u64,
     /// Simulated time in seconds (the steps' `dt` summed): the gusts' clock.
@@ -237,7 +244,6 @@ impl Strands {
             inv_mass: vec![f32x8::ZERO; n],
             rest_len: vec![f32x8::ZERO; n],
             rest_vec: vec![Vec3x8::ZERO; n],
-            rest_dir: vec![Vec3x8::ZERO; n],
             bend_share: vec![[f32x8::ZERO; 2]; n],
             bend_len: vec![f32x8::ZERO; n],
             rest_arc: vec![f32x8::ZERO; n],
@@ -246,6 +252,8 @@ impl Strands {
             active: Vec::with_capacity(blocks),
             max_rest_segment: 0.0,
             rest_rotation: Mat3::IDENTITY,
+            stepped_rotation: Mat3::IDENTITY,
+            relaxed_pose: None,
             restored: 0,
             time: 0.0,
             sleep: vec![BlockSleep::AWAKE; blocks],
@@ -291,7 +299,6 @@ impl Strands {
             if v + 1 < verts {
                 let d = pts[v + 1] - pts[v];
                 self.rest_vec[i].set_lane(l, d);
-                self.rest_dir[i].set_lane(l, d / seg.max(crate::constraints::MIN_LENGTH));
             }
             self.max_rest_segment = self.max_rest_segment.max(seg);
             self.bend_len[i].as_mut_array()[l] = if v + 2 < verts {
@@ -575,6 +582,7 @@ impl Strands {
             }
         }
         self.rest_rotation = m * self.rest_rotation;
+        self.stepped_rotation = m * self.stepped_rotation;
         self.wake();
         // The colliders' record is of the old place: the next step takes
         // them as standing still rather than sweeping from there.

@@ -40,6 +40,7 @@ pub mod refinement;
 pub mod roofline;
 pub mod shading;
 pub mod shadow;
+pub mod shape;
 pub mod sim_lod;
 pub mod simulation;
 pub mod summary;
@@ -137,7 +138,7 @@ pub struct Family {
 }
 
 /// Every kernel family, in the order [`run`] measures them.
-pub const FAMILIES: [Family; 14] = [
+pub const FAMILIES: [Family; 15] = [
     Family {
         name: "simulation",
         kernels: &["simulation settling", "simulation whipping"],
@@ -162,6 +163,11 @@ pub const FAMILIES: [Family; 14] = [
         name: "collisions",
         kernels: &["collisions "],
         measure: collisions::rows,
+    },
+    Family {
+        name: "shape",
+        kernels: &["shape "],
+        measure: shape::rows,
     },
     Family {
         name: "volume",
@@ -225,7 +231,8 @@ pub fn family_of(kernel: &str) -> Option<&'static Family> {
 /// simulation LOD (sleeping and guide levels against their error), physics
 /// (the strand step against the analytic hanging chain), wind (equilibrium
 /// and decay against their closed forms), collisions (penetration by the
-/// exact distance), volume (draped hair's packing with the hair grid
+/// exact distance), shape (Sintel's groom at rest and in a head turn
+/// against the groom and the hair carried rigidly), volume (draped hair's packing with the hair grid
 /// against without), hair friction (a kicked lock's relative motion and
 /// common motion), refinement, fits, interpolation, shading, multiple
 /// scattering (single and dual scattering against the path tracer through

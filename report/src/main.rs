@@ -3,12 +3,16 @@
 //! `results.csv`, `summary.md` and one SVG plot per kernel into DIR
 //! (default `target/report/`, beside the build; `--out docs/report` replaces the committed run). With `--from-csv`, nothing is measured: the rows
 //! are read from a `results.csv` written before and the summary and plots
-//! drawn again into DIR (the CSV is not rewritten). See the `coif_report` crate documentation.
+//! drawn again into DIR (the CSV is not rewritten). With `--family NAME`
+//! and `--from-csv FILE`, that family alone is measured again and its rows
+//! replace its old ones among the file's; everything is written into DIR
+//! (CSV included). See the `coif_report` crate documentation.
 
 use coif_report::{self as report, Options};
 use std::path::PathBuf;
 
-const USAGE: &str = "usage: report [--quick] [--out DIR] [--from-csv FILE] [--roofline-only]";
+const USAGE: &str =
+    "usage: report [--quick] [--out DIR] [--from-csv FILE [--family NAME]] [--roofline-only]";
 
 /// The machine line when `/proc/cpuinfo` cannot say (and for redraws from a
 /// CSV, whose run this process did not see).
@@ -45,6 +49,7 @@ fn main() {
     let mut quick = false;
     let mut roofline_only = false;
     let mut from_csv: Option<PathBuf> = None;
+    let mut family: Option<String> = None;
     let mut out = PathBuf::from("target/report");
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
@@ -62,6 +67,13 @@ fn main() {
                 Some(f) => from_csv = Some(PathBuf::from(f)),
                 None => {
                     eprintln!("--from-csv needs a results.csv file");
+                    std::process::exit(2);
+                }
+            },
+            "--family" => match args.next() {
+                Some(f) => family = Some(f),
+                None => {
+                    eprintln!("--family needs a family's name");
                     std::process::exit(2);
                 }
             },
@@ -104,12 +116,36 @@ fn main() {
                     std::process::exit(1);
                 }
             };
-            // The CSV stays as measured: its spread column is not
-            // recoverable to the last digit from the rounded min and max.
-            let written = report::write_figures(&rows, &out, MACHINE);
-            (rows, written)
+            match family.as_deref() {
+                Some(name) => {
+                    let Some(f) = report::FAMILIES.iter().find(|f| f.name == name) else {
+                        let names: Vec<&str> = report::FAMILIES.iter().map(|f| f.name).collect();
+                        eprintln!("no family {name:?}; the families: {names:?}");
+                        std::process::exit(2);
+                    };
+                    let load_before = load_average();
+                    let mut rows: Vec<report::Row> = rows
+                        .into_iter()
+                        .filter(|r| report::family_of(&r.kernel).is_none_or(|g| g.name != f.name))
+                        .collect();
+                    rows.extend((f.measure)(Options { quick }));
+                    let written = report::write(&rows, &out, &machine(load_before));
+                    (rows, written)
+                }
+                None => {
+                    // The CSV stays as measured: its spread column is not
+                    // recoverable to the last digit from the rounded min
+                    // and max.
+                    let written = report::write_figures(&rows, &out, MACHINE);
+                    (rows, written)
+                }
+            }
         }
         None => {
+            if family.is_some() {
+                eprintln!("--family goes with --from-csv; {USAGE}");
+                std::process::exit(2);
+            }
             let load_before = load_average();
             let rows = report::run(Options { quick });
             let roofline =

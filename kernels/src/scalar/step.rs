@@ -35,7 +35,6 @@ pub(crate) struct LaneBuffers {
     w: Vec<f32>,
     rest_len: Vec<f32>,
     rest_vec: Vec<V3<f32>>,
-    rest_dir: Vec<V3<f32>>,
     rest_offset: Vec<V3<f32>>,
     bend_len: Vec<f32>,
     bend_share: Vec<[f32; 2]>,
@@ -57,7 +56,6 @@ impl LaneBuffers {
             w: vec![0.0; verts],
             rest_len: vec![0.0; verts],
             rest_vec: vec![V3::zero(); verts],
-            rest_dir: vec![V3::zero(); verts],
             rest_offset: vec![V3::zero(); verts],
             bend_len: vec![0.0; verts],
             bend_share: vec![[0.0; 2]; verts],
@@ -127,7 +125,6 @@ pub fn step_colliders_with(
                         lb.w[v] = lane1(&strands.inv_mass[i], l);
                         lb.rest_len[v] = lane1(&strands.rest_len[i], l);
                         lb.rest_vec[v] = lane3(&strands.rest_vec[i], l);
-                        lb.rest_dir[v] = lane3(&strands.rest_dir[i], l);
                         lb.rest_offset[v] = lane3(&strands.rest_offset[i], l);
                         lb.bend_len[v] = lane1(&strands.bend_len[i], l);
                         let sh = strands.bend_share[i];
@@ -142,7 +139,6 @@ pub fn step_colliders_with(
                         w: &lb.w,
                         rest_len: &lb.rest_len,
                         rest_vec: &lb.rest_vec,
-                        rest_dir: &lb.rest_dir,
                         rest_offset: &lb.rest_offset,
                         bend_len: &lb.bend_len,
                         bend_share: &lb.bend_share,
