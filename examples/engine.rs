@@ -37,12 +37,18 @@ pub fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut field = Sdf::from_mesh(bust.positions(), bust.triangles(), 0.004)?;
     let mut hair = Strands::from_polylines(&guides, VERTS)?;
     let params = SimParams {
-        local_shape_stiffness: 1.0, // a groom keeps its style
+        local_shape_stiffness: 0.7, // a groom keeps its style and swings
         volume_stiffness: 1.0,      // hair against hair
         hair_friction: 1.0,
         ..SimParams::default()
     };
     params.validate()?;
+    // The groom is the springs' rest state under gravity (sag-free).
+    let colliders = Colliders {
+        sdfs: std::slice::from_ref(&field),
+        ..Colliders::default()
+    };
+    hair.solve_sag_free(&params, &colliders)?;
 
     // Once: LOD and shading buffers for every render hair at the finest level.
     let max_segments = 3;

@@ -1279,6 +1279,28 @@ enum CoifStatus coif_step_colliders_with(struct CoifStrands *s,
                                          const struct CoifSdfSet *sdfs,
                                          const struct CoifExecutor *executor);
 
+// Makes the strands' current pose their rest state under `params`
+// (`coif_kernels::Strands::solve_sag_free`): the local shape springs'
+// rest vectors are set so that this pose is the step's equilibrium under
+// gravity and the wind's pull (`R t = e - g M l^2 / c^2` per segment), so
+// the groom keeps its style instead of sagging. Call it once after
+// `coif_strands_new` (or `coif_strands_from_groom`) and the first
+// `coif_strands_set_head_pose`, before stepping, with the colliders the
+// step will see (they are checked); a second call changes nothing. No
+// allocation; well under a millisecond for a few hundred guides.
+//
+// Errors: as `coif_step_colliders`; an error leaves the strands unchanged.
+//
+// # Safety
+// As `coif_step_colliders`.
+enum CoifStatus coif_strands_solve_sag_free(struct CoifStrands *s,
+                                            const struct CoifSimParams *params,
+                                            const struct CoifSphere *spheres,
+                                            size_t sphere_count,
+                                            const struct CoifCapsule *capsules,
+                                            size_t capsule_count,
+                                            const struct CoifSdfSet *sdfs);
+
 // Densities 0.4 and 0.35 (fitted against the path tracer through explicit
 // fibres) and 64 entries (`DualScatteringSettings::default()`).
 struct CoifDualScatteringSettings coif_dual_scattering_settings_default(void);

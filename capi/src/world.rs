@@ -428,6 +428,55 @@ pub unsafe extern "C" fn coif_step_colliders_with(
     })
 }
 
+/// Makes the strands' current pose their rest state under `params`
+/// (`coif_kernels::Strands::solve_sag_free`): the local shape springs'
+/// rest vectors are set so that this pose is the step's equilibrium under
+/// gravity and the wind's pull (`R t = e - g M l^2 / c^2` per segment), so
+/// the groom keeps its style instead of sagging. Call it once after
+/// `coif_strands_new` (or `coif_strands_from_groom`) and the first
+/// `coif_strands_set_head_pose`, before stepping, with the colliders the
+/// step will see (they are checked); a second call changes nothing. No
+/// allocation; well under a millisecond for a few hundred guides.
+///
+/// Errors: as `coif_step_colliders`; an error leaves the strands unchanged.
+///
+/// # Safety
+/// As `coif_step_colliders`.
+#[no_mangle]
+pub unsafe extern "C" fn coif_strands_solve_sag_free(
+    s: *mut CoifStrands,
+    params: *const CoifSimParams,
+    spheres: *const CoifSphere,
+    sphere_count: usize,
+    capsules: *const CoifCapsule,
+    capsule_count: usize,
+    sdfs: *const CoifSdfSet,
+) -> CoifStatus {
+    guard(|| {
+        // SAFETY: NULL or a live handle not aliased during the call.
+        let h = unsafe { handle_mut(s) }?;
+        // SAFETY: the caller's contract on the pointers.
+        let (params, _, rig) =
+            unsafe { step_inputs(params, spheres, sphere_count, std::ptr::null()) }?;
+        // SAFETY: the caller's contract.
+        let caps = unsafe { check_capsules(capsules, capsule_count) }?;
+        if !sdfs.is_aligned() {
+            return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
+        }
+        // SAFETY: NULL or a live set not written during the call.
+        let fields: &[Sdf] = unsafe { sdfs.as_ref() }.map_or(&[], |set| &set.fields);
+        fill_rig(rig, &mut h.spheres);
+        fill_capsules(caps, &mut h.capsules);
+        let colliders = Colliders {
+            spheres: &h.spheres,
+            capsules: &h.capsules,
+            sdfs: fields,
+        };
+        h.strands.solve_sag_free(&params, &colliders)?;
+        Ok(())
+    })
+}
+
 /// Checks `count` capsules at `capsules` (finite, radius >= 0) and returns
 /// them, without converting anything.
 ///

@@ -884,3 +884,104 @@ fn bad_world_inputs_are_refused_and_change_nothing() {
         coif_strands_free(c);
     }
 }
+
+/// `coif_strands_solve_sag_free` is `Strands::solve_sag_free`: the same
+/// bytes after 60 steps with the springs on (the tips of the middle
+/// strands hang into the sphere, and the groom holds under gravity: the
+/// tips clear of the sphere end within 3 mm of it); a NaN sphere or a bad parameter is
+/// refused and changes nothing.
+#[test]
+fn c_sag_free_solve_matches_rust_bit_for_bit() {
+    let pts = groom();
+    let c_params = CoifSimParams {
+        local_shape_stiffness: 0.7,
+        ..coif_sim_params_default()
+    };
+    let params = SimParams::from(&c_params);
+    let caps = capsules(0);
+    let sph = sphere(0);
+    let colliders = Colliders {
+        spheres: &sph,
+        capsules: &caps,
+        sdfs: &[],
+    };
+    let mut rust = Strands::from_polylines(&pts, VERTS).unwrap();
+    rust.solve_sag_free(&params, &colliders).unwrap();
+    let c = new_strands(&pts);
+    let (c_caps, c_sph) = (c_capsules(&caps), c_spheres(&sph));
+    let before = positions(c);
+    let nan = [CoifSphere {
+        center: [f32::NAN, 0.0, 0.0],
+        radius: 0.1,
+    }];
+    let bad = CoifSimParams {
+        local_shape_stiffness: 2.0,
+        ..c_params
+    };
+    // SAFETY: live handle; every array holds its count.
+    unsafe {
+        assert_eq!(
+            coif_strands_solve_sag_free(c, &c_params, nan.as_ptr(), 1, ptr::null(), 0, ptr::null()),
+            CoifStatus::COIF_ERROR_NON_FINITE
+        );
+        assert_eq!(
+            coif_strands_solve_sag_free(c, &bad, ptr::null(), 0, ptr::null(), 0, ptr::null()),
+            CoifStatus::COIF_ERROR_INVALID_ARGUMENT
+        );
+        assert!(
+            same_bits(&before, &positions(c)),
+            "a refused solve moved the hair"
+        );
+        assert_eq!(
+            coif_strands_solve_sag_free(
+                c,
+                &c_params,
+                c_sph.as_ptr(),
+                1,
+                c_caps.as_ptr(),
+                2,
+                ptr::null()
+            ),
+            CoifStatus::COIF_OK
+        );
+    }
+    for _ in 0..60 {
+        coif_kernels::step_colliders(&mut rust, &params, &colliders);
+        // SAFETY: live handle; every array holds its count.
+        let st = unsafe {
+            coif_step_colliders(
+                c,
+                &c_params,
+                c_sph.as_ptr(),
+                1,
+                c_caps.as_ptr(),
+                2,
+                ptr::null(),
+            )
+        };
+        assert_eq!(st, CoifStatus::COIF_OK);
+    }
+    assert!(
+        same_bits(&flat(&rust.positions()), &positions(c)),
+        "after 60 steps: C != Rust"
+    );
+    let end = rust.positions();
+    let mut held = 0;
+    for i in 0..STRANDS {
+        let tip = i * VERTS + VERTS - 1;
+        // Tips clear of the sphere (the others rest on it).
+        if pts[tip].distance(sph[0].center) > sph[0].radius + 0.01 {
+            assert!(
+                end[tip].distance(pts[tip]) < 0.003,
+                "strand {i}'s tip sagged"
+            );
+            held += 1;
+        }
+    }
+    assert!(
+        held >= STRANDS / 2,
+        "too few tips clear of the sphere: {held}"
+    );
+    // SAFETY: a handle from coif_strands_new, freed once.
+    unsafe { coif_strands_free(c) };
+}

@@ -29,17 +29,23 @@ pub struct Hair {
     pub render: HairRender,
     /// Simulation level of detail from the active camera.
     pub lod: HairLod,
+    /// Before the first step, make the groom the springs' rest state
+    /// against the colliders then in place (coif's
+    /// `Strands::solve_sag_free`): the hair keeps its style at rest instead
+    /// of sagging, and returns to it after the head moves. Default true.
+    pub sag_free: bool,
 }
 
 impl Hair {
     /// A hair of `groom` with coif's styled defaults: the groom held by
-    /// local shape constraints, hair against hair on, centimetre files,
-    /// 24 points per guide.
+    /// local shape springs at `coif::frame::style::SCENE_STIFFNESS` from its
+    /// sag-free rest state (it swings when the head turns and comes back),
+    /// hair against hair on, centimetre files, 24 points per guide.
     pub fn new(groom: Handle<GroomAsset>) -> Self {
         Hair {
             groom,
             params: SimParams {
-                local_shape_stiffness: 1.0,
+                local_shape_stiffness: coif::frame::style::SCENE_STIFFNESS,
                 volume_stiffness: 1.0,
                 hair_friction: 1.0,
                 ..SimParams::default()
@@ -49,6 +55,7 @@ impl Hair {
             guide_stride: 1,
             render: HairRender::default(),
             lod: HairLod::default(),
+            sag_free: true,
         }
     }
 }

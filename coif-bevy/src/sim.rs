@@ -88,6 +88,8 @@ pub struct HairState {
     /// The pose the strands are at (behind `pose` while following).
     pub(crate) stepped_pose: cg::Affine3A,
     pub(crate) following: bool,
+    /// The sag-free rest state was solved (or is not wanted).
+    pub(crate) rest_solved: bool,
     pub(crate) extent: f32,
     pub(crate) render: Option<RenderState>,
     pub(crate) stats: HairStats,
@@ -129,6 +131,7 @@ impl HairState {
             pose,
             stepped_pose: pose,
             following: false,
+            rest_solved: !hair.sag_free,
             extent: (hi - lo).length(),
             render,
             stats: HairStats::default(),
@@ -335,6 +338,14 @@ pub fn step_hairs(
                     "coif-bevy: hair {entity}: the head pose is not rigid ({e}); not stepped"
                 );
                 break;
+            }
+            if !state.rest_solved {
+                state.rest_solved = true;
+                if let Err(e) = state.strands.solve_sag_free(&hair.params, &colliders) {
+                    crate::warn_once!(
+                        "coif-bevy: hair {entity}: no sag-free rest state ({e}); the groom as built"
+                    );
+                }
             }
             step_colliders_with(&mut state.strands, &hair.params, &colliders, exec);
             state.pose = pose;

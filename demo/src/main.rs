@@ -75,10 +75,11 @@ struct Cli {
         conflicts_with = "scene"
     )]
     mesh: Option<PathBuf>,
-    /// Local shape stiffness in [0, 1]: each segment keeps its groomed
-    /// direction in its parent's frame (TressFX 4). Default: 1 for Sintel
-    /// and a loaded groom (they keep their style), 0 for the sphere head
-    /// (its guides grow straight out and must drape).
+    /// Local shape stiffness in [0, 1]: springs keep each segment's groomed
+    /// vector in the head's frame, the groom solved as their rest state
+    /// (sag-free); softer swings more. Default: 0.7 for Sintel and a loaded
+    /// groom (they keep their style and swing), 0 for the sphere head (its
+    /// guides grow straight out and must drape).
     #[arg(long, value_name = "K")]
     local_shape: Option<f32>,
     /// Hair-hair volume in [0, 1]: hair packed denser than its groom is
@@ -611,7 +612,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
     let local_shape = cli
         .local_shape
         .unwrap_or(if cli.groom.is_some() || scene.body.is_some() {
-            1.0
+            coif::frame::style::SCENE_STIFFNESS
         } else {
             0.0
         });

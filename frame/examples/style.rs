@@ -28,6 +28,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ks
     };
     let sag_free = !flag("--no-sag-free");
+    if let Some(field) = &scene.field {
+        let skin = SimParams::default().pearl_radius;
+        let near = scene
+            .guides
+            .chunks(scene.verts)
+            .filter(|g| g[1..].iter().any(|p| field.distance(*p) < skin))
+            .count();
+        println!(
+            "{near} of {} guides have a free vertex within the {} mm skin of the body",
+            scene.guides.len() / scene.verts,
+            skin * 1e3
+        );
+    }
     println!("| local shape | rest drift p95 | kinked at rest / in the turn | swing | 2.5 s after | sag-free solve | step |");
     println!("|---|---|---|---|---|---|---|");
     for k in ks {

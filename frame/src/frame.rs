@@ -239,8 +239,10 @@ pub const MAX_RENDER_VERTICES: usize = 1 << 26;
 impl FramePipeline {
     /// Builds the pipeline for `scene`: the simulation, interpolation,
     /// shading tables and every per-frame buffer (sized for all render
-    /// hairs at the finest level). The hair is first settled for
-    /// `settle_seconds` at rest (0 to [`MAX_SETTLE_SECONDS`]), and the
+    /// hairs at the finest level). With local shape on, the groom's
+    /// sag-free rest state is solved first (`Strands::solve_sag_free`
+    /// against the scene's rig and body at rest). The hair is then settled
+    /// for `settle_seconds` at rest (0 to [`MAX_SETTLE_SECONDS`]), and the
     /// camera framed on the settled hair. Errors: a setting out of range,
     /// a settle out of range, more than [`MAX_RENDER_VERTICES`] render
     /// vertices, or the scene's own.
@@ -290,6 +292,12 @@ impl FramePipeline {
             capsules: &[],
             sdfs: fields.unwrap_or(&[]),
         };
+        // With local shape on, the groom (out of the colliders' skins) is
+        // the springs' equilibrium under these parameters: the hair keeps
+        // its style at rest and returns to it after a turn or a gust.
+        if params.local_shape_stiffness > 0.0 {
+            strands.solve_sag_free(&params, &colliders)?;
+        }
         for _ in 0..settle_steps {
             kernels::step_colliders(&mut strands, &params, &colliders);
         }

@@ -20,12 +20,14 @@
 //!    colliders move to where they are after the substep. The same pass stores the fixed part of the
 //!    constraint directions, `(1/2) d_s(x_n) + (1/4 - a) d_s(x_{n-1})` with
 //!    `d_s(x) = x_{s+1} - x_s`.
-//! 3. **Shape** (optional): TressFX 4's local shape constraints, root to tip
-//!    (segment s is pulled toward its rest vector carried by the minimal
-//!    rotation that takes the parent's rest direction to its current
-//!    direction; the root segment toward the groom frame), the child taking
-//!    the whole correction; then the global shape pull toward
-//!    `root + R rest_v`, weighted `1 - arc(v)/arc(tip)` (Yip 2011).
+//! 3. **Shape** (optional): the local shape springs, an implicit step of
+//!    `E = sum_s (c / l_s)^2 / 2 |e_s - R t_s|^2` (one tridiagonal solve
+//!    per chain with the same matrix for x, y and z; its factors made once
+//!    per step; `R` turned from the last step's groom frame to this one's
+//!    over the substeps; Rayleigh damping as a blend of each rest vector
+//!    with the segment at the substep's start: `shape.rs`); then the global
+//!    shape pull toward `root + R rest_v`, weighted `1 - arc(v)/arc(tip)`
+//!    (Yip 2011).
 //! 4. **Projection** of the length constraints, `iterations` times: per
 //!    chain, with `e_s` the current unit segment directions and the blended
 //!    constraint directions
@@ -42,6 +44,12 @@
 //!    normalised (its multiplier absorbs the scale); it falls back to `e_s`
 //!    where its cosine with `e_s` is below 1/2. With bending on, a sweep of
 //!    i..i+2 distance constraints (Jakobsen 2001) follows each projection.
+//!    With the shape springs on, the projection is skipped and the strain
+//!    limit (6.) holds the lengths: the springs' pull along a turned
+//!    segment asks the exact projection to undo a stretch every substep,
+//!    and the two together pumped energy into short strands (Sintel's
+//!    5 cm locks curled into loops after a head turn; `shape.rs`,
+//!    "Lengths").
 //! 5. **Pearls** against the block's spheres and capsules: `k` points per
 //!    segment pushed out by the Nalu demo's point-on-segment rule (Nguyen
 //!    and Donnelly 2005; `collide/narrow.rs`).

@@ -67,9 +67,6 @@ pub struct Strands {
     /// next step turns the shape springs' rest vectors from it to
     /// `rest_rotation` over its substeps, as it moves the roots.
     pub(crate) stepped_rotation: Mat3,
-    /// The pose [`Strands::solve_sag_free`] left (a hash of its bits):
-    /// a second call finds it and does not relax it again.
-    pub(crate) relaxed_pose: Option<u64>,
     /// Strands restored to rest after going non-finite, since creation.
     pub(crate) restored: u64,
     /// Simulated time in seconds (the steps' `dt` summed): the gusts' clock.
@@ -253,7 +250,6 @@ impl Strands {
             max_rest_segment: 0.0,
             rest_rotation: Mat3::IDENTITY,
             stepped_rotation: Mat3::IDENTITY,
-            relaxed_pose: None,
             restored: 0,
             time: 0.0,
             sleep: vec![BlockSleep::AWAKE; blocks],

@@ -40,7 +40,7 @@ pub const STIFFNESS: [f32; 6] = [1.0, 0.9, 0.7, 0.6, 0.5, 0.3];
 /// library before the springs had a rest state of their own).
 pub const AS_BUILT: [f32; 2] = [1.0, 0.7];
 /// The default scene's stiffness (`demo`, `coif-bevy`).
-pub const SCENE_DEFAULT: f32 = 0.7;
+pub const SCENE_DEFAULT: f32 = coif::frame::style::SCENE_STIFFNESS;
 
 /// One run of the scene at stiffness `k`, with the solve or not, on `path`.
 pub fn run(scene: &StyleScene, k: f32, sag_free: bool, path: Path) -> StyleRun {
