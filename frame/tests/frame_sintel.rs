@@ -26,7 +26,7 @@ fn settings(size: usize) -> FrameSettings {
     let base = FrameSettings::small(size);
     FrameSettings {
         simulation: SimParams {
-            local_shape_stiffness: 1.0,
+            local_shape_stiffness: coif_frame::style::SCENE_STIFFNESS,
             drag: motion::GUST_DRAG,
             turbulence: motion::GUST_TURBULENCE,
             volume_stiffness: 1.0,
