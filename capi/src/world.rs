@@ -404,28 +404,21 @@ pub unsafe extern "C" fn coif_step_colliders_with(
     sdfs: *const CoifSdfSet,
     executor: *const CoifExecutor,
 ) -> CoifStatus {
-    guard(|| {
-        // SAFETY: NULL or a live handle not aliased during the call.
-        let h = unsafe { handle_mut(s) }?;
-        // SAFETY: the caller's contract on the pointers.
-        let (params, exec, rig) = unsafe { step_inputs(params, spheres, sphere_count, executor) }?;
-        // SAFETY: the caller's contract.
-        let caps = unsafe { check_capsules(capsules, capsule_count) }?;
-        if !sdfs.is_aligned() {
-            return Err(CoifStatus::COIF_ERROR_INVALID_ARGUMENT);
-        }
-        // SAFETY: NULL or a live set not written during the call.
-        let fields: &[Sdf] = unsafe { sdfs.as_ref() }.map_or(&[], |set| &set.fields);
-        fill_rig(rig, &mut h.spheres);
-        fill_capsules(caps, &mut h.capsules);
-        let colliders = Colliders {
-            spheres: &h.spheres,
-            capsules: &h.capsules,
-            sdfs: fields,
-        };
-        coif_kernels::step_colliders_with(&mut h.strands, &params, &colliders, exec.get());
-        Ok(())
-    })
+    // SAFETY: the caller's contract, passed on.
+    unsafe {
+        with_world(
+            s,
+            params,
+            (spheres, sphere_count),
+            (capsules, capsule_count),
+            sdfs,
+            executor,
+            |strands, params, colliders, exec| {
+                coif_kernels::step_colliders_with(strands, params, colliders, exec);
+                Ok(())
+            },
+        )
+    }
 }
 
 /// Makes the strands' current pose their rest state under `params`
@@ -452,12 +445,46 @@ pub unsafe extern "C" fn coif_strands_solve_sag_free(
     capsule_count: usize,
     sdfs: *const CoifSdfSet,
 ) -> CoifStatus {
+    // SAFETY: the caller's contract, passed on.
+    unsafe {
+        with_world(
+            s,
+            params,
+            (spheres, sphere_count),
+            (capsules, capsule_count),
+            sdfs,
+            std::ptr::null(),
+            |strands, params, colliders, _| Ok(strands.solve_sag_free(params, colliders)?),
+        )
+    }
+}
+
+/// Every check of a call that takes the world (the handle, the
+/// parameters, the spheres, the capsules, the field set and the executor,
+/// in that order), then `f` on the strands with the colliders gathered
+/// into the handle's own arrays (which allocate only when they grow).
+///
+/// # Safety
+/// As `coif_step_colliders_with`.
+unsafe fn with_world(
+    s: *mut CoifStrands,
+    params: *const CoifSimParams,
+    (spheres, sphere_count): (*const CoifSphere, usize),
+    (capsules, capsule_count): (*const CoifCapsule, usize),
+    sdfs: *const CoifSdfSet,
+    executor: *const CoifExecutor,
+    f: impl FnOnce(
+        &mut coif_kernels::Strands,
+        &coif_kernels::SimParams,
+        &Colliders<'_>,
+        &dyn coif_base::tasks::Executor,
+    ) -> Result<(), CoifStatus>,
+) -> CoifStatus {
     guard(|| {
         // SAFETY: NULL or a live handle not aliased during the call.
         let h = unsafe { handle_mut(s) }?;
         // SAFETY: the caller's contract on the pointers.
-        let (params, _, rig) =
-            unsafe { step_inputs(params, spheres, sphere_count, std::ptr::null()) }?;
+        let (params, exec, rig) = unsafe { step_inputs(params, spheres, sphere_count, executor) }?;
         // SAFETY: the caller's contract.
         let caps = unsafe { check_capsules(capsules, capsule_count) }?;
         if !sdfs.is_aligned() {
@@ -472,8 +499,7 @@ pub unsafe extern "C" fn coif_strands_solve_sag_free(
             capsules: &h.capsules,
             sdfs: fields,
         };
-        h.strands.solve_sag_free(&params, &colliders)?;
-        Ok(())
+        f(&mut h.strands, &params, &colliders, exec.get())
     })
 }
 

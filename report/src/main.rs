@@ -45,6 +45,16 @@ fn machine(load_before: Option<String>) -> String {
     line
 }
 
+/// The machine line of the summary beside `csv` (`summary.md` in the same
+/// folder), if it has one.
+fn previous_machine(csv: &std::path::Path) -> Option<String> {
+    let text = std::fs::read_to_string(csv.with_file_name("summary.md")).ok()?;
+    let line = text.lines().find(|l| l.starts_with("Measured by"))?;
+    let start = line.find("` on ")? + "` on ".len();
+    let end = line.find(". Time is")?;
+    line.get(start..end).map(str::to_string)
+}
+
 fn main() {
     let mut quick = false;
     let mut roofline_only = false;
@@ -129,7 +139,15 @@ fn main() {
                         .filter(|r| report::family_of(&r.kernel).is_none_or(|g| g.name != f.name))
                         .collect();
                     rows.extend((f.measure)(Options { quick }));
-                    let written = report::write(&rows, &out, &machine(load_before));
+                    // The other families' machine, from the summary beside
+                    // the CSV, and this run's for the family.
+                    let before = previous_machine(&file).unwrap_or(MACHINE.to_string());
+                    let line = format!(
+                        "{before}; the {} family measured again alone on {}",
+                        f.name,
+                        machine(load_before)
+                    );
+                    let written = report::write(&rows, &out, &line);
                     (rows, written)
                 }
                 None => {
