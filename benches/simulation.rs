@@ -3,7 +3,7 @@
 //! (`iterations`) {1, 2} at the default 4 substeps of 1/240 s, pearls {0, 1}
 //! and rigs of {1, 16, 256} spheres (head, neck, and the rest of a body rig
 //! a body length away: the broad phase keeps the 254 far ones out of the
-//! narrow phase), plus the default with local shape constraints on
+//! narrow phase), plus the default with local shape springs on
 //! (`shape1`). Throughput is in vertex-steps per second. Sleeping is off
 //! (`sleep_speed` 0) throughout: these are the costs of awake hair.
 //!

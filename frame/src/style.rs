@@ -261,7 +261,8 @@ pub fn kinked_share(now: &[Vec3], groom: &[Vec3], verts: usize, degrees: f32) ->
         for v in 1..verts - 1 {
             count += 1;
             let extra = turning(p, v) - turning(g, v);
-            if !(extra < limit) {
+            // NaN (a degenerate segment) counts as a kink.
+            if extra >= limit || extra.is_nan() {
                 kinked += 1;
             }
         }

@@ -166,7 +166,7 @@ fn no_guide_vertex_ends_inside_the_bust_over_the_default_motion() {
     );
     // The gust reaches the hair: a hundredth of the vertices (the free
     // ends) move by more than 5 mm (measured: 16 mm at its peak, single
-    // strands up to 10 cm); the groom's local shape constraints hold the
+    // strands up to 10 cm); the groom's local shape springs hold the
     // rest within a millimetre.
     assert!(blown > 5e-3, "the gust moved the hair by {blown} m");
 }

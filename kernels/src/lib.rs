@@ -17,7 +17,9 @@
 //! formula, its source and the measurements behind the design) runs
 //! `ceil(dt / max_substep)` substeps (default 4 of 1/240 s): 1 broad phase
 //! against the colliders (once per step) -> 2 Verlet prediction -> 3 local
-//! shape constraints (TressFX 4) and global shape -> 4 projection of the
+//! shape springs, an implicit solve from a sag-free rest state
+//! ([`shape`], [`Strands::solve_sag_free`]), and global shape -> 4
+//! projection of the
 //! length constraints along blended directions by a tridiagonal (Thomas)
 //! solve per chain (fast projection, Goldenthal et al. 2007; SHAKE, Ryckaert
 //! et al. 1977; the trapezoidal rule, Newmark 1959) -> 5 pearls (Nalu's

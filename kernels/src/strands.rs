@@ -590,7 +590,7 @@ impl Strands {
     /// Poses the head in one call: every root moves to `world_from_rest`
     /// applied to where it was built ([`Strands::from_polylines`]), and the
     /// rest frame turns with the pose's rotation
-    /// ([`Strands::set_rest_rotation`]), so that local shape constraints
+    /// ([`Strands::set_rest_rotation`]), so that the local shape springs
     /// keep the groom as the head turns. This is `set_roots` plus
     /// `set_rest_rotation` for a rigid head; a skinned scalp calls those two
     /// itself. Allocates nothing.

@@ -21,7 +21,7 @@
 //! The setting names the stiffness, the sag-free solve (on, or `as
 //! built` for the groom stepped without it) and the swing: the tips'
 //! largest RMS distance from the rigidly carried hair in the turn (goal
-//! >= 10 mm at 0.7, softer swinging no less). Time: ns per vertex-step of
+//! at least 10 mm at 0.7, softer swinging no less). Time: ns per vertex-step of
 //! the step on that scene (one thread, `coif::kernels::step_colliders`
 //! and `scalar::step_colliders`), the median step of the run; the spread
 //! is the range of those medians over the runs (three in a full report,

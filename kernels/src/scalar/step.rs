@@ -9,7 +9,7 @@
 //!    twin of `block_sweep_aabb`) and their reach against the rig, once
 //!    per step.
 //! 2. Prediction: root path, Verlet per substep, fixed direction part.
-//! 3. Shape: local (TressFX 4) and global shape constraints.
+//! 3. Shape: the local shape springs (`shape.rs`) and the global shape pull.
 //! 4. Projection of the length constraints (tridiagonal, blended directions),
 //!    `iterations` times per substep, with bending if on.
 //! 5. Pearls.
