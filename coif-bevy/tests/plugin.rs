@@ -200,6 +200,7 @@ fn same_positions_as_coif_directly() {
     let mut direct: Option<Strands> = None;
     let guides = guides_src.guides(1, 24, 0.01).unwrap();
     let mut steps_seen = 0;
+    let mut solved = false;
     for f in 0..90 {
         let pose = affine(app.world().get::<GlobalTransform>(hair).unwrap());
         if direct.is_none() {
@@ -221,6 +222,12 @@ fn same_positions_as_coif_directly() {
         }];
         for _ in steps_seen..steps {
             d.set_head_pose(pose).unwrap();
+            if !solved {
+                // The plugin's `Hair::sag_free`: before the first step.
+                d.solve_sag_free(&params, &Colliders::spheres(&rig))
+                    .unwrap();
+                solved = true;
+            }
             step_colliders_with(d, &params, &Colliders::spheres(&rig), &Serial);
         }
         steps_seen = steps;
