@@ -116,7 +116,7 @@ pub fn rows(options: Options) -> Vec<Row> {
                 ),
                 (
                     "shape return",
-                    "tips' RMS from the rigidly carried hair 2.5 s after the turn (m)",
+                    "RMS of the tips from the rigidly carried hair 2.5 s after the turn (m)",
                     first.returned as f64,
                 ),
             ] {
