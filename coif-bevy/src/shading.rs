@@ -10,13 +10,13 @@ use coif::shading::marschner::{Lut, LutLayout};
 /// (table lookups), `hair_radiance`; they read the `shading` uniform and
 /// the `lut_m`, `lut_n0`, `lut_n1` textures, which the file after them
 /// binds.
-pub const HAIR_FUNCTIONS_WGSL: &str = include_str!("hair.wgsl");
+pub const HAIR_FUNCTIONS_WGSL: &str = include_str!("../../gpu/src/shaders/hair_shading.wgsl");
 
 /// A standalone shader: the functions and a vertex/fragment pair over the
 /// plugin's hair mesh with its own bind group 0 (view, `HairShading`, three
 /// tables), for a renderer that is not Bevy's.
 pub const HAIR_WGSL: &str = concat!(
-    include_str!("hair.wgsl"),
+    include_str!("../../gpu/src/shaders/hair_shading.wgsl"),
     include_str!("hair_standalone.wgsl"),
     include_str!("hair_mesh.wgsl")
 );
@@ -25,7 +25,7 @@ pub const HAIR_WGSL: &str = concat!(
 /// functions, Bevy's view uniform (group 0, binding 0), the material's
 /// bindings in group 3 and the vertex/fragment pair.
 pub const HAIR_MATERIAL_WGSL: &str = concat!(
-    include_str!("hair.wgsl"),
+    include_str!("../../gpu/src/shaders/hair_shading.wgsl"),
     include_str!("hair_material.wgsl"),
     include_str!("hair_mesh.wgsl")
 );

@@ -8,12 +8,12 @@
 //
 // This file has the shading functions only: they read the module-scope
 // `shading` uniform and the `lut_m`, `lut_n0`, `lut_n1` textures, which the
-// file appended to it binds: hair_standalone.wgsl (its own pipeline,
-// `HAIR_WGSL`) or hair_material.wgsl (Bevy's material, `HAIR_MATERIAL_WGSL`),
-// then hair_mesh.wgsl, the vertex and fragment stages both share.
-// Both are validated by naga at test time (coif-bevy/tests/wgsl.rs), which
-// also checks a line-by-line Rust port of these functions against coif's
-// CPU shading.
+// module it is part of binds: coif-gpu's `hair_draw` pipeline
+// (shaders/draw.wgsl), and in coif-bevy the GPU path's material and the CPU
+// mesh path's (hair_standalone.wgsl or hair_material.wgsl, then
+// hair_mesh.wgsl). Every module is validated by naga at test time
+// (gpu/tests/shaders.rs, coif-bevy/tests/wgsl.rs, which also checks a
+// line-by-line Rust port of these functions against coif's CPU shading).
 
 struct HairShading {
     // Kajiya-Kay: diffuse K_d (w unused), each highlight's colour (rgb) and
@@ -131,10 +131,15 @@ fn marschner(t: vec3<f32>, wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
     return max(vec3<f32>(m.x * n0.x) + n0.yzw * m.y + n1.xyz * m.z, vec3<f32>(0.0));
 }
 
-// The hair's radiance toward the eye: the blend of the two models, times
-// the light.
-fn hair_radiance(t: vec3<f32>, wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
+// The blend of the two models for a light of unit intensity from wi (what
+// an engine multiplies by each of its lights' colour and shadow).
+fn hair_scattering(t: vec3<f32>, wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
     let w = shading.lut.z;
-    let c = kajiya_kay(t, wi, wo) * (1.0 - w) + marschner(t, wi, wo) * w;
-    return c * shading.light.w;
+    return kajiya_kay(t, wi, wo) * (1.0 - w) + marschner(t, wi, wo) * w;
+}
+
+// The hair's radiance toward the eye under the uniform's own light:
+// hair_scattering times its intensity.
+fn hair_radiance(t: vec3<f32>, wi: vec3<f32>, wo: vec3<f32>) -> vec3<f32> {
+    return hair_scattering(t, wi, wo) * shading.light.w;
 }
