@@ -315,6 +315,71 @@ typedef struct CoifDualScatteringSettings {
     size_t resolution;
 } CoifDualScatteringSettings;
 
+// The view and level of detail of one hair's draw, 192 bytes: the
+// uniform of coif's shaders, the layout of `coif_gpu::HairView` (matrices
+// column major, `m[column][row]`). The engine fills it every frame; start
+// from `coif_gpu_hair_view_default()`.
+typedef struct CoifGpuHairView {
+    // The view's clip-from-world matrix, column major (unused by the
+    // compute entry point).
+    float clip_from_world[4][4];
+    // World from the guides' frame, column major: the translation to
+    // `coif_strands_origin` and any rigid motion of the hair since it was
+    // stepped.
+    float world_from_local[4][4];
+    // xyz the eye (w = 1, perspective) or the direction toward the viewer
+    // (w = 0, orthographic).
+    float eye[4];
+    // `V`, control points per guide (`coif_strands_verts_per_strand`, at
+    // least 2).
+    uint32_t control_verts;
+    // `N`, segments per B-spline span (at least 1).
+    uint32_t segments_per_span;
+    // Render hairs drawn: the first `hairs` entries of the hairs buffer
+    // (`coif_gpu_render_hair_count` of the groups drawn).
+    uint32_t hairs;
+    // `R = (V - 1) N + 1`, render vertices per hair.
+    uint32_t verts_per_hair;
+    // Width at the root, metres.
+    float root_width;
+    // Width at the tip, metres.
+    float tip_width;
+    // The LOD width factor (`coif_hairs_distance_lod`), 1 at full detail.
+    float width_factor;
+    // The narrowest ribbon drawn, pixels; thinner hair fades.
+    float min_width_px;
+    // `0.5 * viewport height * clip_from_view[1][1]`: pixels per metre at
+    // a point is this over the point's clip `w`.
+    float pixels_per_clip;
+    // Padding to a multiple of 16 bytes (0).
+    float padding[3];
+} CoifGpuHairView;
+
+// One guide vertex of the guides buffer, 16 bytes, the layout of
+// `coif_gpu::GuideVertex` (WGSL `vec4<f32>`): the position relative to
+// `coif_strands_origin` of the guides, metres; `w` is 0.
+typedef struct CoifGpuGuideVertex {
+    // Position relative to the guides' origin, metres.
+    float position[3];
+    // Unused (0).
+    float w;
+} CoifGpuGuideVertex;
+
+// One render hair of the hairs buffer, 32 bytes, the layout of
+// `coif_gpu::RenderHair`: the corner guides `(A, B, C)` of its scalp
+// triangle (strand indices of the guides) and its barycentric weights
+// `(b_A, b_B, b_C)`.
+typedef struct CoifGpuRenderHair {
+    // Guide indices (A, B, C).
+    uint32_t guides[3];
+    // Unused (0).
+    uint32_t reserved;
+    // Barycentric weights (b_A, b_B, b_C).
+    float weights[3];
+    // Unused (0).
+    float reserved_weight;
+} CoifGpuRenderHair;
+
 // The engine's parallel-for: calls `task(task_ctx, i)` exactly once for
 // every `i` in `0..count`, in any order, on any of its threads (the calling
 // thread included), and returns only after every call has returned. `ctx`
@@ -1455,6 +1520,61 @@ enum CoifStatus coif_shade_pbrt_table_dual_with(const struct CoifPbrtTable *tabl
                                                 size_t capacity,
                                                 const struct CoifExecutor *executor);
 
+// The view of `coif_gpu::HairView::default()`: identity matrices, no
+// hairs, `V = 2`, `N = 1` (`verts_per_hair` 2), 80 to 40 micrometre wide
+// hair, width factor 1, one pixel at least, `pixels_per_clip` 1, the eye
+// direction +z (orthographic).
+struct CoifGpuHairView coif_gpu_hair_view_default(void);
+
+// Packs every guide vertex of `s` into the guides buffer `out`, which
+// holds `capacity` entries, at least `coif_strands_point_count(s)`: guide
+// after guide, root first (vertex `v` of guide `g` at `g V + v`),
+// positions relative to `coif_strands_origin(s)`, `w` 0
+// (`coif_gpu::pack_guides`). `*written` (unless NULL) is the number
+// written, `coif_strands_point_count(s)`. Non-finite positions are copied
+// as they are. Call it every frame after the step; allocates nothing.
+//
+// Errors: `COIF_ERROR_NULL` (`s` or `out`), `COIF_ERROR_INVALID_ARGUMENT`
+// (a misaligned buffer or count), `COIF_ERROR_BUFFER_TOO_SMALL` (nothing
+// written).
+//
+// # Safety
+// `s` is NULL or a live handle; `out` is NULL or points to `capacity`
+// writable guide vertices; `written` is NULL or writable.
+enum CoifStatus coif_gpu_pack_guides(const struct CoifStrands *s,
+                                     struct CoifGpuGuideVertex *out,
+                                     size_t capacity,
+                                     size_t *written);
+
+// Packs every render hair of `h` into the hairs buffer `out`, which holds
+// `capacity` entries, at least `coif_hairs_hair_count(h)`, in the order
+// `coif_hairs_write_vertices` writes their vertices: group after group (a
+// prefix is an even thinning of the scalp, `coif_gpu_render_hair_count`),
+// each hair its scalp triangle's guides and its barycentric weights
+// (`coif_gpu::pack_hairs`). `*written` (unless NULL) is the number
+// written, `coif_hairs_hair_count(h)`. Once per set of render hairs.
+//
+// Errors: `COIF_ERROR_NULL` (`h` or `out`, even with no hairs),
+// `COIF_ERROR_INVALID_ARGUMENT` (a misaligned buffer or count),
+// `COIF_ERROR_BUFFER_TOO_SMALL` (nothing written).
+//
+// # Safety
+// `h` is NULL or a live handle; `out` is NULL or points to `capacity`
+// writable render hairs; `written` is NULL or writable.
+enum CoifStatus coif_gpu_pack_hairs(const struct CoifHairs *h,
+                                    struct CoifGpuRenderHair *out,
+                                    size_t capacity,
+                                    size_t *written);
+
+// Render hairs drawn when the first `groups_drawn` groups are (all of
+// them for `groups_drawn >= coif_hairs_group_count(h)`): the `hairs` field
+// of `CoifGpuHairView` for the groups `coif_hairs_distance_lod` gives
+// (`coif_gpu::render_hair_count`). 0 for NULL.
+//
+// # Safety
+// `h` is NULL or a live handle.
+size_t coif_gpu_render_hair_count(const struct CoifHairs *h, size_t groups_drawn);
+
 #ifdef __cplusplus
 }  // extern "C"
 #endif  // __cplusplus
@@ -1468,11 +1588,29 @@ static_assert(sizeof(CoifRenderVertex) == 32, "CoifRenderVertex is 32 bytes");
 static_assert(offsetof(CoifRenderVertex, width) == 12, "width at byte 12");
 static_assert(offsetof(CoifRenderVertex, tangent) == 16, "tangent at byte 16");
 static_assert(offsetof(CoifRenderVertex, strand_parameter) == 28, "strand_parameter at byte 28");
+static_assert(sizeof(CoifGpuGuideVertex) == 16, "CoifGpuGuideVertex is 16 bytes");
+static_assert(sizeof(CoifGpuRenderHair) == 32, "CoifGpuRenderHair is 32 bytes");
+static_assert(offsetof(CoifGpuRenderHair, weights) == 16, "weights at byte 16");
+static_assert(sizeof(CoifGpuHairView) == 192, "CoifGpuHairView is 192 bytes");
+static_assert(offsetof(CoifGpuHairView, world_from_local) == 64, "world_from_local at byte 64");
+static_assert(offsetof(CoifGpuHairView, eye) == 128, "eye at byte 128");
+static_assert(offsetof(CoifGpuHairView, control_verts) == 144, "control_verts at byte 144");
+static_assert(offsetof(CoifGpuHairView, root_width) == 160, "root_width at byte 160");
+static_assert(offsetof(CoifGpuHairView, pixels_per_clip) == 176, "pixels_per_clip at byte 176");
 #else
 /* C99 has no _Static_assert: an array of negative size fails to compile. */
 typedef char coif_render_vertex_is_32_bytes[sizeof(CoifRenderVertex) == 32 ? 1 : -1];
 typedef char coif_render_vertex_width_at_12[offsetof(CoifRenderVertex, width) == 12 ? 1 : -1];
 typedef char coif_render_vertex_tangent_at_16[offsetof(CoifRenderVertex, tangent) == 16 ? 1 : -1];
 typedef char coif_render_vertex_parameter_at_28[offsetof(CoifRenderVertex, strand_parameter) == 28 ? 1 : -1];
+typedef char coif_gpu_guide_vertex_is_16_bytes[sizeof(CoifGpuGuideVertex) == 16 ? 1 : -1];
+typedef char coif_gpu_render_hair_is_32_bytes[sizeof(CoifGpuRenderHair) == 32 ? 1 : -1];
+typedef char coif_gpu_render_hair_weights_at_16[offsetof(CoifGpuRenderHair, weights) == 16 ? 1 : -1];
+typedef char coif_gpu_hair_view_is_192_bytes[sizeof(CoifGpuHairView) == 192 ? 1 : -1];
+typedef char coif_gpu_hair_view_placement_at_64[offsetof(CoifGpuHairView, world_from_local) == 64 ? 1 : -1];
+typedef char coif_gpu_hair_view_eye_at_128[offsetof(CoifGpuHairView, eye) == 128 ? 1 : -1];
+typedef char coif_gpu_hair_view_level_at_144[offsetof(CoifGpuHairView, control_verts) == 144 ? 1 : -1];
+typedef char coif_gpu_hair_view_widths_at_160[offsetof(CoifGpuHairView, root_width) == 160 ? 1 : -1];
+typedef char coif_gpu_hair_view_pixels_at_176[offsetof(CoifGpuHairView, pixels_per_clip) == 176 ? 1 : -1];
 #endif
 #endif

@@ -6,7 +6,9 @@
 //! rig of spheres ([`coif_step`]) and reads the positions back into a buffer
 //! it owns ([`coif_strands_positions`]); [`coif_step_colliders`] steps
 //! against capsules and mesh fields too, with wind and drag
-//! ([`world`]). The header `include/coif.h` is
+//! ([`world`]). An engine that makes the render hairs on the GPU with
+//! coif-gpu's shaders packs the guides and render hairs into its buffers
+//! and fills the view uniform ([`gpu`]). The header `include/coif.h` is
 //! generated from this file by cbindgen (`cbindgen.toml`); a test fails when
 //! the committed header differs from what cbindgen generates now.
 //!
@@ -36,8 +38,10 @@ pub mod tasks;
 pub mod world;
 // After the modules it builds on, so the header declares it after them.
 pub mod dual_scattering;
+pub mod gpu;
 
 pub use dual_scattering::*;
+pub use gpu::*;
 pub use groom::*;
 pub use lod::*;
 pub use patch::*;

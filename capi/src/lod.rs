@@ -229,7 +229,7 @@ pub extern "C" fn coif_hair_settings_default() -> CoifHairSettings {
 /// by `coif_hairs_new`, freed by `coif_hairs_free`): where each hair sits,
 /// and the buffers of a frame, sized once.
 pub struct CoifHairs {
-    interpolation: Interpolation,
+    pub(crate) interpolation: Interpolation,
     guides: RefinedGuides,
     hairs: RenderHairs,
     width: HairWidth,

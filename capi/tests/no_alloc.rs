@@ -3,6 +3,7 @@
 //! parallel-for that runs the tasks in order on the calling thread, split
 //! for four workers), `coif_strands_set_roots`, `coif_strands_positions`,
 //! `coif_refine`, `coif_hairs_distance_lod`, `coif_hairs_write_vertices`,
+//! `coif_gpu_pack_guides`, `coif_gpu_render_hair_count`,
 //! `coif_shade_kajiya_kay`, `coif_shade_marschner_lut`,
 //! `coif_shade_pbrt_table` and their `_with` forms, the dual scattering
 //! calls `coif_shade_*_dual` and their `_with` forms (counts behind given
@@ -235,6 +236,7 @@ fn per_frame_calls_do_not_allocate() {
         let vertex_len = coif_hairs_vertex_bound(hairs, 8, usize::MAX);
         assert!(vertex_len > 0);
         let mut vertices = vec![CoifRenderVertex::default(); vertex_len];
+        let mut gpu_guides = vec![CoifGpuGuideVertex::default(); STRANDS * VERTS];
         let mut rgb = vec![0.0f32; 3 * vertex_len];
         // Per-vertex shadowing for dual scattering (an opacity map's counts).
         let fibres: Vec<f32> = (0..vertex_len).map(|k| (k % 11) as f32).collect();
@@ -276,6 +278,15 @@ fn per_frame_calls_do_not_allocate() {
                 coif_strands_positions(c, out.as_mut_ptr(), STRANDS * VERTS),
                 CoifStatus::COIF_OK
             );
+            // The GPU path's per-frame calls: the guides buffer and the
+            // view's hair count.
+            let mut packed = 0usize;
+            assert_eq!(
+                coif_gpu_pack_guides(c, gpu_guides.as_mut_ptr(), gpu_guides.len(), &mut packed),
+                CoifStatus::COIF_OK
+            );
+            assert_eq!(packed, STRANDS * VERTS);
+            assert!(coif_gpu_render_hair_count(hairs, frame) > 0 || frame == 0);
             patch_grid[0] = 0.001 * frame as f32;
             assert_eq!(
                 coif_patch_set_skinned(patch, patch_grid.as_ptr(), patch_n),
