@@ -1,10 +1,12 @@
 /* sintel.c: groom file to shaded render-hair buffers through the C
- * interface, over a head turn, with timings (C99). The C twin of
- * examples/engine.rs: load a .tfx (any vertex counts: resampled), fit the
- * head, triangulate the scalp, make render hairs, then per frame one head
- * pose, one step, the render vertices and their Kajiya-Kay colours into
- * buffers sized once. Usage: sintel GROOM.tfx (the test passes the
- * project's shipped assets/sintel/sintel_lite.tfx). */
+ * interface, over a head turn, with timings (C11: the timer is C11's
+ * timespec_get, which C99 lacks; tests/c_examples.rs compiles it with
+ * -std=c11). The C twin of examples/engine.rs: load a .tfx (any vertex
+ * counts: resampled), fit the head, triangulate the scalp, make render
+ * hairs, then per frame one head pose, one step, the render vertices and
+ * their Kajiya-Kay colours into buffers sized once. Usage: sintel
+ * GROOM.tfx (the test passes the project's shipped
+ * assets/sintel/sintel_lite.tfx). */
 #include "checks.h"
 
 #include <math.h>

@@ -1,5 +1,6 @@
 //! Builds `examples/hang.c`, `examples/engine.c`, `examples/jobs.c` and
-//! `examples/world.c` (C99, `jobs.c` with `-pthread`) and
+//! `examples/world.c` (C99, `jobs.c` with `-pthread`), `examples/sintel.c`
+//! (C11: it times its frames with `timespec_get`, which C99 lacks) and
 //! `examples/hang.cpp` and `examples/world.cpp` (C++17, with `-pthread`) against the static library and the committed
 //! header with the system C and C++ compilers (`-Wall -Wextra -Werror
 //! -pedantic`), runs them (with the shared groom `sintel_lite.tfx` as
@@ -153,6 +154,7 @@ fn sintel_c_goes_from_a_groom_file_to_shaded_vertices() {
         return;
     };
     let groom = capi_dir().join("../assets/sintel/sintel_lite.tfx");
+    // C11, not C99: its timer is `timespec_get`.
     let stdout = build_and_run(&cc, &["-std=c11"], "sintel.c", "sintel_c", &[groom]);
     assert!(stdout.contains("sintel.c: all checks passed"), "{stdout}");
     assert!(stdout.contains("sintel.c: 228 strands, "), "{stdout}");
