@@ -13,7 +13,13 @@
 //! `--frames N --screenshot PATH` renders N frames once the hair exists,
 //! saves the window (or with `--headless`, an image render target: no
 //! window, no display) as a PNG and exits. `--size WxH` (default 960x720),
-//! `--wind` starts with the wind on.
+//! `--wind` starts with the wind on. `--draw-path gpu|cpu-mesh` (default
+//! gpu) picks how the hair is drawn (`HairDrawPath`); `--timings PATH.csv`
+//! writes one row per frame once the hair exists:
+//! `frame,step_ms,plugin_ms,upload_bytes,hairs,path` (`plugin_ms`: the
+//! plugin's CPU time that frame outside the step; `upload_bytes`: what it
+//! handed to the GPU). The frame rate and per-frame times are printed to
+//! standard output (every 60 frames, and a summary at the end).
 #[path = "common/scene.rs"]
 mod scene;
 
@@ -26,8 +32,9 @@ use bevy::time::TimeUpdateStrategy;
 use bevy::window::{ExitCondition, PrimaryWindow, WindowResolution};
 use bevy::winit::WinitPlugin;
 use coif_bevy::headless::{self, Capture};
-use coif_bevy::{HairPlugin, HairState};
+use coif_bevy::{ActiveDrawPath, HairDrawPath, HairPlugin, HairState};
 use scene::{Wind, TARGET};
+use std::io::Write;
 use std::time::Duration;
 
 struct Args {
@@ -36,6 +43,8 @@ struct Args {
     headless: bool,
     size: (u32, u32),
     wind: bool,
+    draw_path: HairDrawPath,
+    timings: Option<String>,
 }
 
 fn parse_args() -> Result<Args, String> {
@@ -45,6 +54,8 @@ fn parse_args() -> Result<Args, String> {
         headless: false,
         size: (960, 720),
         wind: false,
+        draw_path: HairDrawPath::Gpu,
+        timings: None,
     };
     let mut it = std::env::args().skip(1);
     while let Some(a) = it.next() {
@@ -56,6 +67,14 @@ fn parse_args() -> Result<Args, String> {
             }
             "--screenshot" => args.screenshot = Some(value("--screenshot")?),
             "--headless" => args.headless = true,
+            "--timings" => args.timings = Some(value("--timings")?),
+            "--draw-path" => {
+                args.draw_path = match value("--draw-path")?.as_str() {
+                    "gpu" => HairDrawPath::Gpu,
+                    "cpu-mesh" => HairDrawPath::CpuMesh,
+                    other => return Err(format!("--draw-path {other}: gpu or cpu-mesh")),
+                }
+            }
             "--wind" => args.wind = true,
             "--size" => {
                 let v = value("--size")?;
@@ -67,7 +86,7 @@ fn parse_args() -> Result<Args, String> {
             }
             "--help" | "-h" => {
                 println!(
-                    "sintel [--frames N] [--screenshot PATH.png] [--headless] [--size WxH] [--wind]"
+                    "sintel [--frames N] [--screenshot PATH.png] [--headless] [--size WxH] [--wind] [--draw-path gpu|cpu-mesh] [--timings PATH.csv]"
                 );
                 std::process::exit(0);
             }
@@ -136,25 +155,37 @@ fn main() {
             ..default()
         }));
     }
-    app.add_plugins(HairPlugin::default())
-        .insert_resource(ClearColor(Color::srgb(0.16, 0.17, 0.20)))
-        .insert_resource(Wind { on: args.wind })
-        .insert_resource(Orbit {
-            yaw: -0.4,
-            pitch: 0.12,
-            distance: 0.75,
-        })
-        .add_systems(
-            Update,
-            (
-                scene::draw_bodies,
-                scene::turn_head,
-                scene::blow,
-                toggle_wind,
-                orbit,
-                title,
-            ),
-        );
+    let timings = match FrameLog::new(args.timings.as_deref()) {
+        Ok(t) => t,
+        Err(e) => {
+            eprintln!("sintel: {e}");
+            std::process::exit(2);
+        }
+    };
+    app.add_plugins(HairPlugin {
+        draw_path: args.draw_path,
+        ..default()
+    })
+    .insert_resource(timings)
+    .add_systems(Last, log_frame)
+    .insert_resource(ClearColor(Color::srgb(0.16, 0.17, 0.20)))
+    .insert_resource(Wind { on: args.wind })
+    .insert_resource(Orbit {
+        yaw: -0.4,
+        pitch: 0.12,
+        distance: 0.75,
+    })
+    .add_systems(
+        Update,
+        (
+            scene::draw_bodies,
+            scene::turn_head,
+            scene::blow,
+            toggle_wind,
+            orbit,
+            title,
+        ),
+    );
     let (w, h) = args.size;
     let image = if args.headless {
         let handle = app
@@ -218,8 +249,17 @@ fn run_headless(
     println!("adapter: {adapter}");
     headless::finish_plugins(app);
     let mut counted = 0;
+    let device = app
+        .world()
+        .get_resource::<bevy::render::renderer::RenderDevice>()
+        .cloned();
     for _ in 0..frames + 10_000 {
         app.update();
+        // Each frame's GPU work finished before the next: the frame time
+        // logged is the whole frame's, not only the CPU's.
+        if let Some(d) = device.as_ref() {
+            let _ = d.wgpu_device().poll(wgpu::PollType::wait_indefinitely());
+        }
         let mut hairs = app.world_mut().query::<&HairState>();
         if hairs.iter(app.world()).next().is_some() {
             counted += 1;
@@ -232,6 +272,9 @@ fn run_headless(
     }
     if counted < frames {
         return Err("the groom never loaded".into());
+    }
+    if let Some(log) = app.world().get_resource::<FrameLog>() {
+        log.summary();
     }
     let world = app.world_mut();
     Capture::request(&mut world.commands(), image);
@@ -324,7 +367,10 @@ fn unattended(
     commands
         .spawn(Screenshot(RenderTarget::Window(default())))
         .observe(
-            move |captured: On<ScreenshotCaptured>, mut exit: MessageWriter<AppExit>| {
+            move |captured: On<ScreenshotCaptured>,
+                  log: Res<FrameLog>,
+                  mut exit: MessageWriter<AppExit>| {
+                log.summary();
                 let written = headless::rgba8(&captured.image)
                     .ok_or_else(|| "unexpected screenshot format".to_string())
                     .and_then(|(w, h, rgba)| scene::write_png(&path, w, h, &rgba));
@@ -340,4 +386,102 @@ fn unattended(
                 }
             },
         );
+}
+
+/// Per-frame times once the hair exists: the CSV of `--timings`, and the
+/// frame rate on standard output.
+#[derive(Resource)]
+struct FrameLog {
+    csv: Option<std::io::BufWriter<std::fs::File>>,
+    frames: usize,
+    /// (frame ms, step ms, plugin ms, upload bytes) of every frame logged.
+    rows: Vec<(f64, f32, f32, usize)>,
+}
+
+impl FrameLog {
+    fn new(path: Option<&str>) -> Result<FrameLog, String> {
+        let csv = match path {
+            Some(p) => {
+                let file = std::fs::File::create(p).map_err(|e| format!("{p}: {e}"))?;
+                let mut w = std::io::BufWriter::new(file);
+                writeln!(w, "frame,step_ms,plugin_ms,upload_bytes,hairs,path")
+                    .map_err(|e| format!("{p}: {e}"))?;
+                Some(w)
+            }
+            None => None,
+        };
+        Ok(FrameLog {
+            csv,
+            frames: 0,
+            rows: Vec::new(),
+        })
+    }
+
+    /// Frames, mean frame time and rate, median step and plugin times,
+    /// mean upload, over the frames logged so far (the first 10 dropped
+    /// as warm-up when there are more than 20).
+    fn summary(&self) {
+        let skip = if self.rows.len() > 20 { 10 } else { 0 };
+        let rows = &self.rows[skip..];
+        if rows.is_empty() {
+            return;
+        }
+        let median = |mut v: Vec<f32>| {
+            v.sort_by(f32::total_cmp);
+            v[v.len() / 2]
+        };
+        let frame_ms = rows.iter().map(|r| r.0).sum::<f64>() / rows.len() as f64;
+        println!(
+            "frames {}: {:.1} ms a frame ({:.1} fps), step {:.2} ms, plugin {:.3} ms (medians), {:.0} bytes uploaded a frame",
+            rows.len(),
+            frame_ms,
+            1e3 / frame_ms.max(1e-9),
+            median(rows.iter().map(|r| r.1).collect()),
+            median(rows.iter().map(|r| r.2).collect()),
+            rows.iter().map(|r| r.3 as f64).sum::<f64>() / rows.len() as f64,
+        );
+    }
+}
+
+/// Logs the frame that just ended (`Last`): a CSV row, and every 60
+/// frames the rate so far on standard output.
+fn log_frame(
+    time: Res<Time<Real>>,
+    hairs: Query<&HairState>,
+    path: Option<Res<ActiveDrawPath>>,
+    mut log: ResMut<FrameLog>,
+) {
+    let Some(state) = hairs.iter().next() else {
+        return;
+    };
+    let s = state.stats();
+    let frame_ms = time.delta_secs_f64() * 1e3;
+    let path = match path.map(|p| p.0) {
+        Some(HairDrawPath::Gpu) => "gpu",
+        _ => "cpu-mesh",
+    };
+    let frame = log.frames;
+    log.frames += 1;
+    log.rows
+        .push((frame_ms, s.step_ms, s.plugin_ms, s.upload_bytes));
+    if let Some(csv) = log.csv.as_mut() {
+        let _ = writeln!(
+            csv,
+            "{frame},{:.4},{:.4},{},{},{path}",
+            s.step_ms, s.plugin_ms, s.upload_bytes, s.render_hairs
+        );
+        let _ = csv.flush();
+    }
+    if log.frames % 60 == 0 {
+        println!(
+            "frame {}: {:.1} ms ({:.1} fps), step {:.2} ms, plugin {:.3} ms, {} bytes uploaded, {} hairs ({path})",
+            log.frames,
+            frame_ms,
+            1e3 / frame_ms.max(1e-9),
+            s.step_ms,
+            s.plugin_ms,
+            s.upload_bytes,
+            s.render_hairs
+        );
+    }
 }

@@ -69,6 +69,25 @@ pub enum HairPrimitive {
     Lines,
 }
 
+/// How the plugin draws hair ([`crate::HairPlugin::draw_path`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum HairDrawPath {
+    /// On the GPU (feature `render`): the guides uploaded once a frame
+    /// (16 bytes per guide vertex) into a persistent storage buffer, the
+    /// render hairs refined, interpolated and expanded into ribbons in the
+    /// vertex shader (coif-gpu's `render_vertex`), lit by Bevy's
+    /// directional lights with their shadows, and casting into Bevy's
+    /// shadow maps. Needs storage buffers in the vertex stage.
+    #[default]
+    Gpu,
+    /// On the CPU: refinement, interpolation and ribbons written into a
+    /// Bevy `Mesh` every frame (uploaded whole), drawn by `HairMaterial`
+    /// under its own light. For targets without storage buffers in the
+    /// vertex stage (WebGL2), and apps without Bevy's renderer (the meshes
+    /// are still built for them to use).
+    CpuMesh,
+}
+
 /// Render settings of a [`Hair`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HairRender {
@@ -93,6 +112,10 @@ pub struct HairRender {
     pub full_detail_px: f32,
     /// Smallest share of render hairs drawn.
     pub min_share: f32,
+    /// GPU path: the narrowest ribbon drawn, in pixels; a hair thinner on
+    /// screen is drawn this wide with its coverage kept by a dithered
+    /// fade, instead of aliasing.
+    pub min_width_px: f32,
     /// Seed of the render hairs' placement on the scalp.
     pub seed: u64,
 }
@@ -109,6 +132,7 @@ impl Default for HairRender {
             width_scale: 1.0,
             full_detail_px: 400.0,
             min_share: 0.05,
+            min_width_px: 1.0,
             seed: 7,
         }
     }

@@ -58,6 +58,8 @@ pub mod assets;
 pub mod components;
 pub mod executor;
 #[cfg(feature = "render")]
+pub mod gpu;
+#[cfg(feature = "render")]
 pub mod headless;
 #[cfg(feature = "render")]
 pub mod material;
@@ -67,13 +69,14 @@ pub mod sim;
 
 pub use assets::{BodyMeshAsset, BodyMeshLoader, BodyMeshSettings, GroomAsset, GroomLoader};
 pub use components::{
-    CapsuleCollider, Hair, HairLod, HairPrimitive, HairRender, MeshCollider, SphereCollider,
+    CapsuleCollider, Hair, HairDrawPath, HairLod, HairPrimitive, HairRender, MeshCollider,
+    SphereCollider,
 };
 pub use executor::TaskPoolExecutor;
 #[cfg(feature = "render")]
 pub use material::{DefaultHairMaterial, HairLook, HairMaterial};
 pub use render::HairMeshOf;
-pub use sim::{HairExecutor, HairFields, HairState, HairStats};
+pub use sim::{ActiveDrawPath, HairExecutor, HairFields, HairState, HairStats};
 
 use bevy::prelude::*;
 use bevy::transform::TransformSystems;
@@ -108,6 +111,11 @@ pub struct HairPlugin {
     /// added before this plugin, as `DefaultPlugins` does); an app
     /// without it (e.g. `MinimalPlugins`) runs as without the feature.
     pub material: bool,
+    /// How hair is drawn: on the GPU (the default, with the `render`
+    /// feature, where the app has Bevy's renderer) or through a CPU-built
+    /// mesh. Without the feature or a renderer the CPU meshes are built
+    /// whatever this says ([`ActiveDrawPath`] tells which runs).
+    pub draw_path: HairDrawPath,
 }
 
 impl Default for HairPlugin {
@@ -117,6 +125,7 @@ impl Default for HairPlugin {
             executor: HairExecutor::TaskPool,
             meshes: true,
             material: true,
+            draw_path: HairDrawPath::Gpu,
         }
     }
 }
@@ -146,23 +155,50 @@ impl Plugin for HairPlugin {
             )
             .add_systems(FixedUpdate, sim::step_hairs.in_set(HairSystems::Step))
             .add_systems(Update, sim::choose_sim_lod.in_set(HairSystems::Lod));
-        if self.meshes {
-            app.add_systems(
-                PostUpdate,
-                (render::remove_orphan_meshes, render::build_hair_meshes).in_set(HairSystems::Mesh),
-            );
-            #[cfg(feature = "render")]
-            if self.material && app.is_plugin_added::<bevy::pbr::PbrPlugin>() {
-                material::register_shader(app);
-                app.add_plugins(bevy::pbr::MaterialPlugin::<HairMaterial>::default())
-                    .init_resource::<HairLook>()
-                    .add_systems(
-                        PostUpdate,
-                        material::attach_hair_material
-                            .after(render::build_hair_meshes)
-                            .in_set(HairSystems::Mesh),
-                    );
-            }
+        if !self.meshes {
+            return;
+        }
+        #[cfg(feature = "render")]
+        let renderer = self.material && app.is_plugin_added::<bevy::pbr::PbrPlugin>();
+        #[cfg(not(feature = "render"))]
+        let renderer = false;
+        let path = if renderer {
+            self.draw_path
+        } else {
+            HairDrawPath::CpuMesh
+        };
+        app.insert_resource(ActiveDrawPath(path)).add_systems(
+            PostUpdate,
+            render::remove_orphan_meshes.in_set(HairSystems::Mesh),
+        );
+        #[cfg(feature = "render")]
+        if renderer && path == HairDrawPath::Gpu {
+            gpu::register_shaders(app);
+            app.add_plugins(bevy::pbr::MaterialPlugin::<gpu::GpuHairMaterial>::default())
+                .init_resource::<HairLook>()
+                .add_systems(
+                    PostUpdate,
+                    (gpu::init_gpu_hairs, gpu::update_gpu_hairs)
+                        .chain()
+                        .in_set(HairSystems::Mesh),
+                );
+            return;
+        }
+        app.add_systems(
+            PostUpdate,
+            render::build_hair_meshes.in_set(HairSystems::Mesh),
+        );
+        #[cfg(feature = "render")]
+        if renderer {
+            material::register_shader(app);
+            app.add_plugins(bevy::pbr::MaterialPlugin::<HairMaterial>::default())
+                .init_resource::<HairLook>()
+                .add_systems(
+                    PostUpdate,
+                    material::attach_hair_material
+                        .after(render::build_hair_meshes)
+                        .in_set(HairSystems::Mesh),
+                );
         }
     }
 }

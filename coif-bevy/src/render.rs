@@ -65,6 +65,55 @@ pub fn active_view(
     })
 }
 
+/// The render hairs of `hair` over the scalp of its guides' roots (the
+/// guides' points, `verts` per guide): a sphere fitted to the roots, their
+/// triangulation seen from its centre, `density_per_cm2` hairs placed with
+/// `seed`. Both draw paths place the same hairs.
+pub fn interpolation_of(
+    hair: &Hair,
+    guides: &[cg::Vec3],
+    verts: usize,
+) -> Result<Interpolation, String> {
+    let roots: Vec<cg::Vec3> = guides.iter().step_by(verts.max(1)).copied().collect();
+    let head = fit_sphere(&roots).ok_or("no sphere fits the roots")?;
+    let scalp = scalp_triangles(&roots, head.center);
+    Interpolation::new(
+        &roots,
+        &scalp,
+        hair.render.density_per_cm2,
+        hair.render.seed,
+    )
+    .map_err(|e| e.to_string())
+}
+
+/// Segments per span and render-hair groups for `hair` seen from `view`
+/// (2,000 pixels per metre without one): the refinement level from the
+/// guides' curvature and `error_px`, the groups from its size on screen.
+/// Both draw paths choose alike.
+pub fn choose_level(
+    hair: &Hair,
+    strands: &Strands,
+    interp: &Interpolation,
+    center: cg::Vec3,
+    extent: f32,
+    view: Option<View>,
+) -> (usize, usize) {
+    let r = &hair.render;
+    let px_per_m = view.map(|v| v.pixels_per_metre(center)).unwrap_or(2000.0);
+    let segments = level::segments_per_span(
+        level::max_second_difference_strands(strands.blocks()),
+        px_per_m,
+        r.error_px,
+        r.max_segments.max(1),
+    )
+    .clamp(1, r.max_segments.max(1));
+    let share =
+        (px_per_m * extent / r.full_detail_px.max(1.0)).clamp(r.min_share.clamp(0.0, 1.0), 1.0);
+    let groups_all = interp.group_count();
+    let groups = ((groups_all as f32 * share).ceil() as usize).clamp(1.min(groups_all), groups_all);
+    (segments, groups)
+}
+
 /// Per-hair LOD buffers, sized once.
 pub struct RenderState {
     interp: Interpolation,
@@ -84,16 +133,7 @@ impl RenderState {
         verts: usize,
         strands: &Strands,
     ) -> Result<RenderState, String> {
-        let roots: Vec<cg::Vec3> = guides.iter().step_by(verts).copied().collect();
-        let head = fit_sphere(&roots).ok_or("no sphere fits the roots")?;
-        let scalp = scalp_triangles(&roots, head.center);
-        let interp = Interpolation::new(
-            &roots,
-            &scalp,
-            hair.render.density_per_cm2,
-            hair.render.seed,
-        )
-        .map_err(|e| e.to_string())?;
+        let interp = interpolation_of(hair, guides, verts)?;
         let refined = RefinedGuides::new(strands.blocks(), hair.render.max_segments.max(1))
             .map_err(|e| e.to_string())?;
         let hairs = RenderHairs::new(&interp, &refined);
@@ -142,21 +182,10 @@ impl RenderState {
         view: Option<View>,
     ) -> Result<(usize, usize, usize), String> {
         let r = &hair.render;
-        let px_per_m = view.map(|v| v.pixels_per_metre(center)).unwrap_or(2000.0);
-        let segments = level::segments_per_span(
-            level::max_second_difference_strands(strands.blocks()),
-            px_per_m,
-            r.error_px,
-            r.max_segments.max(1),
-        );
+        let (segments, groups) = choose_level(hair, strands, &self.interp, center, extent, view);
         self.refined.set_segments_per_span_clamped(segments);
         lod::refine_strands(strands.blocks(), None, &mut self.refined)
             .map_err(|e| e.to_string())?;
-        let share =
-            (px_per_m * extent / r.full_detail_px.max(1.0)).clamp(r.min_share.clamp(0.0, 1.0), 1.0);
-        let groups_all = self.interp.group_count();
-        let groups =
-            ((groups_all as f32 * share).ceil() as usize).clamp(1.min(groups_all), groups_all);
         lod::interpolate(&self.interp, &self.refined, None, groups, &mut self.hairs)
             .map_err(|e| e.to_string())?;
         let width = HairWidth {
@@ -239,6 +268,11 @@ pub fn build_hair_meshes(
         };
         state.stats.lod_ms = (lod_done - start).as_secs_f32() * 1e3;
         state.stats.mesh_ms = start.elapsed().as_secs_f32() * 1e3;
+        state.stats.plugin_ms = state.stats.mesh_ms;
+        // Bevy uploads a changed mesh whole: 36 bytes per vertex
+        // (position, tangent, uv) and the indices.
+        let indices = mesh.indices().map_or(0, |i| i.len());
+        state.stats.upload_bytes = state.stats.mesh_vertices * 36 + indices * 4;
     }
 }
 

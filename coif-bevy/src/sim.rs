@@ -1,7 +1,7 @@
 //! The hair's simulation state and the systems that build and step it.
 
 use crate::assets::{BodyMeshAsset, GroomAsset};
-use crate::components::{CapsuleCollider, Hair, MeshCollider, SphereCollider};
+use crate::components::{CapsuleCollider, Hair, HairDrawPath, MeshCollider, SphereCollider};
 use crate::executor::TaskPoolExecutor;
 use crate::render::RenderState;
 use bevy::prelude::*;
@@ -75,6 +75,16 @@ pub struct HairStats {
     /// Height of the hair on screen (pixels) from the active camera, or
     /// infinity without one.
     pub height_px: f32,
+    /// The plugin's CPU time for this hair in the last frame outside the
+    /// step (LOD choice, packing and upload on the GPU path; refinement,
+    /// interpolation and the mesh's attributes on the CPU mesh path),
+    /// milliseconds.
+    pub plugin_ms: f32,
+    /// Bytes handed to the GPU for this hair in the last frame: the
+    /// guides and the view on the GPU path; the whole mesh (vertex
+    /// attributes and indices, which Bevy uploads again when the mesh
+    /// changes) on the CPU mesh path.
+    pub upload_bytes: usize,
 }
 
 /// The simulation of one [`Hair`], added by the plugin once its groom is
@@ -92,6 +102,9 @@ pub struct HairState {
     pub(crate) rest_solved: bool,
     pub(crate) extent: f32,
     pub(crate) render: Option<RenderState>,
+    /// The render hairs' placement, for the GPU path (which keeps no CPU
+    /// render buffers).
+    pub(crate) interpolation: Option<coif::lod::Interpolation>,
     pub(crate) stats: HairStats,
 }
 
@@ -100,6 +113,18 @@ impl HairState {
     /// groom's file frame scaled to metres is the rest frame; the strands
     /// start teleported to `pose`, without velocity).
     pub fn new(hair: &Hair, groom: &GroomAsset, pose: cg::Affine3A) -> Result<HairState, String> {
+        HairState::for_draw_path(hair, groom, pose, HairDrawPath::CpuMesh)
+    }
+
+    /// As [`HairState::new`], with the render data `path` draws from: the
+    /// CPU mesh path's refinement and vertex buffers, or the GPU path's
+    /// render-hair placement alone.
+    pub fn for_draw_path(
+        hair: &Hair,
+        groom: &GroomAsset,
+        pose: cg::Affine3A,
+        path: HairDrawPath,
+    ) -> Result<HairState, String> {
         let verts = hair.verts_per_strand.max(2);
         let guides = groom
             .0
@@ -117,12 +142,21 @@ impl HairState {
             .write_positions(&mut positions)
             .map_err(|e| e.to_string())?;
         // A groom without a scalp to interpolate over is simulated, not drawn.
-        let render = match RenderState::new(hair, &guides, verts, &strands) {
-            Ok(r) => Some(r),
-            Err(e) => {
-                log::warn!("coif-bevy: the groom's render hairs cannot be built: {e}");
-                None
-            }
+        let warn =
+            |e: String| log::warn!("coif-bevy: the groom's render hairs cannot be built: {e}");
+        let (render, interpolation) = match path {
+            HairDrawPath::CpuMesh => (
+                RenderState::new(hair, &guides, verts, &strands)
+                    .map_err(warn)
+                    .ok(),
+                None,
+            ),
+            HairDrawPath::Gpu => (
+                None,
+                crate::render::interpolation_of(hair, &guides, verts)
+                    .map_err(warn)
+                    .ok(),
+            ),
         };
         Ok(HairState {
             strands,
@@ -134,6 +168,7 @@ impl HairState {
             rest_solved: !hair.sag_free,
             extent: (hi - lo).length(),
             render,
+            interpolation,
             stats: HairStats::default(),
         })
     }
@@ -160,6 +195,11 @@ impl HairState {
     }
 }
 
+/// The draw path the plugin runs (the one asked for, or the CPU mesh path
+/// where the app has no renderer for the GPU path).
+#[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ActiveDrawPath(pub HairDrawPath);
+
 /// Builds [`HairState`] for hairs whose groom has loaded, at their
 /// propagated pose (`PostUpdate`, after transform propagation).
 pub fn init_hairs(
@@ -167,8 +207,10 @@ pub fn init_hairs(
     grooms: Res<Assets<GroomAsset>>,
     mut meshes: ResMut<Assets<Mesh>>,
     hairs: Query<(Entity, &Hair, &GlobalTransform), Without<HairState>>,
+    path: Option<Res<ActiveDrawPath>>,
     mut failed: Local<Vec<Entity>>,
 ) {
+    let path = path.map_or(HairDrawPath::CpuMesh, |p| p.0);
     for (entity, hair, global) in &hairs {
         if failed.contains(&entity) {
             continue;
@@ -176,7 +218,7 @@ pub fn init_hairs(
         let Some(groom) = grooms.get(&hair.groom) else {
             continue;
         };
-        match HairState::new(hair, groom, affine_of(global)) {
+        match HairState::for_draw_path(hair, groom, affine_of(global), path) {
             Ok(mut state) => {
                 if let Some(render) = state.render.as_mut() {
                     let mesh = meshes.add(render.empty_mesh(hair.render.primitive));

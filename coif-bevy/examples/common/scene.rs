@@ -62,9 +62,20 @@ pub fn spawn_sintel(commands: &mut Commands, assets: &AssetServer, bust: bool) -
     commands.spawn((
         DirectionalLight {
             illuminance: 4000.0,
+            // The GPU path's hair casts into the map and receives it.
+            shadow_maps_enabled: true,
             ..default()
         },
         Transform::default().looking_to(-look.to_light, Vec3::Y),
+        // One cascade over the bust's few metres: every shadow pass runs
+        // the hair's vertex shader again (on lavapipe, on one core).
+        bevy::light::CascadeShadowConfigBuilder {
+            num_cascades: 1,
+            minimum_distance: 0.1,
+            maximum_distance: 3.0,
+            ..default()
+        }
+        .build(),
     ));
     head
 }

@@ -42,7 +42,11 @@ fn ribbon_corner(v: RenderVertex, side: f32, clip_from_world: mat4x4<f32>, eye: 
     if drawn_px > 0.0 {
         out.coverage = clamp(width_px / drawn_px, 0.0, 1.0);
     }
-    let half_width = 0.5 * drawn_px / max(px_per_m, 1e-6);
+    // No scale from the view (a zero viewport): the hair's own width.
+    var half_width = 0.5 * max(v.width, 0.0);
+    if px_per_m > 0.0 {
+        half_width = 0.5 * drawn_px / px_per_m;
+    }
     out.world = world + across * (half_width * side);
     out.clip = clip_from_world * vec4<f32>(out.world, 1.0);
     out.tangent = t;
