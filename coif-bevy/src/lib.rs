@@ -174,6 +174,7 @@ impl Plugin for HairPlugin {
         #[cfg(feature = "render")]
         if renderer && path == HairDrawPath::Gpu {
             gpu::register_shaders(app);
+            gpu::compute::add_compute_pass(app);
             app.add_plugins(bevy::pbr::MaterialPlugin::<gpu::GpuHairMaterial>::default())
                 .init_resource::<HairLook>()
                 .add_systems(

@@ -3,21 +3,27 @@
 //!
 //! | module | files | entry points |
 //! |---|---|---|
-//! | [`COMPUTE_WGSL`] | render_vertex, compute | `write_render_vertices` (compute, 64 per workgroup) |
-//! | [`DRAW_WGSL`] | hair_shading, render_vertex, ribbon, draw | `vertex`, `fragment` |
+//! | [`COMPUTE_WGSL`] | types, render_vertex, compute | `write_render_vertices` (compute, 64 per workgroup) |
+//! | [`DRAW_WGSL`] | hair_shading, types, render_vertex, ribbon, draw | `vertex`, `fragment` |
 //!
-//! An engine with its own bindings (Bevy's material in coif-bevy) takes
-//! the pieces: [`HAIR_SHADING_WGSL`], [`RENDER_VERTEX_WGSL`] and
-//! [`RIBBON_WGSL`], and binds `hair_view`, `guides`, `hairs` (and, for the
-//! shading functions, `shading`, `lut_m`, `lut_n0`, `lut_n1`) itself.
+//! An engine with its own bindings takes the pieces: [`TYPES_WGSL`] always
+//! first, [`RENDER_VERTEX_WGSL`] where it makes render vertices (binding
+//! `hair_view`, `guides`, `hairs`), [`RIBBON_WGSL`] where it expands them
+//! (binding `hair_view`), [`HAIR_SHADING_WGSL`] where it shades (binding
+//! `shading`, `lut_m`, `lut_n0`, `lut_n1`). coif-bevy runs [`COMPUTE_WGSL`]
+//! once a frame and its material's vertex stages read the render vertices
+//! it wrote, with the types and the ribbons only.
 
 /// coif's hair shading: `kajiya_kay`, `marschner` (from coif's tables),
 /// `hair_scattering` (their blend) and `hair_radiance`.
 pub const HAIR_SHADING_WGSL: &str = include_str!("shaders/hair_shading.wgsl");
 
-/// The structs (`HairView`, `RenderHair`, `RenderVertex`) and
-/// `render_vertex(hair, r)`: refinement, interpolation and width, the GPU
-/// twin of coif-lod's CPU path.
+/// The structs (`HairView`, `RenderHair`, `RenderVertex`, the buffers'
+/// layouts), the constants and `unit_or_y`: first in every module.
+pub const TYPES_WGSL: &str = include_str!("shaders/types.wgsl");
+
+/// `render_vertex(hair, r)` (after [`TYPES_WGSL`]): refinement,
+/// interpolation and width, the GPU twin of coif-lod's CPU path.
 pub const RENDER_VERTEX_WGSL: &str = include_str!("shaders/render_vertex.wgsl");
 
 /// `ribbon_corner` (camera-facing expansion with a minimum width in pixels
@@ -26,6 +32,7 @@ pub const RIBBON_WGSL: &str = include_str!("shaders/ribbon.wgsl");
 
 /// The compute module: every render vertex into a storage buffer.
 pub const COMPUTE_WGSL: &str = concat!(
+    include_str!("shaders/types.wgsl"),
     include_str!("shaders/render_vertex.wgsl"),
     include_str!("shaders/compute.wgsl")
 );
@@ -34,6 +41,7 @@ pub const COMPUTE_WGSL: &str = concat!(
 /// coif's Kajiya-Kay and Marschner under one directional light.
 pub const DRAW_WGSL: &str = concat!(
     include_str!("shaders/hair_shading.wgsl"),
+    include_str!("shaders/types.wgsl"),
     include_str!("shaders/render_vertex.wgsl"),
     include_str!("shaders/ribbon.wgsl"),
     include_str!("shaders/draw.wgsl")

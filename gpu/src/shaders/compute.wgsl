@@ -1,8 +1,9 @@
-// coif-gpu's compute entry point (after render_vertex.wgsl): every render
-// vertex of the first `hair_view.hairs` hairs, hair after hair, root first,
-// into `vertices` (coif_lod::RenderVertex's layout), as
-// lod::write_render_vertices writes them. For tests (gpu/tests/twin.rs) and
-// engines that prefer a compute pass to vertex pulling.
+// coif-gpu's compute entry point (after types.wgsl and render_vertex.wgsl):
+// every render vertex of the first `hair_view.hairs` hairs, hair after
+// hair, root first, into `vertices` (coif_lod::RenderVertex's layout), as
+// lod::write_render_vertices writes them. Vertex r of hair h is at
+// h R + r. coif-bevy runs it once a frame before its passes; the GPU twin
+// test (gpu/tests/twin.rs) compares it with the CPU kernels.
 //
 // Group 0: 0 HairView (uniform), 1 guides, 2 hairs (storage, read), 3 the
 // render vertices (storage, read-write).

@@ -1,5 +1,5 @@
 // coif-gpu's draw stages for an engine's own pipeline (after
-// hair_shading.wgsl, render_vertex.wgsl and ribbon.wgsl): vertex pulling,
+// hair_shading.wgsl, types.wgsl, render_vertex.wgsl and ribbon.wgsl): vertex pulling,
 // no vertex buffer. Draw a triangle strip of 2 R vertices per instance,
 // one instance per render hair: draw(0..2 R, 0..hairs). Vertex 2 r + k is
 // render vertex r's corner on side k (0: -1, 1: +1).

@@ -9,69 +9,14 @@
 // gpu/tests/twin.rs runs the compute entry point over Sintel's groom and
 // compares every vertex with those kernels.
 //
-// The module this file is part of binds three globals (see compute.wgsl and
-// draw.wgsl): `hair_view` (HairView, a uniform), `guides`
+// After types.wgsl. The module this file is part of binds three globals
+// (see compute.wgsl and draw.wgsl): `hair_view` (HairView), `guides`
 // (array<vec4<f32>>, storage) and `hairs` (array<RenderHair>, storage).
-
-// coif_gpu::HairView, 192 bytes. Positions in the guides buffer are
-// relative to the strands' origin; world_from_local takes them to world
-// space (the origin's translation, and any rigid carry of the hair).
-struct HairView {
-    clip_from_world: mat4x4<f32>,
-    world_from_local: mat4x4<f32>,
-    // xyz: the eye (w = 1, a perspective view) or the direction toward the
-    // viewer (w = 0, an orthographic view such as a directional shadow).
-    eye: vec4<f32>,
-    // V: control points per guide (>= 2).
-    control_verts: u32,
-    // N: segments per span (>= 1).
-    segments_per_span: u32,
-    // Render hairs drawn: the first `hairs` entries of the hairs buffer.
-    hairs: u32,
-    // R = (V - 1) N + 1.
-    verts_per_hair: u32,
-    root_width: f32,
-    tip_width: f32,
-    // The LOD width factor (coverage kept when fewer hairs are drawn).
-    width_factor: f32,
-    // Ribbons are never drawn thinner than this many pixels; thinner hair
-    // keeps its coverage by fading (dithered) instead of aliasing.
-    min_width_px: f32,
-    // Pixels per unit of clip w per metre: 0.5 viewport height times the
-    // projection's y scale (clip_from_view[1][1]); pixels per metre at a
-    // point is this over its clip w.
-    pixels_per_clip: f32,
-    _pad0: f32,
-    _pad1: f32,
-    _pad2: f32,
-};
-
-// coif_gpu::RenderHair, 32 bytes: the three corner guides of the hair's
-// scalp triangle and its barycentric weights (coif-lod's Interpolation).
-struct RenderHair {
-    guide_a: u32,
-    guide_b: u32,
-    guide_c: u32,
-    _reserved: u32,
-    // xyz: (b_A, b_B, b_C); w unused.
-    weights: vec4<f32>,
-};
-
-// coif_lod::RenderVertex, 32 bytes.
-struct RenderVertex {
-    position: vec3<f32>,
-    width: f32,
-    tangent: vec3<f32>,
-    strand_parameter: f32,
-};
 
 struct GuidePoint {
     position: vec3<f32>,
     tangent: vec3<f32>,
 };
-
-const MIN_TANGENT_LENGTH_SQUARED: f32 = 1e-30;
-const MAX_FINITE: f32 = 3.40282347e38;
 
 // Control point i (-1 <= i <= V) of guide g: the phantom ends
 // 2 P_0 - P_1 and 2 P_{V-1} - P_{V-2} outside 0..V (bspline::control_point).
@@ -116,15 +61,6 @@ fn basis_derivative(t: f32) -> vec4<f32> {
 // p0 w0 + p1 w1 + p2 w2 + p3 w3, fused left to right (refine_batch::combine).
 fn combine(p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, p3: vec3<f32>, w: vec4<f32>) -> vec3<f32> {
     return fma(p3, vec3<f32>(w.w), fma(p2, vec3<f32>(w.z), fma(p1, vec3<f32>(w.y), p0 * w.x)));
-}
-
-// d / |d|, or +Y where |d|^2 <= 1e-30 or is not finite.
-fn unit_or_y(d: vec3<f32>) -> vec3<f32> {
-    let l2 = dot(d, d);
-    if l2 > MIN_TANGENT_LENGTH_SQUARED && l2 <= MAX_FINITE {
-        return d * inverseSqrt(l2);
-    }
-    return vec3<f32>(0.0, 1.0, 0.0);
 }
 
 // Refined vertex r of guide g at N segments per span: span

@@ -1,5 +1,5 @@
-// coif-gpu: camera-facing ribbons from render vertices (after
-// render_vertex.wgsl). As TressFX's strand vertex shader: each render vertex
+// coif-gpu: camera-facing ribbons from render vertices (after types.wgsl;
+// binds `hair_view`). As TressFX's strand vertex shader: each render vertex
 // gives two ribbon corners, offset across the hair along tangent x view,
 // the width never below `min_width_px` pixels; a hair drawn wider than it is
 // keeps its coverage as `coverage` = true width / drawn width, which the

@@ -1,5 +1,5 @@
-// ---- hair_gpu_main.wgsl: the GPU path's main pass (after the shading
-// functions, the bindings, render_vertex.wgsl and ribbon.wgsl). Lit by every
+// ---- gpu/main.wgsl: the GPU path's main pass (after the shading
+// functions, coif-gpu's types, the bindings and ribbon.wgsl). Lit by every
 // Bevy directional light (colour times illuminance, its shadow map where
 // it casts shadows), the view's ambient light, scaled by the view's
 // exposure, as bevy_pbr's lights are.

@@ -1,5 +1,5 @@
-// ---- hair_gpu_prepass.wgsl: the GPU path's prepass, which Bevy's shadow
-// passes run (after the bindings, render_vertex.wgsl and ribbon.wgsl):
+// ---- gpu/prepass.wgsl: the GPU path's prepass, which Bevy's shadow
+// passes run (after coif-gpu's types, the bindings and ribbon.wgsl):
 // the same ribbons, facing the light, into the shadow map. Where the
 // device cannot clamp depth for orthographic views, the depth is written
 // by the fragment stage as bevy_pbr's own prepass does.

@@ -3,12 +3,13 @@
 //! (coif-gpu), lit by Bevy's lights, casting into Bevy's shadow maps.
 //!
 //! Per hair, made once when its state is built ([`init_gpu_hairs`]):
-//! - three buffers: the guides (storage, `COPY_DST`, 16 bytes per guide
+//! - four buffers: the guides (storage, `COPY_DST`, 16 bytes per guide
 //!   vertex), the render hairs (storage, 32 bytes per hair, written once
-//!   from coif's `Interpolation` by `coif_gpu::pack_hairs`) and the
-//!   [`coif_gpu::HairView`] (192 bytes);
-//! - a [`GpuHairMaterial`] binding them with coif's shading uniform and
-//!   Marschner tables;
+//!   from coif's `Interpolation` by `coif_gpu::pack_hairs`), the
+//!   [`coif_gpu::HairView`] (192 bytes) and the render vertices (32 bytes
+//!   per render vertex of the finest level, written by the GPU only);
+//! - a [`GpuHairMaterial`] binding the render vertices and the view with
+//!   coif's shading uniform and Marschner tables;
 //! - a chunk mesh: [`CHUNK_HAIRS`] hair slots of `2 R_max + 2` vertices in
 //!   one triangle strip, whose only attribute says which slot vertex each
 //!   is (it is the same for every chunk and never changes);
@@ -19,10 +20,22 @@
 //! camera (as the CPU mesh path chooses it), the guides packed straight
 //! from coif's SoA blocks into a persistent buffer and written with
 //! `write_buffer` with the view (no buffer created, nothing allocated), and
-//! chunks past the LOD's hair count hidden. The vertex shader does the
-//! rest: `render_vertex(hair, r)` (refinement, interpolation, width),
-//! `ribbon_corner` (camera-facing, at least `min_width_px` wide, thinner
-//! hair dithered by its coverage).
+//! chunks past the LOD's hair count hidden. The GPU does the rest:
+//! - a compute pass ([`compute`], before the cameras' passes) runs
+//!   coif-gpu's `write_render_vertices`: `render_vertex(hair, r)`
+//!   (refinement, interpolation, width) once for every render vertex;
+//! - the material's vertex stages, in the main pass and in every shadow
+//!   pass, read the two render vertices of a ribbon segment and expand
+//!   them with `ribbon_corner` (camera-facing, at least `min_width_px`
+//!   wide, thinner hair dithered by its coverage).
+//!
+//! Why a compute pass rather than `render_vertex` in the vertex stage (as
+//! coif-gpu's `draw.wgsl` does): a render vertex is used by two ribbon
+//! corners in each pass, and the hair is drawn by the main pass and each
+//! shadow cascade; the pass makes it once, with the very shader the GPU
+//! twin test checks. On lavapipe the frame is bound by rasterisation
+//! instead and the pass did not make it faster (the crate's README has
+//! the figures).
 //!
 //! Why a `Material` over chunk meshes rather than a custom phase item:
 //! the material gets Bevy's lights, shadow maps, exposure and shadow
@@ -51,6 +64,8 @@ use std::time::Instant;
 /// Render hairs per chunk entity (the shader's `CHUNK_HAIRS`).
 pub const CHUNK_HAIRS: usize = 256;
 
+pub mod compute;
+
 /// The main pass's shader.
 pub const GPU_HAIR_SHADER: Handle<Shader> = uuid_handle!("0b8f4c1e-6a53-4d0e-9f59-3c8a2d7e5b10");
 /// The prepass's (shadow) shader.
@@ -72,16 +87,17 @@ const IMPORTS_PREPASS: &str = "#import bevy_pbr::mesh_view_bindings::view
 #import bevy_pbr::mesh_functions::get_tag
 ";
 
-/// The main pass's WGSL: Bevy's imports, coif's shading functions, the
-/// material's bindings, coif-gpu's `render_vertex` and ribbons, the stages.
+/// The main pass's WGSL: Bevy's imports, coif's shading functions,
+/// coif-gpu's types, the material's bindings, coif-gpu's ribbons, the
+/// stages.
 pub fn main_pass_wgsl() -> String {
     [
         IMPORTS_MAIN,
         coif_gpu::shaders::HAIR_SHADING_WGSL,
-        include_str!("hair_gpu_bindings.wgsl"),
-        coif_gpu::shaders::RENDER_VERTEX_WGSL,
+        coif_gpu::shaders::TYPES_WGSL,
+        include_str!("bindings.wgsl"),
         coif_gpu::shaders::RIBBON_WGSL,
-        include_str!("hair_gpu_main.wgsl"),
+        include_str!("main.wgsl"),
     ]
     .concat()
 }
@@ -90,15 +106,15 @@ pub fn main_pass_wgsl() -> String {
 pub fn prepass_wgsl() -> String {
     [
         IMPORTS_PREPASS,
-        include_str!("hair_gpu_bindings.wgsl"),
-        coif_gpu::shaders::RENDER_VERTEX_WGSL,
+        coif_gpu::shaders::TYPES_WGSL,
+        include_str!("bindings.wgsl"),
         coif_gpu::shaders::RIBBON_WGSL,
-        include_str!("hair_gpu_prepass.wgsl"),
+        include_str!("prepass.wgsl"),
     ]
     .concat()
 }
 
-/// Registers the two shaders (at plugin build).
+/// Registers the three shaders (at plugin build).
 pub(crate) fn register_shaders(app: &mut App) {
     if let Some(mut shaders) = app.world_mut().get_resource_mut::<Assets<Shader>>() {
         let _ = shaders.insert(
@@ -109,12 +125,20 @@ pub(crate) fn register_shaders(app: &mut App) {
             &GPU_HAIR_PREPASS_SHADER,
             Shader::from_wgsl(prepass_wgsl(), "coif_bevy/hair_gpu_prepass.wgsl"),
         );
+        let _ = shaders.insert(
+            &compute::GPU_HAIR_COMPUTE_SHADER,
+            Shader::from_wgsl(
+                coif_gpu::shaders::COMPUTE_WGSL,
+                "coif_gpu/hair_compute.wgsl",
+            ),
+        );
     }
 }
 
 /// The GPU path's material: coif's shading (uniform and tables, as
-/// [`HairMaterial`]) and the hair's three buffers. Never changed after it
-/// is made: the buffers' contents change, written with `write_buffer`.
+/// [`HairMaterial`]), the hair's render vertices and its view. Never
+/// changed after it is made: the buffers' contents change (the view by
+/// `write_buffer`, the render vertices by the compute pass).
 #[derive(Asset, AsBindGroup, Clone, TypePath)]
 pub struct GpuHairMaterial {
     /// The `HairShading` uniform.
@@ -129,14 +153,12 @@ pub struct GpuHairMaterial {
     /// coif's N table, second half.
     #[texture(3, sample_type = "float", filterable = false)]
     pub lut_n1: Handle<Image>,
-    /// The guides, [`GuideVertex`] each.
+    /// The render vertices (`coif_lod::RenderVertex`'s 32 bytes each),
+    /// vertex `r` of render hair `h` at `h R + r`.
     #[storage(4, read_only, buffer, visibility(vertex))]
-    pub guides: Buffer,
-    /// The render hairs, [`RenderHair`] each.
-    #[storage(5, read_only, buffer, visibility(vertex))]
-    pub hairs: Buffer,
+    pub vertices: Buffer,
     /// The [`HairView`].
-    #[storage(6, read_only, buffer, visibility(vertex))]
+    #[storage(5, read_only, buffer, visibility(vertex))]
     pub view: Buffer,
 }
 
@@ -197,7 +219,12 @@ pub struct GpuHairChunk {
 pub struct GpuHair {
     guides: Vec<GuideVertex>,
     guides_buffer: Buffer,
+    hairs_buffer: Buffer,
     view_buffer: Buffer,
+    vertices_buffer: Buffer,
+    /// Render vertices the buffer holds: render hairs times the finest
+    /// level's vertices per hair.
+    vertex_capacity: u32,
     view: HairView,
     chunks: Vec<Entity>,
 }
@@ -299,10 +326,25 @@ pub fn init_gpu_hairs(
             contents: bytemuck::cast_slice(&packed_hairs),
             usage: BufferUsages::STORAGE,
         });
+        // A uniform for the compute pass, storage for the material.
         let view_buffer = device.create_buffer(&BufferDescriptor {
             label: Some("coif hair view"),
             size: std::mem::size_of::<HairView>() as u64,
-            usage: BufferUsages::STORAGE | BufferUsages::COPY_DST,
+            usage: BufferUsages::STORAGE | BufferUsages::UNIFORM | BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let r_max = coif::lod::refined_len(
+            state.strands.verts_per_strand(),
+            hair.render.max_segments.max(1),
+        );
+        let Ok(vertex_capacity) = u32::try_from(interp.hair_count().max(1) * r_max) else {
+            crate::warn_once!("coif-bevy: a hair with over 2^32 render vertices is not drawn");
+            continue;
+        };
+        let vertices_buffer = device.create_buffer(&BufferDescriptor {
+            label: Some("coif render vertices"),
+            size: u64::from(vertex_capacity) * compute::RENDER_VERTEX_BYTES,
+            usage: BufferUsages::STORAGE,
             mapped_at_creation: false,
         });
         let look = look.as_deref().cloned().unwrap_or_default();
@@ -312,14 +354,9 @@ pub fn init_gpu_hairs(
             lut_m: shading.lut_m,
             lut_n0: shading.lut_n0,
             lut_n1: shading.lut_n1,
-            guides: guides_buffer.clone(),
-            hairs: hairs_buffer,
+            vertices: vertices_buffer.clone(),
             view: view_buffer.clone(),
         });
-        let r_max = coif::lod::refined_len(
-            state.strands.verts_per_strand(),
-            hair.render.max_segments.max(1),
-        );
         let mesh = meshes.add(chunk_mesh(r_max));
         let chunks = (0..interp.hair_count().div_ceil(CHUNK_HAIRS))
             .map(|k| {
@@ -345,7 +382,10 @@ pub fn init_gpu_hairs(
         commands.entity(entity).insert(GpuHair {
             guides: vec![GuideVertex::default(); guide_count],
             guides_buffer,
+            hairs_buffer,
             view_buffer,
+            vertices_buffer,
+            vertex_capacity,
             view: HairView::default(),
             chunks,
         });

@@ -1,14 +1,13 @@
-// ---- hair_gpu_bindings.wgsl: the GPU path's material (coif_bevy::gpu),
-// after Bevy's imports and before coif-gpu's render_vertex.wgsl and
-// ribbon.wgsl. The material's bind group (MATERIAL_BIND_GROUP), laid out by
+// ---- gpu/bindings.wgsl: the GPU path's material (coif_bevy::gpu), after
+// Bevy's imports and coif-gpu's types.wgsl, before its ribbon.wgsl. The
+// material's bind group (MATERIAL_BIND_GROUP), laid out by
 // GpuHairMaterial's AsBindGroup derive: 0 the HairShading uniform, 1..3
-// coif's Marschner tables, 4 the guides (written every frame), 5 the render
-// hairs (once), 6 the HairView (every frame; storage, as Bevy binds raw
-// buffers).
+// coif's Marschner tables, 4 the render vertices (written by the compute
+// pass every frame, vertex r of hair h at h R + r), 5 the HairView (every
+// frame; storage, as Bevy binds raw buffers).
 
-@group(#{MATERIAL_BIND_GROUP}) @binding(4) var<storage, read> guides: array<vec4<f32>>;
-@group(#{MATERIAL_BIND_GROUP}) @binding(5) var<storage, read> hairs: array<RenderHair>;
-@group(#{MATERIAL_BIND_GROUP}) @binding(6) var<storage, read> hair_view: HairView;
+@group(#{MATERIAL_BIND_GROUP}) @binding(4) var<storage, read> render_vertices: array<RenderVertex>;
+@group(#{MATERIAL_BIND_GROUP}) @binding(5) var<storage, read> hair_view: HairView;
 
 // Render hairs per chunk entity (coif_bevy::gpu::CHUNK_HAIRS): chunk k
 // (its MeshTag) draws hairs 256 k .. 256 (k + 1).
@@ -47,7 +46,13 @@ fn chunk_corner(slot: vec3<f32>, instance_index: u32) -> ChunkCorner {
     let corners = 2 * i32(hair_view.verts_per_hair);
     let c = u32(clamp(i32(slot.x) - 1, 0, corners - 1));
     let side = f32(c % 2u) * 2.0 - 1.0;
+    let vertex = out.hair * hair_view.verts_per_hair + c / 2u;
+    if vertex >= arrayLength(&render_vertices) {
+        out.drawn = false;
+        out.corner.clip = culled_clip();
+        return out;
+    }
     let pixels_per_clip = 0.5 * view.viewport.w * view.clip_from_view[1][1];
-    out.corner = ribbon_corner(render_vertex(out.hair, c / 2u), side, view.clip_from_world, bevy_eye(), pixels_per_clip);
+    out.corner = ribbon_corner(render_vertices[vertex], side, view.clip_from_world, bevy_eye(), pixels_per_clip);
     return out;
 }
