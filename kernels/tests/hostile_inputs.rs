@@ -63,8 +63,26 @@ proptest! {
                 .iter()
                 .position(|p| !p.is_finite())
                 .map(|index| Error::NonFinite { index })
+                .or_else(|| {
+                    // Finite points farther than 1e6 m from their root are
+                    // refused too (their segments can be infinitely long).
+                    points.chunks_exact(verts).find_map(|strand| {
+                        strand.iter().map(|p| (*p - strand[0]).length())
+                            .find(|d| d.is_nan() || *d > 1e6)
+                            .map(|value| Error::InvalidParameter {
+                                name: "points",
+                                value,
+                                expected: "every point within 1e6 m of its strand's root",
+                            })
+                    })
+                })
         };
         match (r, expected) {
+            (Err(Error::InvalidParameter { name, value, .. }),
+             Some(Error::InvalidParameter { name: want_name, value: want_value, .. })) => {
+                prop_assert_eq!(name, want_name);
+                prop_assert!(value == want_value || (value.is_nan() && want_value.is_nan()));
+            }
             (Err(e), Some(want)) => prop_assert_eq!(e, want),
             (Ok(s), None) => prop_assert_eq!(s.strand_count(), points.len() / verts),
             (r, want) => prop_assert!(false, "{:?} but expected {:?}", r.err(), want),
