@@ -28,6 +28,10 @@ fn hanging() -> (Vec<Vec3>, usize) {
 }
 
 fn sleep(c: &mut Criterion) {
+    eprintln!(
+        "coif benches: {} lanes per SIMD block",
+        coif::kernels::LANES
+    );
     let (pts, verts) = hanging();
     let mut group = c.benchmark_group("sleep/hanging_256x16");
     group

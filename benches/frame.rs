@@ -94,6 +94,10 @@ fn bench_scene(c: &mut Criterion, name: &str, scene: &HairScene) {
 }
 
 fn frames(c: &mut Criterion) {
+    eprintln!(
+        "coif benches: {} lanes per SIMD block",
+        coif::kernels::LANES
+    );
     let default = default_head();
     bench_scene(c, "default", &default);
     let path =

@@ -43,6 +43,10 @@ fn guides(count: usize, verts: usize, seed: u64) -> (Vec<Vec3>, Vec<Vec3>) {
 }
 
 fn refine(c: &mut Criterion) {
+    eprintln!(
+        "coif benches: {} lanes per SIMD block",
+        coif::kernels::LANES
+    );
     let (_, pts) = guides(512, 16, 1);
     let strands = Strands::from_polylines(&pts, 16).unwrap();
     let mut out = RefinedGuides::new(strands.blocks(), 16).unwrap();
@@ -184,7 +188,7 @@ fn interpolate(c: &mut Criterion) {
 
 /// Refine + interpolate as the fused prepare pass runs them, per render
 /// vertex: `refine_strands` of the head's guides, then every group's rows
-/// (`GroupBlend::position_x8` and `tangent_x8`) consumed at once instead of
+/// (`GroupBlend::position_simd` and `tangent_simd`) consumed at once instead of
 /// stored (a running sum stands in for the shading), so everything stays
 /// in cache; the scalar twin refines with `scalar::refine_strands` and
 /// blends one lane at a time. Elements = render vertices.
@@ -197,13 +201,13 @@ fn refine_and_interpolate(c: &mut Criterion) {
     g.bench_function("simd", |b| {
         b.iter(|| {
             lod::refine_strands(strands.blocks(), None, &mut guides).unwrap();
-            let mut acc = coif::base::Vec3x8::ZERO;
+            let mut acc = coif::base::Vec3Lanes::ZERO;
             for k in 0..groups {
                 let Some(blend) = interp.group_blend(&guides, k) else {
                     continue;
                 };
                 for r in 0..blend.verts() {
-                    acc = acc + blend.position_x8(r) + blend.tangent_x8(r);
+                    acc = acc + blend.position_simd(r) + blend.tangent_simd(r);
                 }
             }
             black_box(acc)

@@ -53,6 +53,10 @@ fn configure(group: &mut criterion::BenchmarkGroup<criterion::measurement::WallT
 }
 
 fn step_sizes(c: &mut Criterion) {
+    eprintln!(
+        "coif benches: {} lanes per SIMD block",
+        coif::kernels::LANES
+    );
     let mut group = c.benchmark_group("patch/step");
     configure(&mut group);
     for (rows, cols) in [(16usize, 8usize), (16, 16), (32, 32)] {

@@ -26,6 +26,10 @@ fn samples() -> ShadingSamples {
 }
 
 fn exact(c: &mut Criterion) {
+    eprintln!(
+        "coif benches: {} lanes per SIMD block",
+        coif::kernels::LANES
+    );
     let p = Params::default();
     let lobes = pbrt::Lobes::new(&p);
     let s = samples();

@@ -202,6 +202,10 @@ fn bench_scene(c: &mut Criterion, name: &str, s: &Scene) {
 }
 
 fn raster(c: &mut Criterion) {
+    eprintln!(
+        "coif benches: {} lanes per SIMD block",
+        coif::kernels::LANES
+    );
     bench_scene(c, "cache", &tile_scene());
     let s = frame_scene();
     bench_scene(c, "frame", &s);

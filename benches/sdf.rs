@@ -8,7 +8,7 @@
 //!
 //! `cargo bench --bench sdf` (add `-- --quick` for a fast pass).
 
-use coif::kernels::{Sdf, Vec3x8};
+use coif::kernels::{Sdf, Vec3Lanes};
 use coif_testkit::meshes::{icosphere, Mesh};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::Vec3;
@@ -41,6 +41,10 @@ fn meshes() -> Vec<(&'static str, Mesh)> {
 }
 
 fn build(c: &mut Criterion) {
+    eprintln!(
+        "coif benches: {} lanes per SIMD block",
+        coif::kernels::LANES
+    );
     let mut group = c.benchmark_group("sdf/build_4mm");
     group
         .sample_size(10)
@@ -70,10 +74,10 @@ fn lookup(c: &mut Criterion) {
     for ((name, (p, t)), cell) in meshes().into_iter().zip([0.01, 0.004]) {
         let sdf = Sdf::from_mesh(&p, &t, cell).unwrap();
         let pts = near_points(&p);
-        let blocks: Vec<Vec3x8> = pts
+        let blocks: Vec<Vec3Lanes> = pts
             .chunks_exact(8)
             .map(|c| {
-                let mut v = Vec3x8::ZERO;
+                let mut v = Vec3Lanes::ZERO;
                 for (l, p) in c.iter().enumerate() {
                     v.set_lane(l, *p);
                 }
@@ -91,7 +95,7 @@ fn lookup(c: &mut Criterion) {
         group.bench_function(format!("{name}_{}mm/simd", cell * 1e3), |b| {
             b.iter(|| {
                 for &q in &blocks {
-                    black_box(sdf.sample_mesh_x8(black_box(q)));
+                    black_box(sdf.sample_mesh_simd(black_box(q)));
                 }
             })
         });

@@ -14,14 +14,15 @@
 //! - `dual_scattering/<model>/{single_simd, dual_simd, dual_scalar}` on
 //!   2,048 samples (in cache): the model's table alone (Marschner 128,
 //!   pbrt 64) against the table plus dual scattering, eight samples at a
-//!   time as the frame's fused pass runs them (`scattering_x8` then
-//!   `DualScattering::shade_layered_x8`, 20 fibres behind), and the scalar
+//!   time as the frame's fused pass runs them (`scattering_simd` then
+//!   `DualScattering::shade_layered_simd`, 20 fibres behind), and the scalar
 //!   twin (infinitely deep); hair counts 0-40.
 //! - `marschner_lut_time_vs_error/<layout>/res<N>_err<relative RMS>`: SIMD
 //!   lookup time for every layout and resolution 32..256, with the relative
 //!   RMS error against the direct model in the benchmark id (also printed).
 
-use coif::base::Vec3x8;
+use coif::base::lanes::F32Lanes;
+use coif::base::Vec3Lanes;
 use coif::kernels::rng::SplitMix64;
 use coif::shading::dual_scattering::{DualScattering, DualScatteringSettings};
 use coif::shading::kajiya_kay::KajiyaKay;
@@ -30,7 +31,6 @@ use coif::shading::pbrt;
 use coif::shading::{RgbBuffer, ShadingSamples};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use std::hint::black_box;
-use wide::f32x8;
 
 const N: usize = 4096;
 
@@ -173,9 +173,13 @@ fn error_against_pbrt(_c: &mut Criterion) {
     }
 }
 
-/// Single scattering by `single_x8` alone, then with dual scattering, in
+/// Single scattering by `single_simd` alone, then with dual scattering, in
 /// blocks of eight as the frame's fused pass shades.
 fn dual_scattering(c: &mut Criterion) {
+    eprintln!(
+        "coif benches: {} lanes per SIMD block",
+        coif::kernels::LANES
+    );
     const M: usize = 2048;
     let samples = random_samples(M, 6);
     let mut rng = SplitMix64::new(7);
@@ -204,29 +208,29 @@ fn dual_scattering(c: &mut Criterion) {
     let mut single = RgbBuffer::zeros(M);
     // The frame's hair behind each point (the deep map's last plane minus
     // the point's count): 20 fibres.
-    let behind = f32x8::splat(20.0);
+    let behind = F32Lanes::splat(20.0);
     let mut g = c.benchmark_group("dual_scattering");
     g.throughput(Throughput::Elements(M as u64));
-    type Single<'a> = &'a dyn Fn(Vec3x8, Vec3x8, Vec3x8) -> Vec3x8;
+    type Single<'a> = &'a dyn Fn(Vec3Lanes, Vec3Lanes, Vec3Lanes) -> Vec3Lanes;
     let models: [(&str, Single, &DualScattering); 2] = [
         (
             "marschner_lut128",
-            &|t, wi, wo| lut.scattering_x8(t, wi, wo),
+            &|t, wi, wo| lut.scattering_simd(t, wi, wo),
             &ds_lut,
         ),
         (
             "pbrt_table64",
-            &|t, wi, wo| table.scattering_x8(t, wi, wo),
+            &|t, wi, wo| table.scattering_simd(t, wi, wo),
             &ds_table,
         ),
     ];
-    for (name, single_x8, ds) in models {
+    for (name, single_simd, ds) in models {
         g.bench_function(BenchmarkId::new(name, "single_simd"), |b| {
             b.iter(|| {
                 let s = black_box(&samples);
                 for start in (0..M).step_by(8) {
                     let (t, wi, wo) = s.load_block(start);
-                    out.store_block(start, single_x8(t, wi, wo));
+                    out.store_block(start, single_simd(t, wi, wo));
                 }
             })
         });
@@ -235,9 +239,9 @@ fn dual_scattering(c: &mut Criterion) {
                 let s = black_box(&samples);
                 for start in (0..M).step_by(8) {
                     let (t, wi, wo) = s.load_block(start);
-                    let n = f32x8::new(fibres[start..start + 8].try_into().expect("8"));
-                    let d = f32x8::new(direct[start..start + 8].try_into().expect("8"));
-                    let f = ds.shade_layered_x8(single_x8(t, wi, wo), t, wi, wo, n, behind, d);
+                    let n = F32Lanes::new(fibres[start..start + 8].try_into().expect("8"));
+                    let d = F32Lanes::new(direct[start..start + 8].try_into().expect("8"));
+                    let f = ds.shade_layered_simd(single_simd(t, wi, wo), t, wi, wo, n, behind, d);
                     out.store_block(start, f);
                 }
             })
@@ -246,7 +250,12 @@ fn dual_scattering(c: &mut Criterion) {
             let (t, wi, wo) = samples.get(k);
             single.set(
                 k,
-                single_x8(Vec3x8::splat(t), Vec3x8::splat(wi), Vec3x8::splat(wo)).lane(0),
+                single_simd(
+                    Vec3Lanes::splat(t),
+                    Vec3Lanes::splat(wi),
+                    Vec3Lanes::splat(wo),
+                )
+                .lane(0),
             );
         }
         g.bench_function(BenchmarkId::new(name, "dual_scalar"), |b| {

@@ -63,6 +63,10 @@ fn configurations() -> [ShadowSettings; 3] {
 }
 
 fn build_and_lookup(c: &mut Criterion) {
+    eprintln!(
+        "coif benches: {} lanes per SIMD block",
+        coif::kernels::LANES
+    );
     let (pts, verts) = draped_head(2048, 32);
     let segments = pts.len() / verts * (verts - 1);
     let mut g = c.benchmark_group("shadow_build");

@@ -235,6 +235,10 @@ fn cpu_per_step(s: &Strands, params: &SimParams, rig: &[Sphere], executors: &[co
 /// `step_with` on 10,000 x 32 at 1 and 2 threads (rayon; rayon off: the
 /// serial executor only).
 fn threads(c: &mut Criterion) {
+    eprintln!(
+        "coif benches: {} lanes per SIMD block",
+        coif::kernels::LANES
+    );
     let (pts, verts, make_rig) = synthetic();
     let rig = make_rig(16);
     let params = SimParams {

@@ -4,24 +4,24 @@
 //! with MODE `marschner`, `marschner-dual`, `pbrt` or `pbrt-dual`, and read
 //! the inclusive count of `ds_profile::measured` (100 passes over 2,048
 //! samples in cache, eight at a time as the frame's fused pass shades:
-//! the table's `scattering_x8`, then `DualScattering::shade_layered_x8`
+//! the table's `scattering_simd`, then `DualScattering::shade_layered_simd`
 //! with hair counts 0-40 in front, their transmittance `exp(-0.4 n)`, and
 //! 20 fibres behind).
 
-use coif::base::Vec3x8;
+use coif::base::lanes::F32Lanes;
+use coif::base::Vec3Lanes;
 use coif::kernels::rng::SplitMix64;
 use coif::shading::dual_scattering::{DualScattering, DualScatteringSettings};
 use coif::shading::marschner::{Lut, Params};
 use coif::shading::{pbrt, RgbBuffer, ShadingSamples};
 use std::hint::black_box;
-use wide::f32x8;
 
 const SAMPLES: usize = 2048;
 const PASSES: usize = 100;
 
 #[inline(never)]
 fn measured(
-    single: &dyn Fn(Vec3x8, Vec3x8, Vec3x8) -> Vec3x8,
+    single: &dyn Fn(Vec3Lanes, Vec3Lanes, Vec3Lanes) -> Vec3Lanes,
     dual: Option<&DualScattering>,
     samples: &ShadingSamples,
     fibres: &[f32],
@@ -34,9 +34,9 @@ fn measured(
             let s = single(t, wi, wo);
             let f = match dual {
                 Some(ds) => {
-                    let n = f32x8::new(fibres[start..start + 8].try_into().expect("8 lanes"));
-                    let d = f32x8::new(direct[start..start + 8].try_into().expect("8 lanes"));
-                    ds.shade_layered_x8(s, t, wi, wo, n, f32x8::splat(20.0), d)
+                    let n = F32Lanes::new(fibres[start..start + 8].try_into().expect("8 lanes"));
+                    let d = F32Lanes::new(direct[start..start + 8].try_into().expect("8 lanes"));
+                    ds.shade_layered_simd(s, t, wi, wo, n, F32Lanes::splat(20.0), d)
                 }
                 None => s,
             };
@@ -80,13 +80,13 @@ fn main() {
         "marschner" | "marschner-dual" => {
             let ds = DualScattering::from_marschner(&lut, settings).expect("valid settings");
             let dual = (mode == "marschner-dual").then_some(&ds);
-            let single = |t, wi, wo| lut.scattering_x8(t, wi, wo);
+            let single = |t, wi, wo| lut.scattering_simd(t, wi, wo);
             measured(&single, dual, &samples, &fibres, &direct, &mut out);
         }
         "pbrt" | "pbrt-dual" => {
             let ds = DualScattering::from_pbrt(&table, settings).expect("valid settings");
             let dual = (mode == "pbrt-dual").then_some(&ds);
-            let single = |t, wi, wo| table.scattering_x8(t, wi, wo);
+            let single = |t, wi, wo| table.scattering_simd(t, wi, wo);
             measured(&single, dual, &samples, &fibres, &direct, &mut out);
         }
         other => {

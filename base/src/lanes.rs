@@ -1,17 +1,85 @@
-//! Lane math: three `f32x8` registers holding one 3-vector per strand lane.
+//! Lane math: three SIMD registers holding one 3-vector per strand lane.
 //!
-//! Strands live in SIMD lanes: lane `l` of block `b` is
-//! strand `b * LANES + l`, so every operation here works on eight strands at
+//! Strands live in SIMD lanes: lane `l` of block `b` is strand
+//! `b * LANES + l`, so every operation here works on [`LANES`] strands at
 //! once with no gathers or shuffles.
+//!
+//! # The width is a build-time choice
+//!
+//! | build | [`LANES`] | [`F32Lanes`] |
+//! |---|---|---|
+//! | default (x86-64-v3: AVX2 + FMA) | 8 | `wide::f32x8`, one 256-bit register |
+//! | `target_feature = "avx512f"` (x86-64-v4, `target-cpu=native` on Zen 4/5 or a Xeon) | 16 | `wide::f32x16`, one 512-bit register |
+//! | cargo feature `lanes16` on any target | 16 | `wide::f32x16`, two 256-bit halves where AVX-512 is absent |
+//!
+//! A strand's result does not depend on the width: every kernel is
+//! lane-wise IEEE arithmetic (`+ - * /`, fused multiply-add, compare,
+//! select) or a hardware estimate that reads the same table at every width
+//! ([`recip_simd`] and [`inv_sqrt_simd`] take `vrcpps` / `vrsqrtps` on
+//! 256-bit halves even on AVX-512, whose 14-bit `vrcp14ps` would round
+//! differently), and the few places that sum across strands (the hair
+//! grid's splat, for one) visit them in groups of eight
+//! ([`GROUP_LANES`]) whatever the width. The tests build the same scenes at
+//! both widths and compare their bytes.
 
 use glam::Vec3;
-use wide::f32x8;
 
-/// Strands (or samples) per SIMD block: the width of [`f32x8`].
-pub const LANES: usize = 8;
+#[cfg(not(any(feature = "lanes16", target_feature = "avx512f")))]
+mod width {
+    /// Eight `f32` lanes (AVX2).
+    pub type F32Lanes = wide::f32x8;
+    /// Eight `i32` lanes.
+    pub type I32Lanes = wide::i32x8;
+    /// Strands per SIMD block.
+    pub const LANES: usize = 8;
+}
 
-/// Three coordinates per lane: `V3<f32>` is one 3-vector, `V3<f32x8>`
-/// ([`Vec3x8`]) eight of them in structure-of-arrays form, so a kernel
+#[cfg(any(feature = "lanes16", target_feature = "avx512f"))]
+mod width {
+    /// Sixteen `f32` lanes (AVX-512, or two AVX2 halves).
+    pub type F32Lanes = wide::f32x16;
+    /// Sixteen `i32` lanes.
+    pub type I32Lanes = wide::i32x16;
+    /// Strands per SIMD block.
+    pub const LANES: usize = 16;
+}
+
+/// `f32` in every lane of a block: `wide::f32x8`, or `wide::f32x16` in a
+/// 16-lane build (see the module docs).
+pub use width::F32Lanes;
+/// `i32` in every lane of a block (indices, truncated coordinates).
+pub use width::I32Lanes;
+/// Strands (or samples) per SIMD block: 8, or 16 where the build targets
+/// `avx512f` or the `lanes16` feature is on.
+pub use width::LANES;
+
+/// The strands a cross-strand sum visits together, whatever [`LANES`] is:
+/// kernels that add many strands into one cell or total (the hair grid's
+/// splat) walk a block as `LANES / GROUP_LANES` groups of eight, vertex by
+/// vertex within each group, so the additions happen in the same order at
+/// both widths.
+pub const GROUP_LANES: usize = 8;
+
+/// Eight `f32` lanes, [`F32Lanes`]'s 256-bit halves: the width the
+/// hardware estimates ([`recip_simd`], [`inv_sqrt_simd`]) and the
+/// eight-strand groups are computed at.
+pub type F32Group = wide::f32x8;
+
+/// Splits a block's lanes into its [`GROUP_LANES`]-wide groups, lane order
+/// kept (one group in an 8-lane build, two in a 16-lane one).
+#[inline(always)]
+pub fn groups(x: F32Lanes) -> [F32Group; LANES / GROUP_LANES] {
+    wide::bytemuck::cast(x)
+}
+
+/// Joins [`groups`] back into a block's lanes.
+#[inline(always)]
+pub fn from_groups(g: [F32Group; LANES / GROUP_LANES]) -> F32Lanes {
+    wide::bytemuck::cast(g)
+}
+
+/// Three coordinates per lane: `V3<f32>` is one 3-vector, `V3<F32Lanes>`
+/// ([`Vec3Lanes`]) eight of them in structure-of-arrays form, so a kernel
 /// written over [`Lane`] serves the scalar twin and the SIMD path alike.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct V3<T> {
@@ -23,8 +91,8 @@ pub struct V3<T> {
     pub z: T,
 }
 
-/// Eight 3-vectors in structure-of-arrays form, one per lane.
-pub type Vec3x8 = V3<f32x8>;
+/// [`LANES`] 3-vectors in structure-of-arrays form, one per lane.
+pub type Vec3Lanes = V3<F32Lanes>;
 
 impl<T: Lane> V3<T> {
     #[inline(always)]
@@ -89,12 +157,12 @@ impl<T: Lane> V3<T> {
     }
 }
 
-impl Vec3x8 {
+impl Vec3Lanes {
     /// Zero in every lane.
-    pub const ZERO: Vec3x8 = Vec3x8 {
-        x: f32x8::ZERO,
-        y: f32x8::ZERO,
-        z: f32x8::ZERO,
+    pub const ZERO: Vec3Lanes = Vec3Lanes {
+        x: F32Lanes::ZERO,
+        y: F32Lanes::ZERO,
+        z: F32Lanes::ZERO,
     };
 
     /// Lane `l` as a `Vec3`.
@@ -117,11 +185,11 @@ impl Vec3x8 {
 
     /// Unit vector, or `fallback` in lanes whose length is not above `1e-20`.
     #[inline(always)]
-    pub fn normalize_or(self, fallback: Vec3x8) -> Vec3x8 {
+    pub fn normalize_or(self, fallback: Vec3Lanes) -> Vec3Lanes {
         let len = self.length_squared().sqrt();
-        let ok = len.simd_gt(f32x8::splat(1e-20));
-        let inv = f32x8::ONE / len.max(f32x8::splat(1e-20));
-        Vec3x8::select(ok, self * inv, fallback)
+        let ok = len.simd_gt(F32Lanes::splat(1e-20));
+        let inv = F32Lanes::ONE / len.max(F32Lanes::splat(1e-20));
+        Vec3Lanes::select(ok, self * inv, fallback)
     }
 }
 
@@ -187,7 +255,8 @@ impl<T: Lane> std::ops::Neg for V3<T> {
     }
 }
 
-/// One lane (`f32`) or eight (`f32x8`): the arithmetic a kernel's scalar and
+/// One lane (`f32`) or a register of them (`wide::f32x8`, `wide::f32x16`; a
+/// block is [`F32Lanes`]): the arithmetic a kernel's scalar and
 /// SIMD twins share, so that one generic body serves both and both round
 /// the same way (`mul_add` is fused in both when the target has FMA, as
 /// coif's build sets it). Every operation is IEEE (`+ - * /`, compare,
@@ -202,7 +271,7 @@ pub trait Lane:
     + std::ops::Div<Output = Self>
     + std::ops::Neg<Output = Self>
 {
-    /// A lane mask: `bool` for one lane, an all-bits `f32x8` for eight.
+    /// A lane mask: `bool` for one lane, an all-bits register for many.
     type Mask: Copy
         + std::ops::BitAnd<Output = Self::Mask>
         + std::ops::BitOr<Output = Self::Mask>
@@ -211,10 +280,10 @@ pub trait Lane:
     fn splat(v: f32) -> Self;
     /// `self * a + b`, fused.
     fn mul_add(self, a: Self, b: Self) -> Self;
-    /// `1 / sqrt(self)`: [`inv_sqrt`] / [`inv_sqrt_x8`] (estimate + one
+    /// `1 / sqrt(self)`: [`inv_sqrt`] / [`inv_sqrt_simd`] (estimate + one
     /// Newton step, about 2^-22 relative). `self` > 0 and finite.
     fn inv_sqrt(self) -> Self;
-    /// `1 / self`: [`recip`] / [`recip_x8`] (estimate + one Newton step).
+    /// `1 / self`: [`recip`] / [`recip_simd`] (estimate + one Newton step).
     fn recip(self) -> Self;
     /// `if self > o { self } else { o }` (`maxps`: a NaN in either gives `o`).
     fn max(self, o: Self) -> Self;
@@ -304,60 +373,99 @@ impl Lane for f32 {
     }
 }
 
-impl Lane for f32x8 {
-    type Mask = f32x8;
-    #[inline(always)]
-    fn splat(v: f32) -> f32x8 {
-        f32x8::splat(v)
+/// Eight planes of a block (one field of every lane per plane) as one row
+/// of eight floats per lane: an 8 x 8 transpose per group of eight lanes.
+#[inline(always)]
+pub fn planes_to_rows(planes: [F32Lanes; 8]) -> [F32Group; LANES] {
+    let split = planes.map(groups);
+    let mut rows = [F32Group::ZERO; LANES];
+    for (k, out) in rows.chunks_exact_mut(GROUP_LANES).enumerate() {
+        out.copy_from_slice(&F32Group::transpose(split.map(|g| g[k])));
     }
-    #[inline(always)]
-    fn mul_add(self, a: f32x8, b: f32x8) -> f32x8 {
-        f32x8::mul_add(self, a, b)
-    }
-    #[inline(always)]
-    fn inv_sqrt(self) -> f32x8 {
-        inv_sqrt_x8(self)
-    }
-    #[inline(always)]
-    fn recip(self) -> f32x8 {
-        recip_x8(self)
-    }
-    #[inline(always)]
-    fn max(self, o: f32x8) -> f32x8 {
-        self.fast_max(o)
-    }
-    #[inline(always)]
-    fn min(self, o: f32x8) -> f32x8 {
-        self.fast_min(o)
-    }
-    #[inline(always)]
-    fn abs(self) -> f32x8 {
-        f32x8::abs(self)
-    }
-    #[inline(always)]
-    fn gt(self, o: f32x8) -> f32x8 {
-        self.simd_gt(o)
-    }
-    #[inline(always)]
-    fn lt(self, o: f32x8) -> f32x8 {
-        self.simd_lt(o)
-    }
-    #[inline(always)]
-    fn select(m: f32x8, a: f32x8, b: f32x8) -> f32x8 {
-        m.select(a, b)
-    }
-    #[inline(always)]
-    fn any(m: f32x8) -> bool {
-        m.any()
-    }
-    #[inline(always)]
-    fn finite(self) -> f32x8 {
-        self.is_finite()
-    }
-    #[inline(always)]
-    fn all_lanes() -> f32x8 {
-        f32x8::ZERO.simd_eq(f32x8::ZERO)
-    }
+    rows
+}
+
+/// [`Lane`] for a `wide` register type, with its hardware estimates of
+/// `1 / x` and `1 / sqrt(x)` (each refined by one Newton step here).
+macro_rules! simd_lane {
+    ($t:ty, $rcp_estimate:path, $rsqrt_estimate:path) => {
+        impl Lane for $t {
+            type Mask = $t;
+            #[inline(always)]
+            fn splat(v: f32) -> $t {
+                <$t>::splat(v)
+            }
+            #[inline(always)]
+            fn mul_add(self, a: $t, b: $t) -> $t {
+                <$t>::mul_add(self, a, b)
+            }
+            #[inline(always)]
+            fn inv_sqrt(self) -> $t {
+                let y = $rsqrt_estimate(self);
+                y * (<$t>::splat(1.5) - <$t>::splat(0.5) * self * (y * y))
+            }
+            #[inline(always)]
+            fn recip(self) -> $t {
+                let y = $rcp_estimate(self);
+                y * (<$t>::splat(2.0) - self * y)
+            }
+            #[inline(always)]
+            fn max(self, o: $t) -> $t {
+                self.fast_max(o)
+            }
+            #[inline(always)]
+            fn min(self, o: $t) -> $t {
+                self.fast_min(o)
+            }
+            #[inline(always)]
+            fn abs(self) -> $t {
+                <$t>::abs(self)
+            }
+            #[inline(always)]
+            fn gt(self, o: $t) -> $t {
+                self.simd_gt(o)
+            }
+            #[inline(always)]
+            fn lt(self, o: $t) -> $t {
+                self.simd_lt(o)
+            }
+            #[inline(always)]
+            fn select(m: $t, a: $t, b: $t) -> $t {
+                m.select(a, b)
+            }
+            #[inline(always)]
+            fn any(m: $t) -> bool {
+                m.any()
+            }
+            #[inline(always)]
+            fn finite(self) -> $t {
+                self.is_finite()
+            }
+            #[inline(always)]
+            fn all_lanes() -> $t {
+                <$t>::ZERO.simd_eq(<$t>::ZERO)
+            }
+        }
+    };
+}
+
+simd_lane!(wide::f32x8, wide::f32x8::recip, wide::f32x8::recip_sqrt);
+simd_lane!(wide::f32x16, rcp_estimate_x16, rsqrt_estimate_x16);
+
+/// `vrcpps` on each 256-bit half, also on AVX-512 (whose own 14-bit
+/// estimate, or wide's exact division there, would round differently from
+/// the eight-lane build and the scalar twin's `rcpss`).
+#[inline(always)]
+fn rcp_estimate_x16(x: wide::f32x16) -> wide::f32x16 {
+    let halves: [wide::f32x8; 2] = wide::bytemuck::cast(x);
+    wide::bytemuck::cast(halves.map(wide::f32x8::recip))
+}
+
+/// `vrsqrtps` on each 256-bit half (as [`rcp_estimate_x16`]).
+#[inline(always)]
+fn rsqrt_estimate_x16(x: wide::f32x16) -> wide::f32x16 {
+    let halves: [wide::f32x8; 2] = wide::bytemuck::cast(x);
+    wide::bytemuck::cast(halves.map(wide::f32x8::recip_sqrt))
 }
 
 /// `1 / x` to about 2^-22 relative error without the divider: the hardware
@@ -365,12 +473,11 @@ impl Lane for f32x8 {
 /// `y' = y (2 - x y)`. [`recip`] computes the same value bit for bit, one
 /// lane at a time. `x` must be nonzero and finite.
 #[inline(always)]
-pub fn recip_x8(x: f32x8) -> f32x8 {
-    let y = f32x8::recip(x);
-    y * (f32x8::splat(2.0) - x * y)
+pub fn recip_simd(x: F32Lanes) -> F32Lanes {
+    <F32Lanes as Lane>::recip(x)
 }
 
-/// The scalar twin of [`recip_x8`]: `rcpss` reads the same table as
+/// The scalar twin of [`recip_simd`]: `rcpss` reads the same table as
 /// `vrcpps`, then the same Newton step in the same order.
 #[inline(always)]
 pub fn recip(x: f32) -> f32 {
@@ -383,12 +490,11 @@ pub fn recip(x: f32) -> f32 {
 /// `y' = y (1.5 - 0.5 x y^2)`. [`inv_sqrt`] computes the same value,
 /// bit for bit, one lane at a time. `x` must be positive and finite.
 #[inline(always)]
-pub fn inv_sqrt_x8(x: f32x8) -> f32x8 {
-    let y = x.recip_sqrt();
-    y * (f32x8::splat(1.5) - f32x8::splat(0.5) * x * (y * y))
+pub fn inv_sqrt_simd(x: F32Lanes) -> F32Lanes {
+    <F32Lanes as Lane>::inv_sqrt(x)
 }
 
-/// The scalar twin of [`inv_sqrt_x8`]: the same estimate (`rsqrtss` reads the
+/// The scalar twin of [`inv_sqrt_simd`]: the same estimate (`rsqrtss` reads the
 /// same table as `vrsqrtps`) and the same Newton step in the same order.
 #[inline(always)]
 pub fn inv_sqrt(x: f32) -> f32 {
@@ -416,7 +522,7 @@ fn rcp_estimate(x: f32) -> f32 {
 #[cfg(not(all(target_arch = "x86_64", target_feature = "avx")))]
 #[inline(always)]
 fn rcp_estimate(x: f32) -> f32 {
-    f32x8::splat(x).recip().as_array()[0]
+    F32Group::splat(x).recip().as_array()[0]
 }
 
 #[cfg(not(all(target_arch = "x86_64", target_feature = "avx")))]
@@ -424,23 +530,23 @@ fn rcp_estimate(x: f32) -> f32 {
 fn rsqrt_estimate(x: f32) -> f32 {
     // Elsewhere wide's estimate is not reproducible lane by lane; the two
     // paths then agree to the Newton step's accuracy, not bit for bit.
-    f32x8::splat(x).recip_sqrt().as_array()[0]
+    F32Group::splat(x).recip_sqrt().as_array()[0]
 }
 
 /// The lane mask (all bits set) of lanes `0..n`: the lanes of a block that
 /// hold one of its `n` strands or samples (`n >= LANES` sets them all).
 #[inline]
-pub fn lanes_below(n: usize) -> f32x8 {
-    f32x8::new(std::array::from_fn(|l| if l < n { 1.0 } else { 0.0 })).simd_gt(f32x8::ZERO)
+pub fn lanes_below(n: usize) -> F32Lanes {
+    F32Lanes::new(std::array::from_fn(|l| if l < n { 1.0 } else { 0.0 })).simd_gt(F32Lanes::ZERO)
 }
 
 /// Loads lanes from a slice of up to [`LANES`] values, padding with `pad`.
 #[inline]
-pub fn load_padded(values: &[f32], pad: f32) -> f32x8 {
+pub fn load_padded(values: &[f32], pad: f32) -> F32Lanes {
     let mut a = [pad; LANES];
     let n = values.len().min(LANES);
     a[..n].copy_from_slice(&values[..n]);
-    f32x8::new(a)
+    F32Lanes::new(a)
 }
 
 #[cfg(test)]
@@ -449,7 +555,7 @@ mod tests {
 
     #[test]
     fn lanes_round_trip_and_math() {
-        let mut v = Vec3x8::ZERO;
+        let mut v = Vec3Lanes::ZERO;
         for l in 0..LANES {
             v.set_lane(l, Vec3::new(l as f32, 2.0 * l as f32, -1.0));
         }
@@ -457,18 +563,18 @@ mod tests {
             let s = v.lane(l);
             assert_eq!(s, Vec3::new(l as f32, 2.0 * l as f32, -1.0));
             assert_eq!(v.dot(v).as_array()[l], s.dot(s));
-            assert_eq!(v.cross(Vec3x8::splat(Vec3::X)).lane(l), s.cross(Vec3::X));
+            assert_eq!(v.cross(Vec3Lanes::splat(Vec3::X)).lane(l), s.cross(Vec3::X));
         }
-        let n = v.normalize_or(Vec3x8::splat(Vec3::Y));
+        let n = v.normalize_or(Vec3Lanes::splat(Vec3::Y));
         for l in 0..LANES {
             assert!((n.lane(l).length() - 1.0).abs() < 1e-6);
         }
-        let z = Vec3x8::ZERO.normalize_or(Vec3x8::splat(Vec3::Y));
+        let z = Vec3Lanes::ZERO.normalize_or(Vec3Lanes::splat(Vec3::Y));
         assert_eq!(z.lane(3), Vec3::Y);
-        assert_eq!(
-            load_padded(&[1.0, 2.0], 9.0).to_array(),
-            [1.0, 2.0, 9.0, 9.0, 9.0, 9.0, 9.0, 9.0]
-        );
+        let padded = load_padded(&[1.0, 2.0], 9.0).to_array();
+        assert_eq!(padded[..2], [1.0, 2.0]);
+        assert!(padded[2..].iter().all(|&p| p == 9.0));
+        assert_eq!(padded.len(), LANES);
     }
 
     #[test]
@@ -476,7 +582,7 @@ mod tests {
         let mut x = 1e-6f32;
         while x < 1e6 {
             let one = inv_sqrt(x);
-            let eight = inv_sqrt_x8(f32x8::splat(x)).to_array();
+            let eight = inv_sqrt_simd(F32Lanes::splat(x)).to_array();
             assert!(eight.iter().all(|e| (e - one).abs() <= 1e-6 * one), "{x}");
             assert!((one * x.sqrt() - 1.0).abs() < 1e-6, "{x}");
             x *= 1.7;
@@ -489,12 +595,36 @@ mod tests {
         while m < 1e6 {
             for x in [m, -m] {
                 let one = recip(x);
-                let eight = recip_x8(f32x8::splat(x)).to_array();
+                let eight = recip_simd(F32Lanes::splat(x)).to_array();
                 assert!(eight.iter().all(|e| e.to_bits() == one.to_bits()), "{x}");
                 assert!((one * x - 1.0).abs() < 1e-6, "{x}");
             }
             m *= 1.37;
         }
+    }
+
+    #[test]
+    fn planes_to_rows_transposes_every_lane() {
+        let planes: [F32Lanes; 8] =
+            std::array::from_fn(|p| F32Lanes::new(std::array::from_fn(|l| (100 * l + p) as f32)));
+        for (l, row) in planes_to_rows(planes).iter().enumerate() {
+            assert_eq!(
+                row.to_array(),
+                std::array::from_fn(|p| (100 * l + p) as f32)
+            );
+        }
+    }
+
+    #[test]
+    fn groups_keep_lane_order() {
+        let x = F32Lanes::new(std::array::from_fn(|l| l as f32));
+        let g = groups(x);
+        for (k, group) in g.iter().enumerate() {
+            for (l, v) in group.to_array().iter().enumerate() {
+                assert_eq!(*v, (k * GROUP_LANES + l) as f32);
+            }
+        }
+        assert_eq!(from_groups(g).to_array(), x.to_array());
     }
 
     #[test]
@@ -507,10 +637,10 @@ mod tests {
         }
         for (x, y) in [(1.5f32, -2.0f32), (-3.0, 0.1), (0.2, 0.3), (7.0, 7.0)] {
             let one = body(x, y);
-            let eight = body(f32x8::splat(x), f32x8::splat(y)).to_array();
+            let eight = body(F32Lanes::splat(x), F32Lanes::splat(y)).to_array();
             assert!(eight.iter().all(|e| e.to_bits() == one.to_bits()));
         }
-        assert!(!<f32x8 as Lane>::any(!<f32x8 as Lane>::all_lanes()));
+        assert!(!<F32Lanes as Lane>::any(!<F32Lanes as Lane>::all_lanes()));
         assert!(<f32 as Lane>::any(f32::NAN.finite() | true));
     }
 
@@ -520,7 +650,7 @@ mod tests {
             L::splat(0.5).mul_add(x, L::splat(2.0)) * x - x / L::splat(4.0)
         }
         for x in [-3.0f32, -0.25, 0.0, 1.5, 7.0] {
-            assert_eq!(poly(x), poly(f32x8::splat(x)).to_array()[2]);
+            assert_eq!(poly(x), poly(F32Lanes::splat(x)).to_array()[2]);
         }
     }
 

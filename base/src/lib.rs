@@ -1,7 +1,8 @@
 //! coif-base: what every coif crate shares.
 //!
-//! - [`lanes`]: [`Vec3x8`], eight 3-vectors in three `wide::f32x8`
-//!   registers: strands (or shading samples) in SIMD lanes, [`LANES`] wide.
+//! - [`lanes`]: [`Vec3Lanes`], [`LANES`] 3-vectors in three [`F32Lanes`]
+//!   registers: strands (or shading samples) in SIMD lanes, 8 or 16 wide
+//!   (a build-time choice: `avx512f` or the `lanes16` feature give 16).
 //! - [`StrandBlocks`]: a read-only view of strands stored in lane blocks.
 //! - [`Sphere`]: the collision rig's primitive.
 //! - [`polyline`]: [`polyline::arc_length_samples`], a polyline resampled
@@ -21,7 +22,7 @@ mod sphere;
 mod strand_blocks;
 pub mod tasks;
 
-pub use lanes::{Vec3x8, LANES};
+pub use lanes::{F32Lanes, I32Lanes, Vec3Lanes, LANES};
 pub use rng::SplitMix64;
 pub use sphere::Sphere;
 pub use strand_blocks::StrandBlocks;

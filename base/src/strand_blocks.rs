@@ -6,14 +6,14 @@
 //! `b * LANES + l`. The simulation owns such a set (`coif_kernels::Strands`
 //! hands out this view); LOD reads it without knowing how it was simulated.
 
-use crate::lanes::{Vec3x8, LANES};
+use crate::lanes::{Vec3Lanes, LANES};
 use glam::DVec3;
 
 /// Borrowed positions of a set of equal-length strands in lane layout,
 /// relative to a local origin.
 #[derive(Clone, Copy, Debug)]
 pub struct StrandBlocks<'a> {
-    positions: &'a [Vec3x8],
+    positions: &'a [Vec3Lanes],
     strand_count: usize,
     verts_per_strand: usize,
     origin: DVec3,
@@ -25,7 +25,7 @@ impl<'a> StrandBlocks<'a> {
     /// `None` unless `positions.len()` is `ceil(strand_count / LANES) *
     /// verts_per_strand`.
     pub fn new(
-        positions: &'a [Vec3x8],
+        positions: &'a [Vec3Lanes],
         strand_count: usize,
         verts_per_strand: usize,
         origin: DVec3,
@@ -66,7 +66,7 @@ impl<'a> StrandBlocks<'a> {
 
     /// Block `b`'s positions relative to [`StrandBlocks::origin`]: `V`
     /// entries, root first. Panics if `b >= block_count()`.
-    pub fn block_positions_local(&self, b: usize) -> &'a [Vec3x8] {
+    pub fn block_positions_local(&self, b: usize) -> &'a [Vec3Lanes] {
         let v = self.verts_per_strand;
         &self.positions[b * v..(b + 1) * v]
     }
@@ -78,7 +78,7 @@ mod tests {
 
     #[test]
     fn view_checks_its_length_and_counts_padding_lanes() {
-        let pos = vec![Vec3x8::ZERO; 2 * 4];
+        let pos = vec![Vec3Lanes::ZERO; 2 * 4];
         assert!(StrandBlocks::new(&pos, 9, 4, DVec3::ZERO).is_some());
         assert!(StrandBlocks::new(&pos, 17, 4, DVec3::ZERO).is_none());
         assert!(StrandBlocks::new(&pos, 9, 3, DVec3::ZERO).is_none());

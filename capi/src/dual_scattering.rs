@@ -11,7 +11,7 @@ use crate::shading::{shade, CoifMarschnerLut, CoifPbrtTable};
 use crate::CoifRenderVertex;
 use crate::{guard, handle, new_handle, set_last_error, CoifExecutor, CoifStatus};
 use coif_base::lanes::load_padded;
-use coif_base::Vec3x8;
+use coif_base::Vec3Lanes;
 use coif_shading::dual_scattering::{DualScattering, DualScatteringSettings};
 
 /// Density and quality settings of dual scattering; the fields of
@@ -154,7 +154,7 @@ pub unsafe extern "C" fn coif_dual_scattering_free(ds: *mut CoifDualScattering) 
 
 /// `coif_shade_marschner_lut` with multiple scattering: per vertex `k`,
 /// the single scattering of `lut` is turned into dual scattering's `F`
-/// (`DualScattering::shade_layered_x8`, the same numbers as
+/// (`DualScattering::shade_layered_simd`, the same numbers as
 /// `DualScattering::shade_layered` vertex by vertex given
 /// `Lut::scattering_batch`'s single scattering) from `fibres[k]`, the
 /// number of hair fibres between the vertex and the light (>= 0,
@@ -165,7 +165,7 @@ pub unsafe extern "C" fn coif_dual_scattering_free(ds: *mut CoifDualScattering) 
 /// fraction of the light reaching it unscattered (in [0, 1]; a shadow
 /// map's transmittance). The local backscatter comes from the hair behind
 /// the vertex: a vertex with nothing behind it gets none. `behind` NULL is
-/// infinitely deep hair behind every vertex (`DualScattering::shade_x8`,
+/// infinitely deep hair behind every vertex (`DualScattering::shade_simd`,
 /// the same numbers as `DualScattering::shade_batch` given
 /// `Lut::scattering_batch`'s single scattering). The result replaces
 /// `single * direct` in the lighting (like Marschner's single scattering,
@@ -259,7 +259,7 @@ pub unsafe extern "C" fn coif_shade_marschner_lut_dual_with(
                 out_rgb,
                 capacity,
                 executor,
-                &|t, wi, wo| lut.scattering_x8(t, wi, wo),
+                &|t, wi, wo| lut.scattering_simd(t, wi, wo),
             )
         }
     })
@@ -356,7 +356,7 @@ pub unsafe extern "C" fn coif_shade_pbrt_table_dual_with(
                 out_rgb,
                 capacity,
                 executor,
-                &|t, wi, wo| table.scattering_x8(t, wi, wo),
+                &|t, wi, wo| table.scattering_simd(t, wi, wo),
             )
         }
     })
@@ -402,7 +402,7 @@ unsafe fn shade_dual(
     out_rgb: *mut f32,
     capacity: usize,
     executor: *const CoifExecutor,
-    single: &(dyn Fn(Vec3x8, Vec3x8, Vec3x8) -> Vec3x8 + Sync),
+    single: &(dyn Fn(Vec3Lanes, Vec3Lanes, Vec3Lanes) -> Vec3Lanes + Sync),
 ) -> Result<(), CoifStatus> {
     if fibres.is_null() || direct.is_null() {
         return Err(CoifStatus::COIF_ERROR_NULL);
@@ -454,10 +454,10 @@ unsafe fn shade_dual(
         let s = single(t, wi, wo);
         let behind = match behind {
             Some(behind) => load_padded(&behind[first..], 0.0),
-            // Every lane infinity: infinitely deep hair (`shade_x8`).
+            // Every lane infinity: infinitely deep hair (`shade_simd`).
             None => load_padded(&[], f32::INFINITY),
         };
-        ds.shade_layered_x8(
+        ds.shade_layered_simd(
             s,
             t,
             wi,

@@ -2,14 +2,14 @@
 //! two shifted highlights (`coif_shading::kajiya_kay`), Marschner 2003
 //! from its lookup tables (`coif_shading::marschner::Lut`) and pbrt-v3's
 //! hair BSDF from its far-field tables (`coif_shading::pbrt::Table`), eight
-//! vertices per SIMD step (`shade_x8` / `scattering_x8`, the kernels of the
+//! vertices per SIMD step (`shade_simd` / `scattering_simd`, the kernels of the
 //! Rust batch paths).
 
 use crate::lod::CoifRenderVertex;
 use crate::tasks::{self, per_task};
 use crate::{guard, handle, input, new_handle, output, vec3_arg, CoifExecutor, CoifStatus};
 use coif_base::tasks::{for_each_chunk_mut, Executor};
-use coif_base::{Vec3x8, LANES};
+use coif_base::{Vec3Lanes, LANES};
 use coif_shading::kajiya_kay::{Highlight, KajiyaKay};
 use coif_shading::marschner::{self, Lut, RootSolver};
 use coif_shading::pbrt::{self, Table};
@@ -337,7 +337,7 @@ pub unsafe extern "C" fn coif_pbrt_table_free(table: *mut CoifPbrtTable) {
 }
 
 /// As `coif_shade_kajiya_kay`, with pbrt-v3's hair BSDF from the tables
-/// `table` (`Table::scattering_x8`, the same numbers as
+/// `table` (`Table::scattering_simd`, the same numbers as
 /// `Table::scattering_batch`). Allocates nothing.
 ///
 /// Errors: as `coif_shade_kajiya_kay`.
@@ -401,7 +401,7 @@ pub unsafe extern "C" fn coif_shade_pbrt_table_with(
                 capacity,
                 executor,
                 &|| Ok(()),
-                &|_, t, wi, wo| table.scattering_x8(t, wi, wo),
+                &|_, t, wi, wo| table.scattering_simd(t, wi, wo),
             )
         }
     })
@@ -488,14 +488,14 @@ pub unsafe extern "C" fn coif_shade_kajiya_kay_with(
                 capacity,
                 executor,
                 &|| Ok(()),
-                &|_, t, wi, wo| kk.shade_x8(t, wi, wo),
+                &|_, t, wi, wo| kk.shade_simd(t, wi, wo),
             )
         }
     })
 }
 
 /// As `coif_shade_kajiya_kay`, with Marschner's scattering function from
-/// the tables `lut` (`Lut::scattering_x8`, the same numbers as
+/// the tables `lut` (`Lut::scattering_simd`, the same numbers as
 /// `Lut::scattering_batch`). Allocates nothing.
 ///
 /// Errors: as `coif_shade_kajiya_kay`.
@@ -559,7 +559,7 @@ pub unsafe extern "C" fn coif_shade_marschner_lut_with(
                 capacity,
                 executor,
                 &|| Ok(()),
-                &|_, t, wi, wo| lut.scattering_x8(t, wi, wo),
+                &|_, t, wi, wo| lut.scattering_simd(t, wi, wo),
             )
         }
     })
@@ -567,7 +567,8 @@ pub unsafe extern "C" fn coif_shade_marschner_lut_with(
 
 /// A shading kernel: the index of the block's first vertex, then its `t`,
 /// `wi`, `wo` lanes.
-pub(crate) type Kernel<'a> = dyn Fn(usize, Vec3x8, Vec3x8, Vec3x8) -> Vec3x8 + Sync + 'a;
+pub(crate) type Kernel<'a> =
+    dyn Fn(usize, Vec3Lanes, Vec3Lanes, Vec3Lanes) -> Vec3Lanes + Sync + 'a;
 
 /// Checks the inputs, then shades eight vertices at a time with `kernel`
 /// (`t`, `wi`, `wo` lanes; lanes past the end padded as
@@ -643,14 +644,14 @@ fn shade_run(
 ) {
     let blocks = verts.chunks(LANES).zip(out.chunks_mut(LANES));
     for (b, (block, rgb)) in blocks.enumerate() {
-        let (mut t, mut wo) = (Vec3x8::splat(Vec3::X), Vec3x8::splat(Vec3::Y));
-        let mut wi_x8 = Vec3x8::splat(Vec3::Y);
+        let (mut t, mut wo) = (Vec3Lanes::splat(Vec3::X), Vec3Lanes::splat(Vec3::Y));
+        let mut wi_simd = Vec3Lanes::splat(Vec3::Y);
         for (l, v) in block.iter().enumerate() {
             t.set_lane(l, Vec3::from_array(v.tangent));
             wo.set_lane(l, view_direction(eye, v));
-            wi_x8.set_lane(l, wi);
+            wi_simd.set_lane(l, wi);
         }
-        let c = kernel(first + b * LANES, t, wi_x8, wo);
+        let c = kernel(first + b * LANES, t, wi_simd, wo);
         for (l, o) in rgb.iter_mut().enumerate() {
             *o = c.lane(l);
         }

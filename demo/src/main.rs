@@ -655,10 +655,11 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         }
     );
     out!(
-        "setup (scene, settle 1.5 s, tables, buffers): {:.0} ms; {} thread{}",
+        "setup (scene, settle 1.5 s, tables, buffers): {:.0} ms; {} thread{}, {} lanes",
         start.elapsed().as_secs_f64() * 1e3,
         executor.threads(),
-        if executor.threads() == 1 { "" } else { "s" }
+        if executor.threads() == 1 { "" } else { "s" },
+        coif::kernels::LANES
     );
 
     let mut animation = match &cli.animation {

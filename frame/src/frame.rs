@@ -900,7 +900,7 @@ impl FramePipeline {
             camera,
             drawn,
             &head_shading,
-            &|p| shadow.transmittance_x8(p),
+            &|p| shadow.transmittance_simd(p),
             executor,
         );
     }
@@ -938,7 +938,7 @@ impl FramePipeline {
                 camera,
                 spheres,
                 &shading,
-                &|p| shadow.transmittance_x8(p),
+                &|p| shadow.transmittance_simd(p),
                 executor,
             );
         }

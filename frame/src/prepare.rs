@@ -3,14 +3,14 @@
 //! triangle, `LANES` lanes, `R` vertices each) at a time, written once as
 //! [`ShadedVertex`]es.
 //!
-//! Per group, per vertex row `r` (eight hairs in the lanes of `f32x8`):
+//! Per group, per vertex row `r` (eight hairs in the lanes of `F32Lanes`):
 //!
 //! 1. interpolate: `P = b_A A + b_B B + b_C C` of the refined guides and
 //!    the normalised blend of their tangents `t` (`coif_lod::GroupBlend`);
-//! 2. shade: `S = model_x8(t, wi, wo)` with `wi` toward the light (one
+//! 2. shade: `S = model_simd(t, wi, wo)` with `wi` toward the light (one
 //!    vector per frame) and `wo = unit(eye - P)` (`+Z` where `P` is the eye);
 //! 3. visibility: the shadow map's transmittance at `P` times 0 where the
-//!    ray toward the light meets a head sphere ([`occluded_x8`]); with dual
+//!    ray toward the light meets a head sphere ([`occluded_simd`]); with dual
 //!    scattering (`Shader::dual_scattering`) the map's hair count and
 //!    transmittance make `S` the model's multiple-scattering `F` instead,
 //!    and only the head's 0 remains (the hair behind the point, for its
@@ -30,13 +30,13 @@
 
 use super::{Light, Shader, HAIR_AMBIENT_ALBEDO};
 use coif_base::lanes::lanes_below;
-use coif_base::{Vec3x8, LANES};
+use coif_base::lanes::F32Lanes;
+use coif_base::{Vec3Lanes, LANES};
 use coif_kernels::Sphere;
 use coif_lod::{GroupBlend, HairWidth};
 use coif_render::ShadedVertex;
 use coif_shading::shadow::OpacityShadowMap;
 use glam::Vec3;
-use wide::f32x8;
 
 /// What every group of one frame's prepare pass reads.
 pub(crate) struct GroupShading<'a> {
@@ -56,17 +56,22 @@ pub(crate) struct GroupShading<'a> {
 /// sphere by more than `epsilon r` in `|m|^2 - r^2`: the lane-wise twin of
 /// `coif_render::head::occluded` (same expressions in the same order).
 #[inline(always)]
-pub(crate) fn occluded_x8(p: Vec3x8, to_light: Vec3, spheres: &[Sphere], epsilon: f32) -> f32x8 {
-    let l = Vec3x8::splat(to_light);
-    let mut hit = f32x8::ZERO;
+pub(crate) fn occluded_simd(
+    p: Vec3Lanes,
+    to_light: Vec3,
+    spheres: &[Sphere],
+    epsilon: f32,
+) -> F32Lanes {
+    let l = Vec3Lanes::splat(to_light);
+    let mut hit = F32Lanes::ZERO;
     for s in spheres {
-        let m = p - Vec3x8::splat(s.center);
+        let m = p - Vec3Lanes::splat(s.center);
         let b = m.dot(l);
-        let c = m.length_squared() - f32x8::splat(s.radius * s.radius);
+        let c = m.length_squared() - F32Lanes::splat(s.radius * s.radius);
         let disc = b * b - c;
-        hit |= c.simd_gt(f32x8::splat(epsilon * s.radius))
-            & b.simd_lt(f32x8::ZERO)
-            & disc.simd_gt(f32x8::ZERO);
+        hit |= c.simd_gt(F32Lanes::splat(epsilon * s.radius))
+            & b.simd_lt(F32Lanes::ZERO)
+            & disc.simd_gt(F32Lanes::ZERO);
     }
     hit
 }
@@ -87,8 +92,8 @@ pub(crate) fn shade_group(
         return;
     }
     let light = ctx.light;
-    let wi = Vec3x8::splat(light.to_light);
-    let eye = Vec3x8::splat(ctx.eye);
+    let wi = Vec3Lanes::splat(light.to_light);
+    let eye = Vec3Lanes::splat(ctx.eye);
     let irradiance = light.irradiance * ctx.shader.light_scale();
     let ambient = HAIR_AMBIENT_ALBEDO * light.ambient;
     let cosine = ctx.shader.needs_cosine();
@@ -96,7 +101,7 @@ pub(crate) fn shade_group(
     for (l, t) in tint.iter_mut().enumerate() {
         *t = super::strand_tint(first_hair + l.min(hairs - 1));
     }
-    let tint = f32x8::new(tint);
+    let tint = F32Lanes::new(tint);
     let inv = if r_len > 1 {
         1.0 / (r_len - 1) as f32
     } else {
@@ -106,11 +111,11 @@ pub(crate) fn shade_group(
     let real = lanes_below(hairs);
     for r in 0..r_len {
         // 1. Interpolate.
-        let p = blend.position_x8(r);
-        let t = blend.tangent_x8(r);
+        let p = blend.position_simd(r);
+        let t = blend.tangent_simd(r);
         // 2. Shade.
-        let wo = (eye - p).normalize_or(Vec3x8::splat(Vec3::Z));
-        let head = occluded_x8(p, light.to_light, ctx.head, 1e-3);
+        let wo = (eye - p).normalize_or(Vec3Lanes::splat(Vec3::Z));
+        let head = occluded_simd(p, light.to_light, ctx.head, 1e-3);
         // A lane in the head's shadow gets no direct light (`visible` is
         // 0 below). When every hair lane is, with finite directions (so a
         // finite scattering value, which times 0 is 0), the model and the
@@ -118,9 +123,9 @@ pub(crate) fn shade_group(
         // give, the same bits after the ambient term is added.
         let dark = (head | !real).all() && (t.finite() & wo.finite()).all();
         let direct = if dark {
-            Vec3x8::ZERO
+            Vec3Lanes::ZERO
         } else {
-            let s = ctx.shader.scattering_x8(t, wi, wo);
+            let s = ctx.shader.scattering_simd(t, wi, wo);
             // 3. Visibility: shadow map, head. With dual scattering the
             // map's hair count and transmittance go into the model's `F`
             // and the head alone remains as a visibility.
@@ -130,52 +135,58 @@ pub(crate) fn shade_group(
                         Some(m) => {
                             // In front of the point, and on the light's
                             // whole ray through it (the last plane).
-                            let (sigma, through) = m.hairs_in_front_and_through_x8(p);
+                            let (sigma, through) = m.hairs_in_front_and_through_simd(p);
                             (
                                 sigma,
-                                (through - sigma).fast_max(f32x8::ZERO),
-                                (f32x8::splat(-m.hair_opacity()) * sigma).exp(),
+                                (through - sigma).fast_max(F32Lanes::ZERO),
+                                (F32Lanes::splat(-m.hair_opacity()) * sigma).exp(),
                             )
                         }
                         // No map: nothing known in front, deep hair behind.
-                        None => (f32x8::ZERO, f32x8::splat(f32::INFINITY), f32x8::ONE),
+                        None => (
+                            F32Lanes::ZERO,
+                            F32Lanes::splat(f32::INFINITY),
+                            F32Lanes::ONE,
+                        ),
                     };
-                    let lit = ds.shade_layered_x8(s, t, wi, wo, fibres, behind, transmittance);
-                    (lit, head.select(f32x8::ZERO, f32x8::ONE))
+                    let lit = ds.shade_layered_simd(s, t, wi, wo, fibres, behind, transmittance);
+                    (lit, head.select(F32Lanes::ZERO, F32Lanes::ONE))
                 }
                 None => {
-                    let transmittance = ctx.shadow.map_or(f32x8::ONE, |m| m.transmittance_x8(p));
-                    (s, head.select(f32x8::ZERO, transmittance))
+                    let transmittance = ctx
+                        .shadow
+                        .map_or(F32Lanes::ONE, |m| m.transmittance_simd(p));
+                    (s, head.select(F32Lanes::ZERO, transmittance))
                 }
             };
             // 4. Colour.
-            let direct = Vec3x8::new(
-                s.x * f32x8::splat(irradiance.x) * visible,
-                s.y * f32x8::splat(irradiance.y) * visible,
-                s.z * f32x8::splat(irradiance.z) * visible,
+            let direct = Vec3Lanes::new(
+                s.x * F32Lanes::splat(irradiance.x) * visible,
+                s.y * F32Lanes::splat(irradiance.y) * visible,
+                s.z * F32Lanes::splat(irradiance.z) * visible,
             );
             if cosine {
                 let c = t.dot(wi);
-                direct * (f32x8::ONE - c * c).max(f32x8::ZERO).sqrt()
+                direct * (F32Lanes::ONE - c * c).max(F32Lanes::ZERO).sqrt()
             } else {
                 direct
             }
         };
-        let c = (direct + Vec3x8::splat(ambient)) * tint;
-        let c = Vec3x8::select(c.finite(), c, Vec3x8::splat(ambient));
-        // 5. Write: the eight lanes' fields (the `ShadedVertex` order)
+        let c = (direct + Vec3Lanes::splat(ambient)) * tint;
+        let c = Vec3Lanes::select(c.finite(), c, Vec3Lanes::splat(ambient));
+        // 5. Write: the lanes' eight fields (the `ShadedVertex` order)
         // transposed, so lane l's vertex is one row of eight floats.
         let sp = r as f32 * inv;
         let width = (ctx.width.root + (ctx.width.tip - ctx.width.root) * sp) * ctx.width_factor;
-        let rows = f32x8::transpose([
+        let rows = coif_base::lanes::planes_to_rows([
             p.x,
             p.y,
             p.z,
-            f32x8::splat(width),
+            F32Lanes::splat(width),
             c.x,
             c.y,
             c.z,
-            f32x8::splat(sp),
+            F32Lanes::splat(sp),
         ]);
         for (l, row) in rows.iter().take(hairs).enumerate() {
             let v = row.to_array();

@@ -1,7 +1,7 @@
 //! Which hair shading model a frame uses, with its prepared tables.
 
 use super::Error;
-use coif_base::Vec3x8;
+use coif_base::Vec3Lanes;
 use coif_shading::dual_scattering::{DualScattering, DualScatteringSettings};
 use coif_shading::kajiya_kay::KajiyaKay;
 use coif_shading::{marschner, pbrt, RgbBuffer, ShadingSamples};
@@ -215,15 +215,15 @@ impl Shader {
     }
 
     /// Single scattering of eight samples (the per-element `_x8` function of the
-    /// model: `KajiyaKay::shade_x8`, `marschner::Lut::scattering_x8`,
-    /// `pbrt::Table::scattering_x8`), the same numbers as
+    /// model: `KajiyaKay::shade_simd`, `marschner::Lut::scattering_simd`,
+    /// `pbrt::Table::scattering_simd`), the same numbers as
     /// [`Shader::shade_batch`] gives for those samples.
     #[inline(always)]
-    pub fn scattering_x8(&self, t: Vec3x8, wi: Vec3x8, wo: Vec3x8) -> Vec3x8 {
+    pub fn scattering_simd(&self, t: Vec3Lanes, wi: Vec3Lanes, wo: Vec3Lanes) -> Vec3Lanes {
         match self {
-            Shader::KajiyaKay(k) => k.shade_x8(t, wi, wo),
-            Shader::Marschner(l, _) => l.scattering_x8(t, wi, wo),
-            Shader::Pbrt(p, _) => p.scattering_x8(t, wi, wo),
+            Shader::KajiyaKay(k) => k.shade_simd(t, wi, wo),
+            Shader::Marschner(l, _) => l.scattering_simd(t, wi, wo),
+            Shader::Pbrt(p, _) => p.scattering_simd(t, wi, wo),
         }
     }
 

@@ -19,12 +19,12 @@
 //! (3 mm over the built-in head) soften them to faint smudges.
 
 use super::{Error, FrameSettings};
+use coif_base::lanes::F32Lanes;
 use coif_base::tasks::Executor;
-use coif_base::{Vec3x8, LANES};
+use coif_base::{Vec3Lanes, LANES};
 use coif_lod::{Interpolation, RefinedGuides, RenderVertex};
 use coif_shading::shadow::{BuildScratch, OpacityShadowMap, ShadowSettings, StrandLanes};
 use glam::Vec3;
-use wide::f32x8;
 
 /// Texels per side of the shadow map.
 pub const SHADOW_RESOLUTION: usize = 128;
@@ -192,19 +192,19 @@ impl ShadowStage {
     }
 
     /// Transmittance at eight points (the head's lit pixels,
-    /// `OpacityShadowMap::transmittance_x8`: the one-point value to the
+    /// `OpacityShadowMap::transmittance_simd`: the one-point value to the
     /// rounding of the exponential); 1 without a map.
-    pub fn transmittance_x8(&self, p: Vec3x8) -> f32x8 {
+    pub fn transmittance_simd(&self, p: Vec3Lanes) -> F32Lanes {
         self.map
             .as_ref()
-            .map_or(f32x8::ONE, |m| m.transmittance_x8(p))
+            .map_or(F32Lanes::ONE, |m| m.transmittance_simd(p))
     }
 }
 
 /// The hair of the fused pass's shadow map in lane layout: every `step`-th
 /// drawn group (up to eight hairs of one scalp triangle in the lanes), its
 /// rows interpolated from the refined guides when the build asks for them
-/// (`coif_lod::GroupBlend::position_x8`, the numbers `interpolate`
+/// (`coif_lod::GroupBlend::position_simd`, the numbers `interpolate`
 /// writes), so no frame-sized point buffer is written or read.
 pub(crate) struct DrawnHair<'a> {
     pub interpolation: &'a Interpolation,
@@ -224,7 +224,7 @@ impl StrandLanes for DrawnHair<'_> {
         self.drawn.len().div_ceil(self.step.max(1))
     }
 
-    fn block(&self, b: usize) -> (usize, impl Fn(usize) -> Vec3x8 + '_) {
+    fn block(&self, b: usize) -> (usize, impl Fn(usize) -> Vec3Lanes + '_) {
         let blend = self
             .drawn
             .get(b * self.step.max(1))
@@ -232,7 +232,7 @@ impl StrandLanes for DrawnHair<'_> {
             .filter(|blend| blend.verts() == self.verts());
         let lanes = blend.map_or(0, |blend| blend.hairs().min(LANES));
         (lanes, move |r: usize| {
-            blend.map_or(Vec3x8::ZERO, |blend| blend.position_x8(r))
+            blend.map_or(Vec3Lanes::ZERO, |blend| blend.position_simd(r))
         })
     }
 }

@@ -88,14 +88,14 @@ pub fn render_hair_count(interpolation: &Interpolation, groups_drawn: usize) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use coif_base::Vec3x8;
+    use coif_base::Vec3Lanes;
     use glam::{DVec3, Vec3};
 
     #[test]
     fn guides_come_out_guide_major_without_padding_lanes() {
         // 11 strands of 3 points: two blocks, the second with 3 real lanes.
         let (n, v) = (11, 3);
-        let mut blocks = vec![Vec3x8::ZERO; 2 * v];
+        let mut blocks = vec![Vec3Lanes::ZERO; 2 * v];
         for s in 0..16 {
             for k in 0..v {
                 let p = Vec3::new(s as f32, k as f32, if s < n { 1.0 } else { -1.0 });

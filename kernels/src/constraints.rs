@@ -5,9 +5,9 @@
 //! point-on-segment rule). The strand step (`step.rs`) has its own generic
 //! body over [`crate::lanes::Lane`].
 
-use crate::lanes::{inv_sqrt_x8, Vec3x8};
+use crate::lanes::{inv_sqrt_simd, Vec3Lanes};
+use coif_base::lanes::F32Lanes;
 use glam::Vec3;
-use wide::f32x8;
 
 /// Coordinates beyond this (metres from the local origin) count as blown up.
 pub(crate) const BLOWN_UP: f32 = 1.0e6;
@@ -38,13 +38,13 @@ impl StepSetup {
     }
 }
 
-/// `1 / max(|delta|, MIN_LENGTH)` by [`inv_sqrt_x8`] (shared with patches).
+/// `1 / max(|delta|, MIN_LENGTH)` by [`inv_sqrt_simd`] (shared with patches).
 #[inline(always)]
-pub(crate) fn inv_len(delta: Vec3x8) -> f32x8 {
-    inv_sqrt_x8(
+pub(crate) fn inv_len(delta: Vec3Lanes) -> F32Lanes {
+    inv_sqrt_simd(
         delta
             .length_squared()
-            .fast_max(f32x8::splat(MIN_LENGTH * MIN_LENGTH)),
+            .fast_max(F32Lanes::splat(MIN_LENGTH * MIN_LENGTH)),
     )
 }
 
@@ -55,16 +55,16 @@ pub(crate) fn inv_len(delta: Vec3x8) -> f32x8 {
 /// 2001's rule, with `1/|delta|` from [`inv_len`]).
 #[inline(always)]
 pub(crate) fn distance_constraint(
-    pos: &mut [Vec3x8],
+    pos: &mut [Vec3Lanes],
     i: usize,
     j: usize,
-    rest: f32x8,
-    share: [f32x8; 2],
-    stiffness: f32x8,
+    rest: F32Lanes,
+    share: [F32Lanes; 2],
+    stiffness: F32Lanes,
 ) {
     let delta = pos[j] - pos[i];
     let inv_len = inv_len(delta);
-    let k = stiffness * (f32x8::ONE - rest * inv_len);
+    let k = stiffness * (F32Lanes::ONE - rest * inv_len);
     // A pinned end has share 0 and does not move. (A lane whose positions
     // went NaN can move its root; the guard then restores the whole strand,
     // root included, from `Strands::roots`.)
@@ -75,30 +75,30 @@ pub(crate) fn distance_constraint(
 /// Outward unit normal and distance from `d` and `d2 = |d|^2`; +y and 0
 /// where the point sits on the centre.
 #[inline(always)]
-pub(crate) fn outward(d: Vec3x8, d2: f32x8) -> (Vec3x8, f32x8) {
-    let tiny = f32x8::splat(1e-30);
-    let inv = inv_sqrt_x8(d2.max(tiny));
+pub(crate) fn outward(d: Vec3Lanes, d2: F32Lanes) -> (Vec3Lanes, F32Lanes) {
+    let tiny = F32Lanes::splat(1e-30);
+    let inv = inv_sqrt_simd(d2.max(tiny));
     let on_centre = d2.simd_gt(tiny);
     (
-        Vec3x8::select(on_centre, d * inv, Vec3x8::splat(Vec3::Y)),
-        on_centre.select(d2 * inv, f32x8::ZERO),
+        Vec3Lanes::select(on_centre, d * inv, Vec3Lanes::splat(Vec3::Y)),
+        on_centre.select(d2 * inv, F32Lanes::ZERO),
     )
 }
 
 /// A rig sphere grown by the pearl radius, as lanes.
 #[derive(Clone, Copy)]
 pub(crate) struct Reach {
-    centre: Vec3x8,
-    reach: f32x8,
-    reach2: f32x8,
+    centre: Vec3Lanes,
+    reach: F32Lanes,
+    reach2: F32Lanes,
 }
 
 impl Reach {
     #[inline(always)]
     pub(crate) fn new(sphere: [f32; 4], pearl_radius: f32) -> Self {
-        let reach = f32x8::splat(sphere[3] + pearl_radius);
+        let reach = F32Lanes::splat(sphere[3] + pearl_radius);
         Reach {
-            centre: Vec3x8::splat(Vec3::new(sphere[0], sphere[1], sphere[2])),
+            centre: Vec3Lanes::splat(Vec3::new(sphere[0], sphere[1], sphere[2])),
             reach,
             reach2: reach * reach,
         }
@@ -109,30 +109,30 @@ impl Reach {
 /// lanes it pushed and their outward normals.
 #[inline(always)]
 pub(crate) fn collide_vertex(
-    pos: &mut [Vec3x8],
-    w: &[f32x8],
+    pos: &mut [Vec3Lanes],
+    w: &[F32Lanes],
     i: usize,
     s: &Reach,
-) -> (f32x8, Vec3x8) {
+) -> (F32Lanes, Vec3Lanes) {
     let d = pos[i] - s.centre;
     let d2 = d.length_squared();
-    let hit = d2.simd_lt(s.reach2) & w[i].simd_gt(f32x8::ZERO);
+    let hit = d2.simd_lt(s.reach2) & w[i].simd_gt(F32Lanes::ZERO);
     if !hit.any() {
-        return (hit, Vec3x8::ZERO);
+        return (hit, Vec3Lanes::ZERO);
     }
     let (n, dist) = outward(d, d2);
     let pushed = pos[i] + n * (s.reach - dist);
-    pos[i] = Vec3x8::select(hit, pushed, pos[i]);
+    pos[i] = Vec3Lanes::select(hit, pushed, pos[i]);
     (hit, n)
 }
 
 /// Every pearl of one block (a slice of V vertices) against one sphere.
 #[inline(always)]
-pub(crate) fn collide_pearls(pos: &mut [Vec3x8], w: &[f32x8], s: &Reach, k: &StepSetup) {
-    let zero = f32x8::ZERO;
+pub(crate) fn collide_pearls(pos: &mut [Vec3Lanes], w: &[F32Lanes], s: &Reach, k: &StepSetup) {
+    let zero = F32Lanes::ZERO;
     for j in 1..=k.pearls {
-        let t = f32x8::splat(k.pearl_t(j));
-        let u = f32x8::ONE - t;
+        let t = F32Lanes::splat(k.pearl_t(j));
+        let u = F32Lanes::ONE - t;
         for v in 0..pos.len() - 1 {
             let p = pos[v] * u + pos[v + 1] * t;
             let d = p - s.centre;
@@ -143,9 +143,9 @@ pub(crate) fn collide_pearls(pos: &mut [Vec3x8], w: &[f32x8], s: &Reach, k: &Ste
             if hit.any() {
                 let (n, dist) = outward(d, d2);
                 let push = (s.reach - dist) / denom;
-                pos[v] = Vec3x8::select(hit, pos[v] + n * (w[v] * u * push), pos[v]);
+                pos[v] = Vec3Lanes::select(hit, pos[v] + n * (w[v] * u * push), pos[v]);
                 pos[v + 1] =
-                    Vec3x8::select(hit, pos[v + 1] + n * (w[v + 1] * t * push), pos[v + 1]);
+                    Vec3Lanes::select(hit, pos[v + 1] + n * (w[v + 1] * t * push), pos[v + 1]);
             }
         }
     }

@@ -7,25 +7,25 @@
 use crate::collide::broad_phase::{roots_aabb, select_strand_candidates, Aabb, BlockBounds};
 use crate::collide::Colliders;
 use crate::hair_grid::{GridSetup, HairGrid};
-use crate::lanes::{Vec3x8, LANES};
+use crate::lanes::{Vec3Lanes, LANES};
 use crate::step::{Setup, StepColliders};
 use crate::strands::{rest_pose, BlockSleep, Scratch};
 use crate::{SimParams, Strands};
+use coif_base::lanes::F32Lanes;
 use coif_base::tasks::{for_each_chunk_mut, Executor};
 use glam::Vec3;
-use wide::f32x8;
 
 /// What a step writes in one block: its `V` positions and previous
 /// positions. The rest of the set is shared read-only by every task.
 pub(crate) struct BlockState<'a> {
-    pub pos: &'a mut [Vec3x8],
-    pub prev: &'a mut [Vec3x8],
+    pub pos: &'a mut [Vec3Lanes],
+    pub prev: &'a mut [Vec3Lanes],
 }
 
 /// One task's share of a step: the positions of its blocks and its buffers.
 pub(crate) struct TaskParts<'a> {
-    pos: &'a mut [Vec3x8],
-    prev: &'a mut [Vec3x8],
+    pos: &'a mut [Vec3Lanes],
+    prev: &'a mut [Vec3Lanes],
     sleep: &'a mut [BlockSleep],
     scratch: &'a mut Scratch,
 }
@@ -318,9 +318,10 @@ pub(crate) fn drive(
 /// step: `set_roots` changed its target (`pos[0]`) away from where the step
 /// left it (`prev[0]`). Any change counts, however small: a sleeping strand
 /// stays attached to its root.
-fn roots_moved(st: &BlockState<'_>, active: f32x8) -> bool {
+fn roots_moved(st: &BlockState<'_>, active: F32Lanes) -> bool {
     let d = st.pos[0] - st.prev[0];
-    let moved = d.x.simd_ne(f32x8::ZERO) | d.y.simd_ne(f32x8::ZERO) | d.z.simd_ne(f32x8::ZERO);
+    let moved =
+        d.x.simd_ne(F32Lanes::ZERO) | d.y.simd_ne(F32Lanes::ZERO) | d.z.simd_ne(F32Lanes::ZERO);
     (moved & active).any()
 }
 
@@ -330,8 +331,13 @@ fn roots_moved(st: &BlockState<'_>, active: f32x8) -> bool {
 /// resting on a sphere keeps at a few cm/s while it does not move); a NaN
 /// is never still. The same code for both paths (like the guard's restore),
 /// so their sleep decisions agree by construction.
-fn block_is_still(pos: &[Vec3x8], start: &[Vec3x8], active: f32x8, still_move2: f32) -> bool {
-    let limit = f32x8::splat(still_move2);
+fn block_is_still(
+    pos: &[Vec3Lanes],
+    start: &[Vec3Lanes],
+    active: F32Lanes,
+    still_move2: f32,
+) -> bool {
+    let limit = F32Lanes::splat(still_move2);
     let mut still = active | !active;
     for (x, p) in pos.iter().zip(start) {
         let d = *x - *p;

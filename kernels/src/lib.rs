@@ -32,7 +32,7 @@
 //! sphere or a state change wake them ([`SimParams::sleep_speed`],
 //! [`Strands::awake_strands`]).
 //!
-//! The lane math (`Vec3x8`, `LANES`, `inv_sqrt_x8`), the RNG, [`Sphere`] and
+//! The lane math (`Vec3Lanes`, `LANES`, `inv_sqrt_simd`), the RNG, [`Sphere`] and
 //! [`StrandBlocks`] come from `coif-base` and are re-exported here.
 
 #![warn(missing_docs)]
@@ -54,7 +54,7 @@ mod step;
 mod strands;
 mod wind;
 
-pub use coif_base::{lanes, rng, tasks, Sphere, StrandBlocks, Vec3x8, LANES};
+pub use coif_base::{lanes, rng, tasks, Sphere, StrandBlocks, Vec3Lanes, LANES};
 pub use collide::narrow::FIELD_EXIT_SPEED;
 pub use collide::rig::COLLIDER_JUMP;
 pub use collide::{Capsule, Colliders, Sdf, MARGIN_CELLS, MAX_SDF_CELLS};

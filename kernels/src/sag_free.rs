@@ -2,7 +2,7 @@
 //! springs' rest vectors (`shape.rs`) for which the hair's pose is the
 //! step's equilibrium under the steady acceleration.
 
-use crate::lanes::{Vec3x8, LANES};
+use crate::lanes::{Vec3Lanes, LANES};
 use crate::{Colliders, Error, SimParams, Strands};
 use glam::Vec3;
 
@@ -72,7 +72,7 @@ impl Strands {
     /// (this set's layout), less `sag` (`g / c^2`) times each segment's
     /// squared rest length and the free vertices below it; stored in the
     /// groom frame.
-    fn set_shape_rest(&mut self, pose: &[Vec3x8], sag: Vec3) {
+    fn set_shape_rest(&mut self, pose: &[Vec3Lanes], sag: Vec3) {
         let to_groom = self.rest_rotation.transpose();
         let verts = self.verts;
         for b in 0..self.blocks {

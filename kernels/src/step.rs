@@ -104,9 +104,9 @@ use crate::hair_grid::apply_block;
 use crate::lanes::{Lane, V3};
 use crate::wind::Gusts;
 use crate::{SimParams, Sphere, Strands};
+use coif_base::lanes::F32Lanes;
 use coif_base::tasks::{Executor, Serial};
 use glam::{Mat3, Vec3};
-use wide::f32x8;
 
 /// Constraint directions whose cosine with the current segment falls below
 /// this are replaced by the current direction (the blend means nothing once
@@ -221,7 +221,7 @@ impl Setup {
     }
 }
 
-/// One chain's data: eight chains in lanes (`T = f32x8`) or one (`f32`),
+/// One chain's data: eight chains in lanes (`T = F32Lanes`) or one (`f32`),
 /// `V` entries each, root first.
 pub(crate) struct Chain<'a, T: Lane> {
     pub pos: &'a mut [V3<T>],
@@ -1093,14 +1093,14 @@ pub fn step_colliders_with(
                             block: gb,
                         },
                     ];
-                    let ok: [f32x8; 2] = step_chains(jobs, k, world, cands);
+                    let ok: [F32Lanes; 2] = step_chains(jobs, k, world, cands);
                     bad[0] = (!ok[0]).to_bitmask();
                     bad[1] = (!ok[1]).to_bitmask();
                 }
                 (states, ids, [t, ..]) => {
                     for ((st, &(b, g)), bad) in states.iter_mut().zip(ids).zip(&mut bad) {
                         let mut c = block_chain(strands, b, st);
-                        let ok: f32x8 = step_chain(&mut c, t, k, world, cands, g);
+                        let ok: F32Lanes = step_chain(&mut c, t, k, world, cands, g);
                         *bad = (!ok).to_bitmask();
                     }
                 }
@@ -1109,7 +1109,7 @@ pub fn step_colliders_with(
         },
         |s, st, grid, gk, b| {
             let r = b * s.verts..(b + 1) * s.verts;
-            let moved = apply_block::<f32x8>(
+            let moved = apply_block::<F32Lanes>(
                 grid,
                 st.pos,
                 st.prev,
@@ -1123,7 +1123,7 @@ pub fn step_colliders_with(
 }
 
 /// Block `b`'s chain: its moving state `st` and its rest data in `s`.
-fn block_chain<'a>(s: &'a Strands, b: usize, st: &'a mut BlockState<'_>) -> Chain<'a, f32x8> {
+fn block_chain<'a>(s: &'a Strands, b: usize, st: &'a mut BlockState<'_>) -> Chain<'a, F32Lanes> {
     let r = b * s.verts..(b + 1) * s.verts;
     Chain {
         pos: &mut *st.pos,

@@ -11,11 +11,11 @@
 //! millimetre. The public boundary speaks world-space `Vec3`; `*_local`
 //! variants let an engine with f64 world positions keep full precision.
 
-use crate::lanes::{Vec3x8, LANES};
+use crate::lanes::{Vec3Lanes, LANES};
 use crate::Error;
+use coif_base::lanes::F32Lanes;
 use coif_base::StrandBlocks;
 use glam::{Affine3A, DVec3, Mat3, Vec3};
-use wide::f32x8;
 
 /// Local coordinates beyond this distance from the origin trigger a rebase
 /// in `set_roots` (f32 spacing at 64 m is 7.6e-6 m).
@@ -30,35 +30,35 @@ pub struct Strands {
     /// World position of local (0, 0, 0).
     pub(crate) origin: DVec3,
     /// Current positions, relative to `origin`.
-    pub(crate) pos: Vec<Vec3x8>,
+    pub(crate) pos: Vec<Vec3Lanes>,
     /// The pinned roots per block, as last set (restores start from here).
-    pub(crate) roots: Vec<Vec3x8>,
+    pub(crate) roots: Vec<Vec3Lanes>,
     /// Positions one step ago (Verlet's implicit velocity).
-    pub(crate) prev: Vec<Vec3x8>,
+    pub(crate) prev: Vec<Vec3Lanes>,
     /// Rest pose relative to the strand's root, in the groom frame.
-    pub(crate) rest_offset: Vec<Vec3x8>,
+    pub(crate) rest_offset: Vec<Vec3Lanes>,
     /// Inverse mass per vertex: 0 = pinned (roots, padding lanes).
-    pub(crate) inv_mass: Vec<f32x8>,
+    pub(crate) inv_mass: Vec<F32Lanes>,
     /// Rest length of segment v -> v + 1 (the last vertex's entry is 0).
-    pub(crate) rest_len: Vec<f32x8>,
+    pub(crate) rest_len: Vec<F32Lanes>,
     /// The shape springs' rest vector of segment v -> v + 1 in the groom
     /// frame: the groom's segment, or its sag-free rest
     /// ([`Strands::solve_sag_free`]).
-    pub(crate) rest_vec: Vec<Vec3x8>,
+    pub(crate) rest_vec: Vec<Vec3Lanes>,
     /// Mass shares of the bending constraint v -> v + 2:
     /// `w_v / (w_v + w_{v+2})` and `w_{v+2} / (w_v + w_{v+2})` (0 where both are pinned).
-    pub(crate) bend_share: Vec<[f32x8; 2]>,
+    pub(crate) bend_share: Vec<[F32Lanes; 2]>,
     /// Rest distance v -> v + 2 for bending (0 where v + 2 is past the tip).
-    pub(crate) bend_len: Vec<f32x8>,
+    pub(crate) bend_len: Vec<F32Lanes>,
     /// Rest arc length from the root to vertex v.
-    pub(crate) rest_arc: Vec<f32x8>,
+    pub(crate) rest_arc: Vec<F32Lanes>,
     /// Per block and vertex: the longest rest arc from the root over the
     /// block's lanes (the broad phase's reach).
     pub(crate) reach_arc: Vec<f32>,
     /// Shape-keeping weight 1 - arc(v) / arc(tip): 1 at the root, 0 at the tip.
-    pub(crate) shape_weight: Vec<f32x8>,
+    pub(crate) shape_weight: Vec<F32Lanes>,
     /// Per block: all bits set in lanes that hold a real strand.
-    pub(crate) active: Vec<f32x8>,
+    pub(crate) active: Vec<F32Lanes>,
     /// Longest rest segment of the set (the broad phase's slack).
     pub(crate) max_rest_segment: f32,
     /// Rotation applied to `rest_offset` (the groom frame's orientation).
@@ -87,7 +87,7 @@ pub struct Strands {
     /// Per block: how much of the hair each strand stands for (1 each
     /// unless [`Strands::set_hair_shares`] said otherwise); its weight in
     /// the hair grid.
-    pub(crate) hair_share: Vec<f32x8>,
+    pub(crate) hair_share: Vec<F32Lanes>,
 }
 
 /// The step's reusable buffers (no per-frame allocation once sized): the
@@ -107,12 +107,12 @@ pub(crate) struct Scratch {
     /// Colliders that may touch the current group of blocks.
     pub(crate) candidates: Vec<crate::collide::broad_phase::ShapeCandidate>,
     /// The SIMD step's per-chain scratch, one per block stepped together.
-    pub(crate) chains: [crate::step::ChainScratch<f32x8>; crate::drive::PAIR],
+    pub(crate) chains: [crate::step::ChainScratch<F32Lanes>; crate::drive::PAIR],
     /// The scalar step's copy of one lane.
     pub(crate) lane: crate::scalar::LaneBuffers,
     /// The positions of the blocks stepped together at the start of their
     /// step (sleeping on), one after the other.
-    pub(crate) start: Vec<Vec3x8>,
+    pub(crate) start: Vec<Vec3Lanes>,
     /// Strands this task restored in the last step.
     pub(crate) restored: u64,
 }
@@ -161,7 +161,7 @@ impl Scratch {
             candidates: Vec::new(),
             chains: std::array::from_fn(|_| crate::step::ChainScratch::new(verts)),
             lane: crate::scalar::LaneBuffers::new(verts),
-            start: vec![Vec3x8::ZERO; verts * crate::drive::PAIR],
+            start: vec![Vec3Lanes::ZERO; verts * crate::drive::PAIR],
             restored: 0,
         }
     }
@@ -234,18 +234,18 @@ impl Strands {
             verts,
             blocks,
             origin,
-            pos: vec![Vec3x8::ZERO; n],
-            prev: vec![Vec3x8::ZERO; n],
-            roots: vec![Vec3x8::ZERO; blocks],
-            rest_offset: vec![Vec3x8::ZERO; n],
-            inv_mass: vec![f32x8::ZERO; n],
-            rest_len: vec![f32x8::ZERO; n],
-            rest_vec: vec![Vec3x8::ZERO; n],
-            bend_share: vec![[f32x8::ZERO; 2]; n],
-            bend_len: vec![f32x8::ZERO; n],
-            rest_arc: vec![f32x8::ZERO; n],
+            pos: vec![Vec3Lanes::ZERO; n],
+            prev: vec![Vec3Lanes::ZERO; n],
+            roots: vec![Vec3Lanes::ZERO; blocks],
+            rest_offset: vec![Vec3Lanes::ZERO; n],
+            inv_mass: vec![F32Lanes::ZERO; n],
+            rest_len: vec![F32Lanes::ZERO; n],
+            rest_vec: vec![Vec3Lanes::ZERO; n],
+            bend_share: vec![[F32Lanes::ZERO; 2]; n],
+            bend_len: vec![F32Lanes::ZERO; n],
+            rest_arc: vec![F32Lanes::ZERO; n],
             reach_arc: vec![0.0; n],
-            shape_weight: vec![f32x8::ZERO; n],
+            shape_weight: vec![F32Lanes::ZERO; n],
             active: Vec::with_capacity(blocks),
             max_rest_segment: 0.0,
             rest_rotation: Mat3::IDENTITY,
@@ -258,7 +258,7 @@ impl Strands {
             scratch: StepScratch::new(blocks, verts),
             hair_grid: Default::default(),
             rest_roots: Vec::new(),
-            hair_share: vec![f32x8::ONE; blocks],
+            hair_share: vec![F32Lanes::ONE; blocks],
         }
     }
 
@@ -357,7 +357,7 @@ impl Strands {
     /// Block `b`'s current positions relative to [`Strands::origin`]: `V`
     /// entries, root first, lane `l` = strand `b * LANES + l`. Padding lanes
     /// repeat the block's last real strand. Empty for a block past the end.
-    pub fn block_positions_local(&self, b: usize) -> &[Vec3x8] {
+    pub fn block_positions_local(&self, b: usize) -> &[Vec3Lanes] {
         b.checked_mul(self.verts)
             .and_then(|start| self.pos.get(start..start.checked_add(self.verts)?))
             .unwrap_or(&[])
@@ -371,8 +371,8 @@ impl Strands {
 
     /// Per block: all bits set in lanes holding a real strand (a `select`
     /// mask); no bit set for a block `b >= block_count()`.
-    pub fn block_active_mask(&self, b: usize) -> f32x8 {
-        self.active.get(b).copied().unwrap_or(f32x8::ZERO)
+    pub fn block_active_mask(&self, b: usize) -> F32Lanes {
+        self.active.get(b).copied().unwrap_or(F32Lanes::ZERO)
     }
 
     /// Current positions in world space, strand after strand, root first.
@@ -534,7 +534,7 @@ impl Strands {
         if !new_origin.is_finite() {
             return;
         }
-        let shift = Vec3x8::splat((new_origin - self.origin).as_vec3());
+        let shift = Vec3Lanes::splat((new_origin - self.origin).as_vec3());
         for p in self
             .pos
             .iter_mut()
@@ -668,7 +668,7 @@ impl Strands {
             for (l, v) in lanes.iter_mut().enumerate() {
                 *v = shares.get(b * LANES + l).copied().unwrap_or(0.0);
             }
-            *block = f32x8::new(lanes);
+            *block = F32Lanes::new(lanes);
         }
         self.hair_grid.forget_target();
         Ok(())
@@ -722,9 +722,9 @@ impl Strands {
         let d = v * dt;
         for i in 0..self.pos.len() {
             let free =
-                self.inv_mass[i].simd_lt(f32x8::ZERO) | f32x8::ZERO.simd_lt(self.inv_mass[i]);
-            let moved = self.pos[i] - Vec3x8::splat(d);
-            self.prev[i] = Vec3x8::select(free, moved, self.pos[i]);
+                self.inv_mass[i].simd_lt(F32Lanes::ZERO) | F32Lanes::ZERO.simd_lt(self.inv_mass[i]);
+            let moved = self.pos[i] - Vec3Lanes::splat(d);
+            self.prev[i] = Vec3Lanes::select(free, moved, self.pos[i]);
         }
         self.wake();
     }
@@ -904,31 +904,31 @@ fn mean_root(points: &[Vec3], verts: usize) -> DVec3 {
 }
 
 /// All bits set in the first `lanes` lanes (those holding a real strand).
-fn active_mask(lanes: usize) -> f32x8 {
-    let lane_index = f32x8::new(std::array::from_fn(|l| l as f32));
-    lane_index.simd_lt(f32x8::splat(lanes as f32))
+fn active_mask(lanes: usize) -> F32Lanes {
+    let lane_index = F32Lanes::new(std::array::from_fn(|l| l as f32));
+    lane_index.simd_lt(F32Lanes::splat(lanes as f32))
 }
 
 /// Mass shares of a constraint between inverse masses `wi` and `wj`, per
 /// lane: `[wi / (wi + wj), wj / (wi + wj)]`, 0 where both are pinned.
-fn mass_shares(wi: f32x8, wj: f32x8) -> [f32x8; 2] {
+fn mass_shares(wi: F32Lanes, wj: F32Lanes) -> [F32Lanes; 2] {
     let (wi, wj) = (wi.to_array(), wj.to_array());
     let part = |a: f32, c: f32| if a + c > 0.0 { a / (a + c) } else { 0.0 };
     [
-        f32x8::new(std::array::from_fn(|l| part(wi[l], wj[l]))),
-        f32x8::new(std::array::from_fn(|l| part(wj[l], wi[l]))),
+        F32Lanes::new(std::array::from_fn(|l| part(wi[l], wj[l]))),
+        F32Lanes::new(std::array::from_fn(|l| part(wj[l], wi[l]))),
     ]
 }
 
 /// Writes lane `l` of one block's `pos` and `prev` (its `V` entries): the
 /// rest pose `root + R rest_offset_v` at the block's `roots`, zero velocity.
 pub(crate) fn rest_pose(
-    roots: Vec3x8,
+    roots: Vec3Lanes,
     rotation: Mat3,
-    rest_offset: &[Vec3x8],
+    rest_offset: &[Vec3Lanes],
     l: usize,
-    pos: &mut [Vec3x8],
-    prev: &mut [Vec3x8],
+    pos: &mut [Vec3Lanes],
+    prev: &mut [Vec3Lanes],
 ) {
     let root = roots.lane(l);
     for ((x, xp), off) in pos.iter_mut().zip(prev.iter_mut()).zip(rest_offset) {

@@ -123,7 +123,7 @@ pub(crate) fn sine_cycles<T: Lane>(f: T) -> T {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use wide::f32x8;
+    use coif_base::lanes::F32Lanes;
 
     #[test]
     fn the_sine_stand_in_is_within_a_thousandth_and_the_twins_agree() {
@@ -132,7 +132,7 @@ mod tests {
             let f = i as f32 * 1.37e-4;
             let s = sine_cycles(f);
             worst = worst.max((s - (std::f32::consts::TAU * f as f64 as f32).sin()).abs());
-            let lanes = sine_cycles(f32x8::splat(f)).to_array();
+            let lanes = sine_cycles(F32Lanes::splat(f)).to_array();
             assert!(lanes.iter().all(|&l| l.to_bits() == s.to_bits()), "{f}");
         }
         assert!(worst < 1.1e-3, "{worst}");

@@ -353,6 +353,6 @@ fn points_beyond_the_steps_guard_and_blocks_past_the_end_are_refused() {
         Err(Error::InvalidParameter { name: "points", .. })
     ));
     let s = Strands::from_polylines(&hanging(9, 3), 3).unwrap();
-    assert_eq!(s.block_active_mask(99).to_array(), [0.0; 8]);
+    assert!(s.block_active_mask(99).to_array().iter().all(|&m| m == 0.0));
     assert_ne!(s.block_active_mask(1).to_array()[0], 0.0);
 }

@@ -427,7 +427,7 @@ fn lookups_allocate_nothing() {
     assert!(s.is_finite());
 }
 
-/// The public SIMD lookup (`sample_mesh_x8`) equals the scalar one
+/// The public SIMD lookup (`sample_mesh_simd`) equals the scalar one
 /// (`sample_mesh`) lane by lane, bit for bit, on the bust's field (or the
 /// icosphere's when the bust is absent): points inside the box, outside it,
 /// and exactly on its faces.
@@ -438,7 +438,7 @@ fn simd_lookup_equals_scalar_on_a_real_field() {
     let (lo, hi) = sdf.bounds();
     let mut rng = Rng(21);
     for k in 0..1000 {
-        let mut v = coif_kernels::Vec3x8::ZERO;
+        let mut v = coif_kernels::Vec3Lanes::ZERO;
         let mut pts = [Vec3::ZERO; 8];
         for (l, p) in pts.iter_mut().enumerate() {
             let t = Vec3::new(rng.f(), rng.f(), rng.f());
@@ -454,7 +454,7 @@ fn simd_lookup_equals_scalar_on_a_real_field() {
             };
             v.set_lane(l, *p);
         }
-        let (d8, g8) = sdf.sample_mesh_x8(v);
+        let (d8, g8) = sdf.sample_mesh_simd(v);
         for (l, p) in pts.iter().enumerate() {
             let (d, g) = sdf.sample_mesh(*p);
             assert_eq!(d8.as_array()[l].to_bits(), d.to_bits(), "{p}");

@@ -12,7 +12,7 @@
 
 use crate::interpolation::Interpolation;
 use crate::Error;
-use coif_base::{StrandBlocks, Vec3x8, LANES};
+use coif_base::{StrandBlocks, Vec3Lanes, LANES};
 use glam::{DVec3, Mat4, Vec3, Vec4};
 
 /// A convex view volume: six planes `(n, d)` with the inside where
@@ -261,20 +261,20 @@ fn block_box(v: &Visibility, b: usize, lanes: usize) -> (Vec3, Vec3) {
     (lo, hi)
 }
 
-/// Lane-wise min / max helpers on [`Vec3x8`].
+/// Lane-wise min / max helpers on [`Vec3Lanes`].
 trait MinMax {
     fn min(self, o: Self) -> Self;
     fn max(self, o: Self) -> Self;
 }
 
-impl MinMax for Vec3x8 {
+impl MinMax for Vec3Lanes {
     #[inline(always)]
-    fn min(self, o: Vec3x8) -> Vec3x8 {
-        Vec3x8::new(self.x.min(o.x), self.y.min(o.y), self.z.min(o.z))
+    fn min(self, o: Vec3Lanes) -> Vec3Lanes {
+        Vec3Lanes::new(self.x.min(o.x), self.y.min(o.y), self.z.min(o.z))
     }
     #[inline(always)]
-    fn max(self, o: Vec3x8) -> Vec3x8 {
-        Vec3x8::new(self.x.max(o.x), self.y.max(o.y), self.z.max(o.z))
+    fn max(self, o: Vec3Lanes) -> Vec3Lanes {
+        Vec3Lanes::new(self.x.max(o.x), self.y.max(o.y), self.z.max(o.z))
     }
 }
 

@@ -31,14 +31,15 @@
 //!    normalised (or `+Y`).
 
 use crate::culling::Visibility;
-use crate::refine_batch::unit_or_y_x8;
+use crate::refine_batch::unit_or_y_simd;
 use crate::refine_batch::RefinedGuides;
 use crate::Error;
+use coif_base::lanes::F32Lanes;
 use coif_base::lanes::Lane;
+use coif_base::lanes::GROUP_LANES;
 use coif_base::rng::SplitMix64;
-use coif_base::{Vec3x8, LANES};
+use coif_base::{Vec3Lanes, LANES};
 use glam::Vec3;
-use wide::f32x8;
 
 /// Square metres per square centimetre.
 pub const M2_PER_CM2: f32 = 1e-4;
@@ -69,7 +70,7 @@ pub struct Interpolation {
     scalp_area_m2: f64,
     pub(crate) groups: Vec<HairGroup>,
     /// Per group: (b_A, b_B, b_C) lanes.
-    pub(crate) weights: Vec<[f32x8; 3]>,
+    pub(crate) weights: Vec<[F32Lanes; 3]>,
 }
 
 impl Interpolation {
@@ -97,10 +98,13 @@ impl Interpolation {
     /// As [`Interpolation::new`], but every triangle gets a whole number of
     /// full groups: `8 floor(m / 8)` hairs plus 8 more with probability
     /// `frac(m / 8)`, for a mean of `m = a_t rho`. The expected count (and
-    /// so the density over many triangles) is unchanged, no SIMD lane is
-    /// padding, and the batch does about `1 / lane use` less work; the price
+    /// so the density over many triangles) is unchanged, no lane of an
+    /// eight-lane block is padding, and the batch does about `1 / lane use` less work; the price
     /// is a coarser hair count per triangle (steps of 8), so use it when
-    /// triangles hold many hairs each.
+    /// triangles hold many hairs each. The step is eight at every lane
+    /// width ([`GROUP_LANES`]), so that 8- and 16-lane builds make the same
+    /// hairs; in a 16-lane build a triangle with an odd number of groups
+    /// pads half a block.
     ///
     /// # Errors
     ///
@@ -111,7 +115,7 @@ impl Interpolation {
         hairs_per_cm2: f32,
         seed: u64,
     ) -> Result<Interpolation, Error> {
-        Interpolation::build(guide_roots, triangles, hairs_per_cm2, seed, LANES)
+        Interpolation::build(guide_roots, triangles, hairs_per_cm2, seed, GROUP_LANES)
     }
 
     /// Hair counts per triangle are rounded stochastically to multiples of `step`.
@@ -185,7 +189,7 @@ impl Interpolation {
                     guides: *tri,
                     hairs: hairs as u32,
                 });
-                weights.push(lanes.map(f32x8::new));
+                weights.push(lanes.map(F32Lanes::new));
                 left -= hairs;
             }
         }
@@ -314,8 +318,8 @@ pub struct RenderHairs {
     groups: usize,
     pub(crate) verts: usize,
     capacity: usize,
-    pub(crate) positions: Vec<Vec3x8>,
-    pub(crate) tangents: Vec<Vec3x8>,
+    pub(crate) positions: Vec<Vec3Lanes>,
+    pub(crate) tangents: Vec<Vec3Lanes>,
     pub(crate) written: Vec<bool>,
     has_tangents: bool,
 }
@@ -345,14 +349,14 @@ impl RenderHairs {
             groups,
             verts: 0,
             capacity,
-            positions: vec![Vec3x8::ZERO; capacity],
-            tangents: vec![Vec3x8::ZERO; capacity],
+            positions: vec![Vec3Lanes::ZERO; capacity],
+            tangents: vec![Vec3Lanes::ZERO; capacity],
             written: vec![false; groups],
             has_tangents: false,
         }
     }
 
-    /// `Vec3x8` entries per output array: `groups * verts_per_hair`.
+    /// `Vec3Lanes` entries per output array: `groups * verts_per_hair`.
     pub fn buffer_len(groups: usize, verts_per_hair: usize) -> usize {
         groups * verts_per_hair
     }
@@ -381,13 +385,13 @@ impl RenderHairs {
 
     /// Group `g`'s positions, `R` entries of eight hairs; empty for a
     /// group past the end.
-    pub fn group_positions(&self, g: usize) -> &[Vec3x8] {
+    pub fn group_positions(&self, g: usize) -> &[Vec3Lanes] {
         crate::refine_batch::block_slice(&self.positions, g, self.verts)
     }
 
     /// Group `g`'s unit tangents, `R` entries of eight hairs; empty for a
     /// group past the end.
-    pub fn group_tangents(&self, g: usize) -> &[Vec3x8] {
+    pub fn group_tangents(&self, g: usize) -> &[Vec3Lanes] {
         crate::refine_batch::block_slice(&self.tangents, g, self.verts)
     }
 
@@ -505,7 +509,7 @@ pub(crate) fn group_drawn(
 ///   `interpolation` indexes;
 /// - [`Error::BufferTooSmall`]: `out` cannot hold the hairs at the guides'
 ///   current level (it was made for a lower maximum level), `needed` and
-///   `got` in `Vec3x8` entries.
+///   `got` in `Vec3Lanes` entries.
 pub fn interpolate(
     interpolation: &Interpolation,
     guides: &RefinedGuides,
@@ -569,7 +573,7 @@ fn interpolate_groups(
             .zip(pb)
             .zip(pc)
         {
-            *p = blend_x8(wa, wb, wc, a, la, b, lb, c, lc);
+            *p = blend_simd(wa, wb, wc, a, la, b, lb, c, lc);
         }
         // 3. Tangents.
         if with_tangents {
@@ -579,7 +583,7 @@ fn interpolate_groups(
                 guides.block_tangents(bc),
             );
             for (((t, a), b), c) in out.tangents[rows].iter_mut().zip(ta).zip(tb).zip(tc) {
-                *t = unit_or_y_x8(blend_x8(wa, wb, wc, a, la, b, lb, c, lc));
+                *t = unit_or_y_simd(blend_simd(wa, wb, wc, a, la, b, lb, c, lc));
             }
         }
     }
@@ -590,20 +594,20 @@ fn interpolate_groups(
 /// [`blend`] on each coordinate.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn blend_x8(
-    wa: f32x8,
-    wb: f32x8,
-    wc: f32x8,
-    a: &Vec3x8,
+fn blend_simd(
+    wa: F32Lanes,
+    wb: F32Lanes,
+    wc: F32Lanes,
+    a: &Vec3Lanes,
     la: usize,
-    b: &Vec3x8,
+    b: &Vec3Lanes,
     lb: usize,
-    c: &Vec3x8,
+    c: &Vec3Lanes,
     lc: usize,
-) -> Vec3x8 {
-    let s = |v: &f32x8, l: usize| f32x8::splat(v.as_array()[l]);
+) -> Vec3Lanes {
+    let s = |v: &F32Lanes, l: usize| F32Lanes::splat(v.as_array()[l]);
     let w = [wa, wb, wc];
-    Vec3x8 {
+    Vec3Lanes {
         x: blend(w, s(&a.x, la), s(&b.x, lb), s(&c.x, lc)),
         y: blend(w, s(&a.y, la), s(&b.y, lb), s(&c.y, lc)),
         z: blend(w, s(&a.z, la), s(&b.z, lb), s(&c.z, lc)),
@@ -611,7 +615,7 @@ fn blend_x8(
 }
 
 /// `wa a + wb b + wc c`, fused multiply-adds left to right: one body for a
-/// coordinate of one hair (`f32`, the scalar twin) and of eight (`f32x8`).
+/// coordinate of one hair (`f32`, the scalar twin) and of eight (`F32Lanes`).
 #[inline(always)]
 pub(crate) fn blend<L: Lane>(w: [L; 3], a: L, b: L, c: L) -> L {
     let [wa, wb, wc] = w;
@@ -660,19 +664,19 @@ impl Interpolation {
 }
 
 /// One hair group's interpolation, row by row (see
-/// [`Interpolation::group_blend`]): `position_x8(r)` is vertex `r` of the
+/// [`Interpolation::group_blend`]): `position_simd(r)` is vertex `r` of the
 /// group's eight lanes, `P = b_A A + b_B B + b_C C` (step 2 of
-/// [`interpolate`]), `tangent_x8(r)` the normalised blend of the guides'
+/// [`interpolate`]), `tangent_simd(r)` the normalised blend of the guides'
 /// tangents (step 3). The scalar twins `position(lane, r)` and
 /// `tangent(lane, r)` run the same blend on one hair (the scalar
 /// interpolation's arithmetic): positions agree bit for bit, tangents to
 /// a few ulp (rsqrt + Newton against `1 / sqrt`).
 #[derive(Clone, Copy, Debug)]
 pub struct GroupBlend<'a> {
-    weights: [f32x8; 3],
+    weights: [F32Lanes; 3],
     lanes: [usize; 3],
-    positions: [&'a [Vec3x8]; 3],
-    tangents: [&'a [Vec3x8]; 3],
+    positions: [&'a [Vec3Lanes]; 3],
+    tangents: [&'a [Vec3Lanes]; 3],
     hairs: usize,
 }
 
@@ -693,11 +697,11 @@ impl GroupBlend<'_> {
     ///
     /// If `r >= verts()` (as slice indexing does).
     #[inline(always)]
-    pub fn position_x8(&self, r: usize) -> Vec3x8 {
+    pub fn position_simd(&self, r: usize) -> Vec3Lanes {
         let [wa, wb, wc] = self.weights;
         let [la, lb, lc] = self.lanes;
         let [a, b, c] = self.positions;
-        blend_x8(wa, wb, wc, &a[r], la, &b[r], lb, &c[r], lc)
+        blend_simd(wa, wb, wc, &a[r], la, &b[r], lb, &c[r], lc)
     }
 
     /// Unit tangent at vertex `r` of the eight lanes (or `+Y`).
@@ -706,14 +710,14 @@ impl GroupBlend<'_> {
     ///
     /// If `r >= verts()` (as slice indexing does).
     #[inline(always)]
-    pub fn tangent_x8(&self, r: usize) -> Vec3x8 {
+    pub fn tangent_simd(&self, r: usize) -> Vec3Lanes {
         let [wa, wb, wc] = self.weights;
         let [la, lb, lc] = self.lanes;
         let [a, b, c] = self.tangents;
-        unit_or_y_x8(blend_x8(wa, wb, wc, &a[r], la, &b[r], lb, &c[r], lc))
+        unit_or_y_simd(blend_simd(wa, wb, wc, &a[r], la, &b[r], lb, &c[r], lc))
     }
 
-    /// Scalar twin of [`GroupBlend::position_x8`] for one lane (`lane` is
+    /// Scalar twin of [`GroupBlend::position_simd`] for one lane (`lane` is
     /// taken modulo [`LANES`]).
     ///
     /// # Panics
@@ -725,7 +729,7 @@ impl GroupBlend<'_> {
         blend_lanes(w, v, self.lanes)
     }
 
-    /// Scalar twin of [`GroupBlend::tangent_x8`] for one lane (`lane` is
+    /// Scalar twin of [`GroupBlend::tangent_simd`] for one lane (`lane` is
     /// taken modulo [`LANES`]).
     ///
     /// # Panics
@@ -749,7 +753,7 @@ impl GroupBlend<'_> {
 }
 
 /// [`blend`] per coordinate of lane `lanes[i]` of `v[i]`, one hair.
-fn blend_lanes(w: [f32; 3], v: [Vec3x8; 3], lanes: [usize; 3]) -> Vec3 {
+fn blend_lanes(w: [f32; 3], v: [Vec3Lanes; 3], lanes: [usize; 3]) -> Vec3 {
     let [a, b, c] = [0, 1, 2].map(|i| v[i].lane(lanes[i]));
     Vec3::new(
         blend(w, a.x, b.x, c.x),

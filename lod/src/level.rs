@@ -14,9 +14,9 @@
 //! keeps it under `eps_px` pixels. The phantom ends add no second difference
 //! (`P_{-1} - 2 P_0 + P_1 = 0`).
 
+use coif_base::lanes::F32Lanes;
 use coif_base::StrandBlocks;
 use glam::Vec3;
-use wide::f32x8;
 
 /// `max |P_{i-1} - 2 P_i + P_{i+1}|` over the interior control points
 /// (0 for fewer than three points; NaN points are ignored).
@@ -31,7 +31,7 @@ pub fn max_second_difference(control: &[Vec3]) -> f32 {
 /// (SIMD over the eight strands of a block; padding lanes repeat a real
 /// strand, so they change nothing). In metres. NaN lanes are ignored.
 pub fn max_second_difference_strands(strands: StrandBlocks<'_>) -> f32 {
-    let mut m = f32x8::ZERO;
+    let mut m = F32Lanes::ZERO;
     for b in 0..strands.block_count() {
         let p = strands.block_positions_local(b);
         for w in p.windows(3) {

@@ -20,10 +20,10 @@
 use crate::bspline::{basis, basis_derivative, refined_len};
 use crate::culling::Visibility;
 use crate::Error;
+use coif_base::lanes::F32Lanes;
 use coif_base::lanes::Lane;
-use coif_base::{StrandBlocks, Vec3x8, LANES};
+use coif_base::{StrandBlocks, Vec3Lanes, LANES};
 use glam::Vec3;
-use wide::f32x8;
 
 /// Default upper bound on segments per span for [`RefinedGuides::new`].
 pub const DEFAULT_MAX_SEGMENTS_PER_SPAN: usize = 16;
@@ -40,8 +40,8 @@ pub struct RefinedGuides {
     pub(crate) verts: usize,
     /// Per k = 0..=N: position weights then derivative weights at t = k / N.
     pub(crate) weights: Vec<[f32; 8]>,
-    pub(crate) positions: Vec<Vec3x8>,
-    pub(crate) tangents: Vec<Vec3x8>,
+    pub(crate) positions: Vec<Vec3Lanes>,
+    pub(crate) tangents: Vec<Vec3Lanes>,
     pub(crate) refined: Vec<bool>,
 }
 
@@ -98,7 +98,7 @@ impl RefinedGuides {
             .checked_mul(verts_per_strand - 1)
             .and_then(|x| x.checked_mul(max_segments_per_span))
             .and_then(|x| x.checked_add(blocks))
-            .filter(|&len| len <= isize::MAX as usize / (2 * std::mem::size_of::<Vec3x8>()))
+            .filter(|&len| len <= isize::MAX as usize / (2 * std::mem::size_of::<Vec3Lanes>()))
             .ok_or(Error::InvalidParameter {
                 name: "strand_count",
                 value: strand_count as f64,
@@ -112,15 +112,15 @@ impl RefinedGuides {
             segments: 0,
             verts: 0,
             weights: Vec::with_capacity(max_segments_per_span + 1),
-            positions: vec![Vec3x8::ZERO; len],
-            tangents: vec![Vec3x8::ZERO; len],
+            positions: vec![Vec3Lanes::ZERO; len],
+            tangents: vec![Vec3Lanes::ZERO; len],
             refined: vec![false; blocks],
         };
         out.set_segments_per_span_clamped(max_segments_per_span);
         Ok(out)
     }
 
-    /// Number of `Vec3x8` entries per output array for a set of
+    /// Number of `Vec3Lanes` entries per output array for a set of
     /// `strand_count` strands of `verts_per_strand` control points at
     /// `segments_per_span`: `ceil(strands / 8) * ((V - 1) N + 1)`.
     pub fn buffer_len(
@@ -212,13 +212,13 @@ impl RefinedGuides {
 
     /// Block `b`'s refined positions (local coordinates), `R` entries;
     /// empty for a block past the end.
-    pub fn block_positions(&self, b: usize) -> &[Vec3x8] {
+    pub fn block_positions(&self, b: usize) -> &[Vec3Lanes] {
         block_slice(&self.positions, b, self.verts)
     }
 
     /// Block `b`'s unit tangents, `R` entries; empty for a block past the
     /// end.
-    pub fn block_tangents(&self, b: usize) -> &[Vec3x8] {
+    pub fn block_tangents(&self, b: usize) -> &[Vec3Lanes] {
         block_slice(&self.tangents, b, self.verts)
     }
 
@@ -380,10 +380,10 @@ fn refine_blocks<const TANGENTS: bool>(
                 .zip(&mut tan[span])
                 .zip(&out.weights)
             {
-                *p = combine_x8(p0, p1, p2, p3, [w[0], w[1], w[2], w[3]]);
+                *p = combine_simd(p0, p1, p2, p3, [w[0], w[1], w[2], w[3]]);
                 if TANGENTS {
-                    let d = combine_x8(p0, p1, p2, p3, [w[4], w[5], w[6], w[7]]);
-                    *t = unit_or_y_x8(d);
+                    let d = combine_simd(p0, p1, p2, p3, [w[4], w[5], w[6], w[7]]);
+                    *t = unit_or_y_simd(d);
                 }
             }
         }
@@ -396,8 +396,14 @@ fn refine_blocks<const TANGENTS: bool>(
 
 /// `p0 w0 + p1 w1 + p2 w2 + p3 w3` per lane: [`combine`] on each coordinate.
 #[inline(always)]
-fn combine_x8(p0: Vec3x8, p1: Vec3x8, p2: Vec3x8, p3: Vec3x8, w: [f32; 4]) -> Vec3x8 {
-    Vec3x8 {
+fn combine_simd(
+    p0: Vec3Lanes,
+    p1: Vec3Lanes,
+    p2: Vec3Lanes,
+    p3: Vec3Lanes,
+    w: [f32; 4],
+) -> Vec3Lanes {
+    Vec3Lanes {
         x: combine(p0.x, p1.x, p2.x, p3.x, w),
         y: combine(p0.y, p1.y, p2.y, p3.y, w),
         z: combine(p0.z, p1.z, p2.z, p3.z, w),
@@ -406,7 +412,7 @@ fn combine_x8(p0: Vec3x8, p1: Vec3x8, p2: Vec3x8, p3: Vec3x8, w: [f32; 4]) -> Ve
 
 /// `p0 w0 + p1 w1 + p2 w2 + p3 w3`, accumulated left to right with fused
 /// multiply-adds: one body for one coordinate (`f32`, the scalar twin) and
-/// eight lanes (`f32x8`), so both round identically.
+/// eight lanes (`F32Lanes`), so both round identically.
 #[inline(always)]
 pub(crate) fn combine<L: Lane>(p0: L, p1: L, p2: L, p3: L, w: [f32; 4]) -> L {
     let [w0, w1, w2, w3] = w.map(L::splat);
@@ -415,15 +421,15 @@ pub(crate) fn combine<L: Lane>(p0: L, p1: L, p2: L, p3: L, w: [f32; 4]) -> L {
 
 /// `d / |d|`, or `+Y` where `|d|^2 <= 1e-30` or not finite.
 #[inline(always)]
-pub(crate) fn unit_or_y_x8(d: Vec3x8) -> Vec3x8 {
+pub(crate) fn unit_or_y_simd(d: Vec3Lanes) -> Vec3Lanes {
     let len2 = d.dot(d);
-    let ok =
-        len2.simd_gt(f32x8::splat(MIN_LENGTH_SQUARED)) & len2.simd_lt(f32x8::splat(f32::INFINITY));
+    let ok = len2.simd_gt(F32Lanes::splat(MIN_LENGTH_SQUARED))
+        & len2.simd_lt(F32Lanes::splat(f32::INFINITY));
     // rsqrt (12 bits) refined by one Newton step y (3 - x y^2) / 2 (about
     // 23 bits, within a few ulp of 1 / sqrt(x)): no divide, no sqrt.
     let y = len2.recip_sqrt();
-    let y = y * (f32x8::splat(1.5) - f32x8::splat(0.5) * len2 * y * y);
-    Vec3x8::select(ok, d * y, Vec3x8::splat(Vec3::Y))
+    let y = y * (F32Lanes::splat(1.5) - F32Lanes::splat(0.5) * len2 * y * y);
+    Vec3Lanes::select(ok, d * y, Vec3Lanes::splat(Vec3::Y))
 }
 
 /// Tangents with `|d|^2` at or below this fall back to `+Y`.

@@ -479,7 +479,7 @@ fn group_blend_rows_equal_interpolate_and_the_scalar_twin() {
         assert_eq!(blend.verts(), s.hairs.verts_per_hair());
         assert_eq!(blend.hairs(), s.interp.groups()[g].hairs as usize);
         for r in 0..blend.verts() {
-            let (p, t) = (blend.position_x8(r), blend.tangent_x8(r));
+            let (p, t) = (blend.position_simd(r), blend.tangent_simd(r));
             let i = r;
             assert_eq!(p, s.hairs.group_positions(g)[i], "group {g} row {r}");
             assert_eq!(t, s.hairs.group_tangents(g)[i], "group {g} row {r}");

@@ -6,11 +6,11 @@
 //! light's transmittance at the hit point (hair shadow; 1 without shadows).
 
 use super::{Camera, Framebuffer, Pixel};
+use coif_base::lanes::F32Lanes;
 use coif_base::tasks::{for_each_chunk_mut, Executor, Serial};
-use coif_base::{Sphere, Vec3x8, LANES};
+use coif_base::{Sphere, Vec3Lanes, LANES};
 use glam::Vec3;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use wide::f32x8;
 
 /// How the head is lit.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -141,7 +141,7 @@ pub fn draw_spheres_with(
     transmittance: &(dyn Fn(Vec3) -> f32 + Sync),
     executor: &dyn Executor,
 ) -> usize {
-    let lanes = |p: Vec3x8| f32x8::new(std::array::from_fn(|l| transmittance(p.lane(l))));
+    let lanes = |p: Vec3Lanes| F32Lanes::new(std::array::from_fn(|l| transmittance(p.lane(l))));
     draw_spheres_lanes(frame, camera, spheres, shading, &lanes, executor)
 }
 
@@ -158,7 +158,7 @@ pub fn draw_spheres_lanes(
     camera: &Camera,
     spheres: &[Sphere],
     shading: &HeadShading,
-    transmittance: &(dyn Fn(Vec3x8) -> f32x8 + Sync),
+    transmittance: &(dyn Fn(Vec3Lanes) -> F32Lanes + Sync),
     executor: &dyn Executor,
 ) -> usize {
     let eye = camera.eye();
@@ -179,9 +179,9 @@ pub fn draw_spheres_lanes(
             // Lit pixels waiting for their lookup: (x, Lambert term), and
             // their hit points in lanes.
             let mut waiting = [(0usize, 0.0f32); LANES];
-            let mut points = Vec3x8::ZERO;
+            let mut points = Vec3Lanes::ZERO;
             let mut count = 0;
-            let flush = |row: &mut [Pixel], waiting: &[(usize, f32)], points: &mut Vec3x8| {
+            let flush = |row: &mut [Pixel], waiting: &[(usize, f32)], points: &mut Vec3Lanes| {
                 for l in waiting.len()..LANES {
                     points.set_lane(l, points.lane(0));
                 }
@@ -326,7 +326,7 @@ mod tests {
         let mut want = Framebuffer::new(97, 61);
         let covered = draw_spheres(&mut want, &camera, &spheres, &shading, ramp);
         assert!(covered > 400, "{covered}");
-        let lanes = |p: Vec3x8| f32x8::new(std::array::from_fn(|l| ramp(p.lane(l))));
+        let lanes = |p: Vec3Lanes| F32Lanes::new(std::array::from_fn(|l| ramp(p.lane(l))));
         /// Tasks from last to first.
         struct Reversed;
         // SAFETY: each index runs once, before `run` returns.
@@ -346,9 +346,9 @@ mod tests {
         }
         // Lit pixels really do read their own point: with the lanes
         // reversed, pixels change.
-        let reversed = |p: Vec3x8| {
+        let reversed = |p: Vec3Lanes| {
             let t = lanes(p).to_array();
-            f32x8::new(std::array::from_fn(|l| t[LANES - 1 - l]))
+            F32Lanes::new(std::array::from_fn(|l| t[LANES - 1 - l]))
         };
         let mut wrong = Framebuffer::new(97, 61);
         draw_spheres_lanes(&mut wrong, &camera, &spheres, &shading, &reversed, &Serial);

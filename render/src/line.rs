@@ -28,7 +28,7 @@ use wide::f32x8;
 
 /// A projected hair vertex: pixel position, view depth, width in pixels and
 /// linear-RGB colour. Seven `f32` in this order, nothing between them
-/// (`repr(C)`: [`Segment::new_x8`] reads two consecutive vertices as 14
+/// (`repr(C)`: [`Segment::new_simd`] reads two consecutive vertices as 14
 /// floats).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C)]
@@ -220,7 +220,7 @@ pub struct Segment {
     y1: f32,
 }
 
-/// Eight segments set up at once ([`Segment::new_x8`]): every field of
+/// Eight segments set up at once ([`Segment::new_simd`]): every field of
 /// [`Segment`] as a plane of eight lanes.
 #[derive(Clone, Copy, Debug)]
 pub struct SegmentsX8 {
@@ -451,7 +451,7 @@ impl Segment {
     /// projected: finite, widths not negative; a test compares every
     /// field). Panics if a `k + 1` is outside `screen` (as indexing does).
     #[inline(always)]
-    pub fn new_x8(
+    pub fn new_simd(
         screen: &[ScreenVertex],
         first: &[u32],
         width: usize,
@@ -1021,7 +1021,7 @@ mod tests {
                 break;
             }
             let chunk = &first[at..(at + len).min(first.len())];
-            let x8 = Segment::new_x8(&screen, chunk, 100, 100);
+            let x8 = Segment::new_simd(&screen, chunk, 100, 100);
             for (l, &k) in chunk.iter().enumerate() {
                 let k = k as usize;
                 let one = Segment::new(&screen[k], &screen[k + 1], 100, 100);

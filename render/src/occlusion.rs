@@ -160,7 +160,7 @@ impl OccluderCones {
 mod tests {
     use super::*;
     use crate::head::ray_sphere;
-    use wide::f32x8;
+    use coif_base::lanes::F32Lanes;
 
     /// Every pixel centre within a hidden segment's reach sees the
     /// sphere, nearer than the segment: sampled over random segments.
@@ -198,7 +198,7 @@ mod tests {
             let (a, b) = (sv(pa), sv(pb));
             tried += 1;
             let scalar = cones.hides(&a, &b);
-            let lanes = |v: &ScreenVertex| [v.x, v.y, v.depth, v.width_px].map(f32x8::splat);
+            let lanes = |v: &ScreenVertex| [v.x, v.y, v.depth, v.width_px].map(F32Lanes::splat);
             let wide = cones.hides_lanes(lanes(&a), lanes(&b)).to_bitmask();
             assert_eq!(wide, if scalar { 0xff } else { 0 }, "twins disagree");
             if !scalar {

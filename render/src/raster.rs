@@ -9,7 +9,7 @@
 //! parallel rendering"; the binning of software rasterisers such as
 //! Laine & Karras 2011, "High-performance software rasterization on GPUs"):
 //!
-//! 1. **Project** every vertex once ([`project_x8`], eight per register;
+//! 1. **Project** every vertex once ([`project_simd`], eight per register;
 //!    [`project`] in the scalar twin, the same bits): pixel position, view
 //!    depth, width in pixels, colour; a vertex behind the near plane or
 //!    with a non-finite position, width or colour is marked invalid (its
@@ -29,7 +29,7 @@
 //!    reference's order).
 //! 5. **Rasterise** tile by tile: the tile's colour and depth are copied
 //!    into a tile-local buffer (64 KiB); its list's segments are set up
-//!    eight at a time ([`Segment::new_x8`]) and drawn one per lane
+//!    eight at a time ([`Segment::new_simd`]) and drawn one per lane
 //!    (`draw_lanes`): each lane walks its segment's lines along the
 //!    segment's major axis ([`Segment::walk`], [`Segment::lines`]) and
 //!    each line's candidate pixels ([`Segment::band`]), pass `k`
@@ -69,7 +69,8 @@ use coif_base::tasks::{for_each_chunk_mut, DisjointMut, Executor};
 use coif_base::Sphere;
 use glam::Vec3;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use wide::{f32x4, f32x8, i32x8};
+use wide::f32x4;
+use wide::{f32x8, i32x8};
 
 /// Vertices projected per task (a multiple of eight lanes): enough work per
 /// task (about 0.1 ms) that a job system's cost per task stays small.
@@ -388,7 +389,7 @@ impl HairRaster {
             let [px, py, pd, pw] = planes.each_ref().map(|p| unsafe { p.range(start, len) });
             let chunks = out.chunks_mut(8).zip(vertices[start..].chunks(8));
             for (c, (dst, v)) in chunks.enumerate() {
-                let p = project_planes_x8(job.camera, v);
+                let p = project_planes_simd(job.camera, v);
                 let at = 8 * c..8 * c + 8;
                 px[at.clone()].copy_from_slice(p[0].as_array());
                 py[at.clone()].copy_from_slice(p[1].as_array());
@@ -430,7 +431,7 @@ impl HairRaster {
                     let segments = &mut strand[..vps - 1];
                     if simd {
                         for (c, rects8) in segments.chunks_mut(8).enumerate() {
-                            let r = this.tile_rects_x8(base + 8 * c);
+                            let r = this.tile_rects_simd(base + 8 * c);
                             let lanes = (1u32 << rects8.len()) - 1;
                             drawn_here += (r.drawn & lanes).count_ones() as usize;
                             hidden_here += (r.hidden & lanes).count_ones() as usize;
@@ -579,7 +580,7 @@ impl HairRaster {
     /// with the same operations in the same order as
     /// [`Segment::pixel_bounds`].
     #[inline]
-    fn tile_rects_x8(&self, k: usize) -> TileRects {
+    fn tile_rects_simd(&self, k: usize) -> TileRects {
         let load = |p: &Vec<f32>, at: usize| f32x8::new(p[at..at + 8].try_into().unwrap());
         let [px, py, pd, pw] = &self.planes;
         let (ax, ay, aw) = (load(px, k), load(py, k), load(pw, k));
@@ -765,14 +766,14 @@ fn for_segments(
 /// Which body [`HairRaster::run`] uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Path {
-    /// Eight lanes at a time: [`project_x8`], eight tile ranges at a time,
+    /// Eight lanes at a time: [`project_simd`], eight tile ranges at a time,
     /// [`draw_tile`].
     Simd,
     /// One at a time: [`project`], [`HairRaster::tile_rect`], the scalar tile body.
     Scalar,
 }
 
-/// Eight segments' tile ranges ([`HairRaster::tile_rects_x8`]).
+/// Eight segments' tile ranges ([`HairRaster::tile_rects_simd`]).
 #[derive(Clone, Copy, Debug, Default)]
 struct TileRects {
     /// Lanes whose two ends are valid.
@@ -983,16 +984,16 @@ pub fn project(camera: &Camera, v: &ShadedVertex) -> ScreenVertex {
 /// `vertices.len()` come back invalid), with the operations of
 /// [`Camera::project`] in the same order (no fused multiply-add): the
 /// same bits as [`project`] vertex by vertex.
-pub fn project_x8(camera: &Camera, vertices: &[ShadedVertex]) -> [ScreenVertex; 8] {
-    screen_rows(project_planes_x8(camera, vertices))
+pub fn project_simd(camera: &Camera, vertices: &[ShadedVertex]) -> [ScreenVertex; 8] {
+    screen_rows(project_planes_simd(camera, vertices))
 }
 
-/// [`project_x8`] as planes: pixel `x`, `y`, view depth, width in pixels,
+/// [`project_simd`] as planes: pixel `x`, `y`, view depth, width in pixels,
 /// red, green, blue; an invalid lane holds a NaN depth and zeros
 /// elsewhere (as the invalid [`ScreenVertex`] of [`project`]). The eight
 /// vertices (eight floats each) come into lanes by one 8 x 8 transpose.
 #[inline(always)]
-fn project_planes_x8(camera: &Camera, vertices: &[ShadedVertex]) -> [f32x8; 7] {
+fn project_planes_simd(camera: &Camera, vertices: &[ShadedVertex]) -> [f32x8; 7] {
     let (eye, forward, right, down, focal) = camera.basis();
     let n = vertices.len().min(8);
     let rows: [f32x8; 8] = if n == 8 {
@@ -1038,7 +1039,7 @@ fn project_planes_x8(camera: &Camera, vertices: &[ShadedVertex]) -> [f32x8; 7] {
     ]
 }
 
-/// The eight [`ScreenVertex`]es of [`project_planes_x8`]'s planes (one
+/// The eight [`ScreenVertex`]es of [`project_planes_simd`]'s planes (one
 /// 8 x 8 transpose back).
 #[inline(always)]
 fn screen_rows(planes: [f32x8; 7]) -> [ScreenVertex; 8] {
@@ -1060,7 +1061,7 @@ fn screen_rows(planes: [f32x8; 7]) -> [ScreenVertex; 8] {
 const LANE_INDEX: f32x8 = f32x8::new([0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
 
 /// Step 5 for one tile: the segments of `list` eight at a time, set up
-/// at once ([`Segment::new_x8`]) and drawn one per lane
+/// at once ([`Segment::new_simd`]) and drawn one per lane
 /// ([`draw_lanes`]: each lane walks its own segment's lines along its
 /// major axis and each line's candidates, one candidate per pass, then
 /// the eight segments' fragments are blended segment by segment in list
@@ -1084,7 +1085,7 @@ pub(crate) fn draw_tile(
             prefetch(screen.get(k as usize + 1));
         }
         // 5a. Set up eight segments at once (the bits of `Segment::new`).
-        let segments = Segment::new_x8(screen, first, area.width, area.height);
+        let segments = Segment::new_simd(screen, first, area.width, area.height);
         if segments.near() {
             let done = match opaque {
                 false => draw_lanes::<false>(&segments, area, tile, opacity, &mut passes),

@@ -331,7 +331,7 @@ fn constructors_refuse_empty_frames_and_draws_leave_other_sizes_alone() {
 
 #[test]
 fn eight_lane_projection_matches_the_scalar_one_bit_for_bit() {
-    use coif_render::raster::{project, project_x8};
+    use coif_render::raster::{project, project_simd};
     let cam = camera();
     let mut vertices = strands(20, 9, 11);
     // Poison some: behind the camera, on the eye, NaN / infinite positions,
@@ -358,7 +358,7 @@ fn eight_lane_projection_matches_the_scalar_one_bit_for_bit() {
     let mut invalid = 0;
     // Every length of the last chunk, 1 to 8.
     for chunk in vertices.chunks(8).chain(vertices[..7].chunks(7)) {
-        let x8 = project_x8(&cam, chunk);
+        let x8 = project_simd(&cam, chunk);
         for (l, v) in chunk.iter().enumerate() {
             let one = project(&cam, v);
             invalid += one.depth.is_nan() as usize;

@@ -36,7 +36,10 @@ fn machine(load_before: Option<String>) -> String {
     });
     let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
     let mut line = match model {
-        Some(m) if cores > 0 => format!("a {cores}-core {m}, build x86-64-v3 (AVX2 + FMA)"),
+        Some(m) if cores > 0 => format!(
+            "a {cores}-core {m}, build x86-64-v3 (AVX2 + FMA), {} lanes",
+            coif::kernels::LANES
+        ),
         _ => MACHINE.to_string(),
     };
     if let (Some(before), Some(after)) = (load_before, load_average()) {

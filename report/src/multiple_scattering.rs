@@ -41,9 +41,9 @@
 //!
 //! - `multiple scattering <colour>`: single scattering with the exact
 //!   shadow (`S D`, pbrt-v3's far field in a [`pbrt::Table`] of 64,
-//!   [`pbrt::Table::scattering_x8`]) and dual scattering on the same
+//!   [`pbrt::Table::scattering_simd`]) and dual scattering on the same
 //!   table (`DualScattering::from_pbrt`, default settings: densities 0.4 and 0.35,
-//!   64 entries; the table then [`DualScattering::shade_x8`], fused per
+//!   64 entries; the table then [`DualScattering::shade_simd`], fused per
 //!   block of eight as the frame shades), one row per set. The setting
 //!   names the set and the tracer's relative standard error on it.
 //! - `multiple scattering <colour> marschner`: the same with Marschner's
@@ -70,13 +70,13 @@
 
 use super::timing::time_batch;
 use super::{Options, Path, Row, Timing};
-use coif::base::{SplitMix64, Vec3x8, LANES};
+use coif::base::lanes::F32Lanes;
+use coif::base::{SplitMix64, Vec3Lanes, LANES};
 use coif::shading::dual_scattering::accuracy::{self, HitLighting};
 use coif::shading::dual_scattering::{DualScattering, DualScatteringSettings};
 use coif::shading::path_tracer::{tuft, DirectionalLight, FibreScene, PathTracer, TuftParams};
 use coif::shading::{marschner, pbrt, RgbBuffer, ShadingSamples};
 use glam::Vec3;
-use wide::f32x8;
 
 /// The absorptions measured: name and pbrt-v3 eumelanin concentration.
 pub const ABSORPTIONS: [(&str, f32); 3] = [("blond", 0.3), ("brown", 1.3), ("dark", 8.0)];
@@ -673,22 +673,22 @@ impl Bench {
         let (table, lut) = (&material.table, &material.lut);
         [
             self.method(
-                |t, wi, wo| table.scattering_x8(t, wi, wo),
+                |t, wi, wo| table.scattering_simd(t, wi, wo),
                 |t, wi, wo| table.scattering(t, wi, wo),
                 None,
             ),
             self.method(
-                |t, wi, wo| table.scattering_x8(t, wi, wo),
+                |t, wi, wo| table.scattering_simd(t, wi, wo),
                 |t, wi, wo| table.scattering(t, wi, wo),
                 Some(&material.dual),
             ),
             self.method(
-                |t, wi, wo| lut.scattering_x8(t, wi, wo),
+                |t, wi, wo| lut.scattering_simd(t, wi, wo),
                 |t, wi, wo| lut.scattering(t, wi, wo),
                 None,
             ),
             self.method(
-                |t, wi, wo| lut.scattering_x8(t, wi, wo),
+                |t, wi, wo| lut.scattering_simd(t, wi, wo),
                 |t, wi, wo| lut.scattering(t, wi, wo),
                 Some(&material.dual_lut),
             ),
@@ -699,7 +699,7 @@ impl Bench {
     /// fused per block (SIMD) or per sample (scalar).
     fn method(
         &self,
-        single_x8: impl Fn(Vec3x8, Vec3x8, Vec3x8) -> Vec3x8,
+        single_simd: impl Fn(Vec3Lanes, Vec3Lanes, Vec3Lanes) -> Vec3Lanes,
         single: impl Fn(Vec3, Vec3, Vec3) -> Vec3,
         dual: Option<&DualScattering>,
     ) -> (Timing, Timing) {
@@ -709,22 +709,22 @@ impl Bench {
             let s = std::hint::black_box(&self.samples);
             for start in (0..n).step_by(LANES) {
                 let (t, wi, wo) = s.load_block(start);
-                let f = single_x8(t, wi, wo);
+                let f = single_simd(t, wi, wo);
                 let f = match dual {
                     Some(ds) => {
-                        let fibres = f32x8::new(
+                        let fibres = F32Lanes::new(
                             self.fibres[start..start + LANES]
                                 .try_into()
                                 .expect("8 lanes"),
                         );
-                        let direct = f32x8::new(
+                        let direct = F32Lanes::new(
                             self.direct[start..start + LANES]
                                 .try_into()
                                 .expect("8 lanes"),
                         );
                         // The frame's hair behind each point: 20 fibres.
-                        let behind = f32x8::splat(20.0);
-                        ds.shade_layered_x8(f, t, wi, wo, fibres, behind, direct)
+                        let behind = F32Lanes::splat(20.0);
+                        ds.shade_layered_simd(f, t, wi, wo, fibres, behind, direct)
                     }
                     None => f,
                 };

@@ -23,6 +23,7 @@
 
 use super::timing::{time_batch, Timing};
 use super::Options;
+use coif::base::lanes::F32Lanes;
 use coif::base::LANES;
 use coif::geometry::scene::{grow_on_sphere, GrowOptions};
 use coif::kernels::{self, Strands};
@@ -31,7 +32,6 @@ use coif::shading::shadow::{OpacityShadowMap, ShadowSettings};
 use coif::shading::{marschner, pbrt, RgbBuffer, ShadingSamples};
 use glam::Vec3;
 use std::hint::black_box;
-use wide::f32x8;
 
 /// Which batch a kernel is timed on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -144,7 +144,7 @@ pub fn measure_floors(options: Options) -> Floors {
         let src = vec![1.0f32; n];
         let mut dst = vec![0.0f32; n];
         let read = bandwidth(reps, bytes, || {
-            black_box(sum_x8(black_box(&src)));
+            black_box(sum_simd(black_box(&src)));
         });
         let write = bandwidth(reps, bytes, || {
             fill(black_box(&mut dst), 2.0);
@@ -177,16 +177,16 @@ pub fn measure_floors(options: Options) -> Floors {
 
 /// Sum of a buffer, eight independent 8-lane accumulators (a read stream).
 #[inline(never)]
-fn sum_x8(a: &[f32]) -> f32 {
-    let mut acc = [f32x8::ZERO; 8];
+fn sum_simd(a: &[f32]) -> f32 {
+    let mut acc = [F32Lanes::ZERO; 8];
     let chunks = a.chunks_exact(64);
     for c in chunks {
         for (k, acc) in acc.iter_mut().enumerate() {
             let v: [f32; LANES] = c[8 * k..8 * k + 8].try_into().expect("8 floats");
-            *acc += f32x8::new(v);
+            *acc += F32Lanes::new(v);
         }
     }
-    acc.iter().fold(f32x8::ZERO, |s, a| s + *a).reduce_add()
+    acc.iter().fold(F32Lanes::ZERO, |s, a| s + *a).reduce_add()
 }
 
 /// Fills a buffer (a write stream).
@@ -200,10 +200,10 @@ fn fill(a: &mut [f32], v: f32) {
 #[inline(never)]
 fn fma_loop(iters: usize) -> f32 {
     let (a, b) = (
-        black_box(f32x8::splat(0.999)),
-        black_box(f32x8::splat(1e-3)),
+        black_box(F32Lanes::splat(0.999)),
+        black_box(F32Lanes::splat(1e-3)),
     );
-    let mut acc = [f32x8::ONE; 8];
+    let mut acc = [F32Lanes::ONE; 8];
     for _ in 0..iters {
         for _ in 0..4 {
             for x in acc.iter_mut() {
@@ -211,7 +211,7 @@ fn fma_loop(iters: usize) -> f32 {
             }
         }
     }
-    acc.iter().fold(f32x8::ZERO, |s, a| s + *a).reduce_add()
+    acc.iter().fold(F32Lanes::ZERO, |s, a| s + *a).reduce_add()
 }
 
 /// `iters` iterations of two 8-lane loads from an L1-resident buffer and
@@ -219,12 +219,12 @@ fn fma_loop(iters: usize) -> f32 {
 #[inline(never)]
 fn mixed_loop(buf: &[f32], iters: usize) -> f32 {
     let blocks = buf.len() / 16;
-    let mut acc = [f32x8::ZERO; 4];
+    let mut acc = [F32Lanes::ZERO; 4];
     let mut k = 0;
     for _ in 0..iters {
         let s = &buf[16 * k..16 * k + 16];
-        let x = f32x8::new(s[..8].try_into().expect("8"));
-        let y = f32x8::new(s[8..].try_into().expect("8"));
+        let x = F32Lanes::new(s[..8].try_into().expect("8"));
+        let y = F32Lanes::new(s[8..].try_into().expect("8"));
         acc[0] = x.mul_add(y, acc[0]);
         acc[1] = y.mul_add(x, acc[1]);
         acc[2] = x.mul_add(x, acc[2]);
@@ -234,7 +234,7 @@ fn mixed_loop(buf: &[f32], iters: usize) -> f32 {
             k = 0;
         }
     }
-    acc.iter().fold(f32x8::ZERO, |s, a| s + *a).reduce_add()
+    acc.iter().fold(F32Lanes::ZERO, |s, a| s + *a).reduce_add()
 }
 
 /// Times every kernel of `kernels` in cache and streaming against `floors`.

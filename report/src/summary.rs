@@ -176,7 +176,7 @@ training tufts the densities were fitted on (20 patches), and a region of Sintel
 guides within a 20 mm ball at the crown, fibre radius chosen for a volume fraction of 0.12, \
 stated in the setting; lit from above, two views); the setting names the tracer's relative \
 standard error on the set. ns per sample of the method's shading (2,048 samples in cache, the \
-table and `shade_x8` fused per block; scalar twin per sample). The `marschner` kernels: \
+table and `shade_simd` fused per block; scalar twin per sample). The `marschner` kernels: \
 Marschner's table 128 (absorption halved) and `from_marschner` against the same tracer, which \
 is pbrt's model, so their error mixes the models' difference with multiple scattering. `path \
 tracer`: the reference's relative standard error per set against ns per path (thread time); \

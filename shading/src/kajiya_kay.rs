@@ -27,7 +27,7 @@
 //! a squared length overflowing f32) gives NaN for that sample.
 //! The result is diffuse + specular, without light colour or cosine factor.
 //!
-//! [`KajiyaKay::shade`] (one sample) and [`KajiyaKay::shade_x8`] (eight
+//! [`KajiyaKay::shade`] (one sample) and [`KajiyaKay::shade_simd`] (eight
 //! lanes) run the same steps in the same order; [`KajiyaKay::shade_batch`]
 //! (SIMD) and [`scalar::shade_batch`] shade a whole [`ShadingSamples`].
 //! Steps: 1. degenerate inputs (zero length, non-finite); 2. the cosines and
@@ -38,10 +38,10 @@
 pub mod scalar;
 
 use crate::{RgbBuffer, ShadingSamples};
-use coif_base::Vec3x8;
+use coif_base::lanes::{F32Lanes, I32Lanes};
+use coif_base::Vec3Lanes;
 use glam::Vec3;
 use wide::bytemuck::cast;
-use wide::{f32x8, i32x8};
 
 /// One specular highlight: colour K_s, exponent p and tangent shift.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -166,50 +166,50 @@ impl KajiyaKay {
 
     /// Eight samples; the same steps as [`KajiyaKay::shade`].
     #[inline(always)]
-    pub fn shade_x8(&self, t: Vec3x8, wi: Vec3x8, wo: Vec3x8) -> Vec3x8 {
+    pub fn shade_simd(&self, t: Vec3Lanes, wi: Vec3Lanes, wo: Vec3Lanes) -> Vec3Lanes {
         // `fast_max` / `fast_min` (one instruction each; wide's `max` / `min`
         // add a NaN fix-up): equal to the scalar's `max` / `min` on finite
         // lanes, and a lane with a non-finite input is replaced by NaN at
         // the end whatever it computed.
-        let one = f32x8::ONE;
-        let zero = f32x8::ZERO;
+        let one = F32Lanes::ONE;
+        let zero = F32Lanes::ZERO;
         let (lt2, li2, lo2) = (t.dot(t), wi.dot(wi), wo.dot(wo));
         let non_finite = !(lt2 + li2 + lo2).is_finite();
-        let tiny = f32x8::splat(MIN_LENGTH_SQUARED);
+        let tiny = F32Lanes::splat(MIN_LENGTH_SQUARED);
         let zero_len = lt2.simd_lt(tiny) | li2.simd_lt(tiny) | lo2.simd_lt(tiny);
-        let clamp1 = |x: f32x8| x.fast_max(-one).fast_min(one);
+        let clamp1 = |x: F32Lanes| x.fast_max(-one).fast_min(one);
         let c_i = clamp1(wi.dot(t));
         let c_o = clamp1(wo.dot(t));
         let c_io = wi.dot(wo);
         let s_i = (one - c_i * c_i).fast_max(zero).sqrt();
         let s_o = (one - c_o * c_o).fast_max(zero).sqrt();
         let wi_n = s_o
-            .simd_gt(f32x8::splat(MIN_SIN_O))
+            .simd_gt(F32Lanes::splat(MIN_SIN_O))
             .select((c_io - c_i * c_o) / s_o, zero);
         let lobe = |h: &Highlight| {
             let (cos_tilt, sin_tilt) = tilt(h.shift);
-            let (ct, st) = (f32x8::splat(cos_tilt), f32x8::splat(sin_tilt));
+            let (ct, st) = (F32Lanes::splat(cos_tilt), F32Lanes::splat(sin_tilt));
             let co = c_o * ct + s_o * st;
             let so = (s_o * ct - c_o * st).abs();
             let ci = clamp1(c_i * ct + wi_n * st);
             let si = (one - ci * ci).fast_max(zero).sqrt();
-            let base = (si * so - ci * co).fast_max(f32x8::splat(MIN_BASE));
-            let x = f32x8::splat(h.exponent.max(0.0)) * log2_x8(base);
-            let tiny = x.simd_lt(f32x8::splat(MIN_LOG2_LOBE));
-            tiny.select(zero, exp2_x8(x.fast_max(f32x8::splat(MIN_LOG2_LOBE))))
+            let base = (si * so - ci * co).fast_max(F32Lanes::splat(MIN_BASE));
+            let x = F32Lanes::splat(h.exponent.max(0.0)) * log2_simd(base);
+            let tiny = x.simd_lt(F32Lanes::splat(MIN_LOG2_LOBE));
+            tiny.select(zero, exp2_simd(x.fast_max(F32Lanes::splat(MIN_LOG2_LOBE))))
         };
         let (l1, l2) = (lobe(&self.primary), lobe(&self.secondary));
         let (d, a, b) = (self.diffuse, self.primary.color, self.secondary.color);
         let channel = |d: f32, a: f32, b: f32| {
-            f32x8::splat(d) * s_i + f32x8::splat(a) * l1 + f32x8::splat(b) * l2
+            F32Lanes::splat(d) * s_i + F32Lanes::splat(a) * l1 + F32Lanes::splat(b) * l2
         };
-        let out = Vec3x8::new(
+        let out = Vec3Lanes::new(
             channel(d.x, a.x, b.x),
             channel(d.y, a.y, b.y),
             channel(d.z, a.z, b.z),
         );
-        let out = Vec3x8::select(zero_len, Vec3x8::ZERO, out);
-        Vec3x8::select(non_finite, Vec3x8::splat(Vec3::NAN), out)
+        let out = Vec3Lanes::select(zero_len, Vec3Lanes::ZERO, out);
+        Vec3Lanes::select(non_finite, Vec3Lanes::splat(Vec3::NAN), out)
     }
 
     /// SIMD batch: every sample of `samples` into `out` (resized to
@@ -219,7 +219,7 @@ impl KajiyaKay {
             samples,
             out,
             #[inline(always)]
-            |t, wi, wo| self.shade_x8(t, wi, wo),
+            |t, wi, wo| self.shade_simd(t, wi, wo),
         );
     }
 }
@@ -248,7 +248,7 @@ const EXP: [f32; 6] = [
     1.0 / 720.0,
 ];
 
-/// log2 of a positive normal float (scalar twin of `log2_x8`).
+/// log2 of a positive normal float (scalar twin of `log2_simd`).
 #[inline(always)]
 fn log2(x: f32) -> f32 {
     let bits = x.to_bits() as i32;
@@ -264,7 +264,7 @@ fn log2(x: f32) -> f32 {
     e as f32 + TWO_OVER_LN2 * atanh
 }
 
-/// 2^y for y in [-126, 0] (scalar twin of `exp2_x8`).
+/// 2^y for y in [-126, 0] (scalar twin of `exp2_simd`).
 #[inline(always)]
 fn exp2(y: f32) -> f32 {
     let n = y.round();
@@ -275,28 +275,28 @@ fn exp2(y: f32) -> f32 {
 }
 
 #[inline(always)]
-fn log2_x8(x: f32x8) -> f32x8 {
-    let bits: i32x8 = cast(x);
-    let offset = bits - i32x8::splat(0x3f35_04f3);
-    let e: i32x8 = offset >> 23;
-    let m: f32x8 = cast(bits - (e << 23));
-    let one = f32x8::ONE;
+fn log2_simd(x: F32Lanes) -> F32Lanes {
+    let bits: I32Lanes = cast(x);
+    let offset = bits - I32Lanes::splat(0x3f35_04f3);
+    let e: I32Lanes = offset >> 23;
+    let m: F32Lanes = cast(bits - (e << 23));
+    let one = F32Lanes::ONE;
     let z = (m - one) / (m + one);
     let z2 = z * z;
-    let c = |k: usize| f32x8::splat(ATANH[k]);
+    let c = |k: usize| F32Lanes::splat(ATANH[k]);
     let poly = ((c(3) * z2 + c(2)) * z2 + c(1)) * z2 + c(0);
     let atanh = (poly * z2) * z + z;
-    e.round_float() + f32x8::splat(TWO_OVER_LN2) * atanh
+    e.round_float() + F32Lanes::splat(TWO_OVER_LN2) * atanh
 }
 
 #[inline(always)]
-fn exp2_x8(y: f32x8) -> f32x8 {
+fn exp2_simd(y: F32Lanes) -> F32Lanes {
     let n = y.round();
-    let f = (y - n) * f32x8::splat(LN2);
-    let c = |k: usize| f32x8::splat(EXP[k]);
+    let f = (y - n) * F32Lanes::splat(LN2);
+    let c = |k: usize| F32Lanes::splat(EXP[k]);
     let p = ((((c(5) * f + c(4)) * f + c(3)) * f + c(2)) * f + c(1)) * f + c(0);
-    let e = f * p + f32x8::ONE;
-    let scale: f32x8 = cast((n.round_int() + i32x8::splat(127)) << 23);
+    let e = f * p + F32Lanes::ONE;
+    let scale: F32Lanes = cast((n.round_int() + I32Lanes::splat(127)) << 23);
     e * scale
 }
 
@@ -310,7 +310,7 @@ mod tests {
         while x <= 1.0 {
             let l = log2(x);
             assert!((l - x.log2()).abs() < 2e-6 * x.log2().abs().max(1.0), "{x}");
-            let l8 = log2_x8(f32x8::splat(x)).to_array()[3];
+            let l8 = log2_simd(F32Lanes::splat(x)).to_array()[3];
             assert_eq!(l, l8, "{x}");
             x *= 1.37;
         }
@@ -318,7 +318,7 @@ mod tests {
         while y <= 0.0 {
             let e = exp2(y);
             assert!((e / y.exp2() - 1.0).abs() < 1e-6, "{y}");
-            assert_eq!(e, exp2_x8(f32x8::splat(y)).to_array()[5], "{y}");
+            assert_eq!(e, exp2_simd(F32Lanes::splat(y)).to_array()[5], "{y}");
             y += 0.173;
         }
     }

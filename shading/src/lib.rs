@@ -7,8 +7,8 @@
 //! explicit fibres as its reference ([`path_tracer`]).
 //!
 //! One convention for the twins: a per-sample function `name` (one `Vec3`)
-//! has an eight-lane twin `name_x8` (`Vec3x8`), e.g.
-//! [`kajiya_kay::KajiyaKay::shade`] / [`kajiya_kay::KajiyaKay::shade_x8`]; a
+//! has an eight-lane twin `name_simd` (`Vec3Lanes`), e.g.
+//! [`kajiya_kay::KajiyaKay::shade`] / [`kajiya_kay::KajiyaKay::shade_simd`]; a
 //! SIMD batch method `Type::name` has its scalar reference `scalar::name`
 //! (a free function taking `&Type`) in the `scalar` submodule of its module,
 //! e.g. [`shadow::OpacityShadowMap::build`] / [`shadow::scalar::build`].

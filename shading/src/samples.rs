@@ -12,13 +12,13 @@
 //! trust it.
 
 use crate::Error;
-use coif_base::{Vec3x8, LANES};
+use coif_base::lanes::F32Lanes;
+use coif_base::{Vec3Lanes, LANES};
 use glam::Vec3;
-use wide::f32x8;
 
 /// Per-sample unit tangent `t` (root to tip), unit direction toward the
 /// light `wi` and unit direction toward the viewer `wo`, one array per
-/// component so that eight samples load as three `f32x8` registers. The
+/// component so that eight samples load as three `F32Lanes` registers. The
 /// nine arrays always have the same length (see the module docs).
 #[derive(Clone, Debug, Default)]
 pub struct ShadingSamples {
@@ -194,17 +194,17 @@ impl ShadingSamples {
     /// so that padding never produces NaN (a `start` past the end gives
     /// padding only).
     #[inline]
-    pub fn load_block(&self, start: usize) -> (Vec3x8, Vec3x8, Vec3x8) {
+    pub fn load_block(&self, start: usize) -> (Vec3Lanes, Vec3Lanes, Vec3Lanes) {
         let n = self.len();
         let load = |a: &[Vec<f32>; 3], pad: Vec3| {
             let one = |c: &Vec<f32>, p: f32| {
                 if n >= LANES && start <= n - LANES {
-                    f32x8::new(c[start..start + LANES].try_into().expect("LANES values"))
+                    F32Lanes::new(c[start..start + LANES].try_into().expect("LANES values"))
                 } else {
                     coif_base::lanes::load_padded(&c[start.min(n)..n], p)
                 }
             };
-            Vec3x8::new(one(&a[0], pad.x), one(&a[1], pad.y), one(&a[2], pad.z))
+            Vec3Lanes::new(one(&a[0], pad.x), one(&a[1], pad.y), one(&a[2], pad.z))
         };
         (
             load(&self.t, Vec3::X),
@@ -297,7 +297,7 @@ impl RgbBuffer {
     /// Samples `start ..` in lanes, zeros past the end (of the shortest
     /// channel, should the public channels differ in length).
     #[inline]
-    pub fn load_block(&self, start: usize) -> Vec3x8 {
+    pub fn load_block(&self, start: usize) -> Vec3Lanes {
         let len = self.r.len().min(self.g.len()).min(self.b.len());
         let n = len.saturating_sub(start).min(LANES);
         let lanes = |c: &[f32]| {
@@ -305,15 +305,15 @@ impl RgbBuffer {
             if n > 0 {
                 v[..n].copy_from_slice(&c[start..start + n]);
             }
-            f32x8::new(v)
+            F32Lanes::new(v)
         };
-        Vec3x8::new(lanes(&self.r), lanes(&self.g), lanes(&self.b))
+        Vec3Lanes::new(lanes(&self.r), lanes(&self.g), lanes(&self.b))
     }
 
     /// Writes lanes of `v` to samples `start ..`, stopping at the end (of
     /// the shortest channel, should the public channels differ in length).
     #[inline]
-    pub fn store_block(&mut self, start: usize, v: Vec3x8) {
+    pub fn store_block(&mut self, start: usize, v: Vec3Lanes) {
         let len = self.r.len().min(self.g.len()).min(self.b.len());
         let n = len.saturating_sub(start).min(LANES);
         if n == 0 {

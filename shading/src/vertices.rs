@@ -22,7 +22,7 @@ use crate::kajiya_kay::KajiyaKay;
 use crate::marschner::Lut;
 use crate::pbrt::Table;
 use crate::Error;
-use coif_base::{Vec3x8, LANES};
+use coif_base::{Vec3Lanes, LANES};
 use coif_lod::RenderVertex;
 use glam::Vec3;
 
@@ -30,27 +30,27 @@ use glam::Vec3;
 pub trait VertexModel {
     /// `S(t, wi, wo)` for eight samples (unit tangent, toward the light,
     /// toward the eye), linear RGB.
-    fn scattering_x8(&self, t: Vec3x8, wi: Vec3x8, wo: Vec3x8) -> Vec3x8;
+    fn scattering_simd(&self, t: Vec3Lanes, wi: Vec3Lanes, wo: Vec3Lanes) -> Vec3Lanes;
 }
 
 impl VertexModel for KajiyaKay {
     #[inline(always)]
-    fn scattering_x8(&self, t: Vec3x8, wi: Vec3x8, wo: Vec3x8) -> Vec3x8 {
-        self.shade_x8(t, wi, wo)
+    fn scattering_simd(&self, t: Vec3Lanes, wi: Vec3Lanes, wo: Vec3Lanes) -> Vec3Lanes {
+        self.shade_simd(t, wi, wo)
     }
 }
 
 impl VertexModel for Lut {
     #[inline(always)]
-    fn scattering_x8(&self, t: Vec3x8, wi: Vec3x8, wo: Vec3x8) -> Vec3x8 {
-        Lut::scattering_x8(self, t, wi, wo)
+    fn scattering_simd(&self, t: Vec3Lanes, wi: Vec3Lanes, wo: Vec3Lanes) -> Vec3Lanes {
+        Lut::scattering_simd(self, t, wi, wo)
     }
 }
 
 impl VertexModel for Table {
     #[inline(always)]
-    fn scattering_x8(&self, t: Vec3x8, wi: Vec3x8, wo: Vec3x8) -> Vec3x8 {
-        Table::scattering_x8(self, t, wi, wo)
+    fn scattering_simd(&self, t: Vec3Lanes, wi: Vec3Lanes, wo: Vec3Lanes) -> Vec3Lanes {
+        Table::scattering_simd(self, t, wi, wo)
     }
 }
 
@@ -97,9 +97,9 @@ pub fn shade_vertices(
             });
         }
     }
-    let wi = Vec3x8::splat(to_light);
+    let wi = Vec3Lanes::splat(to_light);
     for (block, dst) in vertices.chunks(LANES).zip(out.chunks_mut(LANES)) {
-        let (mut t, mut wo) = (Vec3x8::ZERO, Vec3x8::ZERO);
+        let (mut t, mut wo) = (Vec3Lanes::ZERO, Vec3Lanes::ZERO);
         for l in 0..LANES {
             // Spare lanes repeat the block's first vertex.
             let v = block.get(l).unwrap_or(&block[0]);
@@ -107,7 +107,7 @@ pub fn shade_vertices(
             t.set_lane(l, Vec3::from(v.tangent));
             wo.set_lane(l, (eye - p).normalize_or_zero());
         }
-        let c = model.scattering_x8(t, wi, wo);
+        let c = model.scattering_simd(t, wi, wo);
         for (l, d) in dst.iter_mut().enumerate().take(block.len()) {
             *d = c.lane(l);
         }

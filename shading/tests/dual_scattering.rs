@@ -3,6 +3,7 @@
 //! Its accuracy against the path tracer through explicit fibres is tested
 //! in `multiple_scattering.rs`.
 
+use coif_base::lanes::{F32Lanes, LANES};
 use coif_base::rng::SplitMix64;
 use coif_shading::dual_scattering::{self, DualScattering, DualScatteringSettings};
 use coif_shading::{marschner, pbrt, Error, RgbBuffer, ShadingSamples};
@@ -254,27 +255,27 @@ fn layered_simd_matches_its_scalar_twin_and_less_hair_behind_gives_less_light() 
     let (samples, fibres, direct) = random_inputs(1003, 12);
     let mut rng = SplitMix64::new(13);
     let mut lighter = 0;
-    for start in (0..samples.len()).step_by(8) {
+    for start in (0..samples.len()).step_by(LANES) {
         let (t, wi, wo) = samples.load_block(start);
-        let mut behind = [0.0f32; 8];
-        let mut n = [0.0f32; 8];
-        let mut d = [0.0f32; 8];
-        for l in 0..8 {
+        let mut behind = [0.0f32; LANES];
+        let mut n = [0.0f32; LANES];
+        let mut d = [0.0f32; LANES];
+        for l in 0..LANES {
             behind[l] = rng.range(0.0, 30.0);
             n[l] = fibres.get(start + l).copied().unwrap_or(0.0);
             d[l] = direct.get(start + l).copied().unwrap_or(0.0);
         }
-        let single = table.scattering_x8(t, wi, wo);
-        let simd = ds.shade_layered_x8(
+        let single = table.scattering_simd(t, wi, wo);
+        let simd = ds.shade_layered_simd(
             single,
             t,
             wi,
             wo,
-            wide::f32x8::new(n),
-            wide::f32x8::new(behind),
-            wide::f32x8::new(d),
+            F32Lanes::new(n),
+            F32Lanes::new(behind),
+            F32Lanes::new(d),
         );
-        for l in 0..8.min(samples.len() - start) {
+        for l in 0..LANES.min(samples.len() - start) {
             let (s, tl, wil, wol) = (single.lane(l), t.lane(l), wi.lane(l), wo.lane(l));
             let scalar = ds.shade_layered(s, tl, wil, wol, n[l], behind[l], d[l]);
             assert_eq!(

@@ -179,8 +179,8 @@ proptest! {
         let _ = s.load_block(i);
         let _ = s.load_block(usize::MAX);
         let mut out = RgbBuffer { r: vec![0.0; 5], g: vec![0.0; 9], b: vec![] };
-        out.store_block(i, coif_base::Vec3x8::splat(Vec3::ONE));
-        out.store_block(usize::MAX, coif_base::Vec3x8::splat(Vec3::ONE));
+        out.store_block(i, coif_base::Vec3Lanes::splat(Vec3::ONE));
+        out.store_block(usize::MAX, coif_base::Vec3Lanes::splat(Vec3::ONE));
     }
 
     /// Shadow lookups: accepted exactly when there is one output per point;

@@ -1,7 +1,7 @@
 //! Opacity shadow maps: settings, the analytic slab, the exact reference,
 //! SIMD against scalar, bad input.
 
-use coif_base::{SplitMix64, Vec3x8, LANES};
+use coif_base::{SplitMix64, Vec3Lanes, LANES};
 use coif_shading::shadow::{exact_transmittance, OpacityShadowMap, ShadowMode, ShadowSettings};
 use coif_shading::Error;
 use glam::Vec3;
@@ -348,13 +348,13 @@ fn hairs_through_are_the_count_far_behind_and_simd_equals_scalar() {
         map.build(light, &pts, 12);
         let mut behind_some = 0;
         for block in queries.chunks_exact(LANES) {
-            let mut p = Vec3x8::splat(block[0]);
+            let mut p = Vec3Lanes::splat(block[0]);
             for (l, &q) in block.iter().enumerate() {
                 p.set_lane(l, q);
             }
-            let (front, through) = map.hairs_in_front_and_through_x8(p);
+            let (front, through) = map.hairs_in_front_and_through_simd(p);
             let (front, through) = (front.to_array(), through.to_array());
-            assert_eq!(front, map.hairs_in_front_x8(p).to_array());
+            assert_eq!(front, map.hairs_in_front_simd(p).to_array());
             for (l, &q) in block.iter().enumerate() {
                 // The scalar twin, and the count at a point far behind
                 // the hair on the same light ray: the last plane's.

@@ -15,10 +15,10 @@
 //! test (invalid capsules never reach it).
 
 use super::rig::LocalRig;
-use crate::lanes::Vec3x8;
+use crate::lanes::Vec3Lanes;
 use crate::Sphere;
+use coif_base::lanes::F32Lanes;
 use glam::{DVec3, Vec3};
-use wide::f32x8;
 
 /// An axis-aligned box in local coordinates.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -47,10 +47,10 @@ pub(crate) fn spheres_to_local(spheres: &[Sphere], origin: DVec3, out: &mut Vec<
 
 /// Bounding box of the active lanes of one block (SIMD: lane-wise min/max over
 /// the vertices, then across lanes). Inactive lanes are masked to +-inf.
-pub(crate) fn block_aabb(pos: &[Vec3x8], active: f32x8) -> Aabb {
+pub(crate) fn block_aabb(pos: &[Vec3Lanes], active: F32Lanes) -> Aabb {
     let (mut lo, mut hi) = (
-        Vec3x8::splat(Vec3::INFINITY),
-        Vec3x8::splat(Vec3::NEG_INFINITY),
+        Vec3Lanes::splat(Vec3::INFINITY),
+        Vec3Lanes::splat(Vec3::NEG_INFINITY),
     );
     for p in pos {
         grow_box(&mut lo, &mut hi, *p, active);
@@ -62,14 +62,14 @@ pub(crate) fn block_aabb(pos: &[Vec3x8], active: f32x8) -> Aabb {
 /// `candidate.fast_min(running)` keeps `running` where the candidate is NaN
 /// (minps returns its second operand), as f32::min does.
 #[inline(always)]
-fn grow_box(lo: &mut Vec3x8, hi: &mut Vec3x8, q: Vec3x8, active: f32x8) {
-    let inf = f32x8::splat(f32::INFINITY);
-    *lo = Vec3x8::new(
+fn grow_box(lo: &mut Vec3Lanes, hi: &mut Vec3Lanes, q: Vec3Lanes, active: F32Lanes) {
+    let inf = F32Lanes::splat(f32::INFINITY);
+    *lo = Vec3Lanes::new(
         active.select(q.x, inf).fast_min(lo.x),
         active.select(q.y, inf).fast_min(lo.y),
         active.select(q.z, inf).fast_min(lo.z),
     );
-    *hi = Vec3x8::new(
+    *hi = Vec3Lanes::new(
         active.select(q.x, -inf).fast_max(hi.x),
         active.select(q.y, -inf).fast_max(hi.y),
         active.select(q.z, -inf).fast_max(hi.z),
@@ -81,16 +81,16 @@ fn grow_box(lo: &mut Vec3x8, hi: &mut Vec3x8, q: Vec3x8, active: f32x8) {
 /// with `m` the root's move (`pos[0] - prev[0]`: the roots' target minus
 /// where they were). Inactive lanes are masked to +-inf, NaNs are skipped.
 pub(crate) fn block_sweep_aabb(
-    pos: &[Vec3x8],
-    prev: &[Vec3x8],
+    pos: &[Vec3Lanes],
+    prev: &[Vec3Lanes],
     g_dt2: Vec3,
-    active: f32x8,
+    active: F32Lanes,
 ) -> Aabb {
-    let g = Vec3x8::splat(g_dt2);
+    let g = Vec3Lanes::splat(g_dt2);
     let root_move = pos[0] - prev[0];
     let (mut lo, mut hi) = (
-        Vec3x8::splat(Vec3::INFINITY),
-        Vec3x8::splat(Vec3::NEG_INFINITY),
+        Vec3Lanes::splat(Vec3::INFINITY),
+        Vec3Lanes::splat(Vec3::NEG_INFINITY),
     );
     // Every lane, then the inactive ones masked out once (the same box:
     // a lane's min and max do not depend on the others).
@@ -100,10 +100,10 @@ pub(crate) fn block_sweep_aabb(
         grow_box(&mut lo, &mut hi, *x, all);
         grow_box(&mut lo, &mut hi, ahead, all);
     }
-    let inf = Vec3x8::splat(Vec3::INFINITY);
+    let inf = Vec3Lanes::splat(Vec3::INFINITY);
     fold_box(
-        Vec3x8::select(active, lo, inf),
-        Vec3x8::select(active, hi, -inf),
+        Vec3Lanes::select(active, lo, inf),
+        Vec3Lanes::select(active, hi, -inf),
     )
 }
 
@@ -111,10 +111,10 @@ pub(crate) fn block_sweep_aabb(
 /// (`from`, a block's `prev[0]` on entry to the step) and their targets
 /// (`to`, its `pos[0]`: where `set_roots` put them); the substeps move them
 /// on the straight line between.
-pub(crate) fn roots_aabb(from: Vec3x8, to: Vec3x8, active: f32x8) -> Aabb {
+pub(crate) fn roots_aabb(from: Vec3Lanes, to: Vec3Lanes, active: F32Lanes) -> Aabb {
     let (mut lo, mut hi) = (
-        Vec3x8::splat(Vec3::INFINITY),
-        Vec3x8::splat(Vec3::NEG_INFINITY),
+        Vec3Lanes::splat(Vec3::INFINITY),
+        Vec3Lanes::splat(Vec3::NEG_INFINITY),
     );
     grow_box(&mut lo, &mut hi, from, active);
     grow_box(&mut lo, &mut hi, to, active);
@@ -175,8 +175,9 @@ impl BlockBounds<'_> {
     }
 }
 
-fn fold_box(lo: Vec3x8, hi: Vec3x8) -> Aabb {
-    let fold = |v: f32x8, f: fn(f32, f32) -> f32, init: f32| v.to_array().into_iter().fold(init, f);
+fn fold_box(lo: Vec3Lanes, hi: Vec3Lanes) -> Aabb {
+    let fold =
+        |v: F32Lanes, f: fn(f32, f32) -> f32, init: f32| v.to_array().into_iter().fold(init, f);
     Aabb {
         min: Vec3::new(
             fold(lo.x, f32::min, f32::INFINITY),
@@ -487,14 +488,14 @@ mod tests {
 
     #[test]
     fn simd_and_scalar_boxes_agree_and_ignore_padding() {
-        let mut pos = vec![Vec3x8::ZERO; 3];
+        let mut pos = vec![Vec3Lanes::ZERO; 3];
         for (v, p) in pos.iter_mut().enumerate() {
             for l in 0..LANES {
                 let far = if l >= 5 { 1000.0 } else { 0.0 };
                 p.set_lane(l, Vec3::new(l as f32 + far, -(v as f32), 0.5 * l as f32));
             }
         }
-        let active = f32x8::new(std::array::from_fn(|l| {
+        let active = F32Lanes::new(std::array::from_fn(|l| {
             if l < 5 {
                 f32::from_bits(!0)
             } else {

@@ -1,6 +1,6 @@
 //! The narrow phase in lanes: pearls and vertex push-out against spheres,
 //! capsules and mesh fields, Coulomb friction, and the roots rule. Written
-//! over [`Lane`]: the SIMD step runs it at `f32x8`, the scalar twin at
+//! over [`Lane`]: the SIMD step runs it at `F32Lanes`, the scalar twin at
 //! `f32`, one lane at a time, in the same order.
 //!
 //! **Contact** (every substep): a point `x` within `R + r` of a sphere or

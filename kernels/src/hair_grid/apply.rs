@@ -1,6 +1,6 @@
 //! Step 3 of the module doc: each vertex reads the grid's fields and moves
 //! (volume) and changes its velocity (friction); one generic body for the
-//! SIMD path (eight strands in lanes) and its scalar twin.
+//! SIMD path (strands in lanes) and its scalar twin.
 //!
 //! The fields are read trilinearly: with `u = (x - origin) / cell` clamped
 //! to the grid, `i = min(floor(u), dims - 2)` and `f = u - i`, the value is
@@ -10,7 +10,7 @@
 
 use super::grid::HairGrid;
 use crate::lanes::{Lane, V3};
-use wide::f32x8;
+use coif_base::lanes::{from_groups, F32Group, F32Lanes, GROUP_LANES, LANES};
 
 /// The volume push per step, in cells per unit of the excess's gradient
 /// (per cell), and its cap in cells.
@@ -35,7 +35,7 @@ pub const UPWIND_CELLS: f32 = 1.0;
 pub const WIND_SHIELD: f32 = 0.9;
 
 /// The per-lane reads of the grid: `floor`, and the trilinear sum of the
-/// seven fields over a cell's eight corners, one lane or eight.
+/// seven fields over a cell's eight corners, one lane or a block's.
 pub(crate) trait GridLane: Lane {
     fn floor(self) -> Self;
     /// `sum_c weights[c] F(base + offsets[c])`, accumulated in corner order
@@ -77,42 +77,48 @@ impl GridLane for f32 {
     }
 }
 
-impl GridLane for f32x8 {
+impl GridLane for F32Lanes {
     #[inline(always)]
-    fn floor(self) -> f32x8 {
-        f32x8::floor(self)
+    fn floor(self) -> F32Lanes {
+        F32Lanes::floor(self)
     }
     #[inline(always)]
     fn trilinear(
         field: &[[f32; 8]],
-        base: f32x8,
+        base: F32Lanes,
         offsets: [usize; 8],
-        weights: [f32x8; 8],
-    ) -> [f32x8; 7] {
+        weights: [F32Lanes; 8],
+    ) -> [F32Lanes; 7] {
         // A node is eight floats, one register: each lane sums its eight
         // nodes' rows (the same multiply-adds in the same order as the
         // scalar twin, field by field), then one transpose. The corners
         // are the cell's four rows of two nodes (x fastest), one bounds
         // check per lane for the whole cell (`offsets[7] + 1` nodes from
         // its lowest); `base` is a whole number below 2^24.
+        // In groups of eight lanes (one 8 x 8 transpose each; two groups
+        // in a 16-lane build), the same per lane at either width.
         let base = base.trunc_int().to_array();
         let weights = weights.map(|w| w.to_array());
         let span = offsets[7] + 1;
-        let mut rows = [f32x8::ZERO; 8];
-        for (l, sum) in rows.iter_mut().enumerate() {
-            let at = base[l] as u32 as usize;
-            let Some(cell) = field.get(at..at + span) else {
-                continue;
-            };
-            for row in 0..4 {
-                let (c0, c1) = (2 * row, 2 * row + 1);
-                let pair = &cell[offsets[c0]..offsets[c0] + 2];
-                *sum = f32x8::splat(weights[c0][l]).mul_add(f32x8::new(pair[0]), *sum);
-                *sum = f32x8::splat(weights[c1][l]).mul_add(f32x8::new(pair[1]), *sum);
+        let mut groups = [[F32Group::ZERO; 8]; LANES / GROUP_LANES];
+        for (k, fields) in groups.iter_mut().enumerate() {
+            let mut rows = [F32Group::ZERO; 8];
+            for (j, sum) in rows.iter_mut().enumerate() {
+                let l = k * GROUP_LANES + j;
+                let at = base[l] as u32 as usize;
+                let Some(cell) = field.get(at..at + span) else {
+                    continue;
+                };
+                for row in 0..4 {
+                    let (c0, c1) = (2 * row, 2 * row + 1);
+                    let pair = &cell[offsets[c0]..offsets[c0] + 2];
+                    *sum = F32Group::splat(weights[c0][l]).mul_add(F32Group::new(pair[0]), *sum);
+                    *sum = F32Group::splat(weights[c1][l]).mul_add(F32Group::new(pair[1]), *sum);
+                }
             }
+            *fields = F32Group::transpose(rows);
         }
-        let [a, b, c, d, e, f, g, _] = f32x8::transpose(rows);
-        [a, b, c, d, e, f, g]
+        std::array::from_fn(|k| from_groups(groups.map(|g| g[k])))
     }
 }
 

@@ -1,10 +1,10 @@
 //! The grid of the hair: splat, smoothing, fields (module doc, steps 1-2).
 
 use super::{MAX_HAIR_GRID_NODES, ROOT_RAMP};
-use crate::lanes::{Vec3x8, LANES};
+use crate::lanes::{groups, F32Group, Vec3Lanes, GROUP_LANES, LANES, V3};
 use crate::Strands;
+use coif_base::lanes::F32Lanes;
 use glam::{UVec3, Vec3};
-use wide::f32x8;
 
 /// Jacobi sweeps of the pressure solve per step (module doc, step 2):
 /// measured on the draped head against pushing down the excess's own
@@ -54,7 +54,7 @@ pub(crate) struct HairGrid {
     target: Option<f32>,
     /// The groomed pose gridded for the target, kept so that a target
     /// computed again (after `Strands::set_hair_shares`) allocates nothing.
-    pose: Vec<Vec3x8>,
+    pose: Vec<Vec3Lanes>,
 }
 
 /// Farther than this from the strands' origin (metres), a vertex is out
@@ -81,12 +81,12 @@ impl HairGrid {
         }
         let mut pose = std::mem::take(&mut self.pose);
         pose.clear();
-        pose.resize(s.blocks * s.verts, Vec3x8::ZERO);
+        pose.resize(s.blocks * s.verts, Vec3Lanes::ZERO);
         for b in 0..s.blocks {
             for v in 0..s.verts {
                 let root = s.roots[b];
                 let off = s.rest_offset[b * s.verts + v];
-                let mut p = Vec3x8::ZERO;
+                let mut p = Vec3Lanes::ZERO;
                 for l in 0..LANES {
                     p.set_lane(l, root.lane(l) + s.rest_rotation * off.lane(l));
                 }
@@ -119,8 +119,8 @@ impl HairGrid {
     pub(crate) fn build(
         &mut self,
         s: &Strands,
-        pos: &[Vec3x8],
-        prev: &[Vec3x8],
+        pos: &[Vec3Lanes],
+        prev: &[Vec3Lanes],
         dt: f32,
         cell: f32,
     ) {
@@ -191,7 +191,7 @@ impl HairGrid {
     /// finite vertices, the cell (coarser when the box needs more nodes
     /// than the buffers hold), and the trilinear (cloud-in-cell) splat of
     /// weight and momentum in block, vertex and lane order.
-    fn splat(&mut self, s: &Strands, pos: &[Vec3x8], prev: &[Vec3x8], dt: f32, cell: f32) {
+    fn splat(&mut self, s: &Strands, pos: &[Vec3Lanes], prev: &[Vec3Lanes], dt: f32, cell: f32) {
         // Only listed nodes hold weight; the corners of listed cells that
         // the splat gave none were written with zero weight and are zero.
         for &i in &self.touched {
@@ -213,13 +213,13 @@ impl HairGrid {
             return;
         }
         // The box of the strands' lanes (not the padding) with every
-        // coordinate within reach, eight lanes at a time (min and max are
+        // coordinate within reach, a block at a time (min and max are
         // exact: the same box in any order; a lane out of reach, NaN
         // included, is not selected, so the fast min and max serve).
-        let reach = f32x8::splat(MAX_GRID_REACH);
+        let reach = F32Lanes::splat(MAX_GRID_REACH);
         let (mut lo8, mut hi8) = (
-            Vec3x8::splat(Vec3::splat(f32::INFINITY)),
-            Vec3x8::splat(Vec3::splat(f32::NEG_INFINITY)),
+            Vec3Lanes::splat(Vec3::splat(f32::INFINITY)),
+            Vec3Lanes::splat(Vec3::splat(f32::NEG_INFINITY)),
         );
         for (b, &active) in s.active.iter().enumerate().take(s.blocks) {
             for x in &pos[b * s.verts..(b + 1) * s.verts] {
@@ -227,15 +227,15 @@ impl HairGrid {
                     & x.x.abs().simd_lt(reach)
                     & x.y.abs().simd_lt(reach)
                     & x.z.abs().simd_lt(reach);
-                lo8 = Vec3x8::new(
-                    f32x8::select(ok, lo8.x.fast_min(x.x), lo8.x),
-                    f32x8::select(ok, lo8.y.fast_min(x.y), lo8.y),
-                    f32x8::select(ok, lo8.z.fast_min(x.z), lo8.z),
+                lo8 = Vec3Lanes::new(
+                    F32Lanes::select(ok, lo8.x.fast_min(x.x), lo8.x),
+                    F32Lanes::select(ok, lo8.y.fast_min(x.y), lo8.y),
+                    F32Lanes::select(ok, lo8.z.fast_min(x.z), lo8.z),
                 );
-                hi8 = Vec3x8::new(
-                    f32x8::select(ok, hi8.x.fast_max(x.x), hi8.x),
-                    f32x8::select(ok, hi8.y.fast_max(x.y), hi8.y),
-                    f32x8::select(ok, hi8.z.fast_max(x.z), hi8.z),
+                hi8 = Vec3Lanes::new(
+                    F32Lanes::select(ok, hi8.x.fast_max(x.x), hi8.x),
+                    F32Lanes::select(ok, hi8.y.fast_max(x.y), hi8.y),
+                    F32Lanes::select(ok, hi8.z.fast_max(x.z), hi8.z),
                 );
             }
         }
@@ -287,47 +287,60 @@ impl HairGrid {
         self.cell = cell;
         self.origin = lo - Vec3::splat(PAD as f32 * cell);
         let (nx, ny) = (dims.x as usize, dims.y as usize);
-        // Eight lanes at a time: weights, velocities and the eight corner
-        // weights in f32x8, then the writes lane by lane, corner by corner.
-        let inv_cell = f32x8::splat(1.0 / cell);
-        let inv_dt = f32x8::splat(1.0 / dt);
-        let zero = f32x8::ZERO;
-        let one = f32x8::ONE;
+        // Eight lanes at a time (a 16-lane block as two groups of eight,
+        // so that the sums into a node come in the same order at either
+        // width): weights, velocities and the eight corner weights in one
+        // `f32x8` each, then the writes lane by lane, corner by corner.
+        let reach8 = F32Group::splat(MAX_GRID_REACH);
+        let inv_cell = F32Group::splat(1.0 / cell);
+        let inv_dt = F32Group::splat(1.0 / dt);
+        let zero = F32Group::ZERO;
+        let one = F32Group::ONE;
         let max_i = (dims - UVec3::splat(2)).as_vec3();
-        let origin = Vec3x8::splat(self.origin);
+        let origin = V3::<F32Group>::splat(self.origin);
         let stamp = self.stamp;
         let (nxy, span) = (nx * ny, nx * ny + nx + 2);
         let acc = &mut self.acc[..];
         let (cells, cell_mark) = (&mut self.cells, &mut self.cell_mark[..]);
-        for b in 0..s.blocks {
-            let lanes = s.lanes_in_block(b);
+        let group =
+            |x: Vec3Lanes, k: usize| V3::new(groups(x.x)[k], groups(x.y)[k], groups(x.z)[k]);
+        for (b, k) in (0..s.blocks).flat_map(|b| (0..LANES / GROUP_LANES).map(move |k| (b, k))) {
+            let lanes = s
+                .lanes_in_block(b)
+                .saturating_sub(k * GROUP_LANES)
+                .min(GROUP_LANES);
+            if lanes == 0 {
+                continue;
+            }
             let base = b * s.verts;
+            let hair_share = groups(s.hair_share[b])[k];
             for v in 0..s.verts {
-                let (x, xp) = (pos[base + v], prev[base + v]);
+                let (x, xp) = (group(pos[base + v], k), group(prev[base + v], k));
+                let (reach, rest_arc) = (reach8, groups(s.rest_arc[base + v])[k]);
                 let inside =
                     x.x.abs().simd_lt(reach) & x.y.abs().simd_lt(reach) & x.z.abs().simd_lt(reach);
-                let weight = (s.rest_arc[base + v] * f32x8::splat(1.0 / ROOT_RAMP))
+                let weight = (rest_arc * F32Group::splat(1.0 / ROOT_RAMP))
                     .max(zero)
                     .min(one);
-                let weight = f32x8::select(inside, weight * s.hair_share[b], zero);
+                let weight = F32Group::select(inside, weight * hair_share, zero);
                 if weight.simd_gt(zero).to_bitmask() == 0 {
                     continue;
                 }
                 let vel = (x - xp) * inv_dt;
                 let speed2 = vel.dot(vel);
-                let scale = (f32x8::splat(MAX_GRID_SPEED)
-                    * speed2.max(f32x8::splat(1e-30)).sqrt().recip())
+                let scale = (F32Group::splat(MAX_GRID_SPEED)
+                    * speed2.max(F32Group::splat(1e-30)).sqrt().recip())
                 .min(one);
                 let vel = vel * scale;
                 let finite = vel.x.is_finite() & vel.y.is_finite() & vel.z.is_finite();
-                let vel = Vec3x8::new(
-                    f32x8::select(finite, vel.x, zero),
-                    f32x8::select(finite, vel.y, zero),
-                    f32x8::select(finite, vel.z, zero),
+                let vel = V3::new(
+                    F32Group::select(finite, vel.x, zero),
+                    F32Group::select(finite, vel.y, zero),
+                    F32Group::select(finite, vel.z, zero),
                 );
                 let u = (x - origin) * inv_cell;
-                let axis = |u: f32x8, m: f32| {
-                    let i = u.floor().max(zero).min(f32x8::splat(m));
+                let axis = |u: F32Group, m: f32| {
+                    let i = u.floor().max(zero).min(F32Group::splat(m));
                     (i, (u - i).max(zero).min(one))
                 };
                 let (ix, fx) = axis(u.x, max_i.x);
@@ -337,20 +350,21 @@ impl HairGrid {
                 // exact in f32 and in the integer conversion.
                 let node = iz
                     .mul_add(
-                        f32x8::splat((nx * ny) as f32),
-                        iy.mul_add(f32x8::splat(nx as f32), ix),
+                        F32Group::splat((nx * ny) as f32),
+                        iy.mul_add(F32Group::splat(nx as f32), ix),
                     )
                     .trunc_int();
                 let (gx, gy, gz) = (one - fx, one - fy, one - fz);
                 // Per lane (after the transposes): the eight corner weights,
                 // and `[1, v, 1, v]`.
-                let corner = f32x8::transpose(std::array::from_fn(|c| {
+                let corner = F32Group::transpose(std::array::from_fn(|c| {
                     weight
                         * if c & 1 == 1 { fx } else { gx }
                         * if (c >> 1) & 1 == 1 { fy } else { gy }
                         * if (c >> 2) & 1 == 1 { fz } else { gz }
                 }));
-                let unit = f32x8::transpose([one, vel.x, vel.y, vel.z, one, vel.x, vel.y, vel.z]);
+                let unit =
+                    F32Group::transpose([one, vel.x, vel.y, vel.z, one, vel.x, vel.y, vel.z]);
                 let (node, weight) = (node.to_array(), weight.to_array());
                 for l in 0..lanes {
                     if weight[l] <= 0.0 {
@@ -376,7 +390,7 @@ impl HairGrid {
                             continue;
                         };
                         let w = row_weights(corner[l], row);
-                        *pair = unit[l].mul_add(w, f32x8::new(*pair)).to_array();
+                        *pair = unit[l].mul_add(w, F32Group::new(*pair)).to_array();
                     }
                 }
             }
@@ -401,7 +415,7 @@ impl HairGrid {
 /// weights of the cell's row `r` of two nodes, four floats each.
 #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
 #[inline(always)]
-fn row_weights(w: f32x8, row: usize) -> f32x8 {
+fn row_weights(w: F32Group, row: usize) -> F32Group {
     use std::arch::x86_64::{__m256, __m256i, _mm256_permutevar8x32_ps};
     let (a, b) = (2 * row as i32, 2 * row as i32 + 1);
     let index: __m256i = wide::bytemuck::cast(wide::i32x8::new([a, a, a, a, b, b, b, b]));
@@ -414,10 +428,10 @@ fn row_weights(w: f32x8, row: usize) -> f32x8 {
 /// Plain moves where AVX2 is not enabled.
 #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
 #[inline(always)]
-fn row_weights(w: f32x8, row: usize) -> f32x8 {
+fn row_weights(w: F32Group, row: usize) -> F32Group {
     let w = w.to_array();
     let (a, b) = (w[2 * row], w[2 * row + 1]);
-    f32x8::new([a, a, a, a, b, b, b, b])
+    F32Group::new([a, a, a, a, b, b, b, b])
 }
 
 #[cfg(test)]
@@ -435,10 +449,10 @@ mod tests {
         let s = line();
         let mut g = HairGrid::default();
         // Everything moves at (0, 1, 0) m/s over a step of 0.1 s.
-        let prev: Vec<Vec3x8> = s
+        let prev: Vec<Vec3Lanes> = s
             .pos
             .iter()
-            .map(|p| *p - Vec3x8::splat(Vec3::Y * 0.1))
+            .map(|p| *p - Vec3Lanes::splat(Vec3::Y * 0.1))
             .collect();
         g.build(&s, &s.pos, &prev, 0.1, 0.01);
         assert!(g.live);
@@ -466,7 +480,7 @@ mod tests {
 
     #[test]
     fn a_rows_weights_repeat_its_two_corners_four_times() {
-        let w = f32x8::new([0.5, 1.5, 2.5, 3.5, 4.5, 5.5, 6.5, 7.5]);
+        let w = F32Group::new([0.5, 1.5, 2.5, 3.5, 4.5, 5.5, 6.5, 7.5]);
         for row in 0..4 {
             let (a, b) = (w.as_array()[2 * row], w.as_array()[2 * row + 1]);
             assert_eq!(row_weights(w, row).to_array(), [a, a, a, a, b, b, b, b]);

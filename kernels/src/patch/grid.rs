@@ -2,10 +2,10 @@
 
 use super::pairs::{mass_share, partner, PairSet};
 use crate::collide::broad_phase::Candidate;
-use crate::lanes::{Vec3x8, LANES};
+use crate::lanes::{Vec3Lanes, LANES};
 use crate::Error;
+use coif_base::lanes::F32Lanes;
 use glam::{DVec3, Vec3};
-use wide::f32x8;
 
 /// Local coordinates beyond this distance from the origin trigger a rebase
 /// in [`Patch::set_skinned`] (as for strands).
@@ -29,37 +29,37 @@ pub struct Patch {
     pub(crate) blocks: usize,
     pub(crate) origin: DVec3,
     /// Current positions relative to `origin`, index `b * rows + r`, lane `c % 8`.
-    pub(crate) pos: Vec<Vec3x8>,
+    pub(crate) pos: Vec<Vec3Lanes>,
     /// Positions one step ago (Verlet's implicit velocity).
-    pub(crate) prev: Vec<Vec3x8>,
+    pub(crate) prev: Vec<Vec3Lanes>,
     /// Skinned positions relative to `origin` (padding lanes repeat the
     /// block's last real column).
-    pub(crate) skin: Vec<Vec3x8>,
+    pub(crate) skin: Vec<Vec3Lanes>,
     /// The skinned positions as given, row-major world space (for the blend).
     pub(crate) skin_world: Vec<Vec3>,
     /// Inverse mass: 0 = pinned to the skin (and padding lanes).
-    pub(crate) inv_mass: Vec<f32x8>,
+    pub(crate) inv_mass: Vec<F32Lanes>,
     /// Largest distance from the skinned position (INFINITY = no limit).
-    pub(crate) max_distance: Vec<f32x8>,
+    pub(crate) max_distance: Vec<F32Lanes>,
     /// Long range attachment: per row-major particle, the pinned particle
     /// nearest along the grid (`usize::MAX`: none, or pinned itself).
     pub(crate) anchor: Vec<usize>,
     /// Rest distance along the grid to the anchor (INFINITY: no anchor).
-    pub(crate) tether_len: Vec<f32x8>,
+    pub(crate) tether_len: Vec<F32Lanes>,
     /// All bits set where a free particle's shortest path to its anchor
     /// leaves through the particle directly above (row r - 1): the column
     /// strain limit pulls it toward that parent.
-    pub(crate) parent_up: Vec<f32x8>,
+    pub(crate) parent_up: Vec<F32Lanes>,
     /// The anchor's skinned position relative to `origin`, per particle.
-    pub(crate) anchor_skin: Vec<Vec3x8>,
+    pub(crate) anchor_skin: Vec<Vec3Lanes>,
     /// Blend weight per particle, row-major (0 = skin, 1 = simulation).
     pub(crate) weight: Vec<f32>,
     /// Vertical edge r -> r + 1: rest length and mass shares of both ends.
-    pub(crate) vert_rest: Vec<f32x8>,
-    pub(crate) vert_share: Vec<[f32x8; 2]>,
+    pub(crate) vert_rest: Vec<F32Lanes>,
+    pub(crate) vert_share: Vec<[F32Lanes; 2]>,
     /// Vertical bending edge r -> r + 2.
-    pub(crate) vbend_rest: Vec<f32x8>,
-    pub(crate) vbend_share: Vec<[f32x8; 2]>,
+    pub(crate) vbend_rest: Vec<F32Lanes>,
+    pub(crate) vbend_share: Vec<[F32Lanes; 2]>,
     /// Per row, the column its strain limit starts from: the pinned particle
     /// nearest the middle column, or the middle column when the row has none.
     pub(crate) row_root: Vec<usize>,
@@ -72,7 +72,7 @@ pub struct Patch {
     pub(crate) shear_down: [PairSet; 2],
     pub(crate) shear_up: [PairSet; 2],
     /// Per column block: all bits set in lanes holding a real column.
-    pub(crate) active: Vec<f32x8>,
+    pub(crate) active: Vec<F32Lanes>,
     /// Longest rest edge (structural or shear): the broad phase's slack.
     pub(crate) max_rest_edge: f32,
     /// Stiffness in [0, 1] of the shear edges (0 = off).
@@ -91,10 +91,10 @@ pub(crate) struct PatchScratch {
     pub boxes: Vec<crate::collide::broad_phase::Aabb>,
     /// Partner positions of one row, one entry per column block (two rows
     /// for shear passes).
-    pub partner_a: Vec<Vec3x8>,
-    pub partner_b: Vec<Vec3x8>,
+    pub partner_a: Vec<Vec3Lanes>,
+    pub partner_b: Vec<Vec3Lanes>,
     /// Shear corrections permuted to the lower row.
-    pub partner_c: Vec<Vec3x8>,
+    pub partner_c: Vec<Vec3Lanes>,
 }
 
 impl Patch {
@@ -146,39 +146,39 @@ impl Patch {
             cols,
             blocks,
             origin: grid.iter().map(|p| p.as_dvec3()).sum::<DVec3>() / n as f64,
-            pos: vec![Vec3x8::ZERO; slots],
-            prev: vec![Vec3x8::ZERO; slots],
-            skin: vec![Vec3x8::ZERO; slots],
+            pos: vec![Vec3Lanes::ZERO; slots],
+            prev: vec![Vec3Lanes::ZERO; slots],
+            skin: vec![Vec3Lanes::ZERO; slots],
             skin_world: grid.to_vec(),
-            inv_mass: vec![f32x8::ZERO; slots],
-            max_distance: vec![f32x8::splat(f32::INFINITY); slots],
+            inv_mass: vec![F32Lanes::ZERO; slots],
+            max_distance: vec![F32Lanes::splat(f32::INFINITY); slots],
             anchor: vec![usize::MAX; n],
-            tether_len: vec![f32x8::splat(f32::INFINITY); slots],
-            anchor_skin: vec![Vec3x8::ZERO; slots],
-            parent_up: vec![f32x8::ZERO; slots],
+            tether_len: vec![F32Lanes::splat(f32::INFINITY); slots],
+            anchor_skin: vec![Vec3Lanes::ZERO; slots],
+            parent_up: vec![F32Lanes::ZERO; slots],
             weight: vec![1.0; n],
             row_root: (0..rows).map(|r| rest.row_root(r)).collect(),
-            vert_rest: vec![f32x8::ZERO; slots],
-            vert_share: vec![[f32x8::ZERO; 2]; slots],
-            vbend_rest: vec![f32x8::ZERO; slots],
-            vbend_share: vec![[f32x8::ZERO; 2]; slots],
+            vert_rest: vec![F32Lanes::ZERO; slots],
+            vert_share: vec![[F32Lanes::ZERO; 2]; slots],
+            vbend_rest: vec![F32Lanes::ZERO; slots],
+            vbend_share: vec![[F32Lanes::ZERO; 2]; slots],
             horiz: [PairSet::zeros(slots), PairSet::zeros(slots)],
             hbend: [PairSet::zeros(slots), PairSet::zeros(slots)],
             shear_down: [PairSet::zeros(slots), PairSet::zeros(slots)],
             shear_up: [PairSet::zeros(slots), PairSet::zeros(slots)],
             active: (0..blocks)
                 .map(|b| {
-                    let lane_index = f32x8::new(std::array::from_fn(|l| (b * LANES + l) as f32));
-                    lane_index.simd_lt(f32x8::splat(cols as f32))
+                    let lane_index = F32Lanes::new(std::array::from_fn(|l| (b * LANES + l) as f32));
+                    lane_index.simd_lt(F32Lanes::splat(cols as f32))
                 })
                 .collect(),
             max_rest_edge: 0.0,
             shear_stiffness: 0.0,
             restored: 0,
             scratch: PatchScratch {
-                partner_a: vec![Vec3x8::ZERO; blocks],
-                partner_b: vec![Vec3x8::ZERO; blocks],
-                partner_c: vec![Vec3x8::ZERO; blocks],
+                partner_a: vec![Vec3Lanes::ZERO; blocks],
+                partner_b: vec![Vec3Lanes::ZERO; blocks],
+                partner_c: vec![Vec3Lanes::ZERO; blocks],
                 boxes: Vec::with_capacity(blocks),
                 ..Default::default()
             },
@@ -394,7 +394,7 @@ impl Patch {
         let first = skinned[0].as_dvec3();
         if (first - self.origin).length() > REBASE_DISTANCE {
             let shift = (self.origin - first).as_vec3();
-            let s = Vec3x8::splat(shift);
+            let s = Vec3Lanes::splat(shift);
             for p in self.pos.iter_mut().chain(self.prev.iter_mut()) {
                 *p = *p + s;
             }
@@ -649,6 +649,6 @@ fn tether_lengths(
 }
 
 #[inline]
-fn set(v: &mut f32x8, l: usize, x: f32) {
+fn set(v: &mut F32Lanes, l: usize, x: f32) {
     v.as_mut_array()[l] = x;
 }

@@ -17,8 +17,8 @@
 //! `partner(c, 1, k)`: colour 0 covers both diagonals of the quads that start
 //! at even columns, colour 1 those at odd columns.
 
-use crate::lanes::{Vec3x8, LANES};
-use wide::f32x8;
+use crate::lanes::{Vec3Lanes, LANES};
+use coif_base::lanes::F32Lanes;
 
 /// The partner column of padded column `c` in colour `colour` of stride `s`,
 /// or `None` past either end of the padded row (`lanes` columns).
@@ -37,17 +37,17 @@ pub(crate) fn partner(c: usize, s: usize, colour: usize, lanes: usize) -> Option
 /// particle has no partner (grid edge, padding) or both ends are pinned.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct PairSet {
-    pub rest: Vec<f32x8>,
-    pub share: Vec<f32x8>,
-    pub partner_w: Vec<f32x8>,
+    pub rest: Vec<F32Lanes>,
+    pub share: Vec<F32Lanes>,
+    pub partner_w: Vec<F32Lanes>,
 }
 
 impl PairSet {
     pub(crate) fn zeros(n: usize) -> Self {
         PairSet {
-            rest: vec![f32x8::ZERO; n],
-            share: vec![f32x8::ZERO; n],
-            partner_w: vec![f32x8::ZERO; n],
+            rest: vec![F32Lanes::ZERO; n],
+            share: vec![F32Lanes::ZERO; n],
+            partner_w: vec![F32Lanes::ZERO; n],
         }
     }
 }
@@ -67,20 +67,20 @@ pub(crate) fn mass_share(w: f32, other: f32) -> f32 {
 /// their own position. The lane pattern is a compile-time constant.
 #[inline(always)]
 fn gather_block<const S: usize, const C: usize>(
-    left: Option<Vec3x8>,
-    cur: Vec3x8,
-    right: Option<Vec3x8>,
-) -> Vec3x8 {
+    left: Option<Vec3Lanes>,
+    cur: Vec3Lanes,
+    right: Option<Vec3Lanes>,
+) -> Vec3Lanes {
     #[inline(always)]
     fn axis<const S: usize, const C: usize>(
-        left: Option<f32x8>,
-        cur: f32x8,
-        right: Option<f32x8>,
-    ) -> f32x8 {
+        left: Option<F32Lanes>,
+        cur: F32Lanes,
+        right: Option<F32Lanes>,
+    ) -> F32Lanes {
         let c = cur.to_array();
         let l = left.map(|v| v.to_array());
         let r = right.map(|v| v.to_array());
-        f32x8::new(std::array::from_fn(|lane| {
+        F32Lanes::new(std::array::from_fn(|lane| {
             if (lane / S) % 2 == C {
                 let src = lane + S;
                 if src < LANES {
@@ -95,7 +95,7 @@ fn gather_block<const S: usize, const C: usize>(
             }
         }))
     }
-    Vec3x8 {
+    Vec3Lanes {
         x: axis::<S, C>(left.map(|v| v.x), cur.x, right.map(|v| v.x)),
         y: axis::<S, C>(left.map(|v| v.y), cur.y, right.map(|v| v.y)),
         z: axis::<S, C>(left.map(|v| v.z), cur.z, right.map(|v| v.z)),
@@ -105,12 +105,12 @@ fn gather_block<const S: usize, const C: usize>(
 /// Writes into `out[b]` (one entry per column block) the partner positions
 /// of row `r` of `pos` (block-major, `rows` particles per block).
 pub(crate) fn gather_row(
-    pos: &[Vec3x8],
+    pos: &[Vec3Lanes],
     rows: usize,
     r: usize,
     stride: usize,
     colour: usize,
-    out: &mut [Vec3x8],
+    out: &mut [Vec3Lanes],
 ) {
     match (stride, colour) {
         (1, 0) => gather_row_with::<1, 0>(pos, rows, r, out),
@@ -122,10 +122,10 @@ pub(crate) fn gather_row(
 
 #[inline(always)]
 fn gather_row_with<const S: usize, const C: usize>(
-    pos: &[Vec3x8],
+    pos: &[Vec3Lanes],
     rows: usize,
     r: usize,
-    out: &mut [Vec3x8],
+    out: &mut [Vec3Lanes],
 ) {
     let blocks = out.len();
     for (b, slot) in out.iter_mut().enumerate() {
@@ -144,7 +144,7 @@ mod tests {
     fn gather_matches_the_partner_rule_and_is_an_involution() {
         let (rows, blocks) = (2, 3);
         let lanes = blocks * LANES;
-        let mut pos = vec![Vec3x8::ZERO; rows * blocks];
+        let mut pos = vec![Vec3Lanes::ZERO; rows * blocks];
         for b in 0..blocks {
             for r in 0..rows {
                 for l in 0..LANES {
@@ -153,7 +153,7 @@ mod tests {
                 }
             }
         }
-        let mut out = vec![Vec3x8::ZERO; blocks];
+        let mut out = vec![Vec3Lanes::ZERO; blocks];
         for s in [1, 2] {
             for colour in [0, 1] {
                 gather_row(&pos, rows, 1, s, colour, &mut out);

@@ -11,7 +11,7 @@
 //!    (`broad_phase.rs`).
 //! 3. `iterations` sweeps of mass-weighted distance constraints (Jakobsen
 //!    2001), `k = s (1 - l / |delta|)`, `x_i += w_i/(w_i+w_j) k delta`,
-//!    `x_j -= w_j/(w_i+w_j) k delta`, with `1/|delta|` from [`inv_sqrt_x8`] of
+//!    `x_j -= w_j/(w_i+w_j) k delta`, with `1/|delta|` from [`inv_sqrt_simd`] of
 //!    `max(|delta|^2, 1e-14)`: (a) vertical edges `(r, r+1)` top to bottom,
 //!    lane-parallel, each followed by the vertical bending edge `(r, r+2)`
 //!    when `bend_stiffness > 0`; (b) per row, horizontal edges `(c, c+1)` in
@@ -62,11 +62,11 @@ use crate::constraints::{
     collide_pearls, collide_vertex, distance_constraint, inv_len, outward, Reach, StepSetup,
     BLOWN_UP, STRAIN_COLLIDE_ROUNDS,
 };
-use crate::lanes::{inv_sqrt_x8, Vec3x8, LANES};
+use crate::lanes::{inv_sqrt_simd, Vec3Lanes, LANES};
 use crate::{SimParams, Sphere, MAX_PEARLS_PER_SEGMENT};
+use coif_base::lanes::F32Lanes;
 use coif_base::tasks::{for_each_chunk_mut, Executor};
 use glam::Vec3;
-use wide::f32x8;
 
 /// Per-step constants of a patch ([`StepSetup`]; shape
 /// keeping and contact friction are not used by patches).
@@ -155,12 +155,12 @@ pub(crate) fn step_each(
 }
 
 fn integrate(p: &mut Patch, k: &StepSetup) {
-    let d = f32x8::splat(k.damping);
-    let g = Vec3x8::splat(k.gravity_dt2);
+    let d = F32Lanes::splat(k.damping);
+    let g = Vec3Lanes::splat(k.gravity_dt2);
     for i in 0..p.pos.len() {
         let x = p.pos[i];
         let moved = x + (x - p.prev[i]) * d + g;
-        p.pos[i] = Vec3x8::select(p.inv_mass[i].simd_gt(f32x8::ZERO), moved, p.skin[i]);
+        p.pos[i] = Vec3Lanes::select(p.inv_mass[i].simd_gt(F32Lanes::ZERO), moved, p.skin[i]);
         p.prev[i] = x;
     }
 }
@@ -168,16 +168,22 @@ fn integrate(p: &mut Patch, k: &StepSetup) {
 /// One lane's half of a pair constraint: `x` moves toward (or away from) its
 /// partner `p` by its mass share.
 #[inline(always)]
-fn pair_half(x: Vec3x8, p: Vec3x8, rest: f32x8, share: f32x8, stiffness: f32x8) -> Vec3x8 {
+fn pair_half(
+    x: Vec3Lanes,
+    p: Vec3Lanes,
+    rest: F32Lanes,
+    share: F32Lanes,
+    stiffness: F32Lanes,
+) -> Vec3Lanes {
     let delta = p - x;
-    let k = stiffness * (f32x8::ONE - rest * inv_len(delta));
+    let k = stiffness * (F32Lanes::ONE - rest * inv_len(delta));
     x + delta * (k * share)
 }
 
 fn sweep(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
     let (rows, blocks) = (p.rows, p.blocks);
-    let one = f32x8::ONE;
-    let bend = f32x8::splat(k.bend);
+    let one = F32Lanes::ONE;
+    let bend = F32Lanes::splat(k.bend);
     // 3a. Columns.
     for r in 0..rows - 1 {
         for b in 0..blocks {
@@ -220,7 +226,7 @@ fn sweep(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
     // 3c. Shear: each diagonal is solved once, in the upper row's lane, and
     // its correction `k delta` is permuted over to the lower row's lane.
     if p.shear_stiffness > 0.0 {
-        let shear = f32x8::splat(p.shear_stiffness);
+        let shear = F32Lanes::splat(p.shear_stiffness);
         let (pb, pc) = (&mut scratch.partner_b, &mut scratch.partner_c);
         for r in 0..rows - 1 {
             for colour in 0..2 {
@@ -229,7 +235,7 @@ fn sweep(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
                 for b in 0..blocks {
                     let i = b * rows + r;
                     let delta = pa[b] - p.pos[i];
-                    let k = shear * (f32x8::ONE - down.rest[i] * inv_len(delta));
+                    let k = shear * (F32Lanes::ONE - down.rest[i] * inv_len(delta));
                     pb[b] = delta * k;
                     p.pos[i] = p.pos[i] + pb[b] * down.share[i];
                 }
@@ -260,9 +266,9 @@ fn push_out_vertices(p: &mut Patch, k: &StepSetup, candidates: &[Candidate]) {
 /// limits, max distance and push-out; then the pearls.
 fn clamp_and_collide(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
     let rows = p.rows;
-    let zero = f32x8::ZERO;
+    let zero = F32Lanes::ZERO;
     let candidates: &[Candidate] = &scratch.candidates;
-    let factor = f32x8::splat(k.stretch_factor);
+    let factor = F32Lanes::splat(k.stretch_factor);
     for r in 0..rows {
         // 4. Long range attachments of row r.
         for b in 0..p.blocks {
@@ -273,8 +279,8 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
             let d2 = d.length_squared();
             let over = d2.simd_gt(limit * limit) & free;
             if over.any() {
-                let pulled = p.anchor_skin[i] + d * (limit * inv_sqrt_x8(d2));
-                p.pos[i] = Vec3x8::select(over, pulled, p.pos[i]);
+                let pulled = p.anchor_skin[i] + d * (limit * inv_sqrt_simd(d2));
+                p.pos[i] = Vec3Lanes::select(over, pulled, p.pos[i]);
             }
         }
         // 5. Column limit, row limit (last round), max distance, push-out.
@@ -287,8 +293,8 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
                     let d2 = d.length_squared();
                     let over = d2.simd_gt(limit * limit) & p.parent_up[i];
                     if over.any() {
-                        let pulled = p.pos[i - 1] + d * (limit * inv_sqrt_x8(d2));
-                        p.pos[i] = Vec3x8::select(over, pulled, p.pos[i]);
+                        let pulled = p.pos[i - 1] + d * (limit * inv_sqrt_simd(d2));
+                        p.pos[i] = Vec3Lanes::select(over, pulled, p.pos[i]);
                     }
                 }
             }
@@ -303,8 +309,8 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
                 let d2 = d.length_squared();
                 let over = d2.simd_gt(m * m) & free;
                 if over.any() {
-                    let clamped = p.skin[i] + d * (m * inv_sqrt_x8(d2));
-                    p.pos[i] = Vec3x8::select(over, clamped, p.pos[i]);
+                    let clamped = p.skin[i] + d * (m * inv_sqrt_simd(d2));
+                    p.pos[i] = Vec3Lanes::select(over, clamped, p.pos[i]);
                 }
                 for c in candidates.iter().filter(|c| c.touches(b)) {
                     let reach = Reach::new(c.sphere, k.pearl_radius);
@@ -326,14 +332,14 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
     }
     let pa = &mut scratch.partner_a;
     for c in candidates {
-        let centre = Vec3x8::splat(Vec3::new(c.sphere[0], c.sphere[1], c.sphere[2]));
-        let reach = f32x8::splat(c.sphere[3] + k.pearl_radius);
+        let centre = Vec3Lanes::splat(Vec3::new(c.sphere[0], c.sphere[1], c.sphere[2]));
+        let reach = F32Lanes::splat(c.sphere[3] + k.pearl_radius);
         let reach2 = reach * reach;
         for r in 0..rows {
             for colour in 0..2 {
                 // Lanes whose partner is to their right hold the edge's
                 // first end.
-                let first = f32x8::new(std::array::from_fn(|l| {
+                let first = F32Lanes::new(std::array::from_fn(|l| {
                     if l % 2 == colour {
                         f32::from_bits(!0)
                     } else {
@@ -343,8 +349,8 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
                 let set = &p.horiz[colour];
                 for j in 1..=k.pearls {
                     let (t, u) = (
-                        f32x8::splat(k.pearl_t(j)),
-                        f32x8::ONE - f32x8::splat(k.pearl_t(j)),
+                        F32Lanes::splat(k.pearl_t(j)),
+                        F32Lanes::ONE - F32Lanes::splat(k.pearl_t(j)),
                     );
                     let (own, other) = (first.select(u, t), first.select(t, u));
                     gather_row(&p.pos, rows, r, 1, colour, pa);
@@ -359,7 +365,7 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
                         if hit.any() {
                             let (n, dist) = outward(d, d2);
                             let push = (reach - dist) / denom;
-                            p.pos[i] = Vec3x8::select(hit, x + n * (w * own * push), x);
+                            p.pos[i] = Vec3Lanes::select(hit, x + n * (w * own * push), x);
                         }
                     }
                 }
@@ -370,10 +376,10 @@ fn clamp_and_collide(p: &mut Patch, k: &StepSetup, scratch: &mut PatchScratch) {
 
 /// Step 7's test: true if a real particle is non-finite or beyond [`BLOWN_UP`].
 fn blown_up(p: &Patch) -> bool {
-    let big = f32x8::splat(BLOWN_UP);
+    let big = F32Lanes::splat(BLOWN_UP);
     let rows = p.rows;
     (0..p.blocks).any(|b| {
-        let mut ok = f32x8::ZERO.simd_eq(f32x8::ZERO);
+        let mut ok = F32Lanes::ZERO.simd_eq(F32Lanes::ZERO);
         for x in &p.pos[b * rows..(b + 1) * rows] {
             ok = ok & x.x.abs().simd_lt(big) & x.y.abs().simd_lt(big) & x.z.abs().simd_lt(big);
         }

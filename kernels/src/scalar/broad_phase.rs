@@ -1,12 +1,12 @@
 //! Scalar twin of the broad phase's block box (`crate::collide::broad_phase`).
 
 use crate::collide::broad_phase::Aabb;
-use crate::lanes::{Vec3x8, LANES};
+use crate::lanes::{Vec3Lanes, LANES};
 use glam::Vec3;
 
 /// The box of [`crate::collide::broad_phase::block_aabb`], one lane and one vertex at
 /// a time: the lanes `0 .. lanes` are the active ones (the scalar twin).
-pub(crate) fn block_aabb(pos: &[Vec3x8], lanes: usize) -> Aabb {
+pub(crate) fn block_aabb(pos: &[Vec3Lanes], lanes: usize) -> Aabb {
     let mut b = Aabb {
         min: Vec3::INFINITY,
         max: Vec3::NEG_INFINITY,
@@ -23,7 +23,12 @@ pub(crate) fn block_aabb(pos: &[Vec3x8], lanes: usize) -> Aabb {
 
 /// The scalar twin of [`crate::collide::broad_phase::block_sweep_aabb`]: the same
 /// points in the same arithmetic order, lane by lane (lanes `0 .. lanes`).
-pub(crate) fn block_sweep_aabb(pos: &[Vec3x8], prev: &[Vec3x8], g_dt2: Vec3, lanes: usize) -> Aabb {
+pub(crate) fn block_sweep_aabb(
+    pos: &[Vec3Lanes],
+    prev: &[Vec3Lanes],
+    g_dt2: Vec3,
+    lanes: usize,
+) -> Aabb {
     let mut b = Aabb {
         min: Vec3::INFINITY,
         max: Vec3::NEG_INFINITY,

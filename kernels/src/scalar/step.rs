@@ -20,11 +20,11 @@
 use super::broad_phase::block_sweep_aabb;
 use crate::drive::{drive, PAIR};
 use crate::hair_grid::apply_block;
-use crate::lanes::{Vec3x8, V3};
+use crate::lanes::{Vec3Lanes, V3};
 use crate::step::{step_chain, Chain, ChainScratch};
 use crate::{Colliders, SimParams, Sphere, Strands};
+use coif_base::lanes::F32Lanes;
 use coif_base::tasks::{Executor, Serial};
-use wide::f32x8;
 
 /// One lane's copy of a block's per-vertex data, sized when the strands are
 /// built.
@@ -66,11 +66,11 @@ impl LaneBuffers {
     }
 }
 
-fn lane3(a: &Vec3x8, l: usize) -> V3<f32> {
+fn lane3(a: &Vec3Lanes, l: usize) -> V3<f32> {
     V3::from_vec3(a.lane(l))
 }
 
-fn lane1(a: &f32x8, l: usize) -> f32 {
+fn lane1(a: &F32Lanes, l: usize) -> f32 {
     a.as_array()[l]
 }
 

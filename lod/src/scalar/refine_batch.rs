@@ -94,7 +94,7 @@ fn combine_vec3(p0: Vec3, p1: Vec3, p2: Vec3, p3: Vec3, w: [f32; 4]) -> Vec3 {
 }
 
 /// `d / |d|`, or `+Y` where `|d|^2 <= 1e-30` or not finite (scalar twin of
-/// the SIMD `unit_or_y_x8`).
+/// the SIMD `unit_or_y_simd`).
 #[inline]
 pub(crate) fn unit_or_y(d: Vec3) -> Vec3 {
     let len2 = d.x * d.x + d.y * d.y + d.z * d.z;

@@ -15,8 +15,8 @@
 //! NaN in gives NaN out (the clamp keeps it: `min(125, NaN)` as `minps`
 //! takes it is NaN, and NaN's exponent bits minus 0 are NaN's).
 
+use coif_base::lanes::{F32Lanes, I32Lanes};
 use wide::bytemuck::cast;
-use wide::{f32x8, i32x8};
 
 /// Largest `q`.
 const MAX_Q: f32 = 125.0;
@@ -41,15 +41,15 @@ pub(crate) fn exp2_neg(q: f32) -> f32 {
 
 /// [`exp2_neg`] in eight lanes.
 #[inline(always)]
-pub(crate) fn exp2_neg_x8(q: f32x8) -> f32x8 {
-    let q = f32x8::splat(MAX_Q).fast_min(q);
+pub(crate) fn exp2_neg_simd(q: F32Lanes) -> F32Lanes {
+    let q = F32Lanes::splat(MAX_Q).fast_min(q);
     let m = q.round_ties_even();
     let f = m - q;
-    let p = f32x8::splat(C[3]).mul_add(f, f32x8::splat(C[2]));
-    let p = p.mul_add(f, f32x8::splat(C[1]));
-    let p = p.mul_add(f, f32x8::splat(C[0]));
-    let p = p.mul_add(f, f32x8::ONE);
-    let bits: i32x8 = cast(p);
+    let p = F32Lanes::splat(C[3]).mul_add(f, F32Lanes::splat(C[2]));
+    let p = p.mul_add(f, F32Lanes::splat(C[1]));
+    let p = p.mul_add(f, F32Lanes::splat(C[0]));
+    let p = p.mul_add(f, F32Lanes::ONE);
+    let bits: I32Lanes = cast(p);
     cast(bits - (m.fast_trunc_int() << 23))
 }
 
@@ -62,17 +62,9 @@ mod tests {
         let mut worst = 0.0f64;
         let mut q = 0.0f32;
         while q < 130.0 {
-            let qs = [
-                q,
-                q + 0.013,
-                q + 0.031,
-                q + 0.05,
-                q + 0.07,
-                q + 0.09,
-                q + 0.11,
-                q + 0.5,
-            ];
-            let v = exp2_neg_x8(f32x8::new(qs)).to_array();
+            let offsets = [0.0, 0.013, 0.031, 0.05, 0.07, 0.09, 0.11, 0.5];
+            let qs: [f32; coif_base::LANES] = std::array::from_fn(|l| q + offsets[l % 8]);
+            let v = exp2_neg_simd(F32Lanes::new(qs)).to_array();
             for (l, &ql) in qs.iter().enumerate() {
                 let s = exp2_neg(ql);
                 assert_eq!(v[l].to_bits(), s.to_bits(), "q = {ql}");
@@ -87,7 +79,7 @@ mod tests {
         assert_eq!(exp2_neg(1.0), 0.5);
         assert!(exp2_neg(f32::INFINITY) < 3e-38);
         assert!(exp2_neg(f32::NAN).is_nan());
-        assert!(exp2_neg_x8(f32x8::splat(f32::NAN)).to_array()[0].is_nan());
+        assert!(exp2_neg_simd(F32Lanes::splat(f32::NAN)).to_array()[0].is_nan());
         // 1 - 2^-q never goes negative.
         assert!(exp2_neg(1e-7) <= 1.0);
     }

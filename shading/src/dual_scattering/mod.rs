@@ -80,7 +80,7 @@
 //! exponent bits), two divisions and three square roots. NaN in any input
 //! but `single` reaches every channel of the result through the
 //! arithmetic (the clamps keep it), without a mask.
-//! [`DualScattering::shade`] (one sample), [`DualScattering::shade_x8`]
+//! [`DualScattering::shade`] (one sample), [`DualScattering::shade_simd`]
 //! (eight lanes) and the batches [`DualScattering::shade_batch`] /
 //! [`scalar::shade_batch`] run the same operations in the same order (the
 //! arccosine and exponential are shared polynomials), so they agree to
@@ -93,13 +93,14 @@ pub mod scalar;
 
 pub use averages::FibreAverages;
 
-use crate::pbrt::fast_acos::{acos, acos_x8};
+use crate::pbrt::fast_acos::{acos, acos_simd};
 use crate::{marschner, pbrt, Error, RgbBuffer, ShadingSamples};
-use coif_base::{Vec3x8, LANES};
-use fast_exp::{exp2_neg, exp2_neg_x8};
+use coif_base::lanes::{from_groups, F32Group, GROUP_LANES};
+use coif_base::lanes::{F32Lanes, I32Lanes};
+use coif_base::{Vec3Lanes, LANES};
+use fast_exp::{exp2_neg, exp2_neg_simd};
 use glam::Vec3;
 use std::f32::consts::PI;
-use wide::{f32x8, i32x8};
 
 /// The forward density factor `d_f` of [`DualScatteringSettings::default`]:
 /// fitted against the path tracer on tufts of blond and brown hair (volume
@@ -184,7 +185,7 @@ mod ch {
     pub const G_VAR: usize = 13;
 }
 
-/// Channels of a lookup record (two `f32x8`): the averages' record with
+/// Channels of a lookup record (two `F32Lanes`): the averages' record with
 /// everything that does not depend on the sample's hair counts folded in,
 /// per `theta_i`. With `s = acos(sin theta_i) + acos(sin theta_o)` (so
 /// `theta_h = pi/2 - s/2`), `c_2 = 1 + cos theta_i cos theta_o + sin
@@ -251,7 +252,8 @@ pub struct DualScattering {
     /// The averages at the table's nodes.
     averages: Vec<FibreAverages>,
     /// One 16-float record per refined node ([`fast`]).
-    records: Vec<[f32x8; 2]>,
+    /// Sixteen floats each, as two `f32x8` (64 bytes) at every lane width.
+    records: Vec<[F32Group; 2]>,
     /// `(records - 1) / pi`: records per radian of `theta_i`.
     index_scale: f32,
     /// `records - 1/2`: the lookup rounds `(theta_i + pi/2) index_scale`
@@ -363,7 +365,7 @@ impl DualScattering {
 
     /// Bytes of the lookup records.
     pub fn size_bytes(&self) -> usize {
-        self.records.len() * std::mem::size_of::<[f32x8; 2]>()
+        self.records.len() * std::mem::size_of::<[F32Group; 2]>()
     }
 
     /// The shading function `F` for one sample: `single` is the model's
@@ -420,7 +422,7 @@ impl DualScattering {
         let u = minps(maxps(acos_i.mul_add(-self.index_scale, top), 0.0), top);
         let k = (u as usize).min(self.records.len() - 1);
         let rec = &self.records[k];
-        let r = |c: usize| rec[c / LANES].as_array()[c % LANES];
+        let r = |c: usize| rec[c / 8].as_array()[c % 8];
 
         let n = maxps(0.0, fibres);
         let m = maxps(0.0, behind);
@@ -458,61 +460,69 @@ impl DualScattering {
     }
 
     /// [`DualScattering::shade`] for eight samples: the same steps, lane by
-    /// lane (the record fetches per lane, the rest in `f32x8`).
+    /// lane (the record fetches per lane, the rest in `F32Lanes`).
     #[inline]
-    pub fn shade_x8(
+    pub fn shade_simd(
         &self,
-        single: Vec3x8,
-        t: Vec3x8,
-        wi: Vec3x8,
-        wo: Vec3x8,
-        fibres: f32x8,
-        direct: f32x8,
-    ) -> Vec3x8 {
-        let deep = f32x8::splat(f32::INFINITY);
-        self.shade_layered_x8(single, t, wi, wo, fibres, deep, direct)
+        single: Vec3Lanes,
+        t: Vec3Lanes,
+        wi: Vec3Lanes,
+        wo: Vec3Lanes,
+        fibres: F32Lanes,
+        direct: F32Lanes,
+    ) -> Vec3Lanes {
+        let deep = F32Lanes::splat(f32::INFINITY);
+        self.shade_layered_simd(single, t, wi, wo, fibres, deep, direct)
     }
 
     /// [`DualScattering::shade_layered`] for eight samples.
     #[inline]
     #[allow(clippy::too_many_arguments)]
-    pub fn shade_layered_x8(
+    pub fn shade_layered_simd(
         &self,
-        single: Vec3x8,
-        t: Vec3x8,
-        wi: Vec3x8,
-        wo: Vec3x8,
-        fibres: f32x8,
-        behind: f32x8,
-        direct: f32x8,
-    ) -> Vec3x8 {
-        let one = f32x8::ONE;
-        let zero = f32x8::ZERO;
+        single: Vec3Lanes,
+        t: Vec3Lanes,
+        wi: Vec3Lanes,
+        wo: Vec3Lanes,
+        fibres: F32Lanes,
+        behind: F32Lanes,
+        direct: F32Lanes,
+    ) -> Vec3Lanes {
+        let one = F32Lanes::ONE;
+        let zero = F32Lanes::ZERO;
         // As the scalar twin, operation for operation.
         let sin_i = wi.dot(t);
         let sin_o = wo.dot(t);
-        let acos_i = acos_x8(sin_i);
-        let acos_o = acos_x8(sin_o);
-        let top = f32x8::splat(self.index_top);
+        let acos_i = acos_simd(sin_i);
+        let acos_o = acos_simd(sin_o);
+        let top = F32Lanes::splat(self.index_top);
         let u = acos_i
-            .mul_add(f32x8::splat(-self.index_scale), top)
+            .mul_add(F32Lanes::splat(-self.index_scale), top)
             .fast_max(zero)
             .fast_min(top);
         // Byte offsets of the records (64 bytes each), in [0, 64 last].
-        let k: i32x8 = u.fast_trunc_int();
+        let k: I32Lanes = u.fast_trunc_int();
         let offsets: [i32; LANES] = (k << 6_i32).to_array();
         let base = self.records.as_ptr().cast::<u8>();
-        let mut lo = [[zero; LANES]; 2];
-        for l in 0..LANES {
-            // SAFETY: u is in [0, last + 1/2] (a NaN is replaced by 0 by
-            // the `fast_max`), so its truncation is a record index in
-            // [0, last], last < len, and a record is 64 bytes.
-            let rec = unsafe { &*base.add(offsets[l] as u32 as usize).cast::<[f32x8; 2]>() };
-            lo[0][l] = rec[0];
-            lo[1][l] = rec[1];
+        // Per group of eight lanes: the eight records' halves as rows, two
+        // 8 x 8 transposes into channels (two groups in a 16-lane build).
+        let mut channels = [[[F32Group::ZERO; 8]; 2]; LANES / GROUP_LANES];
+        for (k, group) in channels.iter_mut().enumerate() {
+            // SAFETY: u is in [0, last + 1/2] (a NaN is replaced by 0 by the
+            // `fast_max`), so its truncation is a record index in [0, last],
+            // last < len, and a record is 64 bytes.
+            let rec = |j: usize| unsafe {
+                &*base
+                    .add(offsets[k * GROUP_LANES + j] as u32 as usize)
+                    .cast::<[F32Group; 2]>()
+            };
+            let rows: [[F32Group; 8]; 2] = [
+                std::array::from_fn(|j| rec(j)[0]),
+                std::array::from_fn(|j| rec(j)[1]),
+            ];
+            *group = rows.map(F32Group::transpose);
         }
-        let [r0, r1] = [f32x8::transpose(lo[0]), f32x8::transpose(lo[1])];
-        let r = |c: usize| if c < LANES { r0[c] } else { r1[c - LANES] };
+        let r = |c: usize| from_groups(channels.map(|g| g[c / 8][c % 8]));
 
         let n = zero.fast_max(fibres);
         let m = zero.fast_max(behind);
@@ -521,7 +531,7 @@ impl DualScattering {
         let cos_i = sin_i.mul_neg_add(sin_i, one).fast_max(zero).sqrt();
         let cos_o = sin_o.mul_neg_add(sin_o, one).fast_max(zero).sqrt();
         let c2 = cos_i.mul_add(cos_o, sin_i.mul_add(sin_o, one));
-        let inv2 = one / c2.fast_max(f32x8::splat(2.0 * MIN_COS2_D));
+        let inv2 = one / c2.fast_max(F32Lanes::splat(2.0 * MIN_COS2_D));
         let inv2c = if self.includes_cosine {
             inv2 * cos_i
         } else {
@@ -529,33 +539,33 @@ impl DualScattering {
         };
 
         let t_f = [
-            exp2_neg_x8(n * r(fast::NL_AF)),
-            exp2_neg_x8(n * r(fast::NL_AF + 1)),
-            exp2_neg_x8(n * r(fast::NL_AF + 2)),
+            exp2_neg_simd(n * r(fast::NL_AF)),
+            exp2_neg_simd(n * r(fast::NL_AF + 1)),
+            exp2_neg_simd(n * r(fast::NL_AF + 2)),
         ];
         let m2 = m + m;
         let layers = [
-            one - exp2_neg_x8(m2 * r(fast::NL_AF)),
-            one - exp2_neg_x8(m2 * r(fast::NL_AF + 1)),
-            one - exp2_neg_x8(m2 * r(fast::NL_AF + 2)),
+            one - exp2_neg_simd(m2 * r(fast::NL_AF)),
+            one - exp2_neg_simd(m2 * r(fast::NL_AF + 1)),
+            one - exp2_neg_simd(m2 * r(fast::NL_AF + 2)),
         ];
         let y = s.mul_add(r(fast::B_SLOPE), r(fast::B_SHIFT));
-        let e_b = exp2_neg_x8(y * y);
+        let e_b = exp2_neg_simd(y * y);
         let w = one
             / n.mul_add(r(fast::BETA_F2), r(fast::G_VAR))
-                .fast_max(f32x8::splat(MIN_VARIANCE_G));
-        let x = s.mul_add(f32x8::splat(0.5), r(fast::G_SHIFT));
-        let e_g = exp2_neg_x8(x * x * w);
+                .fast_max(F32Lanes::splat(MIN_VARIANCE_G));
+        let x = s.mul_add(F32Lanes::splat(0.5), r(fast::G_SHIFT));
+        let e_g = exp2_neg_simd(x * x * w);
         let s_b = e_b * inv2c;
         let s_g = e_g * w.sqrt() * inv2c;
-        let channel = |c: usize, single: f32x8| {
+        let channel = |c: usize, single: F32Lanes| {
             let back = r(fast::BACK + c) * layers[c];
             let local = back.mul_add(s_b, single);
             let far = back.mul_add(r(fast::RHO), r(fast::G_AMP + c)) * s_g;
             let scattered = zero.fast_max(t_f[c] - d);
             local.mul_add(d, scattered * far)
         };
-        Vec3x8::new(
+        Vec3Lanes::new(
             channel(0, single.x),
             channel(1, single.y),
             channel(2, single.z),
@@ -587,7 +597,7 @@ impl DualScattering {
             let s = single.load_block(start);
             let n = load_padded(fibres, start);
             let d = load_padded(direct, start);
-            out.store_block(start, self.shade_x8(s, t, wi, wo, n, d));
+            out.store_block(start, self.shade_simd(s, t, wi, wo, n, d));
             start += LANES;
         }
         Ok(())
@@ -623,12 +633,12 @@ fn check_lengths(
 
 /// Eight values from `start`, zero-padded past the end.
 #[inline]
-fn load_padded(a: &[f32], start: usize) -> f32x8 {
+fn load_padded(a: &[f32], start: usize) -> F32Lanes {
     let mut v = [0.0f32; LANES];
     for (l, x) in a.iter().skip(start).take(LANES).enumerate() {
         v[l] = *x;
     }
-    f32x8::new(v)
+    F32Lanes::new(v)
 }
 
 /// `1 / sqrt(2 pi)`.
@@ -744,7 +754,7 @@ fn fast_record(a: &[f32; 16], settings: &DualScatteringSettings) -> [f32; 16] {
     r
 }
 
-/// `if a > b { a } else { b }`: `maxps(a, b)` as [`f32x8::fast_max`] gives
+/// `if a > b { a } else { b }`: `maxps(a, b)` as [`F32Lanes::fast_max`] gives
 /// it (NaN in either gives `b`).
 #[inline(always)]
 fn maxps(a: f32, b: f32) -> f32 {
@@ -766,10 +776,10 @@ fn minps(a: f32, b: f32) -> f32 {
 }
 
 /// Sixteen floats as two vectors.
-fn pack(r: [f32; 16]) -> [f32x8; 2] {
+fn pack(r: [f32; 16]) -> [F32Group; 2] {
     [
-        f32x8::new(std::array::from_fn(|c| r[c])),
-        f32x8::new(std::array::from_fn(|c| r[LANES + c])),
+        F32Group::new(std::array::from_fn(|c| r[c])),
+        F32Group::new(std::array::from_fn(|c| r[8 + c])),
     ]
 }
 

@@ -18,7 +18,7 @@
 //! grazing region dominates Nalu's error; the default [`LutLayout::Angular`]
 //! indexes both axes linearly in angle and computes cos theta_d exactly.
 //!
-//! [`Lut::scattering`] (one sample) and [`Lut::scattering_x8`] (eight lanes)
+//! [`Lut::scattering`] (one sample) and [`Lut::scattering_simd`] (eight lanes)
 //! run the same steps; [`Lut::scattering_batch`] (SIMD) and
 //! [`scalar::scattering_batch`] look up a whole batch.
 
@@ -27,10 +27,10 @@ pub mod scalar;
 use super::params::Sanitised;
 use super::{longitudinal, n_terms, Params, MIN_COS_THETA_D};
 use crate::{RgbBuffer, ShadingSamples};
-use coif_base::{Vec3x8, LANES};
+use coif_base::lanes::{F32Lanes, I32Lanes};
+use coif_base::{Vec3Lanes, LANES};
 use glam::{Vec3, Vec4};
 use std::f64::consts::PI;
-use wide::{f32x8, i32x8};
 
 /// Smallest and largest table resolution [`Lut::new`] accepts (it clamps).
 pub const MIN_RESOLUTION: usize = 2;
@@ -283,29 +283,29 @@ impl Lut {
     }
 
     /// SIMD batch lookup: eight samples at a time, the angle and index
-    /// arithmetic in `f32x8`, texel fetches per lane (manual gathers) with the
+    /// arithmetic in `F32Lanes`, texel fetches per lane (manual gathers) with the
     /// same bilinear arithmetic as the scalar path. `out` is resized to
     /// `samples.len()` (allocation-free once it has the capacity). Matches
     /// [`scalar::scattering_batch`] to float rounding (the `acos` of the
     /// LinearPhi layout is wide's polynomial in SIMD, libm's in scalar).
     pub fn scattering_batch(&self, samples: &ShadingSamples, out: &mut RgbBuffer) {
-        crate::batch::shade_blocks(samples, out, |t, wi, wo| self.lookup_x8(t, wi, wo));
+        crate::batch::shade_blocks(samples, out, |t, wi, wo| self.lookup_simd(t, wi, wo));
     }
 
     /// Eight lookups; the same steps as [`Lut::scattering`].
     #[inline(always)]
-    pub fn scattering_x8(&self, t: Vec3x8, wi: Vec3x8, wo: Vec3x8) -> Vec3x8 {
-        self.lookup_x8(t, wi, wo)
+    pub fn scattering_simd(&self, t: Vec3Lanes, wi: Vec3Lanes, wo: Vec3Lanes) -> Vec3Lanes {
+        self.lookup_simd(t, wi, wo)
     }
 
     #[inline(always)]
-    fn lookup_x8(&self, t: Vec3x8, wi: Vec3x8, wo: Vec3x8) -> Vec3x8 {
-        let one = f32x8::ONE;
-        let zero = f32x8::ZERO;
-        let half = f32x8::splat(0.5);
+    fn lookup_simd(&self, t: Vec3Lanes, wi: Vec3Lanes, wo: Vec3Lanes) -> Vec3Lanes {
+        let one = F32Lanes::ONE;
+        let zero = F32Lanes::ZERO;
+        let half = F32Lanes::splat(0.5);
         let (lt2, li2, lo2) = (t.dot(t), wi.dot(wi), wo.dot(wo));
         let non_finite = !(lt2 + li2 + lo2).is_finite();
-        let tiny = f32x8::splat(MIN_LENGTH_SQUARED);
+        let tiny = F32Lanes::splat(MIN_LENGTH_SQUARED);
         let zero_len = lt2.simd_lt(tiny) | li2.simd_lt(tiny) | lo2.simd_lt(tiny);
         let (rt, ri, ro) = (lt2.sqrt(), li2.sqrt(), lo2.sqrt());
         let sin_i = (wi.dot(t) / (ri * rt)).max(-one).min(one);
@@ -316,15 +316,17 @@ impl Lut {
         let raw = ((wi.dot(wo) / (ri * ro) - sin_i * sin_o) / cc)
             .max(-one)
             .min(one);
-        let cos_phi = cc.simd_gt(f32x8::splat(MIN_COS_PRODUCT)).select(raw, one);
+        let cos_phi = cc
+            .simd_gt(F32Lanes::splat(MIN_COS_PRODUCT))
+            .select(raw, one);
 
-        let inv_pi = f32x8::splat(std::f32::consts::FRAC_1_PI);
+        let inv_pi = F32Lanes::splat(std::f32::consts::FRAC_1_PI);
         let (ui, uo) = if self.layout.linear_theta() {
             (half + sin_i.asin() * inv_pi, half + sin_o.asin() * inv_pi)
         } else {
             (half + half * sin_i, half + half * sin_o)
         };
-        let (mi, fx, fy) = self.coords_x8(ui, uo);
+        let (mi, fx, fy) = self.coords_simd(ui, uo);
         let (mi, fx, fy) = (mi.to_array(), fx.to_array(), fy.to_array());
         let mut ms = [Vec4::ZERO; LANES];
         let mut table_cos_d = [0.0f32; LANES];
@@ -335,14 +337,14 @@ impl Lut {
         let cos_d = if self.layout.linear_theta() {
             (half * (one + cc + sin_i * sin_o)).max(zero).sqrt()
         } else {
-            f32x8::new(table_cos_d)
+            F32Lanes::new(table_cos_d)
         };
         let v = if self.layout.linear_phi() {
             cos_phi.acos() * inv_pi
         } else {
             half + half * cos_phi
         };
-        let (ni, gx, gy) = self.coords_x8(cos_d, v);
+        let (ni, gx, gy) = self.coords_simd(cos_d, v);
         let (ni, gx, gy) = (ni.to_array(), gx.to_array(), gy.to_array());
         let mut rgb = [[0.0f32; LANES]; 3];
         for l in 0..LANES {
@@ -351,26 +353,30 @@ impl Lut {
             rgb[1][l] = s.y;
             rgb[2][l] = s.z;
         }
-        let out = Vec3x8::new(f32x8::new(rgb[0]), f32x8::new(rgb[1]), f32x8::new(rgb[2]));
-        let out = Vec3x8::select(zero_len, Vec3x8::ZERO, out);
-        Vec3x8::select(non_finite, Vec3x8::splat(Vec3::NAN), out)
+        let out = Vec3Lanes::new(
+            F32Lanes::new(rgb[0]),
+            F32Lanes::new(rgb[1]),
+            F32Lanes::new(rgb[2]),
+        );
+        let out = Vec3Lanes::select(zero_len, Vec3Lanes::ZERO, out);
+        Vec3Lanes::select(non_finite, Vec3Lanes::splat(Vec3::NAN), out)
     }
 
     /// SIMD twin of `coords`; the integer clamp keeps NaN lanes in bounds.
     #[inline(always)]
-    fn coords_x8(&self, u: f32x8, v: f32x8) -> (i32x8, f32x8, f32x8) {
-        let scale = f32x8::splat((self.resolution - 1) as f32);
-        let last = f32x8::splat((self.resolution - 2) as f32);
-        let zero = f32x8::ZERO;
+    fn coords_simd(&self, u: F32Lanes, v: F32Lanes) -> (I32Lanes, F32Lanes, F32Lanes) {
+        let scale = F32Lanes::splat((self.resolution - 1) as f32);
+        let last = F32Lanes::splat((self.resolution - 2) as f32);
+        let zero = F32Lanes::ZERO;
         let x = (u * scale).max(zero).min(scale);
         let y = (v * scale).max(zero).min(scale);
         let x0 = x.floor().max(zero).min(last);
         let y0 = y.floor().max(zero).min(last);
-        let last_i = i32x8::splat(self.resolution as i32 - 2);
-        let xi = x0.trunc_int().max(i32x8::ZERO).min(last_i);
-        let yi = y0.trunc_int().max(i32x8::ZERO).min(last_i);
+        let last_i = I32Lanes::splat(self.resolution as i32 - 2);
+        let xi = x0.trunc_int().max(I32Lanes::ZERO).min(last_i);
+        let yi = y0.trunc_int().max(I32Lanes::ZERO).min(last_i);
         (
-            yi * i32x8::splat(self.resolution as i32) + xi,
+            yi * I32Lanes::splat(self.resolution as i32) + xi,
             x - x0,
             y - y0,
         )

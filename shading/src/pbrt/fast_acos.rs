@@ -6,8 +6,8 @@
 //! most 2e-8 (in exact arithmetic; in `f32` the error is a few 1e-7 rad),
 //! and `acos(-x) = pi - acos x`.
 
+use coif_base::lanes::F32Lanes;
 use std::f32::consts::PI;
-use wide::f32x8;
 
 /// The published coefficients (a0 is A&S's value, not exactly pi/2).
 #[allow(clippy::approx_constant)]
@@ -41,16 +41,16 @@ pub fn acos(x: f32) -> f32 {
 
 /// Eight arccosines, the same operations lane by lane as [`acos`].
 #[inline]
-pub fn acos_x8(x: f32x8) -> f32x8 {
+pub fn acos_simd(x: F32Lanes) -> F32Lanes {
     // minps(1, |x|): 1 above 1, and NaN stays NaN (as the scalar's test).
-    let ax = f32x8::ONE.fast_min(x.abs());
-    let mut p = f32x8::splat(A[7]);
+    let ax = F32Lanes::ONE.fast_min(x.abs());
+    let mut p = F32Lanes::splat(A[7]);
     for &c in A[..7].iter().rev() {
-        p = p.mul_add(ax, f32x8::splat(c));
+        p = p.mul_add(ax, F32Lanes::splat(c));
     }
-    let r = (f32x8::ONE - ax).sqrt() * p;
+    let r = (F32Lanes::ONE - ax).sqrt() * p;
     // One blend (the mask is all ones or all zeros per lane).
-    x.simd_lt(f32x8::ZERO).select(f32x8::splat(PI) - r, r)
+    x.simd_lt(F32Lanes::ZERO).select(F32Lanes::splat(PI) - r, r)
 }
 
 #[cfg(test)]
@@ -63,11 +63,11 @@ mod tests {
         for k in 0..=4000 {
             let x = -1.0 + k as f32 / 2000.0;
             worst = worst.max((acos(x) - x.acos()).abs());
-            let v = acos_x8(f32x8::splat(x)).to_array();
+            let v = acos_simd(F32Lanes::splat(x)).to_array();
             assert_eq!(v[3].to_bits(), acos(x).to_bits(), "x = {x}");
         }
         assert!(worst < 1e-6, "{worst}");
         assert!(acos(f32::NAN).is_nan());
-        assert!(acos_x8(f32x8::splat(f32::NAN)).to_array()[0].is_nan());
+        assert!(acos_simd(F32Lanes::splat(f32::NAN)).to_array()[0].is_nan());
     }
 }

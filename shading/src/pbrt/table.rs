@@ -19,17 +19,18 @@
 //! the lobes are narrow, near phi = 0 and pi and at grazing theta. PBRT.md
 //! compares both.
 //!
-//! [`Table::scattering`] (one sample) and [`Table::scattering_x8`] (eight
+//! [`Table::scattering`] (one sample) and [`Table::scattering_simd`] (eight
 //! lanes) run the same steps; [`Table::scattering_batch`] (SIMD) and
 //! [`scalar::scattering_batch`] look up a whole batch.
 
 pub mod scalar;
 
 use super::far_field::{combine, recommended_order, world_angles, FarField};
-use super::fast_acos::{acos, acos_x8};
+use super::fast_acos::{acos, acos_simd};
 use super::params::Params;
 use crate::{Error, RgbBuffer, ShadingSamples};
-use coif_base::{Vec3x8, LANES};
+use coif_base::lanes::F32Lanes;
+use coif_base::{Vec3Lanes, LANES};
 use glam::Vec3;
 use std::f32::consts::PI;
 use wide::f32x8;
@@ -45,7 +46,8 @@ pub enum Parameterisation {
 }
 
 /// Channels used in an M cell (`M_0, M_1, M_2, R_3 rgb`), stored in one
-/// `f32x8` (two channels of padding) so that the SIMD path loads a corner
+/// `f32x8` (two channels of padding; eight channels whatever the lane
+/// width) so that the SIMD path loads a corner
 /// with one aligned load.
 const M_CH: usize = 6;
 /// Channels used in an N cell (`N_0, N_1, N_2` rgb), stored in two `f32x8`.
@@ -212,7 +214,7 @@ impl Table {
         combine_cells(&m, &n)
     }
 
-    /// SIMD batch (`wide::f32x8`, eight samples per step): the same
+    /// SIMD batch ([`coif_base::lanes::F32Lanes`], [`coif_base::LANES`] samples per step): the same
     /// coordinates, bilinear weights and sums as [`Table::scattering`],
     /// with per-lane table fetches. `out` is resized to the batch.
     pub fn scattering_batch(&self, samples: &ShadingSamples, out: &mut RgbBuffer) {
@@ -220,22 +222,22 @@ impl Table {
         let mut start = 0;
         while start < samples.len() {
             let (t, wi, wo) = samples.load_block(start);
-            out.store_block(start, self.scattering_x8(t, wi, wo));
+            out.store_block(start, self.scattering_simd(t, wi, wo));
             start += LANES;
         }
     }
 
     /// Eight lookups at once.
     #[inline]
-    pub fn scattering_x8(&self, t: Vec3x8, wi: Vec3x8, wo: Vec3x8) -> Vec3x8 {
+    pub fn scattering_simd(&self, t: Vec3Lanes, wi: Vec3Lanes, wo: Vec3Lanes) -> Vec3Lanes {
         let sin_i = wi.dot(t);
         let sin_o = wo.dot(t);
         let pi_ = wi - t * sin_i;
         let po = wo - t * sin_o;
         let len2 = pi_.length_squared() * po.length_squared();
-        let cos_phi = pi_.dot(po) / len2.max(f32x8::splat(1e-30)).sqrt();
-        let one = f32x8::ONE;
-        let clamp1 = |x: f32x8| {
+        let cos_phi = pi_.dot(po) / len2.max(F32Lanes::splat(1e-30)).sqrt();
+        let one = F32Lanes::ONE;
+        let clamp1 = |x: F32Lanes| {
             let x = x.simd_gt(one).bitselect(one, x);
             x.simd_lt(-one).bitselect(-one, x)
         };
@@ -244,16 +246,16 @@ impl Table {
         let scale = (self.res - 1) as f32;
         let (ui, uo, uphi) = match self.axes {
             Parameterisation::Angles => {
-                let k = f32x8::splat(scale / PI);
-                let s = f32x8::splat(scale);
+                let k = F32Lanes::splat(scale / PI);
+                let s = F32Lanes::splat(scale);
                 (
-                    s - acos_x8(sin_i) * k,
-                    s - acos_x8(sin_o) * k,
-                    acos_x8(cos_phi) * k,
+                    s - acos_simd(sin_i) * k,
+                    s - acos_simd(sin_o) * k,
+                    acos_simd(cos_phi) * k,
                 )
             }
             Parameterisation::Nalu => {
-                let half = f32x8::splat(0.5 * scale);
+                let half = F32Lanes::splat(0.5 * scale);
                 (
                     sin_i.mul_add(half, half),
                     sin_o.mul_add(half, half),
@@ -262,9 +264,9 @@ impl Table {
             }
         };
         let invalid = ui.is_nan() | uo.is_nan() | uphi.is_nan();
-        let (ci, fi) = split_x8(ui, self.res);
-        let (co, fo) = split_x8(uo, self.res);
-        let (cp, fp) = split_x8(uphi, self.res);
+        let (ci, fi) = split_simd(ui, self.res);
+        let (co, fo) = split_simd(uo, self.res);
+        let (cp, fp) = split_simd(uphi, self.res);
 
         let (fi, fo, fp) = (fi.to_array(), fo.to_array(), fp.to_array());
         let res = self.res;
@@ -277,8 +279,12 @@ impl Table {
             out[1][l] = v.y;
             out[2][l] = v.z;
         }
-        let sum = Vec3x8::new(f32x8::new(out[0]), f32x8::new(out[1]), f32x8::new(out[2]));
-        Vec3x8::select(invalid, Vec3x8::splat(Vec3::NAN), sum)
+        let sum = Vec3Lanes::new(
+            F32Lanes::new(out[0]),
+            F32Lanes::new(out[1]),
+            F32Lanes::new(out[2]),
+        );
+        Vec3Lanes::select(invalid, Vec3Lanes::splat(Vec3::NAN), sum)
     }
 }
 
@@ -322,12 +328,12 @@ fn split(u: f32, res: usize) -> (usize, f32) {
     (c as usize, u - c)
 }
 
-/// [`split`] for eight lanes (NaN lanes get cell 0; the caller masks them).
+/// [`split`] for a block of lanes (NaN lanes get cell 0; the caller masks them).
 #[inline]
-fn split_x8(u: f32x8, res: usize) -> ([usize; LANES], f32x8) {
-    let zero = f32x8::ZERO;
-    let last = f32x8::splat((res - 1) as f32);
-    let top = f32x8::splat((res - 2) as f32);
+fn split_simd(u: F32Lanes, res: usize) -> ([usize; LANES], F32Lanes) {
+    let zero = F32Lanes::ZERO;
+    let last = F32Lanes::splat((res - 1) as f32);
+    let top = F32Lanes::splat((res - 2) as f32);
     let u = u.simd_lt(zero).bitselect(zero, u);
     let u = u.simd_gt(last).bitselect(last, u);
     let c = u.floor();
@@ -351,7 +357,7 @@ fn bilerp<const V: usize, const C: usize>(
 ) -> [f32; C] {
     let [c00, c01, c10, c11] = [base, base + 1, base + res, base + res + 1].map(|k| &t[k]);
     std::array::from_fn(|c| {
-        let ch = |cell: &[f32x8; V]| cell[c / LANES].as_array()[c % LANES];
+        let ch = |cell: &[f32x8; V]| cell[c / 8].as_array()[c % 8];
         let lo = (ch(c01) - ch(c00)).mul_add(fb, ch(c00));
         let hi = (ch(c11) - ch(c10)).mul_add(fb, ch(c10));
         (hi - lo).mul_add(fa, lo)

@@ -1,5 +1,5 @@
 //! The SIMD build of an [`OpacityShadowMap`]: bounds, sample positions,
-//! bilinear weights, depths and plane intervals eight at a time in `f32x8`
+//! bilinear weights, depths and plane intervals eight at a time in `F32Lanes`
 //! lanes, deposits in lane order with scalar adds (the scalar sample
 //! order), the prefix sum sixteen texels at a time. Scalar twin:
 //! `shadow/scalar/build.rs`, bit for bit the same map.
@@ -12,11 +12,12 @@ use super::settings::{ShadowMode, ShadowSettings};
 use super::strand_lanes::StrandLanes;
 use crate::Error;
 use coif_base::lanes::lanes_below;
+use coif_base::lanes::{F32Lanes, I32Lanes};
 use coif_base::tasks::{for_each_chunk_mut, Executor};
-use coif_base::{Vec3x8, LANES};
+use coif_base::{Vec3Lanes, LANES};
 use glam::Vec3;
 use std::ops::Range;
-use wide::{f32x8, i32x8};
+use wide::f32x8;
 
 impl OpacityShadowMap {
     /// Rebuilds the map for a directional light shining along `light_dir`
@@ -33,7 +34,7 @@ impl OpacityShadowMap {
     /// sum along depth per texel makes the opacity cumulative.
     ///
     /// The SIMD path: bounds, sample positions, bilinear weights, depths and
-    /// plane intervals eight at a time in `f32x8` lanes, deposits in lane
+    /// plane intervals eight at a time in `F32Lanes` lanes, deposits in lane
     /// order with scalar adds (the scalar sample order), and the prefix sum
     /// sixteen texels at a time. The map is bit for bit the one
     /// [`super::scalar::build`] makes (tested).
@@ -99,7 +100,7 @@ impl OpacityShadowMap {
     }
 
     /// [`OpacityShadowMap::build_tasks`] from hair in lane layout (blocks
-    /// of up to eight strands in the lanes of `f32x8`, [`StrandLanes`]):
+    /// of up to eight strands in the lanes of `F32Lanes`, [`StrandLanes`]):
     /// the same steps, with the tasks' ranges of blocks instead of strands
     /// and each group of eight segments taken as segment `r` of a block's
     /// eight strands (rows `r`, `r + 1`) instead of eight consecutive
@@ -376,9 +377,9 @@ impl Pass {
     /// when a map of `len` values (the depth map or one plane group) holds
     /// the `n^2` texels (`None` otherwise, and for maps under two texels a
     /// side, which the raster never splats into).
-    fn top_texel(&self, len: usize) -> Option<i32x8> {
+    fn top_texel(&self, len: usize) -> Option<I32Lanes> {
         (self.n >= 2 && len >= self.nn && self.nn <= i32::MAX as usize)
-            .then(|| i32x8::splat((self.nn - self.n - 2) as i32))
+            .then(|| I32Lanes::splat((self.nn - self.n - 2) as i32))
     }
 
     /// Texels no sample reached start their layers at the near plane.
@@ -394,9 +395,9 @@ impl Pass {
         let (n, nn, offsets, layering) = (self.n, self.nn, self.offsets(), self.layering);
         match self.mode {
             ShadowMode::Slices => {
-                let near = f32x8::splat(self.placement.near);
+                let near = F32Lanes::splat(self.placement.near);
                 src.samples(self, units, |sp| {
-                    let slices = layering.interval_x8(sp.z - near);
+                    let slices = layering.interval_simd(sp.z - near);
                     let w = sp.weights.map(|w| w.to_array());
                     for l in sp.lanes() {
                         let slice = slices[l];
@@ -430,10 +431,10 @@ impl Pass {
         z0: &[f32],
         src: &impl Source,
         units: Range<usize>,
-        interval: impl Fn(f32x8) -> i32x8,
+        interval: impl Fn(F32Lanes) -> I32Lanes,
     ) {
         let (nn, offsets, layering) = (self.nn, self.offsets(), self.layering);
-        let nn4 = i32x8::splat((4 * nn).min(i32::MAX as usize) as i32);
+        let nn4 = I32Lanes::splat((4 * nn).min(i32::MAX as usize) as i32);
         let flat_fits = self.flat_fits;
         let Some(top) = self.top_texel(z0.len()) else {
             return;
@@ -460,14 +461,14 @@ impl Pass {
                 // the layer count and t0 in the map), so the adds below
                 // need no bounds check.
                 let flat = texels.as_flattened_mut();
-                let last = i32x8::splat(flat.len().saturating_sub(1) as i32);
+                let last = I32Lanes::splat(flat.len().saturating_sub(1) as i32);
                 let index: [[i32; LANES]; 4] = std::array::from_fn(|c| {
-                    let s = interval(sp.z - f32x8::new(base[c]));
-                    let t = sp.t0_x8 + i32x8::splat(offsets[c] as i32);
-                    let group: i32x8 = s >> 2;
-                    let texel: i32x8 = t << 2;
-                    (group * nn4 + texel + (s & i32x8::splat(3)))
-                        .max(i32x8::ZERO)
+                    let s = interval(sp.z - F32Lanes::new(base[c]));
+                    let t = sp.t0_simd + I32Lanes::splat(offsets[c] as i32);
+                    let group: I32Lanes = s >> 2;
+                    let texel: I32Lanes = t << 2;
+                    (group * nn4 + texel + (s & I32Lanes::splat(3)))
+                        .max(I32Lanes::ZERO)
                         .min(last)
                         .to_array()
                 });
@@ -482,7 +483,7 @@ impl Pass {
                     }
                 }
             } else {
-                let slices = base.map(|b| layering.interval_x8(sp.z - f32x8::new(b)));
+                let slices = base.map(|b| layering.interval_simd(sp.z - F32Lanes::new(b)));
                 for l in sp.lanes() {
                     for (c, o) in offsets.iter().enumerate() {
                         let slice = slices[c][l];
@@ -498,8 +499,8 @@ impl Pass {
 /// raster's splats (already clamped so), repeated so that the unchecked
 /// map reads of the passes stay in the map whatever a source passes.
 #[inline(always)]
-fn clamped_t0(sp: &SplatX8, top: i32x8) -> [i32; LANES] {
-    sp.t0_x8.max(i32x8::ZERO).min(top).to_array()
+fn clamped_t0(sp: &SplatX8, top: I32Lanes) -> [i32; LANES] {
+    sp.t0_simd.max(I32Lanes::ZERO).min(top).to_array()
 }
 
 /// Light-space bounding box `(min, max)` of the finite points (SIMD twin
@@ -510,7 +511,7 @@ fn clamped_t0(sp: &SplatX8, top: i32x8) -> [i32; LANES] {
 fn light_bounds(frame: &LightFrame, points: &[Vec3]) -> Option<(Vec3, Vec3)> {
     let mut bounds = BoundsX8::new(frame);
     for chunk in points.chunks(LANES) {
-        let mut p = Vec3x8::ZERO;
+        let mut p = Vec3Lanes::ZERO;
         let mut finite = [0.0f32; LANES];
         for (l, q) in chunk.iter().enumerate() {
             if q.is_finite() {
@@ -518,7 +519,7 @@ fn light_bounds(frame: &LightFrame, points: &[Vec3]) -> Option<(Vec3, Vec3)> {
                 finite[l] = 1.0;
             }
         }
-        bounds.add(p, f32x8::new(finite).simd_gt(f32x8::ZERO));
+        bounds.add(p, F32Lanes::new(finite).simd_gt(F32Lanes::ZERO));
     }
     bounds.finish()
 }
@@ -545,27 +546,30 @@ fn lane_bounds<H: StrandLanes + ?Sized>(frame: &LightFrame, hair: &H) -> Option<
 
 /// Lane-wise light-space bounds of the points added so far.
 struct BoundsX8 {
-    axes: [Vec3x8; 3],
-    min: [f32x8; 3],
-    max: [f32x8; 3],
-    overflow: f32x8,
+    axes: [Vec3Lanes; 3],
+    min: [F32Lanes; 3],
+    max: [F32Lanes; 3],
+    overflow: F32Lanes,
 }
 
 impl BoundsX8 {
     fn new(frame: &LightFrame) -> BoundsX8 {
         BoundsX8 {
-            axes: [frame.x_axis, frame.y_axis, frame.z_axis].map(Vec3x8::splat),
-            min: [f32x8::splat(f32::INFINITY); 3],
-            max: [f32x8::splat(f32::NEG_INFINITY); 3],
-            overflow: f32x8::ZERO,
+            axes: [frame.x_axis, frame.y_axis, frame.z_axis].map(Vec3Lanes::splat),
+            min: [F32Lanes::splat(f32::INFINITY); 3],
+            max: [F32Lanes::splat(f32::NEG_INFINITY); 3],
+            overflow: F32Lanes::ZERO,
         }
     }
 
     /// Eight points, the lanes of `finite` only (the dot products
     /// `p.x a.x + p.y a.y + p.z a.z`, unfused, as the scalar's).
     #[inline(always)]
-    fn add(&mut self, p: Vec3x8, finite: f32x8) {
-        let (inf, neg_inf) = (f32x8::splat(f32::INFINITY), f32x8::splat(f32::NEG_INFINITY));
+    fn add(&mut self, p: Vec3Lanes, finite: F32Lanes) {
+        let (inf, neg_inf) = (
+            F32Lanes::splat(f32::INFINITY),
+            F32Lanes::splat(f32::NEG_INFINITY),
+        );
         for k in 0..3 {
             let c = p.dot(self.axes[k]);
             self.overflow |= finite & !c.is_finite();
@@ -580,7 +584,7 @@ impl BoundsX8 {
         if self.overflow.any() {
             return None;
         }
-        let reduce = |v: [f32x8; 3], f: fn(f32, f32) -> f32| {
+        let reduce = |v: [F32Lanes; 3], f: fn(f32, f32) -> f32| {
             let [x, y, z] = v.map(|c| c.to_array().into_iter().reduce(f).unwrap_or(0.0));
             Vec3::new(x, y, z)
         };
@@ -597,6 +601,7 @@ impl BoundsX8 {
 /// the same order as the scalar, so the same bits), and transposed back.
 /// Texels past the last multiple of sixteen take the scalar loop. Planes
 /// past `layers` in the last group stay untouched, as in the scalar.
+/// Texels, not strands: eight lanes (`f32x8`) at every lane width.
 fn prefix_sum(texels: &mut [[f32; 4]], nn: usize, layers: usize) {
     const BLOCK: usize = 16;
     let groups = layers.div_ceil(4);
@@ -608,7 +613,7 @@ fn prefix_sum(texels: &mut [[f32; 4]], nn: usize, layers: usize) {
             let start = (g * nn + b * BLOCK) * 4;
             let chunk = &mut flat[start..start + 4 * BLOCK];
             let rows: [f32x8; 8] = std::array::from_fn(|r| {
-                let lanes: [f32; LANES] = chunk[r * LANES..(r + 1) * LANES].try_into().unwrap();
+                let lanes: [f32; 8] = chunk[r * 8..(r + 1) * 8].try_into().unwrap();
                 f32x8::new(lanes)
             });
             // planes[k] = plane 4g + k of the even texels, planes[4 + k] of the odd.
@@ -623,7 +628,7 @@ fn prefix_sum(texels: &mut [[f32; 4]], nn: usize, layers: usize) {
                 carry[half] = p[3];
             }
             for (r, row) in f32x8::transpose(planes).iter().enumerate() {
-                chunk[r * LANES..(r + 1) * LANES].copy_from_slice(row.as_array());
+                chunk[r * 8..(r + 1) * 8].copy_from_slice(row.as_array());
             }
         }
     }

@@ -5,18 +5,18 @@
 //! clamped into the slice, so a gather never reads outside it whatever the
 //! caller passes (callers pass in-range indices).
 
+use coif_base::lanes::{F32Lanes, I32Lanes};
 use coif_base::LANES;
-use wide::{f32x8, i32x8};
 
 /// `values[clamp(index[l], 0, len - 1)]` per lane; 0 in every lane when
 /// `values` is empty.
 #[inline(always)]
-pub(crate) fn gather(values: &[f32], index: i32x8) -> f32x8 {
+pub(crate) fn gather(values: &[f32], index: I32Lanes) -> F32Lanes {
     let Some(last) = values.len().checked_sub(1) else {
-        return f32x8::ZERO;
+        return F32Lanes::ZERO;
     };
-    let index = index.max(i32x8::ZERO).to_array();
-    f32x8::new(std::array::from_fn::<f32, LANES, _>(|l| {
+    let index = index.max(I32Lanes::ZERO).to_array();
+    F32Lanes::new(std::array::from_fn::<f32, LANES, _>(|l| {
         values[(index[l] as usize).min(last)]
     }))
 }
@@ -28,10 +28,15 @@ mod tests {
     #[test]
     fn gathers_the_indexed_values_and_clamps_out_of_range_lanes() {
         let values: Vec<f32> = (0..37).map(|i| i as f32 * 1.5 - 3.0).collect();
-        let index = i32x8::new([0, 36, 5, -4, 1000, 17, 17, 2]);
+        let (raw, clamped) = (
+            [0, 36, 5, -4, 1000, 17, 17, 2],
+            [0, 36, 5, 0, 36, 17, 17, 2],
+        );
+        let index = I32Lanes::new(std::array::from_fn(|l| raw[l % 8]));
         let got = gather(&values, index).to_array();
-        let want = [0, 36, 5, 0, 36, 17, 17, 2].map(|i: usize| values[i]);
-        assert_eq!(got, want);
+        for (l, g) in got.iter().enumerate() {
+            assert_eq!(*g, values[clamped[l % 8]], "lane {l}");
+        }
         assert_eq!(gather(&[], index).to_array(), [0.0; LANES]);
     }
 }

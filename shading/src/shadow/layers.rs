@@ -24,8 +24,8 @@
 //! / 0.063, over a quarter 0.082 / 0.074 / 0.073. Half is the best at the
 //! small layer counts deep maps are for.
 
+use coif_base::lanes::{F32Lanes, I32Lanes};
 use coif_base::LANES;
-use wide::{f32x8, i32x8};
 
 /// The share of the hair's depth range that deep mode's layers span.
 pub const DEEP_SPAN: f32 = 0.5;
@@ -112,25 +112,25 @@ impl Layering {
     /// each correctly rounded, so every lane equals the scalar index).
     /// `x` must not be NaN.
     #[inline(always)]
-    pub fn interval_x8(&self, x: f32x8) -> [usize; LANES] {
+    pub fn interval_simd(&self, x: F32Lanes) -> [usize; LANES] {
         self.interval_i32x8(x).to_array().map(|i| i as usize)
     }
 
-    /// [`Layering::interval_x8`] as `i32` lanes (for index arithmetic in
+    /// [`Layering::interval_simd`] as `i32` lanes (for index arithmetic in
     /// SIMD registers).
     #[inline(always)]
-    pub fn interval_i32x8(&self, x: f32x8) -> i32x8 {
+    pub fn interval_i32x8(&self, x: F32Lanes) -> I32Lanes {
         self.interval_f32x8(x).fast_trunc_int()
     }
 
     /// Up to [`FEW`] quadratic layers: the thresholds `k^2` for `k` in
     /// `1..FEW`, `+inf` from `k = L` on (never reached by a finite `q`),
     /// splatted, for [`Layering::interval_few_i32x8`]; `None` otherwise.
-    pub fn few_thresholds(&self) -> Option<[f32x8; FEW - 1]> {
+    pub fn few_thresholds(&self) -> Option<[F32Lanes; FEW - 1]> {
         (self.quadratic && self.count <= FEW).then(|| {
             std::array::from_fn(|j| {
                 let k = j + 1;
-                f32x8::splat(if k < self.count {
+                F32Lanes::splat(if k < self.count {
                     (k * k) as f32
                 } else {
                     f32::INFINITY
@@ -144,27 +144,27 @@ impl Layering {
     /// comparisons, no branch on the layer count; the same index (a
     /// comparison with `+inf` adds nothing for finite `q`).
     #[inline(always)]
-    pub fn interval_few_i32x8(&self, thresholds: &[f32x8; FEW - 1], x: f32x8) -> i32x8 {
-        let q = x.fast_max(f32x8::ZERO) * f32x8::splat(self.scale);
-        let mut i = f32x8::ZERO;
+    pub fn interval_few_i32x8(&self, thresholds: &[F32Lanes; FEW - 1], x: F32Lanes) -> I32Lanes {
+        let q = x.fast_max(F32Lanes::ZERO) * F32Lanes::splat(self.scale);
+        let mut i = F32Lanes::ZERO;
         for t in thresholds {
-            i += q.simd_ge(*t) & f32x8::ONE;
+            i += q.simd_ge(*t) & F32Lanes::ONE;
         }
         i.fast_trunc_int()
     }
 
-    /// [`Layering::interval_x8`] as `f32` lanes (exact small integers).
+    /// [`Layering::interval_simd`] as `f32` lanes (exact small integers).
     /// `x` must not be NaN (a NaN lane gives some index in `0..L`:
     /// `fast_max(x, 0)` returns 0 for it).
     #[inline(always)]
-    pub fn interval_f32x8(&self, x: f32x8) -> f32x8 {
-        let last = f32x8::splat((self.count - 1) as f32);
-        let q = x.fast_max(f32x8::ZERO) * f32x8::splat(self.scale);
+    pub fn interval_f32x8(&self, x: F32Lanes) -> F32Lanes {
+        let last = F32Lanes::splat((self.count - 1) as f32);
+        let q = x.fast_max(F32Lanes::ZERO) * F32Lanes::splat(self.scale);
         if self.quadratic && self.count <= FEW {
             // The scalar's comparisons, in the same order.
-            let mut i = f32x8::ZERO;
+            let mut i = F32Lanes::ZERO;
             for k in 1..self.count {
-                i += q.simd_ge(f32x8::splat((k * k) as f32)) & f32x8::ONE;
+                i += q.simd_ge(F32Lanes::splat((k * k) as f32)) & F32Lanes::ONE;
             }
             i
         } else {
@@ -201,10 +201,10 @@ mod tests {
                         let i = i as f32;
                         let divided = ((q - i * i) / (2.0 * i + 1.0)).min(1.0);
                         assert!((f - divided).abs() <= f32::EPSILON, "L {count} q {q}");
-                        let lanes = ly.interval_x8(f32x8::splat(x));
+                        let lanes = ly.interval_simd(F32Lanes::splat(x));
                         assert_eq!(lanes, [want; LANES], "L {count} q {q}");
                         let few = ly.few_thresholds().expect("quadratic, few layers");
-                        let lanes = ly.interval_few_i32x8(&few, f32x8::splat(x));
+                        let lanes = ly.interval_few_i32x8(&few, F32Lanes::splat(x));
                         assert_eq!(lanes.to_array(), [want as i32; LANES], "L {count} q {q}");
                     }
                     below = f32::from_bits(below.to_bits() - 1);

@@ -1,4 +1,4 @@
-//! The SIMD batch lookup: eight points per step in `f32x8` lanes, the same
+//! The SIMD batch lookup: eight points per step in `F32Lanes` lanes, the same
 //! arithmetic in the same order as the one-point
 //! [`OpacityShadowMap::transmittance`] (which `shadow/scalar/lookup.rs`
 //! runs per point). Texel reads: with up to four layers (one RGBA group,
@@ -19,9 +19,9 @@ use super::layers::{FEW, ODD_RECIPROCALS};
 use super::map::OpacityShadowMap;
 use super::settings::ShadowMode;
 use crate::Error;
-use coif_base::{Vec3x8, LANES};
+use coif_base::lanes::{from_groups, F32Group, F32Lanes, I32Lanes, GROUP_LANES};
+use coif_base::{Vec3Lanes, LANES};
 use glam::Vec3;
-use wide::{f32x8, i32x8};
 
 impl OpacityShadowMap {
     /// SIMD batch: transmittance of every point of `points` into `out`
@@ -44,11 +44,11 @@ impl OpacityShadowMap {
             .chunks(LANES)
             .zip(out[..len].chunks_mut(LANES))
         {
-            let mut p = Vec3x8::ZERO;
+            let mut p = Vec3Lanes::ZERO;
             for (l, q) in chunk.iter().enumerate() {
                 p.set_lane(l, *q);
             }
-            let t = self.transmittance_x8(p);
+            let t = self.transmittance_simd(p);
             o.copy_from_slice(&t.as_array()[..chunk.len()]);
         }
         Ok(())
@@ -64,55 +64,55 @@ impl OpacityShadowMap {
     /// the exponential (below 1e-6, tested). For a fused per-vertex pass:
     /// no frame-sized buffer, no allocation.
     #[inline]
-    pub fn transmittance_x8(&self, p: Vec3x8) -> f32x8 {
-        (f32x8::splat(-self.hair_opacity) * self.hairs_in_front_x8(p)).exp()
+    pub fn transmittance_simd(&self, p: Vec3Lanes) -> F32Lanes {
+        (F32Lanes::splat(-self.hair_opacity) * self.hairs_in_front_simd(p)).exp()
     }
 
     /// The texel-averaged number of hairs between each lane's point and the
     /// light, sigma (`T = exp(-alpha sigma)`, see
     /// [`OpacityShadowMap::hairs_in_front`]): the steps of
-    /// [`OpacityShadowMap::transmittance_x8`] before the exponential. 0 for
+    /// [`OpacityShadowMap::transmittance_simd`] before the exponential. 0 for
     /// a non-finite point and before a build found hair.
     #[inline]
-    pub fn hairs_in_front_x8(&self, p: Vec3x8) -> f32x8 {
-        self.sigma_x8::<false>(p).0
+    pub fn hairs_in_front_simd(&self, p: Vec3Lanes) -> F32Lanes {
+        self.sigma_simd::<false>(p).0
     }
 
-    /// [`OpacityShadowMap::hairs_in_front_x8`] and, from the same texel
+    /// [`OpacityShadowMap::hairs_in_front_simd`] and, from the same texel
     /// fetches, the hairs on the light's whole ray through each point (the
     /// last plane's count, blended the same way): the hair in front of and
     /// behind the point, as dual scattering takes them
-    /// (`crate::dual_scattering::DualScattering::shade_layered_x8`).
+    /// (`crate::dual_scattering::DualScattering::shade_layered_simd`).
     /// `(0, 0)` for a non-finite point and before a build found hair.
     #[inline]
-    pub fn hairs_in_front_and_through_x8(&self, p: Vec3x8) -> (f32x8, f32x8) {
-        self.sigma_x8::<true>(p)
+    pub fn hairs_in_front_and_through_simd(&self, p: Vec3Lanes) -> (F32Lanes, F32Lanes) {
+        self.sigma_simd::<true>(p)
     }
 
     /// The lookup of sigma at each point, and with `THROUGH` the last
     /// plane's sigma too (else 0).
     #[inline(always)]
-    fn sigma_x8<const THROUGH: bool>(&self, p: Vec3x8) -> (f32x8, f32x8) {
-        let one = f32x8::ONE;
+    fn sigma_simd<const THROUGH: bool>(&self, p: Vec3Lanes) -> (F32Lanes, F32Lanes) {
+        let one = F32Lanes::ONE;
         if !self.ready {
-            return (f32x8::ZERO, f32x8::ZERO);
+            return (F32Lanes::ZERO, F32Lanes::ZERO);
         }
         let finite = p.finite();
-        let p = Vec3x8::select(finite, p, Vec3x8::ZERO);
+        let p = Vec3Lanes::select(finite, p, Vec3Lanes::ZERO);
         // 1. Light space, texel coordinates, corners and fractions.
         let f = &self.frame;
-        let lx = p.dot(Vec3x8::splat(f.x_axis));
-        let ly = p.dot(Vec3x8::splat(f.y_axis));
-        let lz = p.dot(Vec3x8::splat(f.z_axis));
+        let lx = p.dot(Vec3Lanes::splat(f.x_axis));
+        let ly = p.dot(Vec3Lanes::splat(f.y_axis));
+        let lz = p.dot(Vec3Lanes::splat(f.z_axis));
         let pl = &self.placement;
-        let inv_h = f32x8::splat(pl.inv_texel);
-        let half = f32x8::splat(0.5);
-        let u = (lx - f32x8::splat(pl.x0)) * inv_h - half;
-        let v = (ly - f32x8::splat(pl.y0)) * inv_h - half;
+        let inv_h = F32Lanes::splat(pl.inv_texel);
+        let half = F32Lanes::splat(0.5);
+        let u = (lx - F32Lanes::splat(pl.x0)) * inv_h - half;
+        let v = (ly - F32Lanes::splat(pl.y0)) * inv_h - half;
         // A finite point so far away that its light-space coordinates
         // overflow is outside the map: lit, as in the scalar.
         let finite = finite & u.is_finite() & v.is_finite() & lz.is_finite();
-        let zero = f32x8::ZERO;
+        let zero = F32Lanes::ZERO;
         let (u, v, lz) = (
             finite.select(u, zero),
             finite.select(v, zero),
@@ -124,15 +124,15 @@ impl OpacityShadowMap {
         // The four corner texels of each lane: indices clamped into the map
         // (so the gathers need no branches) and a mask of the corners that
         // really are inside it; the others contribute 0, as in the scalar.
-        let last = f32x8::splat((self.settings.resolution - 1) as f32);
-        let inside = |a: f32x8| a.simd_ge(f32x8::ZERO) & a.simd_le(last);
+        let last = F32Lanes::splat((self.settings.resolution - 1) as f32);
+        let inside = |a: F32Lanes| a.simd_ge(F32Lanes::ZERO) & a.simd_le(last);
         // Clamped into [0, n - 1] (NaN-free: finite lanes only), so the
         // truncation is exact; corner indices below n^2 <= 2^26 in i32.
-        let clamp = |a: f32x8| a.fast_max(f32x8::ZERO).fast_min(last).fast_trunc_int();
+        let clamp = |a: F32Lanes| a.fast_max(F32Lanes::ZERO).fast_min(last).fast_trunc_int();
         let (fu1, fv1) = (fu + one, fv + one);
         let (in_x, in_x1, in_y, in_y1) = (inside(fu), inside(fu1), inside(fv), inside(fv1));
         let valid = [in_x & in_y, in_x1 & in_y, in_x & in_y1, in_x1 & in_y1];
-        let row = i32x8::splat(self.settings.resolution as i32);
+        let row = I32Lanes::splat(self.settings.resolution as i32);
         let (cx, cx1, cy, cy1) = (clamp(fu), clamp(fu1), clamp(fv) * row, clamp(fv1) * row);
         let corner = [cy + cx, cy + cx1, cy1 + cx, cy1 + cx1];
 
@@ -146,47 +146,47 @@ impl OpacityShadowMap {
         // bring it. More planes: two gathers.
         let one_group = self.settings.layers <= 4;
         let depth_in_texel = self.depth_in_texels();
-        let mut planes = [[f32x8::ZERO; 8]; 2];
+        let mut planes = [[F32Lanes::ZERO; 8]; 2];
         if one_group {
             let ct = corner.map(|c| c.to_array());
-            planes[0] = self.texel_planes_x8(&ct[0], &ct[1]);
-            planes[1] = self.texel_planes_x8(&ct[2], &ct[3]);
+            planes[0] = self.texel_planes_simd(&ct[0], &ct[1]);
+            planes[1] = self.texel_planes_simd(&ct[2], &ct[3]);
         }
-        let mut sigma = [f32x8::ZERO; 4];
-        let mut through = [f32x8::ZERO; 4];
+        let mut sigma = [F32Lanes::ZERO; 4];
+        let mut through = [F32Lanes::ZERO; 4];
         let last_plane = self.settings.layers - 1;
         for (c, out) in sigma.iter_mut().enumerate() {
             let p = &planes[c / 2][4 * (c % 2)..4 * (c % 2) + 4];
             let base = match self.settings.mode {
-                ShadowMode::Slices => f32x8::splat(pl.near),
+                ShadowMode::Slices => F32Lanes::splat(pl.near),
                 ShadowMode::Deep if depth_in_texel => p[3],
                 ShadowMode::Deep => gather(&self.first_depth, corner[c]),
             };
-            let (s, i, frac) = self.locate_x8(lz - base);
-            let first = i.simd_eq(f32x8::ZERO);
+            let (s, i, frac) = self.locate_simd(lz - base);
+            let first = i.simd_eq(F32Lanes::ZERO);
             let (prev, next) = if one_group {
                 pick_pair(p, i)
             } else if self.flat_fits() {
-                self.plane_pair_x8(corner[c], s, first)
+                self.plane_pair_simd(corner[c], s, first)
             } else {
                 self.plane_pair_lanes(corner[c], s)
             };
-            *out = valid[c].select(prev + frac * (next - prev), f32x8::ZERO);
+            *out = valid[c].select(prev + frac * (next - prev), F32Lanes::ZERO);
             if THROUGH {
                 let last = if one_group {
                     p[last_plane]
                 } else {
-                    let s = i32x8::splat(last_plane as i32);
+                    let s = I32Lanes::splat(last_plane as i32);
                     self.plane_pair_lanes(corner[c], s).1
                 };
-                through[c] = valid[c].select(last, f32x8::ZERO);
+                through[c] = valid[c].select(last, F32Lanes::ZERO);
             }
         }
         // 3. Bilinear blend (the exponential is the caller's).
-        let blend = |v: &[f32x8; 4]| {
+        let blend = |v: &[F32Lanes; 4]| {
             let s =
                 (v[0] * (one - fx) + v[1] * fx) * (one - fy) + (v[2] * (one - fx) + v[3] * fx) * fy;
-            finite.select(s, f32x8::ZERO)
+            finite.select(s, F32Lanes::ZERO)
         };
         let front = blend(&sigma);
         (
@@ -194,7 +194,7 @@ impl OpacityShadowMap {
             if THROUGH {
                 blend(&through)
             } else {
-                f32x8::ZERO
+                F32Lanes::ZERO
             },
         )
     }
@@ -205,25 +205,25 @@ impl OpacityShadowMap {
     /// the finite values here: non-finite points were replaced by the
     /// origin in step 1).
     #[inline(always)]
-    fn locate_x8(&self, x: f32x8) -> (i32x8, f32x8, f32x8) {
+    fn locate_simd(&self, x: F32Lanes) -> (I32Lanes, F32Lanes, F32Lanes) {
         let ly = &self.layering;
-        let one = f32x8::ONE;
-        let q = x.fast_max(f32x8::ZERO) * f32x8::splat(ly.scale);
+        let one = F32Lanes::ONE;
+        let q = x.fast_max(F32Lanes::ZERO) * F32Lanes::splat(ly.scale);
         let i = ly.interval_f32x8(x);
         let f = if ly.quadratic && ly.count <= FEW {
             // The scalar's table entry `1 / (2 i + 1)`, by selects.
             let r = ODD_RECIPROCALS;
-            let is = |k: f32| i.simd_eq(f32x8::splat(k));
+            let is = |k: f32| i.simd_eq(F32Lanes::splat(k));
             let recip = is(0.0).select(
-                f32x8::splat(r[0]),
+                F32Lanes::splat(r[0]),
                 is(1.0).select(
-                    f32x8::splat(r[1]),
-                    is(2.0).select(f32x8::splat(r[2]), f32x8::splat(r[3])),
+                    F32Lanes::splat(r[1]),
+                    is(2.0).select(F32Lanes::splat(r[2]), F32Lanes::splat(r[3])),
                 ),
             );
             ((q - i * i) * recip).fast_min(one)
         } else if ly.quadratic {
-            ((q - i * i) / (f32x8::splat(2.0) * i + one)).fast_min(one)
+            ((q - i * i) / (F32Lanes::splat(2.0) * i + one)).fast_min(one)
         } else {
             (q - i).fast_min(one)
         };
@@ -236,27 +236,32 @@ impl OpacityShadowMap {
     /// that `[0..4]` are planes 0 to 3 of the `a` texels and `[4..8]` those
     /// of the `b` texels. Texel indices are in the map (clamped corners).
     #[inline(always)]
-    fn texel_planes_x8(&self, a: &[i32; LANES], b: &[i32; LANES]) -> [f32x8; 8] {
-        let mut rows = [f32x8::ZERO; LANES];
+    fn texel_planes_simd(&self, a: &[i32; LANES], b: &[i32; LANES]) -> [F32Lanes; 8] {
         // The corners are clamped into the map by construction; clamped
         // again here (a no-op) so that the reads need no bounds check.
         let Some(last) = self.texels.len().checked_sub(1) else {
-            return rows;
+            return [F32Lanes::ZERO; 8];
         };
-        let last = i32x8::splat(last.min(i32::MAX as usize) as i32);
-        let in_map = |i: &[i32; LANES]| i32x8::new(*i).max(i32x8::ZERO).min(last).to_array();
+        let last = I32Lanes::splat(last.min(i32::MAX as usize) as i32);
+        let in_map = |i: &[i32; LANES]| I32Lanes::new(*i).max(I32Lanes::ZERO).min(last).to_array();
         let (a, b) = (in_map(a), in_map(b));
-        for (l, row) in rows.iter_mut().enumerate() {
-            // SAFETY: 0 <= a[l], b[l] <= texels.len() - 1 (clamped above).
-            let (x, y) = unsafe {
-                (
-                    *self.texels.get_unchecked(a[l] as usize),
-                    *self.texels.get_unchecked(b[l] as usize),
-                )
-            };
-            *row = f32x8::new([x[0], x[1], x[2], x[3], y[0], y[1], y[2], y[3]]);
+        // One 8 x 8 transpose per group of eight lanes.
+        let mut groups = [[F32Group::ZERO; 8]; LANES / GROUP_LANES];
+        for (k, planes) in groups.iter_mut().enumerate() {
+            let rows = std::array::from_fn(|j| {
+                let l = k * GROUP_LANES + j;
+                // SAFETY: 0 <= a[l], b[l] <= texels.len() - 1 (clamped above).
+                let (x, y) = unsafe {
+                    (
+                        *self.texels.get_unchecked(a[l] as usize),
+                        *self.texels.get_unchecked(b[l] as usize),
+                    )
+                };
+                F32Group::new([x[0], x[1], x[2], x[3], y[0], y[1], y[2], y[3]])
+            });
+            *planes = F32Group::transpose(rows);
         }
-        f32x8::transpose(rows)
+        std::array::from_fn(|p| from_groups(groups.map(|g| g[p])))
     }
 
     /// Whether every flat float index into the map, `(s / 4) 4 n^2 + 4 t +
@@ -270,31 +275,36 @@ impl OpacityShadowMap {
     /// `first`) of one texel per lane: two gathers from the flat map at
     /// `(s / 4) 4 n^2 + 4 t + s % 4` and the same for `s - 1`.
     #[inline(always)]
-    fn plane_pair_x8(&self, texel: i32x8, s: i32x8, first: f32x8) -> (f32x8, f32x8) {
+    fn plane_pair_simd(
+        &self,
+        texel: I32Lanes,
+        s: I32Lanes,
+        first: F32Lanes,
+    ) -> (F32Lanes, F32Lanes) {
         let nn = self.settings.resolution * self.settings.resolution;
-        let nn4 = i32x8::splat((4 * nn) as i32);
-        let three = i32x8::splat(3);
+        let nn4 = I32Lanes::splat((4 * nn) as i32);
+        let three = I32Lanes::splat(3);
         let t4 = texel << 2;
-        let flat_index = |s: i32x8| {
-            let group: i32x8 = s >> 2;
+        let flat_index = |s: I32Lanes| {
+            let group: I32Lanes = s >> 2;
             group * nn4 + t4 + (s & three)
         };
         let flat = self.texels.as_flattened();
         let next = gather(flat, flat_index(s));
-        let below = gather(flat, flat_index((s - i32x8::ONE).max(i32x8::ZERO)));
-        (first.select(f32x8::ZERO, below), next)
+        let below = gather(flat, flat_index((s - I32Lanes::ONE).max(I32Lanes::ZERO)));
+        (first.select(F32Lanes::ZERO, below), next)
     }
 
     /// [`OpacityShadowMap::plane_pair`] lane by lane (maps too large for
     /// `i32` flat indices).
     #[inline(always)]
-    fn plane_pair_lanes(&self, texel: i32x8, s: i32x8) -> (f32x8, f32x8) {
+    fn plane_pair_lanes(&self, texel: I32Lanes, s: I32Lanes) -> (F32Lanes, F32Lanes) {
         let (texel, s) = (texel.to_array(), s.to_array());
         let pairs: [(f32, f32); LANES] =
             std::array::from_fn(|l| self.plane_pair(texel[l] as usize, s[l] as usize));
         (
-            f32x8::new(pairs.map(|p| p.0)),
-            f32x8::new(pairs.map(|p| p.1)),
+            F32Lanes::new(pairs.map(|p| p.0)),
+            F32Lanes::new(pairs.map(|p| p.1)),
         )
     }
 }
@@ -303,11 +313,11 @@ impl OpacityShadowMap {
 /// `p` per lane, by the lane's interval `i` (an exact small integer in
 /// `0..4`): selects, no memory access.
 #[inline(always)]
-fn pick_pair(p: &[f32x8], i: f32x8) -> (f32x8, f32x8) {
-    let is = |k: f32| i.simd_eq(f32x8::splat(k));
+fn pick_pair(p: &[F32Lanes], i: F32Lanes) -> (F32Lanes, F32Lanes) {
+    let is = |k: f32| i.simd_eq(F32Lanes::splat(k));
     let (i0, i1, i2) = (is(0.0), is(1.0), is(2.0));
     let next = i0.select(p[0], i1.select(p[1], i2.select(p[2], p[3])));
-    let prev = i0.select(f32x8::ZERO, i1.select(p[0], i2.select(p[1], p[2])));
+    let prev = i0.select(F32Lanes::ZERO, i1.select(p[0], i2.select(p[1], p[2])));
     (prev, next)
 }
 

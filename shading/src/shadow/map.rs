@@ -283,7 +283,7 @@ impl OpacityShadowMap {
     /// [`OpacityShadowMap::hairs_in_front`] and the hairs on the light's
     /// whole ray through `p` (the last plane's count, blended the same
     /// way): the scalar twin of
-    /// [`OpacityShadowMap::hairs_in_front_and_through_x8`]. `(0, 0)` where
+    /// [`OpacityShadowMap::hairs_in_front_and_through_simd`]. `(0, 0)` where
     /// there is no map, finite point or hair.
     pub fn hairs_in_front_and_through(&self, p: Vec3) -> (f32, f32) {
         let last = self.settings.layers - 1;

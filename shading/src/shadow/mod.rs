@@ -11,11 +11,11 @@
 //!   layers start at a depth map of the first hair per texel, which removes
 //!   OSM's layering artefacts with few (3) layers.
 //! * Builds: [`OpacityShadowMap::build`] (SIMD, eight segments' samples
-//!   per `f32x8`, deposits in the scalar order) and [`scalar::build`] (the
+//!   per `F32Lanes`, deposits in the scalar order) and [`scalar::build`] (the
 //!   reference) make the same map bit for bit; likewise the batch lookups
 //!   [`OpacityShadowMap::transmittance_batch`] and
 //!   [`scalar::transmittance_batch`] agree to float rounding, and so do the
-//!   per-point [`OpacityShadowMap::transmittance_x8`] (eight points in
+//!   per-point [`OpacityShadowMap::transmittance_simd`] (eight points in
 //!   lanes, for a fused per-vertex pass) and
 //!   [`OpacityShadowMap::transmittance`]. Files mirror:
 //!   `build.rs`, `raster.rs`, `lookup.rs` (SIMD) and `scalar/build.rs`,

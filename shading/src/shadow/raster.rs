@@ -23,7 +23,7 @@
 //! Steps, in both twins: the setup of a group of up to eight consecutive
 //! segments of a strand (`k0 .. k0 + 8`), then the group's samples in
 //! rounds, round `j` taking sample `j` of every segment of the group that
-//! has one (eight segments in the `f32x8` lanes: the lanes stay full however
+//! has one (eight segments in the `F32Lanes` lanes: the lanes stay full however
 //! few samples a segment has, where one segment's samples per register left
 //! most lanes idle on short segments), the same arithmetic in the same
 //! order in both twins (no fused multiply-adds in either), so every lane's
@@ -42,9 +42,9 @@
 use super::light_frame::{LightFrame, MapPlacement};
 use super::strand_lanes::StrandLanes;
 use coif_base::lanes::lanes_below;
-use coif_base::{Vec3x8, LANES};
+use coif_base::lanes::{F32Lanes, I32Lanes};
+use coif_base::{Vec3Lanes, LANES};
 use glam::Vec3;
-use wide::{f32x8, i32x8};
 
 /// Samples per texel of projected segment length.
 pub(crate) const SAMPLES_PER_TEXEL: f32 = 1.0;
@@ -78,11 +78,11 @@ pub struct SplatX8 {
     /// Lower-left texel per lane.
     pub t0: [usize; LANES],
     /// The same as `i32` lanes.
-    pub t0_x8: i32x8,
+    pub t0_simd: I32Lanes,
     /// Weights of `t0`, `t0 + 1`, `t0 + n`, `t0 + n + 1` per lane.
-    pub weights: [f32x8; 4],
+    pub weights: [F32Lanes; 4],
     /// Light-space depth per lane.
-    pub z: f32x8,
+    pub z: F32Lanes,
     /// Bit `l` set: lane `l` holds a sample to deposit.
     pub active: u32,
 }
@@ -107,17 +107,17 @@ impl SplatX8 {
 /// into lanes once.
 #[derive(Clone, Copy)]
 struct Raster {
-    axes: [Vec3x8; 3],
-    max_samples: f32x8,
-    cap_area: f32x8,
-    inv_h: f32x8,
-    inv_h2: f32x8,
-    diameter: f32x8,
-    x0: f32x8,
-    y0: f32x8,
-    last: f32x8,
-    row: i32x8,
-    top: i32x8,
+    axes: [Vec3Lanes; 3],
+    max_samples: F32Lanes,
+    cap_area: F32Lanes,
+    inv_h: F32Lanes,
+    inv_h2: F32Lanes,
+    diameter: F32Lanes,
+    x0: F32Lanes,
+    y0: F32Lanes,
+    last: F32Lanes,
+    row: I32Lanes,
+    top: I32Lanes,
 }
 
 impl Raster {
@@ -133,26 +133,26 @@ impl Raster {
         }
         let inv_h = placement.inv_texel;
         Some(Raster {
-            axes: [frame.x_axis, frame.y_axis, frame.z_axis].map(Vec3x8::splat),
-            max_samples: f32x8::splat((4 * resolution) as f32),
-            cap_area: f32x8::splat(std::f32::consts::PI * hair_radius * hair_radius),
-            inv_h: f32x8::splat(inv_h),
-            inv_h2: f32x8::splat(inv_h * inv_h),
-            diameter: f32x8::splat(2.0 * hair_radius),
-            x0: f32x8::splat(placement.x0),
-            y0: f32x8::splat(placement.y0),
-            last: f32x8::splat(resolution.saturating_sub(2) as f32),
-            row: i32x8::splat(resolution as i32),
+            axes: [frame.x_axis, frame.y_axis, frame.z_axis].map(Vec3Lanes::splat),
+            max_samples: F32Lanes::splat((4 * resolution) as f32),
+            cap_area: F32Lanes::splat(std::f32::consts::PI * hair_radius * hair_radius),
+            inv_h: F32Lanes::splat(inv_h),
+            inv_h2: F32Lanes::splat(inv_h * inv_h),
+            diameter: F32Lanes::splat(2.0 * hair_radius),
+            x0: F32Lanes::splat(placement.x0),
+            y0: F32Lanes::splat(placement.y0),
+            last: F32Lanes::splat(resolution.saturating_sub(2) as f32),
+            row: I32Lanes::splat(resolution as i32),
             // The largest lower-left texel, (n - 2) n + n - 2.
-            top: i32x8::splat((resolution * resolution - resolution - 2) as i32),
+            top: I32Lanes::splat((resolution * resolution - resolution - 2) as i32),
         })
     }
 
     /// Light-space coordinates of eight points (the scalar's unfused dot
     /// products).
     #[inline(always)]
-    fn light_space(&self, p: Vec3x8) -> Vec3x8 {
-        Vec3x8 {
+    fn light_space(&self, p: Vec3Lanes) -> Vec3Lanes {
+        Vec3Lanes {
             x: p.dot(self.axes[0]),
             y: p.dot(self.axes[1]),
             z: p.dot(self.axes[2]),
@@ -166,13 +166,13 @@ impl Raster {
     #[inline(always)]
     fn segments(
         &self,
-        la: Vec3x8,
-        lb: Vec3x8,
+        la: Vec3Lanes,
+        lb: Vec3Lanes,
         sampled: u32,
-        cap: f32x8,
+        cap: F32Lanes,
         deposit: &mut impl FnMut(&SplatX8),
     ) {
-        let (zero, one, half) = (f32x8::ZERO, f32x8::ONE, f32x8::splat(0.5));
+        let (zero, one, half) = (F32Lanes::ZERO, F32Lanes::ONE, F32Lanes::splat(0.5));
         let d = lb - la;
         let len_xy = (d.x * d.x + d.y * d.y).sqrt();
         // The scalar's `floor(x + 1/2) as usize` clamped to [1, 4 res]: equal for
@@ -189,11 +189,11 @@ impl Raster {
         let (du, dv, za, dz) = (d.x * self.inv_h, d.y * self.inv_h, la.z, d.z);
         // The most samples of a sampled lane (n >= 1 there, an exact
         // integer): the rounds.
-        let sampled_lanes = i32x8::new(std::array::from_fn(|l| -((sampled >> l) as i32 & 1)));
+        let sampled_lanes = I32Lanes::new(std::array::from_fn(|l| -((sampled >> l) as i32 & 1)));
         let rounds = (n.fast_trunc_int() & sampled_lanes).reduce_max();
         for j in 0..rounds {
             // 2. Sample j of every segment of the group.
-            let jf = f32x8::splat(j as f32); // j < 2^24: exact
+            let jf = F32Lanes::splat(j as f32); // j < 2^24: exact
             let t = (jf + half) * inv_n;
             let (u, v) = (ua + du * t, va + dv * t);
             let (fu, fv) = (u.floor(), v.floor());
@@ -206,14 +206,14 @@ impl Raster {
             let j0 = fv.max(zero).min(self.last).fast_trunc_int();
             // Below n^2 <= 8192^2 < 2^31: no overflow in i32.
             // Lanes not sampled may be garbage: clamped into the map.
-            let t0_x8 = (j0 * self.row + i0).max(i32x8::ZERO).min(self.top);
-            let t0 = t0_x8.to_array();
+            let t0_simd = (j0 * self.row + i0).max(I32Lanes::ZERO).min(self.top);
+            let t0 = t0_simd.to_array();
             // j < n, both exact small integers in f32.
             let active = jf.simd_lt(n).to_bitmask() & sampled;
             // 3. Deposit (the caller goes through the lanes in order).
             deposit(&SplatX8 {
                 t0: t0.map(|t| t as usize),
-                t0_x8,
+                t0_simd,
                 weights: [gx * gy * w, fx * gy * w, gx * fy * w, fx * fy * w],
                 z: za + dz * t,
                 active,
@@ -223,7 +223,7 @@ impl Raster {
 }
 
 /// SIMD twin of [`super::scalar::raster::for_each_sample`]: per group of
-/// eight consecutive segments of a strand, the setup in `f32x8` lanes
+/// eight consecutive segments of a strand, the setup in `F32Lanes` lanes
 /// (light-space ends, length across the light, sample count `n =
 /// round(|d_xy| / h)` clamped to `[1, 4 res]`, `1 / n`, coverage per
 /// sample, start and step in texel coordinates: the scalar operations in
@@ -259,7 +259,7 @@ pub fn for_each_sample(
             // k0 - 1 + i (false before the root); lane l's segment runs
             // from vertex k0 + l to k0 + l + 1.
             let mut finite = [false; LANES + 2];
-            let (mut a, mut b) = (Vec3x8::ZERO, Vec3x8::ZERO);
+            let (mut a, mut b) = (Vec3Lanes::ZERO, Vec3Lanes::ZERO);
             finite[0] = k0 > 0 && strand[k0 - 1].is_finite();
             finite[1] = strand[k0].is_finite();
             for l in 0..count {
@@ -278,10 +278,10 @@ pub fn for_each_sample(
             if sampled == 0 {
                 continue;
             }
-            let cap = f32x8::new(std::array::from_fn(|l| if finite[l] { 0.0 } else { 1.0 }));
+            let cap = F32Lanes::new(std::array::from_fn(|l| if finite[l] { 0.0 } else { 1.0 }));
             let cap = cap
-                .simd_gt(f32x8::ZERO)
-                .select(raster.cap_area, f32x8::ZERO);
+                .simd_gt(F32Lanes::ZERO)
+                .select(raster.cap_area, F32Lanes::ZERO);
             let (la, lb) = (raster.light_space(a), raster.light_space(b));
             raster.segments(la, lb, sampled, cap, &mut deposit);
         }
@@ -322,7 +322,7 @@ pub fn for_each_sample_lanes<H: StrandLanes + ?Sized>(
         // 1. Segment setup per row pair; `before`: the vertex before the
         // segment is finite (none before the root).
         let p = row(0);
-        let mut before = f32x8::ZERO;
+        let mut before = F32Lanes::ZERO;
         let mut fin_a = p.finite() & hair_lanes;
         let mut la = raster.light_space(p);
         for r in 1..verts {
@@ -331,7 +331,7 @@ pub fn for_each_sample_lanes<H: StrandLanes + ?Sized>(
             let lb = raster.light_space(q);
             let sampled = (fin_a & fin_b).to_bitmask();
             if sampled != 0 {
-                let cap = before.select(f32x8::ZERO, raster.cap_area);
+                let cap = before.select(F32Lanes::ZERO, raster.cap_area);
                 raster.segments(la, lb, sampled, cap, &mut deposit);
             }
             (before, fin_a, la) = (fin_a, fin_b, lb);

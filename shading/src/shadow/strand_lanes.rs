@@ -1,10 +1,10 @@
 //! Hair in lane layout for a shadow-map build: blocks of up to eight
-//! strands of one length in the lanes of `f32x8`, as an interpolation pass
+//! strands of one length in the lanes of `F32Lanes`, as an interpolation pass
 //! makes them (a group of hairs of one scalp triangle), so that a build can
 //! take them without a frame-sized buffer of points and without moving
 //! them out of their lanes (see `OpacityShadowMap::build_lanes`).
 
-use coif_base::{Vec3x8, LANES};
+use coif_base::{Vec3Lanes, LANES};
 use glam::Vec3;
 
 /// Strands in blocks of up to [`LANES`], every strand with
@@ -22,7 +22,7 @@ pub trait StrandLanes: Sync {
 
     /// Block `b`: how many of its lanes are strands (0 to [`LANES`]; 0 for
     /// a block that is out of range or empty), and its rows.
-    fn block(&self, b: usize) -> (usize, impl Fn(usize) -> Vec3x8 + '_);
+    fn block(&self, b: usize) -> (usize, impl Fn(usize) -> Vec3Lanes + '_);
 }
 
 /// Stored rows: `rows[b * verts + r]` is row `r` of block `b`, `strands`
@@ -30,7 +30,7 @@ pub trait StrandLanes: Sync {
 #[derive(Clone, Copy, Debug)]
 pub struct LaneRows<'a> {
     /// The rows, block after block.
-    pub rows: &'a [Vec3x8],
+    pub rows: &'a [Vec3Lanes],
     /// Vertices per strand.
     pub verts: usize,
     /// Strands in all (at most `LANES` per block).
@@ -51,7 +51,7 @@ impl StrandLanes for LaneRows<'_> {
             .min(self.rows.len() / self.verts)
     }
 
-    fn block(&self, b: usize) -> (usize, impl Fn(usize) -> Vec3x8 + '_) {
+    fn block(&self, b: usize) -> (usize, impl Fn(usize) -> Vec3Lanes + '_) {
         let lanes = if b < self.blocks() {
             (self.strands - b * LANES).min(LANES)
         } else {
@@ -63,7 +63,7 @@ impl StrandLanes for LaneRows<'_> {
             &[]
         };
         (lanes, move |r: usize| {
-            rows.get(r).copied().unwrap_or(Vec3x8::ZERO)
+            rows.get(r).copied().unwrap_or(Vec3Lanes::ZERO)
         })
     }
 }
@@ -74,13 +74,13 @@ impl StrandLanes for LaneRows<'_> {
 /// `fill`. Replaces the contents of `rows` (allocates when it grows: for
 /// tests, benchmarks and callers that convert once). Returns the number of
 /// strands.
-pub fn to_lane_rows(points: &[Vec3], verts: usize, fill: Vec3, rows: &mut Vec<Vec3x8>) -> usize {
+pub fn to_lane_rows(points: &[Vec3], verts: usize, fill: Vec3, rows: &mut Vec<Vec3Lanes>) -> usize {
     rows.clear();
     if verts == 0 {
         return 0;
     }
     let strands = points.len() / verts;
-    rows.resize(strands.div_ceil(LANES) * verts, Vec3x8::splat(fill));
+    rows.resize(strands.div_ceil(LANES) * verts, Vec3Lanes::splat(fill));
     for (s, strand) in points.chunks_exact(verts).enumerate() {
         for (r, p) in strand.iter().enumerate() {
             rows[(s / LANES) * verts + r].set_lane(s % LANES, *p);

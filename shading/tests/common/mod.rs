@@ -1,7 +1,7 @@
 //! Dev-only fixtures of the coif-shading tests.
 #![allow(dead_code)]
 
-use coif_base::{SplitMix64, Vec3x8};
+use coif_base::{SplitMix64, Vec3Lanes};
 use coif_shading::shadow::OpacityShadowMap;
 use glam::Vec3;
 
@@ -52,7 +52,7 @@ pub fn stored_bits(map: &OpacityShadowMap) -> Vec<u32> {
 /// `build_lanes` (`shadow::to_lane_rows`); lanes past the last strand hold
 /// `1e30` (finite, far away: a build that read them would place its map
 /// elsewhere). Returns the rows and the strand count.
-pub fn lane_rows(points: &[Vec3], verts: usize) -> (Vec<Vec3x8>, usize) {
+pub fn lane_rows(points: &[Vec3], verts: usize) -> (Vec<Vec3Lanes>, usize) {
     let mut rows = Vec::new();
     let strands = coif_shading::shadow::to_lane_rows(points, verts, Vec3::splat(1.0e30), &mut rows);
     (rows, strands)

@@ -20,7 +20,7 @@
 //! component, so points up to about `1e35` cells away neither overflow nor
 //! lose the direction.
 //!
-//! The scalar ([`f32`]) and SIMD ([`f32x8`]) paths run the same generic body
+//! The scalar ([`f32`]) and SIMD ([`F32Lanes`]) paths run the same generic body
 //! ([`sample`]); only the corner loads differ (eight AVX2 gathers, or plain
 //! loads), so they agree bit for bit. A NaN coordinate clamps to the box
 //! (`maxps` returns its second operand on NaN) and gives a NaN or a finite
@@ -29,7 +29,7 @@
 
 use super::{Grid, Sdf};
 use crate::lanes::{Lane, V3};
-use wide::{f32x8, i32x8};
+use coif_base::lanes::{F32Lanes, I32Lanes, LANES};
 
 /// Signed distance and its gradient (d/dp of the trilinear interpolant, mesh
 /// frame, not normalised) at points given in the MESH frame, one lane or
@@ -159,56 +159,64 @@ impl SdfLane for f32 {
     }
 }
 
-impl SdfLane for f32x8 {
+impl SdfLane for F32Lanes {
     #[inline(always)]
-    fn floor(self) -> f32x8 {
-        f32x8::floor(self)
+    fn floor(self) -> F32Lanes {
+        F32Lanes::floor(self)
     }
     #[inline(always)]
-    fn corners(g: &Grid, base: f32x8) -> [f32x8; 8] {
+    fn corners(g: &Grid, base: F32Lanes) -> [F32Lanes; 8] {
         let b = base
             .trunc_int()
-            .max(i32x8::splat(0))
-            .min(i32x8::splat(g.max_base));
-        g.corners.map(|o| gather(&g.values, b + i32x8::splat(o)))
+            .max(I32Lanes::splat(0))
+            .min(I32Lanes::splat(g.max_base));
+        g.corners.map(|o| gather(&g.values, b + I32Lanes::splat(o)))
     }
     #[inline(always)]
-    fn fetch(table: &[f32], idx: f32x8) -> f32x8 {
+    fn fetch(table: &[f32], idx: F32Lanes) -> F32Lanes {
         if table.is_empty() {
-            return f32x8::ZERO;
+            return F32Lanes::ZERO;
         }
         let last = table.len() as i32 - 1;
-        let i = idx.trunc_int().max(i32x8::splat(0)).min(i32x8::splat(last));
+        let i = idx
+            .trunc_int()
+            .max(I32Lanes::splat(0))
+            .min(I32Lanes::splat(last));
         gather(table, i)
     }
 }
 
 /// `values[idx[l]]` per lane; every index is in `0..values.len()` (the
-/// caller clamps the base so that base plus any corner offset is).
+/// caller clamps the base so that base plus any corner offset is). One AVX2
+/// gather per eight lanes (two in a 16-lane build: AVX-512's 16-lane gather
+/// is not used, as no machine at hand could test it).
 #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
 #[inline(always)]
-fn gather(values: &[f32], idx: i32x8) -> f32x8 {
+fn gather(values: &[f32], idx: I32Lanes) -> F32Lanes {
     use std::arch::x86_64::{__m256i, _mm256_i32gather_ps, _mm256_loadu_si256, _mm256_storeu_ps};
     let lanes = idx.to_array();
     debug_assert!(lanes.iter().all(|&i| i >= 0 && (i as usize) < values.len()));
-    let mut out = [0.0f32; 8];
-    // SAFETY: AVX2 is enabled (cfg above). Every lane index is in
-    // `0..values.len()` (clamped by the caller, checked in debug builds), so
-    // the gather reads only inside `values`; `lanes` and `out` are 8-element
-    // arrays, matching the unaligned 256-bit load and store.
-    unsafe {
-        let vi = _mm256_loadu_si256(lanes.as_ptr() as *const __m256i);
-        let v = _mm256_i32gather_ps::<4>(values.as_ptr(), vi);
-        _mm256_storeu_ps(out.as_mut_ptr(), v);
+    let mut out = [0.0f32; LANES];
+    for (group, dst) in lanes.chunks_exact(8).zip(out.chunks_exact_mut(8)) {
+        // SAFETY: AVX2 is enabled (cfg above). Every lane index is in
+        // `0..values.len()` (clamped by the caller, checked in debug
+        // builds), so the gather reads only inside `values`; `group` and
+        // `dst` are 8-element chunks, matching the unaligned 256-bit load
+        // and store.
+        unsafe {
+            let vi = _mm256_loadu_si256(group.as_ptr() as *const __m256i);
+            let v = _mm256_i32gather_ps::<4>(values.as_ptr(), vi);
+            _mm256_storeu_ps(dst.as_mut_ptr(), v);
+        }
     }
-    f32x8::new(out)
+    F32Lanes::new(out)
 }
 
 /// Plain loads where AVX2 is not enabled.
 #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
 #[inline(always)]
-fn gather(values: &[f32], idx: i32x8) -> f32x8 {
-    f32x8::new(idx.to_array().map(|i| values[i as usize]))
+fn gather(values: &[f32], idx: I32Lanes) -> F32Lanes {
+    F32Lanes::new(idx.to_array().map(|i| values[i as usize]))
 }
 
 /// `(b - a) t + a`, fused.
@@ -297,7 +305,7 @@ pub(crate) fn sample<T: SdfLane>(g: &Grid, p: V3<T>, outside: bool) -> (T, V3<T>
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::lanes::Vec3x8;
+    use crate::lanes::Vec3Lanes;
     use glam::Vec3;
 
     /// A closed UV sphere of radius 0.1 and its field at 1 cm.
@@ -375,11 +383,11 @@ mod tests {
             points.push(p);
         }
         for block in points.chunks_exact(8) {
-            let mut v = Vec3x8::ZERO;
+            let mut v = Vec3Lanes::ZERO;
             for (l, p) in block.iter().enumerate() {
                 v.set_lane(l, *p);
             }
-            let (d8, g8) = <f32x8 as SdfLane>::sample(&sdf, v);
+            let (d8, g8) = <F32Lanes as SdfLane>::sample(&sdf, v);
             for (l, p) in block.iter().enumerate() {
                 let (d1, g1) = <f32 as SdfLane>::sample(&sdf, V3::from_vec3(*p));
                 let g = g8.lane(l);

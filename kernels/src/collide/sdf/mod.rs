@@ -24,10 +24,10 @@ mod winding;
 
 pub(crate) use lookup::SdfLane;
 
-use crate::lanes::{Vec3x8, V3};
+use crate::lanes::{Vec3Lanes, V3};
 use crate::Error;
+use coif_base::lanes::F32Lanes;
 use glam::{Affine3A, UVec3, Vec3};
-use wide::f32x8;
 
 /// The most grid nodes (stored distances) [`Sdf::from_mesh`] accepts:
 /// `2^23` = 8,388,608, i.e. 32 MiB of `f32` values kept, and about three
@@ -347,8 +347,8 @@ impl Sdf {
     /// [`Sdf::sample_mesh`] for eight points at once (one per lane), the
     /// SIMD lookup: the same bits per lane as the scalar one. Allocates
     /// nothing.
-    pub fn sample_mesh_x8(&self, p_mesh: Vec3x8) -> (f32x8, Vec3x8) {
-        <f32x8 as SdfLane>::sample(self, p_mesh)
+    pub fn sample_mesh_simd(&self, p_mesh: Vec3Lanes) -> (F32Lanes, Vec3Lanes) {
+        <F32Lanes as SdfLane>::sample(self, p_mesh)
     }
 
     /// The transform set last (world from mesh; the identity at first).

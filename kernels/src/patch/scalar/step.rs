@@ -85,7 +85,7 @@ impl Patch {
         let (i, l) = self.slot(q);
         self.pos[i].set_lane(l, x);
     }
-    fn lane_value(&self, a: &[wide::f32x8], q: usize) -> f32 {
+    fn lane_value(&self, a: &[coif_base::lanes::F32Lanes], q: usize) -> f32 {
         let (i, l) = self.slot(q);
         a[i].as_array()[l]
     }

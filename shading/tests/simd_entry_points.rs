@@ -1,12 +1,12 @@
-//! The per-element eight-lane entry points a fused per-vertex pass calls
-//! (no batch buffers): each `_x8` lane equals its one-element scalar twin
-//! (Kajiya-Kay `shade` / `shade_x8`, Marschner `Lut::scattering` /
-//! `scattering_x8`, pbrt `Table::scattering` / `scattering_x8`, shadow
-//! `transmittance` / `transmittance_x8`), with one light direction splatted
+//! The per-element SIMD entry points a fused per-vertex pass calls
+//! (no batch buffers): each `_simd` lane equals its one-element scalar twin
+//! (Kajiya-Kay `shade` / `shade_simd`, Marschner `Lut::scattering` /
+//! `scattering_simd`, pbrt `Table::scattering` / `scattering_simd`, shadow
+//! `transmittance` / `transmittance_simd`), with one light direction splatted
 //! over the lanes as a frame has, and a bad lane (NaN, zero length) stays
 //! in its lane.
 
-use coif_base::{SplitMix64, Vec3x8, LANES};
+use coif_base::{SplitMix64, Vec3Lanes, LANES};
 use coif_shading::kajiya_kay::KajiyaKay;
 use coif_shading::shadow::{OpacityShadowMap, ShadowSettings};
 use coif_shading::{marschner, pbrt};
@@ -14,12 +14,12 @@ use glam::Vec3;
 
 /// Blocks of eight (tangent, view) pairs, the light shared by all lanes;
 /// block 0 lane 3 has a NaN tangent and lane 5 a zero view direction.
-fn blocks(count: usize, seed: u64) -> (Vec3, Vec<(Vec3x8, Vec3x8)>) {
+fn blocks(count: usize, seed: u64) -> (Vec3, Vec<(Vec3Lanes, Vec3Lanes)>) {
     let mut rng = SplitMix64::new(seed);
     let wi = rng.unit_vector();
     let mut out = Vec::new();
     for b in 0..count {
-        let (mut t, mut wo) = (Vec3x8::ZERO, Vec3x8::ZERO);
+        let (mut t, mut wo) = (Vec3Lanes::ZERO, Vec3Lanes::ZERO);
         for l in 0..LANES {
             t.set_lane(l, rng.unit_vector());
             wo.set_lane(l, rng.unit_vector());
@@ -41,12 +41,12 @@ fn check_model(
     rel: f32,
     floor: f32,
     one: impl Fn(Vec3, Vec3, Vec3) -> Vec3,
-    x8: impl Fn(Vec3x8, Vec3x8, Vec3x8) -> Vec3x8,
+    x8: impl Fn(Vec3Lanes, Vec3Lanes, Vec3Lanes) -> Vec3Lanes,
 ) {
     let (wi, blocks) = blocks(256, 7);
     let mut compared = 0;
     for (b, (t, wo)) in blocks.iter().enumerate() {
-        let got = x8(*t, Vec3x8::splat(wi), *wo);
+        let got = x8(*t, Vec3Lanes::splat(wi), *wo);
         for l in 0..LANES {
             let want = one(t.lane(l), wi, wo.lane(l));
             let g = got.lane(l);
@@ -75,10 +75,10 @@ fn kajiya_kay_x8_equals_shade_per_lane() {
         1e-5,
         1e-3,
         |t, wi, wo| kk.shade(t, wi, wo),
-        |t, wi, wo| kk.shade_x8(t, wi, wo),
+        |t, wi, wo| kk.shade_simd(t, wi, wo),
     );
     let (_, b) = blocks(1, 7);
-    let out = kk.shade_x8(b[0].0, Vec3x8::splat(Vec3::Y), b[0].1);
+    let out = kk.shade_simd(b[0].0, Vec3Lanes::splat(Vec3::Y), b[0].1);
     assert!(out.lane(3).is_nan(), "NaN tangent gives NaN");
     assert_eq!(out.lane(5), Vec3::ZERO, "zero view direction gives zero");
     assert!(out.lane(0).is_finite() && out.lane(4).is_finite());
@@ -93,7 +93,7 @@ fn marschner_lut_x8_equals_scattering_per_lane() {
         1e-4,
         1e-2,
         |t, wi, wo| lut.scattering(t, wi, wo),
-        |t, wi, wo| lut.scattering_x8(t, wi, wo),
+        |t, wi, wo| lut.scattering_simd(t, wi, wo),
     );
 }
 
@@ -105,7 +105,7 @@ fn pbrt_table_x8_equals_scattering_per_lane() {
         1e-4,
         1e-2,
         |t, wi, wo| table.scattering(t, wi, wo),
-        |t, wi, wo| table.scattering_x8(t, wi, wo),
+        |t, wi, wo| table.scattering_simd(t, wi, wo),
     );
 }
 
@@ -134,12 +134,12 @@ fn transmittance_x8_equals_transmittance_per_lane() {
         })
         .unwrap();
         let light = Vec3::new(0.3, -1.0, 0.2).normalize();
-        let unbuilt = map.transmittance_x8(Vec3x8::splat(pts[0]));
+        let unbuilt = map.transmittance_simd(Vec3Lanes::splat(pts[0]));
         assert_eq!(unbuilt.to_array(), [1.0; LANES], "no build: lit");
         map.build(light, &pts, 16);
         let mut shadowed = 0;
         for (k, chunk) in pts.chunks_exact(LANES).enumerate() {
-            let mut p = Vec3x8::ZERO;
+            let mut p = Vec3Lanes::ZERO;
             for (l, q) in chunk.iter().enumerate() {
                 p.set_lane(l, *q);
             }
@@ -147,7 +147,7 @@ fn transmittance_x8_equals_transmittance_per_lane() {
                 p.set_lane(2, Vec3::new(0.0, f32::INFINITY, 0.0));
                 p.set_lane(6, Vec3::NAN);
             }
-            let got = map.transmittance_x8(p).to_array();
+            let got = map.transmittance_simd(p).to_array();
             for (l, g) in got.iter().enumerate() {
                 let want = map.transmittance(p.lane(l));
                 assert!((g - want).abs() <= 1e-6, "{k} lane {l}: {g} vs {want}");
