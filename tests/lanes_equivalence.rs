@@ -9,17 +9,35 @@
 //! (`.ci/run`), so the second run compares. Run alone, a test checks its
 //! own width's result and says that the other is missing.
 //!
-//! - the mohawk (2,226 strands; skipped without `../shared`) after 60 steps
-//!   with spheres, a capsule, a signed distance field, wind with
+//! - the mohawk (2,226 strands; skipped without `../shared`) after 60
+//!   steps with spheres, a capsule, a signed distance field, wind with
 //!   turbulence and drag, Coulomb friction, the hair grid's volume and
 //!   friction and local shape constraints, its roots shaken (positions);
+//! - 300 hanging strands that fall asleep (sleep is decided per group of
+//!   eight strands), then are woken group by group by a sphere swept
+//!   through them and by one moved root;
 //! - every shading model on 1,000 random samples (Kajiya-Kay, the
-//!   Marschner table, the pbrt table, dual scattering on both).
+//!   Marschner table, the pbrt table, dual scattering on both);
+//! - LOD render vertices of Sintel's 228 guides after a second of her
+//!   head's turn: refinement at 1 and 4 segments per span, interpolation
+//!   of every group and of a quarter (the distance LOD's prefix);
+//! - the default scene's picture (Sintel on her bust, 96 x 96, three
+//!   frames of the demo's turn and gust: simulation with the body's field
+//!   and the hair grid, LOD, shading with dual scattering, the opacity
+//!   shadow map and the raster).
 
 use coif::base::SplitMix64;
+use coif::frame::style::StyleScene;
+use coif::frame::{motion, FramePipeline, FrameSettings, HairScene};
 use coif::geometry::scene::scalp_spheres;
 use coif::groom;
-use coif::kernels::{step_colliders, Capsule, Colliders, Sdf, SimParams, Sphere, Strands, LANES};
+use coif::kernels::{
+    self, step_colliders, Capsule, Colliders, Sdf, SimParams, Sphere, Strands, LANES,
+};
+use coif::lod::{
+    interpolate, refine_strands, refined_len, write_render_vertices, HairWidth, Interpolation,
+    RefinedGuides, RenderHairs, RenderVertex,
+};
 use coif::shading::dual_scattering::{DualScattering, DualScatteringSettings};
 use coif::shading::kajiya_kay::KajiyaKay;
 use coif::shading::{marschner, pbrt, RgbBuffer, ShadingSamples};
@@ -101,9 +119,6 @@ fn the_mohawk_in_a_full_world_steps_to_the_same_bytes() {
         turbulence: 0.5,
         volume_stiffness: 1.0,
         hair_friction: 1.0,
-        // Sleeping is decided per block: with it on, a block of sixteen
-        // strands sleeps later than its two blocks of eight would.
-        sleep_speed: 0.0,
         ..SimParams::default()
     };
     let mut s = Strands::from_polylines(&pts, v).unwrap();
@@ -184,4 +199,133 @@ fn every_shading_model_gives_the_same_bytes() {
         .unwrap();
     push(&out);
     check("shading_models", &bytes);
+}
+
+#[test]
+fn lod_render_vertices_are_the_same_bytes() {
+    let scene = StyleScene::sintel().unwrap();
+    let mut strands = scene.strands().unwrap();
+    let params = SimParams {
+        local_shape_stiffness: coif::frame::style::SCENE_STIFFNESS,
+        ..SimParams::default()
+    };
+    let mut field = scene.field.clone();
+    for i in 0..60 {
+        let pose = scene.pose((i + 1) as f32 * params.dt);
+        strands.set_head_pose(pose).unwrap();
+        if let Some(f) = field.as_mut() {
+            f.set_transform(pose).unwrap();
+        }
+        let colliders = Colliders {
+            sdfs: field.as_slice(),
+            ..Colliders::default()
+        };
+        step_colliders(&mut strands, &params, &colliders);
+    }
+    let v = scene.verts;
+    let roots: Vec<Vec3> = scene.guides.iter().step_by(v).copied().collect();
+    let center = coif::geometry::scene::fit_sphere(&roots).unwrap().center;
+    let triangles = coif::geometry::triangulate::scalp_triangles(&roots, center);
+    let interpolation = Interpolation::new(&roots, &triangles, 20.0, 7).unwrap();
+    let mut refined = RefinedGuides::new(strands.blocks(), 4).unwrap();
+    let mut hairs = RenderHairs::new(&interpolation, &refined);
+    let mut vertices =
+        vec![RenderVertex::default(); interpolation.hair_count() * refined_len(v, 4)];
+    let mut bytes = Vec::new();
+    for segments in [1, 4] {
+        for groups in [interpolation.group_count(), interpolation.group_count() / 4] {
+            refined.set_segments_per_span(segments).unwrap();
+            refine_strands(strands.blocks(), None, &mut refined).unwrap();
+            interpolate(&interpolation, &refined, None, groups, &mut hairs).unwrap();
+            let n = write_render_vertices(
+                &interpolation,
+                &hairs,
+                groups,
+                HairWidth::default(),
+                1.0,
+                &mut vertices,
+            )
+            .unwrap();
+            assert!(n > 0);
+            bytes.extend_from_slice(wide::bytemuck::cast_slice(&vertices[..n]));
+        }
+    }
+    check("lod_render_vertices", &bytes);
+}
+
+#[test]
+fn the_default_scenes_picture_is_the_same_bytes() {
+    let scene = HairScene::sintel().unwrap();
+    let base = FrameSettings::small(96);
+    let settings = FrameSettings {
+        simulation: SimParams {
+            local_shape_stiffness: coif::frame::style::SCENE_STIFFNESS,
+            drag: motion::GUST_DRAG,
+            turbulence: motion::GUST_TURBULENCE,
+            volume_stiffness: 1.0,
+            hair_friction: 1.0,
+            ..base.simulation
+        },
+        ..base
+    };
+    let mut p = FramePipeline::new(&scene, settings, 0.1).unwrap();
+    let pivot = p.pivot();
+    for f in 0..3 {
+        let t = 1.6 + 0.2 * f as f32;
+        p.set_wind(motion::gust(t, motion::GUST_WIND));
+        p.frame_with(
+            1.0 / 15.0,
+            motion::turn(t, pivot),
+            &coif::base::tasks::Serial,
+        );
+    }
+    assert!(p.stats().segments > 1000, "{:?}", p.stats());
+    let image = p.image();
+    check("sintel_picture", &image.data);
+}
+
+#[test]
+fn sleeping_hair_sleeps_and_wakes_the_same_way() {
+    // 300 strands (not a whole number of blocks at either width) of 16
+    // vertices, 2 cm apart, hanging from a 20 x 15 grid of roots 3 cm apart.
+    let verts = 16;
+    let pts: Vec<Vec3> = (0..300)
+        .flat_map(|k| {
+            let root = Vec3::new(0.03 * (k % 20) as f32, 0.0, 0.03 * (k / 20) as f32);
+            (0..verts).map(move |v| root - Vec3::Y * (0.02 * v as f32))
+        })
+        .collect();
+    let mut s = Strands::from_polylines(&pts, verts).unwrap();
+    let mut roots: Vec<Vec3> = pts.iter().step_by(verts).copied().collect();
+    let params = SimParams::default();
+    let (mut slept, mut woken) = (0, false);
+    for i in 0..360 {
+        // 4 s at rest, then a 4 cm sphere swept along x through the hair
+        // for 1 s, one root nudged, and 1 s at rest.
+        let center = if (240..300).contains(&i) {
+            Vec3::new(-0.1 + 0.012 * (i - 240) as f32, -0.15, 0.2)
+        } else {
+            Vec3::new(-0.1, -0.15, 0.2)
+        };
+        if i == 300 {
+            roots[123].x += 1e-3;
+            s.set_roots(&roots).unwrap();
+        }
+        let asleep = s.sleeping_strands();
+        let sphere = [Sphere {
+            center,
+            radius: 0.04,
+        }];
+        kernels::step(&mut s, &params, &sphere);
+        woken |= i >= 240 && s.sleeping_strands() < asleep;
+        slept = slept.max(s.sleeping_strands());
+    }
+    assert!(slept >= 200, "only {slept} of 300 strands fell asleep");
+    assert!(woken, "nothing woke a sleeping strand");
+    let positions = s.positions();
+    assert!(positions.iter().all(|p| p.is_finite()));
+    check(
+        "sleeping_hair",
+        &floats(positions.iter().flat_map(|p| p.to_array())),
+    );
 }

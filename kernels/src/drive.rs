@@ -11,9 +11,10 @@ use crate::lanes::{Vec3Lanes, LANES};
 use crate::step::{Setup, StepColliders};
 use crate::strands::{rest_pose, BlockSleep, Scratch};
 use crate::{SimParams, Strands};
-use coif_base::lanes::F32Lanes;
+use coif_base::lanes::{lanes_below, F32Lanes, GROUP_LANES};
 use coif_base::tasks::{for_each_chunk_mut, Executor};
 use glam::Vec3;
+use std::ops::Range;
 
 /// What a step writes in one block: its `V` positions and previous
 /// positions. The rest of the set is shared read-only by every task.
@@ -83,7 +84,7 @@ pub(crate) fn drive(
     params: &SimParams,
     colliders: &Colliders<'_>,
     executor: &dyn Executor,
-    block_box: impl Fn(&Strands, &BlockState<'_>, usize, &Setup) -> Aabb + Sync,
+    block_box: impl Fn(&Strands, &BlockState<'_>, usize, Range<usize>, &Setup) -> Aabb + Sync,
     block: impl Fn(
             &Strands,
             &mut [BlockState<'_>],
@@ -93,7 +94,7 @@ pub(crate) fn drive(
             &[(usize, usize)],
         ) -> [u32; PAIR]
         + Sync,
-    hair: impl Fn(&Strands, &mut BlockState<'_>, &HairGrid, &GridSetup, usize) -> bool + Sync,
+    hair: impl Fn(&Strands, &mut BlockState<'_>, &HairGrid, &GridSetup, usize) -> u32 + Sync,
 ) {
     let k = Setup::new(strands, params);
     if strands.params_seen.as_ref() != Some(params) {
@@ -140,7 +141,7 @@ pub(crate) fn drive(
         let chunks = pos
             .chunks_mut(span)
             .zip(prev.chunks_mut(span))
-            .zip(sleep.chunks_mut(per_task));
+            .zip(sleep.chunks_mut(per_task * SLEEP_GROUPS));
         let mut tasks = 0;
         for (slot, (((pos, prev), sleep), scratch)) in
             parts.iter_mut().zip(chunks.zip(&mut scratch.tasks))
@@ -173,8 +174,10 @@ pub(crate) fn drive(
             let mut first = 0;
             while first < blocks {
                 let n = GROUP.min(blocks - first);
-                // 0. Sleep: a sleeping block runs only if its roots moved or a
-                // moving sphere's sweep reaches its box.
+                // 0. Sleep, per group of eight lanes (`SLEEP_GROUPS` per
+                // block): a sleeping group runs only if its roots moved or a
+                // moving sphere's sweep reaches its box; a block runs if one
+                // of its groups does.
                 let mut boxes = [EMPTY_BOX; GROUP];
                 let mut bounds = [BlockBounds {
                     swept: EMPTY_BOX,
@@ -182,8 +185,8 @@ pub(crate) fn drive(
                     arc: &[],
                     stretch_factor: k.stretch_factor,
                 }; GROUP];
-                let mut runs = [true; GROUP];
-                // The grid's volume and friction, asleep or awake: a block
+                let mut runs = [[true; SLEEP_GROUPS]; GROUP];
+                // The grid's volume and friction, asleep or awake: a group
                 // they move wakes.
                 if let Some(gk) = &grid_setup {
                     for g in 0..n {
@@ -192,9 +195,15 @@ pub(crate) fn drive(
                             pos: &mut pos[r..r + verts],
                             prev: &mut prev[r..r + verts],
                         };
-                        if hair(s, &mut st, &grid, gk, b) {
-                            sleep[first + g].asleep = false;
-                            sleep[first + g].still = 0;
+                        let moved = hair(s, &mut st, &grid, gk, b);
+                        for (q, sl) in sleep[(first + g) * SLEEP_GROUPS..][..SLEEP_GROUPS]
+                            .iter_mut()
+                            .enumerate()
+                        {
+                            if moved & group_bits(q) != 0 {
+                                sl.asleep = false;
+                                sl.still = 0;
+                            }
                         }
                     }
                 }
@@ -204,16 +213,25 @@ pub(crate) fn drive(
                         pos: &mut pos[r..r + verts],
                         prev: &mut prev[r..r + verts],
                     };
-                    let sl = sleep[first + g];
-                    if k.sleep && sl.asleep && !roots_moved(&st, s.active[b]) {
-                        boxes[g] = sl.bounds;
-                        runs[g] = movers.iter().any(|m| {
-                            crate::collide::broad_phase::boxes_near(m, &sl.bounds, k.margin)
-                        });
-                    } else {
-                        // 1. (box) The block's swept box.
-                        boxes[g] = block_box(s, &st, b, &k);
+                    let mut asleep_box: Option<Aabb> = None;
+                    let mut all_asleep = true;
+                    for (q, run) in runs[g].iter_mut().enumerate() {
+                        let sl = sleep[(first + g) * SLEEP_GROUPS + q];
+                        let lanes = s.active[b] & group_mask(q);
+                        if k.sleep && sl.asleep && !roots_moved(&st, lanes) {
+                            asleep_box = Some(asleep_box.map_or(sl.bounds, |a| a.union(sl.bounds)));
+                            *run = movers.iter().any(|m| {
+                                crate::collide::broad_phase::boxes_near(m, &sl.bounds, k.margin)
+                            });
+                        } else {
+                            all_asleep = false;
+                        }
                     }
+                    boxes[g] = match asleep_box {
+                        Some(kept) if all_asleep => kept,
+                        // 1. (box) The block's swept box.
+                        _ => block_box(s, &st, b, 0..LANES, &k),
+                    };
                     // 1. (reach) And the reach the strain limit leaves it.
                     bounds[g] = BlockBounds {
                         swept: boxes[g],
@@ -222,8 +240,9 @@ pub(crate) fn drive(
                         stretch_factor: k.stretch_factor,
                     };
                 }
+                let block_runs = |g: usize| runs[g].iter().any(|&r| r);
                 // 1. Broad phase: the group's swept block boxes against the rig.
-                if runs[..n].iter().any(|&r| r) {
+                if (0..n).any(block_runs) {
                     select_strand_candidates(
                         &bounds[..n],
                         k.margin,
@@ -238,11 +257,13 @@ pub(crate) fn drive(
                     let mut ids = [(0, 0); PAIR];
                     let mut count = 0;
                     while g < n && count < PAIR {
-                        if runs[g] {
+                        if block_runs(g) {
                             ids[count] = (t * per_task + first + g, g);
                             count += 1;
                         } else {
-                            sleep[first + g].stepped = false;
+                            for sl in &mut sleep[(first + g) * SLEEP_GROUPS..][..SLEEP_GROUPS] {
+                                sl.stepped = false;
+                            }
                         }
                         g += 1;
                     }
@@ -268,30 +289,67 @@ pub(crate) fn drive(
                         cut = (first + g + 1) * verts;
                     }
                     let states = &mut states[..count];
-                    let mut moved = [false; PAIR];
-                    for (i, (st, &(b, _))) in states.iter().zip(ids).enumerate() {
-                        moved[i] = roots_moved(st, s.active[b]);
+                    let mut moved = [[false; SLEEP_GROUPS]; PAIR];
+                    for (i, (st, &(b, g))) in states.iter().zip(ids).enumerate() {
+                        for (q, m) in moved[i].iter_mut().enumerate() {
+                            *m = roots_moved(st, s.active[b] & group_mask(q));
+                        }
                         if k.sleep {
-                            scratch.start[i * verts..(i + 1) * verts].copy_from_slice(st.pos);
+                            let at = i * verts..(i + 1) * verts;
+                            scratch.start[at.clone()].copy_from_slice(st.pos);
+                            if !runs[g].iter().all(|&r| r) {
+                                scratch.start_prev[at].copy_from_slice(st.prev);
+                            }
                         }
                     }
                     let bad = block(s, states, scratch, &world, &k, ids);
                     for (i, (st, &(b, g))) in states.iter_mut().zip(ids).enumerate() {
-                        scratch.restored += restore_lanes(s, st, b, bad[i]);
-                        // 8. Stillness: a block still for `still_steps` steps
+                        let at = i * verts..(i + 1) * verts;
+                        // A sleeping group of a block that ran keeps its
+                        // state, as if its block had not (a block of 16
+                        // lanes sleeps and runs as its two groups of 8).
+                        let mut running = 0u32;
+                        for (q, &run) in runs[g].iter().enumerate() {
+                            if run {
+                                running |= group_bits(q);
+                            } else {
+                                let m = group_mask(q);
+                                let kept = scratch.start[at.clone()].iter();
+                                let kept_prev = scratch.start_prev[at.clone()].iter();
+                                for (((x, xp), a), ap) in st
+                                    .pos
+                                    .iter_mut()
+                                    .zip(st.prev.iter_mut())
+                                    .zip(kept)
+                                    .zip(kept_prev)
+                                {
+                                    *x = Vec3Lanes::select(m, *a, *x);
+                                    *xp = Vec3Lanes::select(m, *ap, *xp);
+                                }
+                            }
+                        }
+                        scratch.restored += restore_lanes(s, st, b, bad[i] & running);
+                        // 8. Stillness: a group still for `still_steps` steps
                         // in a row (roots included) falls asleep at rest.
-                        let start = &scratch.start[i * verts..(i + 1) * verts];
-                        let still = k.sleep
-                            && !moved[i]
-                            && block_is_still(st.pos, start, s.active[b], k.still_move2);
-                        let sl = &mut sleep[first + g];
-                        sl.stepped = true;
-                        sl.still = if still { sl.still.saturating_add(1) } else { 0 };
-                        sl.asleep = false;
-                        if sl.still >= k.still_steps {
-                            fall_asleep(st);
-                            sl.asleep = true;
-                            sl.bounds = block_box(s, st, b, &k);
+                        let start = &scratch.start[at];
+                        for q in 0..SLEEP_GROUPS {
+                            let sl = &mut sleep[(first + g) * SLEEP_GROUPS + q];
+                            if !runs[g][q] {
+                                sl.stepped = false;
+                                continue;
+                            }
+                            let lanes = s.active[b] & group_mask(q);
+                            let still = k.sleep
+                                && !moved[i][q]
+                                && block_is_still(st.pos, start, lanes, k.still_move2);
+                            sl.stepped = true;
+                            sl.still = if still { sl.still.saturating_add(1) } else { 0 };
+                            sl.asleep = false;
+                            if sl.still >= k.still_steps {
+                                fall_asleep(st, group_mask(q));
+                                sl.asleep = true;
+                                sl.bounds = block_box(s, st, b, group_lanes(q), &k);
+                            }
                         }
                     }
                 }
@@ -304,9 +362,9 @@ pub(crate) fn drive(
     strands.sleep = sleep;
     strands.hair_grid = grid;
     strands.restored += scratch.tasks.iter().map(|t| t.restored).sum::<u64>();
-    strands.awake = (0..strands.blocks)
-        .filter(|&b| strands.sleep[b].stepped)
-        .map(|b| strands.lanes_in_block(b))
+    strands.awake = (0..strands.blocks * SLEEP_GROUPS)
+        .filter(|&i| strands.sleep[i].stepped)
+        .map(|i| strands.lanes_in_sleep_group(i))
         .sum();
     scratch.rig.remember(colliders);
     strands.scratch = scratch;
@@ -346,9 +404,35 @@ fn block_is_still(
     still.all()
 }
 
-/// A block falls asleep at rest: previous positions = current ones.
-fn fall_asleep(st: &mut BlockState<'_>) {
-    st.prev.copy_from_slice(st.pos);
+/// A group of a block falls asleep at rest: previous positions = current
+/// ones in the lanes of `group` (padding included).
+fn fall_asleep(st: &mut BlockState<'_>, group: F32Lanes) {
+    for (xp, x) in st.prev.iter_mut().zip(st.pos.iter()) {
+        *xp = Vec3Lanes::select(group, *x, *xp);
+    }
+}
+
+/// Sleep is decided per group of eight lanes ([`GROUP_LANES`]), so a strand
+/// sleeps and wakes with the same seven neighbours at 8 and 16 lanes: one
+/// group per block in an 8-lane build, two in a 16-lane one.
+pub(crate) const SLEEP_GROUPS: usize = LANES / SLEEP_GROUP_LANES;
+
+/// Lanes per sleep group: eight at every width.
+pub(crate) const SLEEP_GROUP_LANES: usize = GROUP_LANES;
+
+/// The lanes of sleep group `q` of a block.
+pub(crate) fn group_lanes(q: usize) -> Range<usize> {
+    q * SLEEP_GROUP_LANES..(q + 1) * SLEEP_GROUP_LANES
+}
+
+/// [`group_lanes`] as a lane mask.
+fn group_mask(q: usize) -> F32Lanes {
+    lanes_below((q + 1) * SLEEP_GROUP_LANES) & !lanes_below(q * SLEEP_GROUP_LANES)
+}
+
+/// [`group_lanes`] as bits of a lane bitmask.
+fn group_bits(q: usize) -> u32 {
+    ((1u32 << SLEEP_GROUP_LANES) - 1) << (q * SLEEP_GROUP_LANES)
 }
 
 /// Blocks whose boxes are tested against the rig together (the union first,
@@ -415,11 +499,11 @@ mod tests {
 
     #[test]
     fn a_lane_restored_inside_a_later_task_is_counted_once() {
-        // 200 strands: 25 blocks, two tasks; strand 163 is block 20, lane 3.
+        // 25 blocks, two tasks; the strand in block 20, lane 3.
         let (rig, params) = (head(), SimParams::default());
         let mut runs = vec![];
         for exec in [&Serial as &dyn Executor, &Reverse] {
-            let mut s = strands(200);
+            let mut s = strands(25 * LANES);
             assert_eq!(s.scratch.tasks.len(), 2);
             step_with(&mut s, &params, &rig, exec);
             s.pos[20 * 12 + 7].set_lane(3, Vec3::NAN);
@@ -455,22 +539,23 @@ mod tests {
             step as fn(&mut Strands, &SimParams, &[Sphere]),
             crate::scalar::step,
         ] {
-            let mut clean = strands(21);
+            // Block 1, lane 5: one vertex goes NaN mid-flight.
+            let (count, poisoned_strand) = (LANES + 13, LANES + 5);
+            let mut clean = strands(count);
             for _ in 0..10 {
                 stepper(&mut clean, &params, &rig);
             }
             let mut poisoned = clean.clone();
-            // Strand 13 = block 1, lane 5: one vertex goes NaN mid-flight.
             poisoned.pos[12 + 7].set_lane(5, Vec3::NAN);
             stepper(&mut clean, &params, &rig);
             stepper(&mut poisoned, &params, &rig);
             assert_eq!(poisoned.restored_strands(), 1);
             assert_eq!(clean.restored_strands(), 0);
             let (a, b) = (clean.positions_local(), poisoned.positions_local());
-            for s in 0..21 {
+            for s in 0..count {
                 for v in 0..12 {
                     let k = s * 12 + v;
-                    if s == 13 {
+                    if s == poisoned_strand {
                         let rest = poisoned.pos[12].lane(5) + poisoned.rest_offset[12 + v].lane(5);
                         assert_eq!(b[k], rest, "restored to rest at its root");
                     } else {

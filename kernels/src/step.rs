@@ -104,7 +104,7 @@ use crate::hair_grid::apply_block;
 use crate::lanes::{Lane, V3};
 use crate::wind::Gusts;
 use crate::{SimParams, Sphere, Strands};
-use coif_base::lanes::F32Lanes;
+use coif_base::lanes::{lanes_below, F32Lanes};
 use coif_base::tasks::{Executor, Serial};
 use glam::{Mat3, Vec3};
 
@@ -1072,7 +1072,10 @@ pub fn step_colliders_with(
         params,
         colliders,
         executor,
-        |s, st, b, k| block_sweep_aabb(st.pos, st.prev, k.gravity_dt2, s.active[b]),
+        |s, st, b, lanes, k| {
+            let group = lanes_below(lanes.end) & !lanes_below(lanes.start);
+            block_sweep_aabb(st.pos, st.prev, k.gravity_dt2, s.active[b] & group)
+        },
         |strands, states, scratch, world, k, ids| {
             // 2.-7., two blocks side by side where two run.
             let cands = &scratch.candidates;
@@ -1117,7 +1120,7 @@ pub fn step_colliders_with(
                 &s.rest_arc[r],
                 gk,
             );
-            (moved & s.active[b]).any()
+            (moved & s.active[b]).to_bitmask()
         },
     );
 }

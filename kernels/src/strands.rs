@@ -113,12 +113,17 @@ pub(crate) struct Scratch {
     /// The positions of the blocks stepped together at the start of their
     /// step (sleeping on), one after the other.
     pub(crate) start: Vec<Vec3Lanes>,
+    /// Their previous positions, kept when a group of a block that runs
+    /// sleeps (16 lanes only: an 8-lane block is one group).
+    pub(crate) start_prev: Vec<Vec3Lanes>,
     /// Strands this task restored in the last step.
     pub(crate) restored: u64,
 }
 
-/// One block's sleep state. Written only by the step of its own block (and
-/// by the state-changing methods, which wake every block).
+/// One sleep group's state (eight lanes of a block: one per block at 8
+/// lanes, two at 16; `crate::drive::SLEEP_GROUPS`). Written only by the
+/// step of its own block (and by the state-changing methods, which wake
+/// every group).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct BlockSleep {
     /// Steps in a row that ended with every vertex slower than `sleep_speed`.
@@ -127,7 +132,7 @@ pub(crate) struct BlockSleep {
     pub(crate) asleep: bool,
     /// Advanced by the last step.
     pub(crate) stepped: bool,
-    /// The block's swept box when it fell asleep: while it sleeps (roots
+    /// The group's swept box when it fell asleep: while it sleeps (roots
     /// still, zero velocity) this is what `block_sweep_aabb` would give.
     pub(crate) bounds: crate::collide::broad_phase::Aabb,
 }
@@ -162,6 +167,7 @@ impl Scratch {
             chains: std::array::from_fn(|_| crate::step::ChainScratch::new(verts)),
             lane: crate::scalar::LaneBuffers::new(verts),
             start: vec![Vec3Lanes::ZERO; verts * crate::drive::PAIR],
+            start_prev: vec![Vec3Lanes::ZERO; verts * crate::drive::PAIR],
             restored: 0,
         }
     }
@@ -252,7 +258,7 @@ impl Strands {
             stepped_rotation: Mat3::IDENTITY,
             restored: 0,
             time: 0.0,
-            sleep: vec![BlockSleep::AWAKE; blocks],
+            sleep: vec![BlockSleep::AWAKE; blocks * crate::drive::SLEEP_GROUPS],
             awake: strand_count,
             params_seen: None,
             scratch: StepScratch::new(blocks, verts),
@@ -347,6 +353,15 @@ impl Strands {
         self.strand_count
             .saturating_sub(b.saturating_mul(LANES))
             .min(LANES)
+    }
+
+    /// Real strands in sleep group `i` (lanes `8 (i % G)..` of block
+    /// `i / G`, `G` the groups per block).
+    pub(crate) fn lanes_in_sleep_group(&self, i: usize) -> usize {
+        let g = crate::drive::SLEEP_GROUPS;
+        self.lanes_in_block(i / g)
+            .saturating_sub((i % g) * crate::drive::SLEEP_GROUP_LANES)
+            .min(crate::drive::SLEEP_GROUP_LANES)
     }
 
     /// World position of the local origin that positions are relative to.
@@ -815,9 +830,9 @@ impl Strands {
     /// Strands in blocks that sleep now (the next step skips them unless
     /// something wakes them).
     pub fn sleeping_strands(&self) -> usize {
-        (0..self.blocks)
-            .filter(|&b| self.sleep[b].asleep)
-            .map(|b| self.lanes_in_block(b))
+        (0..self.blocks * crate::drive::SLEEP_GROUPS)
+            .filter(|&i| self.sleep[i].asleep)
+            .map(|i| self.lanes_in_sleep_group(i))
             .sum()
     }
 

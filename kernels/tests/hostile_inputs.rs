@@ -6,7 +6,7 @@
 //! hand-written ones miss.
 
 use coif_kernels::patch::{self, grid_normals, Patch};
-use coif_kernels::{Capsule, Colliders, Error, Sdf, SimParams, Sphere, Strands};
+use coif_kernels::{Capsule, Colliders, Error, Sdf, SimParams, Sphere, Strands, LANES};
 use glam::{Affine3A, Vec3};
 use proptest::prelude::*;
 
@@ -352,7 +352,7 @@ fn points_beyond_the_steps_guard_and_blocks_past_the_end_are_refused() {
         Strands::from_polylines(&pts, 3),
         Err(Error::InvalidParameter { name: "points", .. })
     ));
-    let s = Strands::from_polylines(&hanging(9, 3), 3).unwrap();
+    let s = Strands::from_polylines(&hanging(LANES + 1, 3), 3).unwrap();
     assert!(s.block_active_mask(99).to_array().iter().all(|&m| m == 0.0));
     assert_ne!(s.block_active_mask(1).to_array()[0], 0.0);
 }

@@ -2,7 +2,7 @@
 //! origin (far from the world origin, rebasing) and rigid teleports.
 
 use coif_kernels::measure::max_speed;
-use coif_kernels::{Error, Strands};
+use coif_kernels::{Error, Strands, LANES};
 use glam::{Affine3A, DVec3, Vec3};
 
 fn line(n_strands: usize, verts: usize, offset: Vec3) -> Vec<Vec3> {
@@ -20,7 +20,7 @@ fn round_trips_positions_in_input_order() {
         let s = Strands::from_polylines(&pts, 5).unwrap();
         assert_eq!(s.strand_count(), n);
         assert_eq!(s.verts_per_strand(), 5);
-        assert_eq!(s.block_count(), n.div_ceil(8));
+        assert_eq!(s.block_count(), n.div_ceil(LANES));
         let back = s.positions();
         for (a, b) in pts.iter().zip(&back) {
             assert!((*a - *b).length() < 1e-6, "{a} vs {b}");

@@ -14,9 +14,13 @@
 //! guides' refined vertices. Positions are metres; density is in hairs per
 //! square centimetre (1 cm^2 = 1e-4 m^2; real scalps: 120-200).
 //!
-//! Layout: hairs come in groups of up to [`LANES`] hairs of one triangle, so
-//! a group's guides are shared by its lanes and the SIMD batch loads each
-//! guide vertex once (a broadcast) for eight hairs. Groups are stored in a
+//! Layout: hairs come in groups of up to eight ([`GROUP_LANES`]) hairs of
+//! one triangle, so a group's guides are shared by its lanes and the SIMD
+//! batch loads each guide vertex once (a broadcast) for eight hairs. A group
+//! fills one register of [`LANES`] lanes; in a 16-lane build the upper eight
+//! lanes are padding, so that both widths make the same hairs in the same
+//! groups and draw the same ones at every LOD (the hairs' bytes do not
+//! depend on the width). Groups are stored in a
 //! shuffled order: drawing a prefix of groups is an even random thinning of
 //! the whole scalp (see [`crate::distance_lod`]). Padding lanes repeat the
 //! group's last real hair.
@@ -50,14 +54,14 @@ pub const M2_PER_CM2: f32 = 1e-4;
 /// 12 GB instead of the hundreds that 2^24 allowed).
 pub const MAX_RENDER_HAIRS: usize = 1 << 20;
 
-/// Up to [`LANES`] render hairs sharing one scalp triangle.
+/// Up to eight ([`GROUP_LANES`]) render hairs sharing one scalp triangle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct HairGroup {
     /// Index of the scalp triangle.
     pub triangle: u32,
     /// The triangle's corner guides `(A, B, C)`.
     pub guides: [u32; 3],
-    /// Real hairs in this group (1 ..= LANES); the other lanes are padding.
+    /// Real hairs in this group (1 ..= 8); the other lanes are padding.
     pub hairs: u32,
 }
 
@@ -170,7 +174,7 @@ impl Interpolation {
             hair_count += count;
             let mut left = count;
             while left > 0 {
-                let hairs = left.min(LANES);
+                let hairs = left.min(GROUP_LANES);
                 let mut lanes = [[0.0f32; LANES]; 3];
                 for l in 0..LANES {
                     if l < hairs {

@@ -12,8 +12,9 @@ use glam::{DVec3, Vec3};
 const REBASE_DISTANCE: f64 = 64.0;
 
 /// Most columns of a patch: the broad phase tags column blocks in a 32-bit
-/// mask.
-pub const MAX_PATCH_COLUMNS: usize = 32 * LANES;
+/// mask (32 blocks of eight columns; the same limit at 16 lanes, where it
+/// takes 16 blocks).
+pub const MAX_PATCH_COLUMNS: usize = 256;
 
 /// One grid of `rows x cols` cloth particles, simulated in SIMD lanes and
 /// blended with the engine's skinned positions.

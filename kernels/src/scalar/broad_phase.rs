@@ -22,18 +22,19 @@ pub(crate) fn block_aabb(pos: &[Vec3Lanes], lanes: usize) -> Aabb {
 }
 
 /// The scalar twin of [`crate::collide::broad_phase::block_sweep_aabb`]: the same
-/// points in the same arithmetic order, lane by lane (lanes `0 .. lanes`).
+/// points in the same arithmetic order, lane by lane (the real lanes of
+/// `lanes`).
 pub(crate) fn block_sweep_aabb(
     pos: &[Vec3Lanes],
     prev: &[Vec3Lanes],
     g_dt2: Vec3,
-    lanes: usize,
+    lanes: std::ops::Range<usize>,
 ) -> Aabb {
     let mut b = Aabb {
         min: Vec3::INFINITY,
         max: Vec3::NEG_INFINITY,
     };
-    for l in 0..lanes.min(LANES) {
+    for l in lanes.start..lanes.end.min(LANES) {
         let root_move = pos[0].lane(l) - prev[0].lane(l);
         for (x, p) in pos.iter().zip(prev) {
             let (x, p) = (x.lane(l), p.lane(l));

@@ -110,7 +110,10 @@ pub fn step_colliders_with(
         params,
         colliders,
         executor,
-        |s, st, b, k| block_sweep_aabb(st.pos, st.prev, k.gravity_dt2, s.lanes_in_block(b)),
+        |s, st, b, lanes, k| {
+            let real = lanes.start..lanes.end.min(s.lanes_in_block(b));
+            block_sweep_aabb(st.pos, st.prev, k.gravity_dt2, real)
+        },
         |strands, states, scratch, world, k, ids| {
             // The blocks one after the other, each lane on its own.
             let mut bads = [0u32; PAIR];
@@ -161,21 +164,23 @@ pub fn step_colliders_with(
         |s, st, grid, gk, b| {
             // One lane, one vertex at a time: the same body as the SIMD
             // path's, each vertex on its own.
-            let mut moved = false;
+            let mut moved = 0u32;
             for l in 0..s.lanes_in_block(b) {
                 for v in 0..s.verts {
                     let i = b * s.verts + v;
                     let mut x = lane3(&st.pos[v], l);
                     let mut xp = lane3(&st.prev[v], l);
                     let (w, arc) = (lane1(&s.inv_mass[i], l), lane1(&s.rest_arc[i], l));
-                    moved |= apply_block::<f32>(
+                    if apply_block::<f32>(
                         grid,
                         std::slice::from_mut(&mut x),
                         std::slice::from_mut(&mut xp),
                         &[w],
                         &[arc],
                         gk,
-                    );
+                    ) {
+                        moved |= 1 << l;
+                    }
                     st.pos[v].set_lane(l, x.to_vec3());
                     st.prev[v].set_lane(l, xp.to_vec3());
                 }

@@ -42,7 +42,7 @@
 use super::light_frame::{LightFrame, MapPlacement};
 use super::strand_lanes::StrandLanes;
 use coif_base::lanes::lanes_below;
-use coif_base::lanes::{F32Lanes, I32Lanes};
+use coif_base::lanes::{F32Lanes, I32Lanes, GROUP_LANES};
 use coif_base::{Vec3Lanes, LANES};
 use glam::Vec3;
 
@@ -187,37 +187,46 @@ impl Raster {
         let ua = (la.x - self.x0) * self.inv_h - half;
         let va = (la.y - self.y0) * self.inv_h - half;
         let (du, dv, za, dz) = (d.x * self.inv_h, d.y * self.inv_h, la.z, d.z);
-        // The most samples of a sampled lane (n >= 1 there, an exact
-        // integer): the rounds.
-        let sampled_lanes = I32Lanes::new(std::array::from_fn(|l| -((sampled >> l) as i32 & 1)));
-        let rounds = (n.fast_trunc_int() & sampled_lanes).reduce_max();
-        for j in 0..rounds {
-            // 2. Sample j of every segment of the group.
-            let jf = F32Lanes::splat(j as f32); // j < 2^24: exact
-            let t = (jf + half) * inv_n;
-            let (u, v) = (ua + du * t, va + dv * t);
-            let (fu, fv) = (u.floor(), v.floor());
-            let (fx, fy) = (u - fu, v - fv);
-            let (gx, gy) = (one - fx, one - fy);
-            // max/min equal the scalar clamp on the sampled lanes
-            // (finite); NaN lanes (not sampled) land on 0 or `last`
-            // (`max`/`min` return the other operand), in the map.
-            let i0 = fu.max(zero).min(self.last).fast_trunc_int();
-            let j0 = fv.max(zero).min(self.last).fast_trunc_int();
-            // Below n^2 <= 8192^2 < 2^31: no overflow in i32.
-            // Lanes not sampled may be garbage: clamped into the map.
-            let t0_simd = (j0 * self.row + i0).max(I32Lanes::ZERO).min(self.top);
-            let t0 = t0_simd.to_array();
-            // j < n, both exact small integers in f32.
-            let active = jf.simd_lt(n).to_bitmask() & sampled;
-            // 3. Deposit (the caller goes through the lanes in order).
-            deposit(&SplatX8 {
-                t0: t0.map(|t| t as usize),
-                t0_simd,
-                weights: [gx * gy * w, fx * gy * w, gx * fy * w, fx * fy * w],
-                z: za + dz * t,
-                active,
-            });
+        // Per group of eight lanes, all the rounds of one group before the
+        // next: the deposits come in the same order at 8 and 16 lanes
+        // (sums into a texel depend on their order).
+        for k in 0..LANES / GROUP_LANES {
+            let group = sampled & (((1u32 << GROUP_LANES) - 1) << (k * GROUP_LANES));
+            if group == 0 {
+                continue;
+            }
+            // The most samples of a sampled lane (n >= 1 there, an exact
+            // integer): the rounds.
+            let sampled_lanes = I32Lanes::new(std::array::from_fn(|l| -((group >> l) as i32 & 1)));
+            let rounds = (n.fast_trunc_int() & sampled_lanes).reduce_max();
+            for j in 0..rounds {
+                // 2. Sample j of every segment of the group.
+                let jf = F32Lanes::splat(j as f32); // j < 2^24: exact
+                let t = (jf + half) * inv_n;
+                let (u, v) = (ua + du * t, va + dv * t);
+                let (fu, fv) = (u.floor(), v.floor());
+                let (fx, fy) = (u - fu, v - fv);
+                let (gx, gy) = (one - fx, one - fy);
+                // max/min equal the scalar clamp on the sampled lanes
+                // (finite); NaN lanes (not sampled) land on 0 or `last`
+                // (`max`/`min` return the other operand), in the map.
+                let i0 = fu.max(zero).min(self.last).fast_trunc_int();
+                let j0 = fv.max(zero).min(self.last).fast_trunc_int();
+                // Below n^2 <= 8192^2 < 2^31: no overflow in i32.
+                // Lanes not sampled may be garbage: clamped into the map.
+                let t0_simd = (j0 * self.row + i0).max(I32Lanes::ZERO).min(self.top);
+                let t0 = t0_simd.to_array();
+                // j < n, both exact small integers in f32.
+                let active = jf.simd_lt(n).to_bitmask() & group;
+                // 3. Deposit (the caller goes through the lanes in order).
+                deposit(&SplatX8 {
+                    t0: t0.map(|t| t as usize),
+                    t0_simd,
+                    weights: [gx * gy * w, fx * gy * w, gx * fy * w, fx * fy * w],
+                    z: za + dz * t,
+                    active,
+                });
+            }
         }
     }
 }
@@ -313,12 +322,15 @@ pub fn for_each_sample_lanes<H: StrandLanes + ?Sized>(
     let Some(raster) = Raster::new(frame, placement, resolution, hair_radius) else {
         return;
     };
-    for b in blocks {
+    for (b, k) in blocks.flat_map(|b| (0..LANES / GROUP_LANES).map(move |k| (b, k))) {
+        // Group by group of eight lanes (the same deposit order at 8 and
+        // 16 lanes): a block's rows are read once per group holding hair.
         let (lanes, row) = hair.block(b);
-        let hair_lanes = lanes_below(lanes);
-        if lanes == 0 {
+        if lanes <= k * GROUP_LANES {
             continue;
         }
+        let hair_lanes =
+            lanes_below(lanes.min((k + 1) * GROUP_LANES)) & !lanes_below(k * GROUP_LANES);
         // 1. Segment setup per row pair; `before`: the vertex before the
         // segment is finite (none before the root).
         let p = row(0);
