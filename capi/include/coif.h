@@ -555,6 +555,12 @@ enum CoifStatus coif_strands_teleport(struct CoifStrands *s, const float *m);
 // `s` is NULL or a live handle.
 enum CoifStatus coif_strands_reset_to_rest(struct CoifStrands *s);
 
+// Strands per SIMD block in this build of coif: 8 (an AVX2 build) or 16
+// (a build for AVX-512, or with the `lanes16` feature). Results are the
+// same bytes at both widths and no call's arguments depend on it: it says
+// which build a program loaded.
+size_t coif_lanes(void);
+
 // A static, NUL-terminated English description of `status` (never NULL).
 // Pass a value of `CoifStatus` (one a coif call returned).
 const char *coif_status_message(enum CoifStatus status);
@@ -1046,7 +1052,7 @@ enum CoifStatus coif_pbrt_table_new(const struct CoifPbrtParams *params,
 void coif_pbrt_table_free(struct CoifPbrtTable *table);
 
 // As `coif_shade_kajiya_kay`, with pbrt-v3's hair BSDF from the tables
-// `table` (`Table::scattering_x8`, the same numbers as
+// `table` (`Table::scattering_simd`, the same numbers as
 // `Table::scattering_batch`). Allocates nothing.
 //
 // Errors: as `coif_shade_kajiya_kay`.
@@ -1126,7 +1132,7 @@ enum CoifStatus coif_shade_kajiya_kay_with(const struct CoifKajiyaKay *model,
                                            const struct CoifExecutor *executor);
 
 // As `coif_shade_kajiya_kay`, with Marschner's scattering function from
-// the tables `lut` (`Lut::scattering_x8`, the same numbers as
+// the tables `lut` (`Lut::scattering_simd`, the same numbers as
 // `Lut::scattering_batch`). Allocates nothing.
 //
 // Errors: as `coif_shade_kajiya_kay`.
@@ -1408,7 +1414,7 @@ void coif_dual_scattering_free(struct CoifDualScattering *ds);
 
 // `coif_shade_marschner_lut` with multiple scattering: per vertex `k`,
 // the single scattering of `lut` is turned into dual scattering's `F`
-// (`DualScattering::shade_layered_x8`, the same numbers as
+// (`DualScattering::shade_layered_simd`, the same numbers as
 // `DualScattering::shade_layered` vertex by vertex given
 // `Lut::scattering_batch`'s single scattering) from `fibres[k]`, the
 // number of hair fibres between the vertex and the light (>= 0,
@@ -1419,7 +1425,7 @@ void coif_dual_scattering_free(struct CoifDualScattering *ds);
 // fraction of the light reaching it unscattered (in [0, 1]; a shadow
 // map's transmittance). The local backscatter comes from the hair behind
 // the vertex: a vertex with nothing behind it gets none. `behind` NULL is
-// infinitely deep hair behind every vertex (`DualScattering::shade_x8`,
+// infinitely deep hair behind every vertex (`DualScattering::shade_simd`,
 // the same numbers as `DualScattering::shade_batch` given
 // `Lut::scattering_batch`'s single scattering). The result replaces
 // `single * direct` in the lighting (like Marschner's single scattering,

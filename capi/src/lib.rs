@@ -900,6 +900,15 @@ pub unsafe extern "C" fn coif_strands_reset_to_rest(s: *mut CoifStrands) -> Coif
     })
 }
 
+/// Strands per SIMD block in this build of coif: 8 (an AVX2 build) or 16
+/// (a build for AVX-512, or with the `lanes16` feature). Results are the
+/// same bytes at both widths and no call's arguments depend on it: it says
+/// which build a program loaded.
+#[no_mangle]
+pub extern "C" fn coif_lanes() -> usize {
+    coif_base::LANES
+}
+
 /// A static, NUL-terminated English description of `status` (never NULL).
 /// Pass a value of `CoifStatus` (one a coif call returned).
 #[no_mangle]

@@ -52,3 +52,9 @@ fn failed_calls_say_what_was_wrong() {
     );
     assert_eq!(last(), "");
 }
+
+#[test]
+fn the_lane_width_is_the_builds() {
+    assert_eq!(coif_lanes(), coif_base::LANES);
+    assert!(coif_lanes() == 8 || coif_lanes() == 16);
+}

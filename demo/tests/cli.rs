@@ -318,12 +318,16 @@ fn every_thread_count_writes_the_same_bytes() {
         (bytes, stdout)
     };
     let (one, stdout) = run("1");
-    assert!(stdout.contains("; 1 thread\n"), "{stdout}");
+    let lanes = coif::kernels::LANES;
+    assert!(
+        stdout.contains(&format!("; 1 thread, {lanes} lanes\n")),
+        "{stdout}"
+    );
     assert_eq!(png_size(&dir.join("threads_1.png")), (80, 64));
     for threads in ["2", "3"] {
         let (other, stdout) = run(threads);
         assert!(
-            stdout.contains(&format!("; {threads} threads\n")),
+            stdout.contains(&format!("; {threads} threads, {lanes} lanes\n")),
             "{stdout}"
         );
         assert!(other.0 == one.0, "--threads {threads}: the PNG differs");
