@@ -8,7 +8,7 @@
 //!
 //! `cargo bench --bench sdf` (add `-- --quick` for a fast pass).
 
-use coif::kernels::{Sdf, Vec3Lanes};
+use coif::kernels::{Sdf, Vec3Lanes, LANES};
 use coif_testkit::meshes::{icosphere, Mesh};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::Vec3;
@@ -75,7 +75,7 @@ fn lookup(c: &mut Criterion) {
         let sdf = Sdf::from_mesh(&p, &t, cell).unwrap();
         let pts = near_points(&p);
         let blocks: Vec<Vec3Lanes> = pts
-            .chunks_exact(8)
+            .chunks_exact(LANES)
             .map(|c| {
                 let mut v = Vec3Lanes::ZERO;
                 for (l, p) in c.iter().enumerate() {

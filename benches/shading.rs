@@ -22,7 +22,7 @@
 //!   RMS error against the direct model in the benchmark id (also printed).
 
 use coif::base::lanes::F32Lanes;
-use coif::base::Vec3Lanes;
+use coif::base::{Vec3Lanes, LANES};
 use coif::kernels::rng::SplitMix64;
 use coif::shading::dual_scattering::{DualScattering, DualScatteringSettings};
 use coif::shading::kajiya_kay::KajiyaKay;
@@ -228,7 +228,7 @@ fn dual_scattering(c: &mut Criterion) {
         g.bench_function(BenchmarkId::new(name, "single_simd"), |b| {
             b.iter(|| {
                 let s = black_box(&samples);
-                for start in (0..M).step_by(8) {
+                for start in (0..M).step_by(LANES) {
                     let (t, wi, wo) = s.load_block(start);
                     out.store_block(start, single_simd(t, wi, wo));
                 }
@@ -237,10 +237,12 @@ fn dual_scattering(c: &mut Criterion) {
         g.bench_function(BenchmarkId::new(name, "dual_simd"), |b| {
             b.iter(|| {
                 let s = black_box(&samples);
-                for start in (0..M).step_by(8) {
+                for start in (0..M).step_by(LANES) {
                     let (t, wi, wo) = s.load_block(start);
-                    let n = F32Lanes::new(fibres[start..start + 8].try_into().expect("8"));
-                    let d = F32Lanes::new(direct[start..start + 8].try_into().expect("8"));
+                    let n =
+                        F32Lanes::new(fibres[start..start + LANES].try_into().expect("a block"));
+                    let d =
+                        F32Lanes::new(direct[start..start + LANES].try_into().expect("a block"));
                     let f = ds.shade_layered_simd(single_simd(t, wi, wo), t, wi, wo, n, behind, d);
                     out.store_block(start, f);
                 }

@@ -9,7 +9,7 @@
 //! 20 fibres behind).
 
 use coif::base::lanes::F32Lanes;
-use coif::base::Vec3Lanes;
+use coif::base::{Vec3Lanes, LANES};
 use coif::kernels::rng::SplitMix64;
 use coif::shading::dual_scattering::{DualScattering, DualScatteringSettings};
 use coif::shading::marschner::{Lut, Params};
@@ -29,13 +29,15 @@ fn measured(
     out: &mut RgbBuffer,
 ) {
     for _ in 0..PASSES {
-        for start in (0..samples.len()).step_by(8) {
+        for start in (0..samples.len()).step_by(LANES) {
             let (t, wi, wo) = samples.load_block(start);
             let s = single(t, wi, wo);
             let f = match dual {
                 Some(ds) => {
-                    let n = F32Lanes::new(fibres[start..start + 8].try_into().expect("8 lanes"));
-                    let d = F32Lanes::new(direct[start..start + 8].try_into().expect("8 lanes"));
+                    let n =
+                        F32Lanes::new(fibres[start..start + LANES].try_into().expect("a block"));
+                    let d =
+                        F32Lanes::new(direct[start..start + LANES].try_into().expect("a block"));
                     ds.shade_layered_simd(s, t, wi, wo, n, F32Lanes::splat(20.0), d)
                 }
                 None => s,

@@ -333,12 +333,12 @@ fn accessors_past_the_end_panic_as_documented() {
     let reads_next = std::panic::catch_unwind(|| guides.position(0, r));
     assert!(
         reads_next.is_err(),
-        "vertex r of strand 0 is not strand 8's vertex 0"
+        "vertex r of strand 0 is not the next strand's vertex 0"
     );
     assert!(std::panic::catch_unwind(|| guides.position(5, 0)).is_err());
     let v = hairs.verts_per_hair();
     assert!(std::panic::catch_unwind(|| hairs.position(0, 0, v)).is_err());
-    assert!(std::panic::catch_unwind(|| hairs.position(0, 8, 0)).is_err());
+    assert!(std::panic::catch_unwind(|| hairs.position(0, coif_base::LANES, 0)).is_err());
     // The non-panicking accessors answer for any index.
     assert!(!guides.is_block_refined(usize::MAX));
     assert!(!hairs.is_group_written(usize::MAX));
@@ -352,7 +352,7 @@ fn accessors_past_the_end_panic_as_documented() {
     assert!(guides.block_positions(usize::MAX).is_empty());
     assert!(guides.block_tangents(usize::MAX / 2).is_empty());
     assert_eq!(hairs.get_position(0, 0, 0), Some(hairs.position(0, 0, 0)));
-    assert_eq!(hairs.get_position(0, 8, 0), None);
+    assert_eq!(hairs.get_position(0, coif_base::LANES, 0), None);
     assert_eq!(hairs.get_tangent(0, 0, v), None);
     assert!(hairs.group_positions(usize::MAX).is_empty());
     assert!(hairs.group_tangents(usize::MAX).is_empty());

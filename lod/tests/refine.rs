@@ -3,7 +3,7 @@
 //! differences, the SIMD batch against its scalar twin and against `refine`,
 //! culled blocks skipped, and the chosen level's measured error in budget.
 
-use coif_base::SplitMix64;
+use coif_base::{SplitMix64, LANES};
 use coif_kernels::Strands;
 use coif_lod::{self as lod, level, quality, RefinedGuides, Visibility};
 use glam::{DVec3, Vec3};
@@ -120,8 +120,10 @@ fn strand_set(seed: u64, strands: usize, verts: usize) -> (Vec<Vec3>, Strands) {
 
 #[test]
 fn simd_batch_matches_scalar_twin_and_single_strand_refine() {
-    // 21 strands: three blocks, the last with five padding lanes.
+    // 21 strands: three blocks at 8 lanes (the last with five padding
+    // lanes), two at 16.
     let (_, strands) = strand_set(3, 21, 9);
+    let blocks = 21usize.div_ceil(LANES);
     let local = strands.positions_local();
     let mut simd = RefinedGuides::new(strands.blocks(), 16).unwrap();
     let mut scal = RefinedGuides::new(strands.blocks(), 16).unwrap();
@@ -132,11 +134,11 @@ fn simd_batch_matches_scalar_twin_and_single_strand_refine() {
         scal.set_segments_per_span(segs).unwrap();
         assert_eq!(
             lod::refine_strands(strands.blocks(), None, &mut simd).unwrap(),
-            3
+            blocks
         );
         assert_eq!(
             lod::scalar::refine_strands(strands.blocks(), None, &mut scal).unwrap(),
-            3
+            blocks
         );
         let r = simd.verts_per_strand();
         assert_eq!(r, lod::refined_len(9, segs));
@@ -162,9 +164,10 @@ fn simd_batch_matches_scalar_twin_and_single_strand_refine() {
 
 #[test]
 fn culled_blocks_are_not_refined() {
-    // 24 strands; block 1 (strands 8..16) sits 10 m away along +x.
-    let (mut pts, _) = strand_set(4, 24, 6);
-    for p in &mut pts[8 * 6..16 * 6] {
+    // Three blocks; block 1 (strands LANES..2 LANES) sits 10 m away along +x.
+    let n = 3 * LANES;
+    let (mut pts, _) = strand_set(4, n, 6);
+    for p in &mut pts[LANES * 6..2 * LANES * 6] {
         p.x += 10.0;
     }
     let strands = Strands::from_polylines(&pts, 6).unwrap();
@@ -175,10 +178,10 @@ fn culled_blocks_are_not_refined() {
         3
     );
     let before: Vec<Vec3> = (0..out.verts_per_strand())
-        .map(|v| out.position(9, v))
+        .map(|v| out.position(LANES + 1, v))
         .collect();
 
-    // Move strand 9 (and all others) by 1 cm, then refine with a frustum
+    // Move strand LANES + 1 (and all others) by 1 cm, then refine with a frustum
     // holding everything but x > 5 m (a slab): block 1 is culled.
     for p in &mut pts {
         p.z += 0.01 * (p.x > 5.0) as i32 as f32 + 0.003;
@@ -193,7 +196,7 @@ fn culled_blocks_are_not_refined() {
         big,
         big,
     ]);
-    let mut vis = Visibility::new(24, 0);
+    let mut vis = Visibility::new(n, 0);
     lod::cull(moved.blocks(), None, 0, &slab, 0.0, &mut vis).unwrap();
     assert_eq!(vis.guide_blocks_needed(), 2);
     assert!(!vis.guide_block_needed(1));
@@ -203,7 +206,7 @@ fn culled_blocks_are_not_refined() {
     );
     assert!(!out.is_block_refined(1) && out.is_block_refined(0) && out.is_block_refined(2));
     let after: Vec<Vec3> = (0..out.verts_per_strand())
-        .map(|v| out.position(9, v))
+        .map(|v| out.position(LANES + 1, v))
         .collect();
     assert_eq!(before, after, "a culled block must not be written");
     assert_eq!(
@@ -211,7 +214,7 @@ fn culled_blocks_are_not_refined() {
         2
     );
     let after: Vec<Vec3> = (0..out.verts_per_strand())
-        .map(|v| out.position(9, v))
+        .map(|v| out.position(LANES + 1, v))
         .collect();
     assert_eq!(before, after, "the scalar twin must skip it too");
 
@@ -221,7 +224,7 @@ fn culled_blocks_are_not_refined() {
         3
     );
     assert!(out.is_block_refined(1));
-    assert_ne!(out.position(9, 1), before[1]);
+    assert_ne!(out.position(LANES + 1, 1), before[1]);
 }
 
 #[test]
@@ -300,13 +303,13 @@ fn positions_only_refinement_matches_the_full_pass() {
         lod::refine_strands(strands.blocks(), None, &mut full).unwrap();
         assert_eq!(
             lod::refine_strands_positions(strands.blocks(), None, &mut simd).unwrap(),
-            2
+            13usize.div_ceil(LANES)
         );
         assert_eq!(
             lod::scalar::refine_strands_positions(strands.blocks(), None, &mut scal).unwrap(),
-            2
+            13usize.div_ceil(LANES)
         );
-        for b in 0..2 {
+        for b in 0..13usize.div_ceil(LANES) {
             assert_eq!(simd.block_positions(b), full.block_positions(b));
         }
         for i in 0..13 {

@@ -175,14 +175,15 @@ pub fn measure_floors(options: Options) -> Floors {
     }
 }
 
-/// Sum of a buffer, eight independent 8-lane accumulators (a read stream).
+/// Sum of a buffer, eight independent accumulators of a block's lanes (a
+/// read stream).
 #[inline(never)]
 fn sum_simd(a: &[f32]) -> f32 {
     let mut acc = [F32Lanes::ZERO; 8];
-    let chunks = a.chunks_exact(64);
+    let chunks = a.chunks_exact(8 * LANES);
     for c in chunks {
         for (k, acc) in acc.iter_mut().enumerate() {
-            let v: [f32; LANES] = c[8 * k..8 * k + 8].try_into().expect("8 floats");
+            let v: [f32; LANES] = c[LANES * k..LANES * (k + 1)].try_into().expect("a block");
             *acc += F32Lanes::new(v);
         }
     }

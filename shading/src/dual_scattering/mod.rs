@@ -508,21 +508,18 @@ impl DualScattering {
         // 8 x 8 transposes into channels (two groups in a 16-lane build).
         let mut channels = [[[F32Group::ZERO; 8]; 2]; LANES / GROUP_LANES];
         for (k, group) in channels.iter_mut().enumerate() {
-            // SAFETY: u is in [0, last + 1/2] (a NaN is replaced by 0 by the
-            // `fast_max`), so its truncation is a record index in [0, last],
-            // last < len, and a record is 64 bytes.
-            let rec = |j: usize| unsafe {
-                &*base
-                    .add(offsets[k * GROUP_LANES + j] as u32 as usize)
-                    .cast::<[F32Group; 2]>()
-            };
-            let rows: [[F32Group; 8]; 2] = [
-                std::array::from_fn(|j| rec(j)[0]),
-                std::array::from_fn(|j| rec(j)[1]),
-            ];
-            *group = rows.map(F32Group::transpose);
+            let mut rows = [[F32Group::ZERO; 8]; 2];
+            for (j, &offset) in offsets[k * GROUP_LANES..][..GROUP_LANES].iter().enumerate() {
+                // SAFETY: u is in [0, last + 1/2] (a NaN is replaced by 0 by
+                // the `fast_max`), so its truncation is a record index in
+                // [0, last], last < len, and a record is 64 bytes.
+                let rec = unsafe { &*base.add(offset as u32 as usize).cast::<[F32Group; 2]>() };
+                rows[0][j] = rec[0];
+                rows[1][j] = rec[1];
+            }
+            *group = [F32Group::transpose(rows[0]), F32Group::transpose(rows[1])];
         }
-        let r = |c: usize| from_groups(channels.map(|g| g[c / 8][c % 8]));
+        let r = |c: usize| from_groups(std::array::from_fn(|k| channels[k][c / 8][c % 8]));
 
         let n = zero.fast_max(fibres);
         let m = zero.fast_max(behind);

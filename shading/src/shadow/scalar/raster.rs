@@ -6,6 +6,7 @@
 use crate::shadow::light_frame::{LightFrame, MapPlacement};
 use crate::shadow::raster::{Segment, SAMPLES_PER_TEXEL};
 use crate::shadow::strand_lanes::StrandLanes;
+use coif_base::lanes::GROUP_LANES;
 use coif_base::LANES;
 use glam::Vec3;
 use std::ops::Range;
@@ -118,7 +119,7 @@ pub fn for_each_segment(
 /// every sample's four texels inside the map; the lower-left texel is still
 /// clamped to `[0, n - 2]` so that rounding can never index outside it.
 fn sample_group(
-    group: &[Option<Segment>; LANES],
+    group: &[Option<Segment>; GROUP_LANES],
     resolution: usize,
     deposit: &mut impl FnMut(&Splat, f32),
 ) {
@@ -162,7 +163,7 @@ pub fn for_each_sample(
 ) {
     // The group of segments k0 .. k0 + 8 of one strand, sampled in rounds
     // when the next segment falls outside it.
-    let mut group: [Option<Segment>; LANES] = [None; LANES];
+    let mut group: [Option<Segment>; GROUP_LANES] = [None; GROUP_LANES];
     let mut key = (usize::MAX, usize::MAX);
     for_each_segment(
         frame,
@@ -172,21 +173,21 @@ pub fn for_each_sample(
         points,
         verts,
         |strand, k, seg| {
-            if (strand, k / LANES) != key {
+            if (strand, k / GROUP_LANES) != key {
                 sample_group(&group, resolution, &mut deposit);
-                group = [None; LANES];
-                key = (strand, k / LANES);
+                group = [None; GROUP_LANES];
+                key = (strand, k / GROUP_LANES);
             }
-            group[k % LANES] = Some(*seg);
+            group[k % GROUP_LANES] = Some(*seg);
         },
     );
     sample_group(&group, resolution, &mut deposit);
 }
 
 /// Scalar twin of the SIMD `for_each_sample_lanes`: the hair of `blocks`
-/// of `hair` (eight strands in lanes), per block and segment `r` the group
-/// of the lanes' segments `r` (rows `r`, `r + 1`), one lane at a time, then
-/// its rounds ([`sample_group`]). A segment is sampled when its lane is
+/// of `hair` (strands in lanes), per block, per group of eight lanes and
+/// per segment `r` the group of the lanes' segments `r` (rows `r`, `r + 1`),
+/// one lane at a time, then its rounds ([`sample_group`]). A segment is sampled when its lane is
 /// hair and both ends are finite; it starts a piece when it is the strand's
 /// first or follows a broken one.
 pub fn for_each_sample_lanes<H: StrandLanes + ?Sized>(
@@ -206,31 +207,35 @@ pub fn for_each_sample_lanes<H: StrandLanes + ?Sized>(
     for b in blocks {
         let (lanes, row) = hair.block(b);
         let lanes = lanes.min(LANES);
-        let first_row = row(0);
-        let mut prev = [Vec3::ZERO; LANES];
-        let mut prev_light = [Vec3::ZERO; LANES];
-        for l in 0..lanes {
-            prev[l] = first_row.lane(l);
-            prev_light[l] = frame.to_light(prev[l]);
-        }
-        let mut first = [true; LANES];
-        for r in 1..verts {
-            let next_row = row(r);
-            let mut group: [Option<Segment>; LANES] = [None; LANES];
-            for l in 0..lanes {
-                // 1. Segment setup, lane by lane.
-                let next = next_row.lane(l);
-                let next_light = frame.to_light(next);
-                if prev[l].is_finite() && next.is_finite() {
-                    group[l] = Some(setup.segment(prev_light[l], next_light, first[l]));
-                    first[l] = false;
-                } else {
-                    first[l] = true;
-                }
-                prev[l] = next;
-                prev_light[l] = next_light;
+        // Group by group of eight lanes, as the SIMD twin deposits.
+        for start in (0..lanes).step_by(GROUP_LANES) {
+            let in_group = start..(start + GROUP_LANES).min(lanes);
+            let first_row = row(0);
+            let mut prev = [Vec3::ZERO; GROUP_LANES];
+            let mut prev_light = [Vec3::ZERO; GROUP_LANES];
+            for (i, l) in in_group.clone().enumerate() {
+                prev[i] = first_row.lane(l);
+                prev_light[i] = frame.to_light(prev[i]);
             }
-            sample_group(&group, resolution, &mut deposit);
+            let mut first = [true; GROUP_LANES];
+            for r in 1..verts {
+                let next_row = row(r);
+                let mut group: [Option<Segment>; GROUP_LANES] = [None; GROUP_LANES];
+                for (i, l) in in_group.clone().enumerate() {
+                    // 1. Segment setup, lane by lane.
+                    let next = next_row.lane(l);
+                    let next_light = frame.to_light(next);
+                    if prev[i].is_finite() && next.is_finite() {
+                        group[i] = Some(setup.segment(prev_light[i], next_light, first[i]));
+                        first[i] = false;
+                    } else {
+                        first[i] = true;
+                    }
+                    prev[i] = next;
+                    prev_light[i] = next_light;
+                }
+                sample_group(&group, resolution, &mut deposit);
+            }
         }
     }
 }
