@@ -265,18 +265,7 @@ fn lod_render_vertices_are_the_same_bytes() {
 #[test]
 fn the_default_scenes_picture_is_the_same_bytes() {
     let scene = HairScene::sintel().unwrap();
-    let base = FrameSettings::small(96);
-    let settings = FrameSettings {
-        simulation: SimParams {
-            local_shape_stiffness: coif::frame::style::SCENE_STIFFNESS,
-            drag: motion::GUST_DRAG,
-            turbulence: motion::GUST_TURBULENCE,
-            volume_stiffness: 1.0,
-            hair_friction: 1.0,
-            ..base.simulation
-        },
-        ..base
-    };
+    let settings = FrameSettings::small(96).with_body_simulation();
     let mut p = FramePipeline::new(&scene, settings, 0.1).unwrap();
     let pivot = p.pivot();
     for f in 0..3 {

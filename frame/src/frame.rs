@@ -285,7 +285,8 @@ impl FramePipeline {
             })?;
         // Each guide weighs in the hair grid as the render hairs it carries.
         strands.set_hair_shares(&interpolation.guide_shares())?;
-        let body = scene.body.as_ref().map(BodyStage::new);
+        let body =
+            (scene.body.as_ref()).map(|b| BodyStage::new(b, settings.width, settings.height));
         let fields = body.as_ref().map(|b| std::slice::from_ref(b.field()));
         let colliders = Colliders {
             spheres: &scene.rig,
@@ -881,7 +882,8 @@ impl FramePipeline {
     /// shadowed by the hair.
     fn draw_head(&mut self, camera: &Camera, executor: &dyn Executor) {
         let light = self.settings.light;
-        self.framebuffer.clear_gradient(BACKGROUND.0, BACKGROUND.1);
+        self.framebuffer
+            .clear_gradient_with(BACKGROUND.0, BACKGROUND.1, executor);
         let head_shading = HeadShading {
             albedo: SKIN_ALBEDO,
             to_light: light.to_light,
@@ -922,6 +924,7 @@ impl FramePipeline {
             &light,
             &self.head_local,
             &self.shadow,
+            executor,
         );
         let shadow = &self.shadow;
         let (eyeballs, irises) = body.eyes();
@@ -942,7 +945,7 @@ impl FramePipeline {
                 executor,
             );
         }
-        self.stats.body_pixels = eye_pixels + body.draw(&mut self.framebuffer);
+        self.stats.body_pixels = eye_pixels + body.draw(&mut self.framebuffer, executor);
     }
 
     /// Stage [`Stage::RibbonDraw`]: the ribbons, opaque, depth-tested and

@@ -167,4 +167,23 @@ impl FrameSettings {
             ..FrameSettings::default()
         }
     }
+
+    /// These settings with the simulation the demo gives a character on a
+    /// body (Sintel, the default scene): the groom's local shape at
+    /// [`crate::style::SCENE_STIFFNESS`], the gust's drag and turbulence
+    /// ([`crate::motion::GUST_DRAG`], [`crate::motion::GUST_TURBULENCE`]),
+    /// hair-hair volume and friction at 1.
+    pub fn with_body_simulation(self) -> FrameSettings {
+        FrameSettings {
+            simulation: SimParams {
+                local_shape_stiffness: crate::style::SCENE_STIFFNESS,
+                drag: crate::motion::GUST_DRAG,
+                turbulence: crate::motion::GUST_TURBULENCE,
+                volume_stiffness: 1.0,
+                hair_friction: 1.0,
+                ..self.simulation
+            },
+            ..self
+        }
+    }
 }

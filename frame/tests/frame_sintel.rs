@@ -8,7 +8,6 @@
 use coif_base::tasks::{Rayon, Serial};
 use coif_frame::{motion, Error, FramePipeline, FrameSettings, HairScene};
 use coif_geometry::mesh::{MeshError, TriangleMesh};
-use coif_kernels::SimParams;
 use coif_testkit::meshes::brute;
 use glam::Vec3;
 
@@ -23,18 +22,7 @@ const GROOM: &str = concat!(
 
 /// The demo's settings for a scene with a body, at `size` pixels.
 fn settings(size: usize) -> FrameSettings {
-    let base = FrameSettings::small(size);
-    FrameSettings {
-        simulation: SimParams {
-            local_shape_stiffness: coif_frame::style::SCENE_STIFFNESS,
-            drag: motion::GUST_DRAG,
-            turbulence: motion::GUST_TURBULENCE,
-            volume_stiffness: 1.0,
-            hair_friction: 1.0,
-            ..base.simulation
-        },
-        ..base
-    }
+    FrameSettings::small(size).with_body_simulation()
 }
 
 #[test]

@@ -40,18 +40,28 @@ pub const MAX_STEP_TASKS: usize = 64;
 /// side by side (`step::step_chains`), the scalar twin one after the other.
 pub(crate) const PAIR: usize = 2;
 
-/// The fewest blocks a task takes (128 strands): about 0.1 ms of work at
-/// 32 vertices (about 30 ns per vertex-step), so a job system's cost per
-/// job (about a microsecond) stays near 1 %; a 2,048-guide head makes 16
-/// tasks.
+/// The fewest blocks a task of a large set takes (128 strands): about
+/// 0.1 ms of work at 32 vertices (about 30 ns per vertex-step), so a job
+/// system's cost per job (about a microsecond) stays near 1 %; a
+/// 2,048-guide head makes 16 tasks.
 const MIN_TASK_BLOCKS: usize = 16;
 
-/// Blocks per task for a set of `blocks`: at least [`MIN_TASK_BLOCKS`],
-/// at most [`MAX_STEP_TASKS`] tasks, a whole number of [`GROUP`]s (so the
-/// broad phase's groups, and with them every result, do not depend on the
-/// split).
+/// Tasks a small set is cut into, at most (one [`GROUP`] of blocks each at
+/// the least): a set of fewer than `SMALL_SET_TASKS x MIN_TASK_BLOCKS`
+/// blocks takes smaller tasks, so that a small groom still balances over
+/// the threads (Sintel's 228 guides, 29 blocks: eight tasks of at most
+/// four blocks, where sixteen blocks a task made two tasks of 16 and 13).
+const SMALL_SET_TASKS: usize = 16;
+
+/// Blocks per task for a set of `blocks`: at most [`MAX_STEP_TASKS`]
+/// tasks, at least [`MIN_TASK_BLOCKS`] blocks a task where the set has
+/// [`SMALL_SET_TASKS`] tasks of them and fewer otherwise, a whole number of
+/// [`GROUP`]s (so the broad phase's groups, and with them every result, do
+/// not depend on the split). A function of the set alone, never of the
+/// threads.
 pub(crate) fn task_blocks(blocks: usize) -> usize {
-    let per = blocks.div_ceil(MAX_STEP_TASKS).max(MIN_TASK_BLOCKS);
+    let small = blocks.div_ceil(SMALL_SET_TASKS).min(MIN_TASK_BLOCKS);
+    let per = blocks.div_ceil(MAX_STEP_TASKS).max(small).max(1);
     per.div_ceil(GROUP) * GROUP
 }
 
@@ -118,7 +128,14 @@ pub(crate) fn drive(
     // in its task (`hair_grid/`).
     let mut grid = std::mem::take(&mut strands.hair_grid);
     let grid_setup = (params.volume_stiffness > 0.0 || params.hair_friction > 0.0).then(|| {
-        grid.build(strands, &pos, &prev, params.dt, params.hair_grid_cell);
+        grid.build(
+            strands,
+            &pos,
+            &prev,
+            params.dt,
+            params.hair_grid_cell,
+            executor,
+        );
         let wind = if params.wind.is_finite() {
             params.wind
         } else {
@@ -491,20 +508,37 @@ mod tests {
         for blocks in [0, 1, 5, 16, 17, 100, 1024, 1250, 5000, 100_000] {
             let per = task_blocks(blocks);
             assert_eq!(per % GROUP, 0, "{blocks}: whole groups");
-            assert!(per >= MIN_TASK_BLOCKS);
+            assert!(per >= GROUP);
+            if blocks >= SMALL_SET_TASKS * MIN_TASK_BLOCKS {
+                assert!(
+                    per >= MIN_TASK_BLOCKS,
+                    "{blocks}: large tasks of a large set"
+                );
+            } else {
+                // A small set is cut finer: as many tasks as it has
+                // groups, up to SMALL_SET_TASKS.
+                let groups = blocks.div_ceil(GROUP);
+                assert!(
+                    task_count(blocks) >= groups.min(SMALL_SET_TASKS) / 2,
+                    "{blocks}"
+                );
+            }
             assert!(task_count(blocks) <= MAX_STEP_TASKS, "{blocks}");
             assert!(task_count(blocks) * per >= blocks, "{blocks}: covered");
         }
+        // Sintel's 228 guides: 29 blocks in eight tasks (were two).
+        assert_eq!(task_count(228usize.div_ceil(8)), 8);
     }
 
     #[test]
     fn a_lane_restored_inside_a_later_task_is_counted_once() {
-        // 25 blocks, two tasks; the strand in block 20, lane 3.
+        // 25 blocks, seven tasks of four; the strand in block 20 (task 5),
+        // lane 3.
         let (rig, params) = (head(), SimParams::default());
         let mut runs = vec![];
         for exec in [&Serial as &dyn Executor, &Reverse] {
             let mut s = strands(25 * LANES);
-            assert_eq!(s.scratch.tasks.len(), 2);
+            assert_eq!(s.scratch.tasks.len(), 7);
             step_with(&mut s, &params, &rig, exec);
             s.pos[20 * 12 + 7].set_lane(3, Vec3::NAN);
             step_with(&mut s, &params, &rig, exec);

@@ -2,8 +2,9 @@
 //! anti-aliased lines of sub-pixel width, alpha-blended back to front over a
 //! ray-cast sphere head and a background, tone-mapped and written as PNG.
 //!
-//! Single-threaded and in a fixed order, so the same input gives the same
-//! bytes. Every buffer is owned by the caller and sized once ([`Framebuffer`],
+//! Deterministic: the stages that run as tasks on the caller's executor
+//! (`coif_base::tasks`) write disjoint pixels in a fixed order, so the same
+//! input gives the same bytes at any thread count. Every buffer is owned by the caller and sized once ([`Framebuffer`],
 //! the sort keys of [`sort::DepthOrder`]); drawing allocates nothing.
 //!
 //! - [`Camera`]: perspective look-at camera, projection to pixels.
@@ -18,7 +19,9 @@
 //!   screen tiles, each tile drawn in cache eight segments per register
 //!   ([`raster::HairRaster`]; scalar twin [`scalar::draw`]).
 //! - [`triangle`]: opaque triangles (edge functions, top-left rule, depth
-//!   test) and [`grid`]: a row-major grid mesh of them (the ribbon).
+//!   test) and [`grid`]: a row-major grid mesh of them (the ribbon);
+//!   [`triangle_bins`]: a mesh's triangles binned into the hair's tiles
+//!   and filled as tasks (the body), the same bytes as one pass.
 //! - [`ShadedVertex`]: the shaded vertex the hair rasteriser reads.
 //! - [`image`]: tone map and sRGB encode to 8-bit RGB, contact sheets, PNG.
 
@@ -36,6 +39,7 @@ pub mod raster;
 pub mod scalar;
 pub mod sort;
 pub mod triangle;
+pub mod triangle_bins;
 mod vertex;
 
 pub use camera::Camera;

@@ -108,66 +108,139 @@ pub fn fill_triangle(
     c: &TriangleVertex,
     mut visit: impl FnMut(usize),
 ) -> usize {
-    let corners = [a, b, c];
-    if corners
-        .iter()
-        .any(|v| !(v.x.is_finite() && v.y.is_finite() && v.depth.is_finite() && v.depth > 0.0))
-    {
-        return 0;
-    }
-    let area2 = (b.x as f64 - a.x as f64) * (c.y as f64 - a.y as f64)
-        - (b.y as f64 - a.y as f64) * (c.x as f64 - a.x as f64);
-    if area2 == 0.0 || !area2.is_finite() {
-        return 0;
-    }
-    let orientation = area2.signum();
-    // Edge k is opposite corner k: its function is corner k's weight.
-    let edges = [
-        Edge::new(b, c, orientation),
-        Edge::new(c, a, orientation),
-        Edge::new(a, b, orientation),
-    ];
     let (w, h) = (frame.width(), frame.height());
-    let min_x = a.x.min(b.x).min(c.x);
-    let max_x = a.x.max(b.x).max(c.x);
-    let min_y = a.y.min(b.y).min(c.y);
-    let max_y = a.y.max(b.y).max(c.y);
-    // Pixels whose centre can be inside: i + 0.5 in [min, max].
-    let x0 = (min_x - 0.5).ceil().max(0.0);
-    let y0 = (min_y - 0.5).ceil().max(0.0);
-    let x1 = ((max_x - 0.5).floor() + 1.0).min(w as f32);
-    let y1 = ((max_y - 0.5).floor() + 1.0).min(h as f32);
-    if !(x0 < x1 && y0 < y1) {
+    let Some(setup) = TriangleSetup::new(a, b, c, w, h) else {
         return 0;
-    }
-    let (x0, x1, y0, y1) = (x0 as usize, x1 as usize, y0 as usize, y1 as usize);
-    let inv_area = 1.0 / area2.abs();
-    let inv_z = [1.0 / a.depth, 1.0 / b.depth, 1.0 / c.depth];
-    let color_z = [a.color * inv_z[0], b.color * inv_z[1], c.color * inv_z[2]];
+    };
+    let [x0, x1, y0, y1] = setup.pixels;
     let mut written = 0;
     for y in y0..y1 {
+        let row = &mut frame.pixels[y * w..(y + 1) * w];
+        written += setup.fill_row(y, x0..x1, row, 0, |x| visit(y * w + x));
+    }
+    written
+}
+
+/// A triangle ready to fill: its edge functions, the pixels whose centre
+/// can be inside, and what the interpolation needs. Every pixel's result
+/// depends on the pixel alone (no incremental stepping), so filling the
+/// triangle's pixels in any pieces (a tile at a time,
+/// [`crate::triangle_bins`]) writes the same bits as [`fill_triangle`].
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct TriangleSetup {
+    edges: [Edge; 3],
+    /// `[x0, x1, y0, y1]`: the pixels whose centre can be inside, within
+    /// the frame (never empty).
+    pub(crate) pixels: [usize; 4],
+    inv_area: f64,
+    inv_z: [f32; 3],
+    color_z: [Vec3; 3],
+}
+
+impl TriangleSetup {
+    /// The triangle `a, b, c` in a `width x height` frame, or `None` when
+    /// it draws nothing: a corner with a non-finite position or a depth
+    /// `<= 0`, zero or non-finite area, or no pixel centre in the frame
+    /// within its bounds.
+    pub(crate) fn new(
+        a: &TriangleVertex,
+        b: &TriangleVertex,
+        c: &TriangleVertex,
+        width: usize,
+        height: usize,
+    ) -> Option<TriangleSetup> {
+        let pixels = Self::pixel_bounds(a, b, c, width, height)?;
+        let area2 = (b.x as f64 - a.x as f64) * (c.y as f64 - a.y as f64)
+            - (b.y as f64 - a.y as f64) * (c.x as f64 - a.x as f64);
+        if area2 == 0.0 || !area2.is_finite() {
+            return None;
+        }
+        let orientation = area2.signum();
+        // Edge k is opposite corner k: its function is corner k's weight.
+        let edges = [
+            Edge::new(b, c, orientation),
+            Edge::new(c, a, orientation),
+            Edge::new(a, b, orientation),
+        ];
+        let inv_z = [1.0 / a.depth, 1.0 / b.depth, 1.0 / c.depth];
+        Some(TriangleSetup {
+            edges,
+            pixels,
+            inv_area: 1.0 / area2.abs(),
+            inv_z,
+            color_z: [a.color * inv_z[0], b.color * inv_z[1], c.color * inv_z[2]],
+        })
+    }
+
+    /// `[x0, x1, y0, y1]`, the pixels of a `width x height` frame whose
+    /// centre can be inside the triangle `a, b, c` (`i + 0.5` within its
+    /// bounds), or `None` when there are none or a corner has a non-finite
+    /// position or a depth `<= 0`. A superset of the pixels
+    /// [`TriangleSetup::new`] fills, cheap enough to bin by.
+    #[inline]
+    pub(crate) fn pixel_bounds(
+        a: &TriangleVertex,
+        b: &TriangleVertex,
+        c: &TriangleVertex,
+        width: usize,
+        height: usize,
+    ) -> Option<[usize; 4]> {
+        let corners = [a, b, c];
+        if corners
+            .iter()
+            .any(|v| !(v.x.is_finite() && v.y.is_finite() && v.depth.is_finite() && v.depth > 0.0))
+        {
+            return None;
+        }
+        let min_x = a.x.min(b.x).min(c.x);
+        let max_x = a.x.max(b.x).max(c.x);
+        let min_y = a.y.min(b.y).min(c.y);
+        let max_y = a.y.max(b.y).max(c.y);
+        // Pixels whose centre can be inside: i + 0.5 in [min, max].
+        let x0 = (min_x - 0.5).ceil().max(0.0);
+        let y0 = (min_y - 0.5).ceil().max(0.0);
+        let x1 = ((max_x - 0.5).floor() + 1.0).min(width as f32);
+        let y1 = ((max_y - 0.5).floor() + 1.0).min(height as f32);
+        (x0 < x1 && y0 < y1).then_some([x0 as usize, x1 as usize, y0 as usize, y1 as usize])
+    }
+
+    /// Fills pixels `xs` of row `y`, whose pixels from column `first` on
+    /// are `row` (pixel `x` is `row[x - first]`): each centre inside the
+    /// triangle and nearer than the depth stored there gets the triangle's
+    /// depth and colour, and `visit(x)`. Returns the pixels written.
+    #[inline]
+    pub(crate) fn fill_row(
+        &self,
+        y: usize,
+        xs: std::ops::Range<usize>,
+        row: &mut [Pixel],
+        first: usize,
+        mut visit: impl FnMut(usize),
+    ) -> usize {
+        let edges = &self.edges;
+        let (inv_z, color_z) = (self.inv_z, self.color_z);
         let py = y as f64 + 0.5;
-        for x in x0..x1 {
+        let mut written = 0;
+        for x in xs {
+            let dst = &mut row[x - first];
             let px = x as f64 + 0.5;
             let e = edges.map(|edge| edge.eval(px, py));
             if !(edges[0].inside(e[0]) && edges[1].inside(e[1]) && edges[2].inside(e[2])) {
                 continue;
             }
-            let l = e.map(|e| (e * inv_area) as f32);
+            let l = e.map(|e| (e * self.inv_area) as f32);
             let one_over_z = l[0] * inv_z[0] + l[1] * inv_z[1] + l[2] * inv_z[2];
             let depth = 1.0 / one_over_z;
-            let i = frame.index(x, y);
-            let dst = &mut frame.pixels[i];
             if depth.is_nan() || depth >= dst.depth {
                 continue;
             }
             let color = (color_z[0] * l[0] + color_z[1] * l[1] + color_z[2] * l[2]) * depth;
             *dst = Pixel { color, depth };
             written += 1;
-            visit(i);
+            visit(x);
         }
+        written
     }
-    written
 }
 
 #[cfg(test)]

@@ -158,3 +158,99 @@ fn a_grid_in_front_of_the_camera_covers_its_projected_area() {
         0
     );
 }
+
+/// An engine-style executor of `threads` scoped threads: the indices
+/// backwards, index `i` on thread `i % threads`.
+struct Backwards {
+    threads: usize,
+}
+
+// SAFETY: each index runs once, on one of the scoped threads, all joined
+// before `run` returns.
+unsafe impl coif_base::tasks::Executor for Backwards {
+    fn threads(&self) -> usize {
+        self.threads
+    }
+
+    fn run(&self, count: usize, task: &(dyn Fn(usize) + Sync)) {
+        let n = self.threads;
+        std::thread::scope(|s| {
+            for k in 0..n {
+                s.spawn(move || {
+                    for i in (0..count).rev().filter(|i| i % n == k) {
+                        task(i);
+                    }
+                });
+            }
+        });
+    }
+}
+
+/// The frame's pixels as bits.
+fn pixel_bits(frame: &Framebuffer) -> Vec<[u32; 4]> {
+    (frame.pixels.iter())
+        .map(|p| [p.color.x, p.color.y, p.color.z, p.depth].map(f32::to_bits))
+        .collect()
+}
+
+#[test]
+fn binned_triangles_are_the_same_bytes_as_one_pass_in_order() {
+    use coif_base::tasks::{Executor, Serial};
+    use coif_render::triangle_bins::TriangleBins;
+    // 600 random triangles of every size (a pixel to most of the frame),
+    // interleaved depths so that later triangles win some pixels and lose
+    // others, some corners shared, some missing (behind the near plane),
+    // one index out of range; a frame of 200 x 150 (partial tiles).
+    let (w, h) = (200, 150);
+    let mut rng = SplitMix64::new(42);
+    let corners: Vec<Option<TriangleVertex>> = (0..900)
+        .map(|k| {
+            let scale = [4.0, 30.0, 250.0][k % 3];
+            let c = Vec2::new(rng.next_f32() * w as f32, rng.next_f32() * h as f32);
+            let p = c + (Vec2::new(rng.next_f32(), rng.next_f32()) - 0.5) * scale;
+            (k % 97 != 5).then(|| TriangleVertex {
+                x: p.x,
+                y: p.y,
+                depth: 1.0 + rng.next_f32(),
+                color: Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()),
+            })
+        })
+        .collect();
+    let mut triangles: Vec<[u32; 3]> = (0..600u32)
+        .map(|t| [t % 900, (t * 7 + 1) % 900, (t * 13 + 2) % 900])
+        .collect();
+    triangles[17][1] = 5000;
+    let mut reference = Framebuffer::new(w, h);
+    reference.clear_gradient(Vec3::ZERO, Vec3::ONE);
+    let mut expected = 0;
+    for t in &triangles {
+        let [a, b, c] = t.map(|i| corners.get(i as usize).copied().flatten());
+        if let (Some(a), Some(b), Some(c)) = (a, b, c) {
+            expected += fill_triangle(&mut reference, &a, &b, &c, |_| {});
+        }
+    }
+    assert!(expected > 10_000, "{expected} pixels written");
+    let want = pixel_bits(&reference);
+    let draw = |bins: &mut TriangleBins, executor: &dyn Executor| {
+        let mut frame = Framebuffer::new(w, h);
+        frame.clear_gradient(Vec3::ZERO, Vec3::ONE);
+        let written = bins.draw(&mut frame, &corners, &triangles, executor);
+        (written, pixel_bits(&frame))
+    };
+    let spread = [1, 2, 3, 8].map(|threads| Backwards { threads });
+    let mut executors: Vec<&dyn Executor> = vec![&Serial];
+    executors.extend(spread.iter().map(|p| p as &dyn Executor));
+    let mut bins = TriangleBins::new(w, h, triangles.len());
+    for (k, executor) in executors.into_iter().enumerate() {
+        let (written, got) = draw(&mut bins, executor);
+        assert_eq!(written, expected, "executor {k}: pixels written");
+        assert!(got == want, "executor {k}: the pixels differ");
+    }
+    // Bins made for fewer triangles, or for another frame size, draw in
+    // one pass: the same bytes.
+    for mut small in [TriangleBins::new(w, h, 10), TriangleBins::new(64, 64, 600)] {
+        let (written, got) = draw(&mut small, &Backwards { threads: 2 });
+        assert_eq!(written, expected);
+        assert!(got == want, "the one-pass fallback differs");
+    }
+}

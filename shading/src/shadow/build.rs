@@ -125,7 +125,8 @@ impl OpacityShadowMap {
         hair: &H,
     ) -> Result<(), Error> {
         scratch.check_fits(self)?;
-        if !self.prepare_with(light_dir, hair.verts(), |frame| lane_bounds(frame, hair)) {
+        let bounds = |frame: &LightFrame| lane_bounds(frame, hair, executor);
+        if !self.prepare_with(light_dir, hair.verts(), bounds) {
             return Ok(());
         }
         self.build_parts(executor, scratch, &Lanes(hair));
@@ -524,24 +525,65 @@ fn light_bounds(frame: &LightFrame, points: &[Vec3]) -> Option<(Vec3, Vec3)> {
     bounds.finish()
 }
 
+/// Most tasks of [`lane_bounds`].
+const BOUNDS_TASKS: usize = 16;
+
 /// Light-space bounding box `(min, max)` of the finite vertices of hair in
 /// lane layout (SIMD twin of the scalar `lane_bounds`; the same as
 /// [`light_bounds`] of the same points): per row, the lanes that are hair
-/// and finite, the same dot products, lane-wise minimum and maximum.
-fn lane_bounds<H: StrandLanes + ?Sized>(frame: &LightFrame, hair: &H) -> Option<(Vec3, Vec3)> {
-    let mut bounds = BoundsX8::new(frame);
-    for b in 0..hair.blocks() {
-        let (lanes, row) = hair.block(b);
-        if lanes == 0 {
-            continue;
+/// and finite, the same dot products, lane-wise minimum and maximum. Runs
+/// of blocks are tasks on `executor` (four per thread, at most
+/// [`BOUNDS_TASKS`]; a fused pass interpolates the rows here, so this is a
+/// third of the build's hair reads), each with its own bounds, merged
+/// after: minima and maxima of numbers do not depend on their order, so
+/// the box is the same bits with any split.
+fn lane_bounds<H: StrandLanes + ?Sized>(
+    frame: &LightFrame,
+    hair: &H,
+    executor: &dyn Executor,
+) -> Option<(Vec3, Vec3)> {
+    let blocks = hair.blocks();
+    let tasks = (4 * executor.threads())
+        .clamp(1, BOUNDS_TASKS)
+        .min(blocks.max(1));
+    let mut parts = [PartBounds::Empty; BOUNDS_TASKS];
+    for_each_chunk_mut(executor, &mut parts[..tasks], 1, &|t, out| {
+        let mut bounds = BoundsX8::new(frame);
+        for b in t * blocks / tasks..(t + 1) * blocks / tasks {
+            let (lanes, row) = hair.block(b);
+            if lanes == 0 {
+                continue;
+            }
+            let hair_lanes = lanes_below(lanes);
+            for r in 0..hair.verts() {
+                let p = row(r);
+                bounds.add(p, p.finite() & hair_lanes);
+            }
         }
-        let hair_lanes = lanes_below(lanes);
-        for r in 0..hair.verts() {
-            let p = row(r);
-            bounds.add(p, p.finite() & hair_lanes);
+        out[0] = bounds.finish_part();
+    });
+    let mut merged: Option<(Vec3, Vec3)> = None;
+    for part in &parts[..tasks] {
+        match *part {
+            PartBounds::Overflow => return None,
+            PartBounds::Empty => {}
+            PartBounds::Box(lo, hi) => {
+                merged = Some(merged.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
+            }
         }
     }
-    bounds.finish()
+    merged
+}
+
+/// One task's share of [`lane_bounds`].
+#[derive(Clone, Copy, Debug)]
+enum PartBounds {
+    /// No finite hair point.
+    Empty,
+    /// A finite point whose light-space coordinates overflow: no map.
+    Overflow,
+    /// The box of the task's finite points.
+    Box(Vec3, Vec3),
 }
 
 /// Lane-wise light-space bounds of the points added so far.
@@ -581,15 +623,27 @@ impl BoundsX8 {
     /// The lanes reduced (min and max of non-NaN numbers do not depend on
     /// the order); `None` on overflow or when no point was finite.
     fn finish(self) -> Option<(Vec3, Vec3)> {
+        match self.finish_part() {
+            PartBounds::Box(lo, hi) => Some((lo, hi)),
+            PartBounds::Empty | PartBounds::Overflow => None,
+        }
+    }
+
+    /// [`BoundsX8::finish`], telling an overflow from no point.
+    fn finish_part(self) -> PartBounds {
         if self.overflow.any() {
-            return None;
+            return PartBounds::Overflow;
         }
         let reduce = |v: [F32Lanes; 3], f: fn(f32, f32) -> f32| {
             let [x, y, z] = v.map(|c| c.to_array().into_iter().reduce(f).unwrap_or(0.0));
             Vec3::new(x, y, z)
         };
         let (min, max) = (reduce(self.min, f32::min), reduce(self.max, f32::max));
-        (min.x <= max.x).then_some((min, max))
+        if min.x <= max.x {
+            PartBounds::Box(min, max)
+        } else {
+            PartBounds::Empty
+        }
     }
 }
 
