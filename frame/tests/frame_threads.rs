@@ -1,5 +1,5 @@
-//! The whole frame on threads: every parallel stage (the guides' step and
-//! the hair grid's splat, the ribbons' patches, the shadow-map build and
+//! The whole frame on threads: every parallel stage (the guides' step, the
+//! ribbons' patches, the shadow-map build and
 //! its bounds, the prepare pass, the background, the body's vertices and
 //! its binned triangles, the hair's runs of tiles) gives the same bytes on
 //! the serial executor, on rayon pools of 1, 2, 3 and 8 threads and on an

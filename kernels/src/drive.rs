@@ -128,14 +128,7 @@ pub(crate) fn drive(
     // in its task (`hair_grid/`).
     let mut grid = std::mem::take(&mut strands.hair_grid);
     let grid_setup = (params.volume_stiffness > 0.0 || params.hair_friction > 0.0).then(|| {
-        grid.build(
-            strands,
-            &pos,
-            &prev,
-            params.dt,
-            params.hair_grid_cell,
-            executor,
-        );
+        grid.build(strands, &pos, &prev, params.dt, params.hair_grid_cell);
         let wind = if params.wind.is_finite() {
             params.wind
         } else {

@@ -4,7 +4,6 @@ use super::{MAX_HAIR_GRID_NODES, ROOT_RAMP};
 use crate::lanes::{groups, F32Group, Vec3Lanes, GROUP_LANES, LANES, V3};
 use crate::Strands;
 use coif_base::lanes::F32Lanes;
-use coif_base::tasks::{DisjointMut, Executor, Serial};
 use glam::{UVec3, Vec3};
 
 /// Jacobi sweeps of the pressure solve per step (module doc, step 2):
@@ -56,13 +55,6 @@ pub(crate) struct HairGrid {
     /// The groomed pose gridded for the target, kept so that a target
     /// computed again (after `Strands::set_hair_shares`) allocates nothing.
     pose: Vec<Vec3Lanes>,
-    /// The splat's records, one per vertex lane (pass 1 of
-    /// [`HairGrid::splat`]): the cell's lowest node ([`NO_CELL`]: none),
-    /// and its eight corner weights then `[1, vx, vy, vz, 1, vx, vy, vz]`.
-    record_nodes: Vec<u32>,
-    record_rows: Vec<[f32; 16]>,
-    /// The last step's `touched` nodes while this step's splat clears them.
-    stale: Vec<u32>,
 }
 
 /// Farther than this from the strands' origin (metres), a vertex is out
@@ -102,7 +94,7 @@ impl HairGrid {
             }
         }
         // The same grid as a step's, with zero velocity.
-        self.splat(s, &pose, &pose, 1.0, cell, &Serial);
+        self.splat(s, &pose, &pose, 1.0, cell);
         self.pose = pose;
         let inv_volume = 1.0 / (self.cell * self.cell * self.cell);
         let densest = self
@@ -124,8 +116,6 @@ impl HairGrid {
 
     /// Steps 1-2 of the module doc for this step's positions `pos` and
     /// previous ones `prev` (local frame, one step of `dt` apart).
-    /// The splat's two passes run as tasks on `executor` (module doc):
-    /// the same bytes with any executor.
     pub(crate) fn build(
         &mut self,
         s: &Strands,
@@ -133,10 +123,9 @@ impl HairGrid {
         prev: &[Vec3Lanes],
         dt: f32,
         cell: f32,
-        executor: &dyn Executor,
     ) {
         let target = self.target(s, cell);
-        self.splat(s, pos, prev, dt, cell, executor);
+        self.splat(s, pos, prev, dt, cell);
         if !self.live {
             return;
         }
@@ -201,34 +190,13 @@ impl HairGrid {
     /// Step 1: the last step's nodes cleared, the grid's box from the
     /// finite vertices, the cell (coarser when the box needs more nodes
     /// than the buffers hold), and the trilinear (cloud-in-cell) splat of
-    /// weight and momentum in block, vertex and lane order, in two passes
-    /// of tasks on `executor`:
-    ///
-    /// 1. per run of blocks, every vertex lane's record ([`SplatRecord`]:
-    ///    its cell, corner weights and `[1, v, 1, v]`), in splat order;
-    /// 2. per slab of the grid's z layers (nodes partitioned by task),
-    ///    every record in splat order adds the rows of its cell that lie in
-    ///    the slab (the slab first clears the last step's nodes in it).
-    ///
-    /// Each node's sums therefore take their terms in splat order whatever
-    /// the slabs: the same bytes as one pass on one thread. The cost: the
-    /// records (68 bytes per vertex lane, written once and read about
-    /// once in all) and a test of each record's cell per slab; the listing
-    /// of cells and nodes after the passes stays on the calling thread.
-    fn splat(
-        &mut self,
-        s: &Strands,
-        pos: &[Vec3Lanes],
-        prev: &[Vec3Lanes],
-        dt: f32,
-        cell: f32,
-        executor: &dyn Executor,
-    ) {
+    /// weight and momentum in block, vertex and lane order.
+    fn splat(&mut self, s: &Strands, pos: &[Vec3Lanes], prev: &[Vec3Lanes], dt: f32, cell: f32) {
         // Only listed nodes hold weight; the corners of listed cells that
         // the splat gave none were written with zero weight and are zero.
-        // The last step's nodes are cleared by the deposits' tasks (or
-        // below, where the splat stops early).
-        std::mem::swap(&mut self.touched, &mut self.stale);
+        for &i in &self.touched {
+            self.acc[i as usize] = [0.0; 4];
+        }
         self.touched.clear();
         self.cells.clear();
         if self.stamp == u32::MAX {
@@ -242,7 +210,6 @@ impl HairGrid {
         // NaN or infinity put every vertex on node 0.
         if !(cell.is_finite() && cell > 0.0) {
             self.live = false;
-            self.clear_stale();
             return;
         }
         // The box of the strands' lanes (not the padding) with every
@@ -279,7 +246,6 @@ impl HairGrid {
         }
         self.live = lo.x <= hi.x;
         if !self.live {
-            self.clear_stale();
             return;
         }
         let extent = hi - lo;
@@ -299,23 +265,16 @@ impl HairGrid {
             self.pressure = vec![0.0; self.capacity];
             self.pressure_next = vec![0.0; self.capacity];
             self.touched = Vec::with_capacity(self.capacity);
-            self.stale = Vec::with_capacity(self.capacity);
             self.excess = Vec::with_capacity(self.capacity);
             self.cells = Vec::with_capacity(self.capacity);
             self.cell_mark = vec![0; self.capacity];
             self.node_mark = vec![0; self.capacity];
-        }
-        if self.record_nodes.len() != s.blocks * LANES * s.verts {
-            // Sized once per set of strands.
-            self.record_nodes = vec![NO_CELL; s.blocks * LANES * s.verts];
-            self.record_rows = vec![[0.0; 16]; s.blocks * LANES * s.verts];
         }
         // (A NaN count is never small enough: the loop ends at an infinite cell.)
         while nodes(cell).is_nan() || nodes(cell) > self.capacity as f64 {
             cell *= 1.25;
             if !cell.is_finite() {
                 self.live = false;
-                self.clear_stale();
                 return;
             }
         }
@@ -327,76 +286,117 @@ impl HairGrid {
         self.dims = dims;
         self.cell = cell;
         self.origin = lo - Vec3::splat(PAD as f32 * cell);
-        let (nx, ny, nz) = (dims.x as usize, dims.y as usize, dims.z as usize);
+        let (nx, ny) = (dims.x as usize, dims.y as usize);
+        // Eight lanes at a time (a 16-lane block as two groups of eight,
+        // so that the sums into a node come in the same order at either
+        // width): weights, velocities and the eight corner weights in one
+        // `f32x8` each, then the writes lane by lane, corner by corner.
+        let reach8 = F32Group::splat(MAX_GRID_REACH);
+        let inv_cell = F32Group::splat(1.0 / cell);
+        let inv_dt = F32Group::splat(1.0 / dt);
+        let zero = F32Group::ZERO;
+        let one = F32Group::ONE;
+        let max_i = (dims - UVec3::splat(2)).as_vec3();
+        let origin = V3::<F32Group>::splat(self.origin);
+        let stamp = self.stamp;
         let (nxy, span) = (nx * ny, nx * ny + nx + 2);
-        let (acc_len, stamp) = (self.acc.len(), self.stamp);
-        // 1. The records, a run of blocks per task.
-        let block_records = LANES * s.verts;
-        let blocks_per_task = s.blocks.div_ceil(SPLAT_TASKS).max(1);
-        let grid = SplatGrid {
-            origin: self.origin,
-            cell,
-            dt,
-            dims,
-            nodes: acc_len.saturating_sub(span),
-        };
-        let (nodes_out, rows_out) = (
-            DisjointMut::new(&mut self.record_nodes[..]),
-            DisjointMut::new(&mut self.record_rows[..]),
-        );
-        executor.run(s.blocks.div_ceil(blocks_per_task), &|t| {
-            let first = t * blocks_per_task;
-            for b in first..(first + blocks_per_task).min(s.blocks) {
-                let at = b * block_records;
-                // SAFETY: block b's records are task t's alone.
-                let (nodes, rows) = unsafe {
-                    (
-                        nodes_out.range(at, block_records),
-                        rows_out.range(at, block_records),
-                    )
-                };
-                block_records_of(s, b, pos, prev, &grid, nodes, rows);
+        let acc = &mut self.acc[..];
+        let (cells, cell_mark) = (&mut self.cells, &mut self.cell_mark[..]);
+        let group =
+            |x: Vec3Lanes, k: usize| V3::new(groups(x.x)[k], groups(x.y)[k], groups(x.z)[k]);
+        for (b, k) in (0..s.blocks).flat_map(|b| (0..LANES / GROUP_LANES).map(move |k| (b, k))) {
+            let lanes = s
+                .lanes_in_block(b)
+                .saturating_sub(k * GROUP_LANES)
+                .min(GROUP_LANES);
+            if lanes == 0 {
+                continue;
             }
-        });
-        // 2. The deposits, a slab of z layers per task (at least
-        // SLAB_LAYERS), each writing only its own layers' nodes (and
-        // clearing the last step's there; the last slab also clears those
-        // past this step's box).
-        let (nodes, rows) = (&self.record_nodes[..], &self.record_rows[..]);
-        let slabs = (2 * executor.threads())
-            .clamp(1, SPLAT_TASKS)
-            .min(nz.div_ceil(SLAB_LAYERS));
-        let layers = nz.div_ceil(slabs);
-        let whole = (nz * nxy).min(acc_len);
-        let stale = &self.stale[..];
-        let acc = DisjointMut::new(&mut self.acc[..]);
-        executor.run(slabs, &|t| {
-            let lo = (t * layers * nxy).min(whole);
-            let hi = if t + 1 == slabs {
-                acc_len
-            } else {
-                ((t + 1) * layers * nxy).min(whole)
-            };
-            // SAFETY: the slabs' node ranges [lo, hi) are disjoint.
-            let slab = unsafe { acc.range(lo, hi - lo) };
-            for &i in stale {
-                if let Some(node) = (i as usize).checked_sub(lo).and_then(|k| slab.get_mut(k)) {
-                    *node = [0.0; 4];
+            let base = b * s.verts;
+            let hair_share = groups(s.hair_share[b])[k];
+            for v in 0..s.verts {
+                let (x, xp) = (group(pos[base + v], k), group(prev[base + v], k));
+                let (reach, rest_arc) = (reach8, groups(s.rest_arc[base + v])[k]);
+                let inside =
+                    x.x.abs().simd_lt(reach) & x.y.abs().simd_lt(reach) & x.z.abs().simd_lt(reach);
+                let weight = (rest_arc * F32Group::splat(1.0 / ROOT_RAMP))
+                    .max(zero)
+                    .min(one);
+                let weight = F32Group::select(inside, weight * hair_share, zero);
+                if weight.simd_gt(zero).to_bitmask() == 0 {
+                    continue;
+                }
+                let vel = (x - xp) * inv_dt;
+                let speed2 = vel.dot(vel);
+                let scale = (F32Group::splat(MAX_GRID_SPEED)
+                    * speed2.max(F32Group::splat(1e-30)).sqrt().recip())
+                .min(one);
+                let vel = vel * scale;
+                let finite = vel.x.is_finite() & vel.y.is_finite() & vel.z.is_finite();
+                let vel = V3::new(
+                    F32Group::select(finite, vel.x, zero),
+                    F32Group::select(finite, vel.y, zero),
+                    F32Group::select(finite, vel.z, zero),
+                );
+                let u = (x - origin) * inv_cell;
+                let axis = |u: F32Group, m: f32| {
+                    let i = u.floor().max(zero).min(F32Group::splat(m));
+                    (i, (u - i).max(zero).min(one))
+                };
+                let (ix, fx) = axis(u.x, max_i.x);
+                let (iy, fy) = axis(u.y, max_i.y);
+                let (iz, fz) = axis(u.z, max_i.z);
+                // Whole numbers below 2^24 (at most MAX_HAIR_GRID_NODES):
+                // exact in f32 and in the integer conversion.
+                let node = iz
+                    .mul_add(
+                        F32Group::splat((nx * ny) as f32),
+                        iy.mul_add(F32Group::splat(nx as f32), ix),
+                    )
+                    .trunc_int();
+                let (gx, gy, gz) = (one - fx, one - fy, one - fz);
+                // Per lane (after the transposes): the eight corner weights,
+                // and `[1, v, 1, v]`.
+                let corner = F32Group::transpose(std::array::from_fn(|c| {
+                    weight
+                        * if c & 1 == 1 { fx } else { gx }
+                        * if (c >> 1) & 1 == 1 { fy } else { gy }
+                        * if (c >> 2) & 1 == 1 { fz } else { gz }
+                }));
+                let unit =
+                    F32Group::transpose([one, vel.x, vel.y, vel.z, one, vel.x, vel.y, vel.z]);
+                let (node, weight) = (node.to_array(), weight.to_array());
+                for l in 0..lanes {
+                    if weight[l] <= 0.0 {
+                        continue;
+                    }
+                    // One 32-byte multiply-add per row of two nodes, to all
+                    // eight corners (a corner of zero weight adds zero), in
+                    // corner order, x fastest: the cell's four rows. Each
+                    // float is the same fused multiply-add as one 16-byte
+                    // multiply-add per node.
+                    let cell_node = node[l] as u32 as usize;
+                    let Some(block) = acc.get_mut(cell_node..cell_node + span) else {
+                        continue;
+                    };
+                    if cell_mark[cell_node] != stamp {
+                        cell_mark[cell_node] = stamp;
+                        cells.push(cell_node as u32);
+                    }
+                    for (row, at) in [0, nx, nxy, nxy + nx].into_iter().enumerate() {
+                        let Ok(pair): Result<&mut [f32; 8], _> =
+                            block[at..at + 2].as_flattened_mut().try_into()
+                        else {
+                            continue;
+                        };
+                        let w = row_weights(corner[l], row);
+                        *pair = unit[l].mul_add(w, F32Group::new(*pair)).to_array();
+                    }
                 }
             }
-            deposit_slab(nodes, rows, nx, nxy, lo, slab);
-        });
-        // The cells in the order the splat first reaches them, and the
-        // nodes that took weight, cell by cell: the pressure solve and the
-        // fields run over them (the same set whatever the order).
-        let (cells, cell_mark) = (&mut self.cells, &mut self.cell_mark[..]);
-        for &node in nodes {
-            if node != NO_CELL && cell_mark[node as usize] != stamp {
-                cell_mark[node as usize] = stamp;
-                cells.push(node);
-            }
         }
-        let acc = &self.acc[..];
+        // The nodes that took weight, cell by cell: the pressure solve
+        // and the fields run over them (the same set whatever the order).
         let node_mark = &mut self.node_mark[..];
         for &c in cells.iter() {
             let c = c as usize;
@@ -407,177 +407,6 @@ impl HairGrid {
                     self.touched.push(i as u32);
                 }
             }
-        }
-    }
-
-    /// Clears the last step's nodes on this thread (a splat that stops
-    /// before its deposits).
-    fn clear_stale(&mut self) {
-        for &i in &self.stale {
-            self.acc[i as usize] = [0.0; 4];
-        }
-    }
-}
-
-/// Most tasks of each pass of the splat.
-const SPLAT_TASKS: usize = 16;
-
-/// The fewest z layers a slab of the splat's deposits takes.
-const SLAB_LAYERS: usize = 4;
-
-/// A record of no cell: the vertex lane adds nothing.
-const NO_CELL: u32 = u32::MAX;
-
-/// What the records of a step's splat need of its grid.
-struct SplatGrid {
-    origin: Vec3,
-    cell: f32,
-    dt: f32,
-    dims: UVec3,
-    /// A cell's lowest node must lie below this for its eight corners to
-    /// be in the buffers.
-    nodes: usize,
-}
-
-/// Pass 1 of the splat for block `b`: `records` in (group of eight lanes,
-/// vertex, lane) order. Eight lanes at a time (a 16-lane block as two
-/// groups of eight, so that the sums into a node come in the same order at
-/// either width): weights, velocities and the eight corner weights in one
-/// `f32x8` each.
-fn block_records_of(
-    s: &Strands,
-    b: usize,
-    pos: &[Vec3Lanes],
-    prev: &[Vec3Lanes],
-    grid: &SplatGrid,
-    nodes: &mut [u32],
-    rows: &mut [[f32; 16]],
-) {
-    let dims = grid.dims;
-    let (nx, ny) = (dims.x as usize, dims.y as usize);
-    let reach8 = F32Group::splat(MAX_GRID_REACH);
-    let inv_cell = F32Group::splat(1.0 / grid.cell);
-    let inv_dt = F32Group::splat(1.0 / grid.dt);
-    let zero = F32Group::ZERO;
-    let one = F32Group::ONE;
-    let max_i = (dims - UVec3::splat(2)).as_vec3();
-    let origin = V3::<F32Group>::splat(grid.origin);
-    let group = |x: Vec3Lanes, k: usize| V3::new(groups(x.x)[k], groups(x.y)[k], groups(x.z)[k]);
-    nodes.fill(NO_CELL);
-    for k in 0..LANES / GROUP_LANES {
-        let lanes = s
-            .lanes_in_block(b)
-            .saturating_sub(k * GROUP_LANES)
-            .min(GROUP_LANES);
-        if lanes == 0 {
-            continue;
-        }
-        let base = b * s.verts;
-        let hair_share = groups(s.hair_share[b])[k];
-        for v in 0..s.verts {
-            let at = (k * s.verts + v) * GROUP_LANES;
-            let (nodes, rows) = (
-                &mut nodes[at..at + GROUP_LANES],
-                &mut rows[at..at + GROUP_LANES],
-            );
-            let (x, xp) = (group(pos[base + v], k), group(prev[base + v], k));
-            let (reach, rest_arc) = (reach8, groups(s.rest_arc[base + v])[k]);
-            let inside =
-                x.x.abs().simd_lt(reach) & x.y.abs().simd_lt(reach) & x.z.abs().simd_lt(reach);
-            let weight = (rest_arc * F32Group::splat(1.0 / ROOT_RAMP))
-                .max(zero)
-                .min(one);
-            let weight = F32Group::select(inside, weight * hair_share, zero);
-            if weight.simd_gt(zero).to_bitmask() == 0 {
-                continue;
-            }
-            let vel = (x - xp) * inv_dt;
-            let speed2 = vel.dot(vel);
-            let scale = (F32Group::splat(MAX_GRID_SPEED)
-                * speed2.max(F32Group::splat(1e-30)).sqrt().recip())
-            .min(one);
-            let vel = vel * scale;
-            let finite = vel.x.is_finite() & vel.y.is_finite() & vel.z.is_finite();
-            let vel = V3::new(
-                F32Group::select(finite, vel.x, zero),
-                F32Group::select(finite, vel.y, zero),
-                F32Group::select(finite, vel.z, zero),
-            );
-            let u = (x - origin) * inv_cell;
-            let axis = |u: F32Group, m: f32| {
-                let i = u.floor().max(zero).min(F32Group::splat(m));
-                (i, (u - i).max(zero).min(one))
-            };
-            let (ix, fx) = axis(u.x, max_i.x);
-            let (iy, fy) = axis(u.y, max_i.y);
-            let (iz, fz) = axis(u.z, max_i.z);
-            // Whole numbers below 2^24 (at most MAX_HAIR_GRID_NODES):
-            // exact in f32 and in the integer conversion.
-            let node = iz
-                .mul_add(
-                    F32Group::splat((nx * ny) as f32),
-                    iy.mul_add(F32Group::splat(nx as f32), ix),
-                )
-                .trunc_int();
-            let (gx, gy, gz) = (one - fx, one - fy, one - fz);
-            // Per lane (after the transposes): the eight corner weights,
-            // and `[1, v, 1, v]`.
-            let corner = F32Group::transpose(std::array::from_fn(|c| {
-                weight
-                    * if c & 1 == 1 { fx } else { gx }
-                    * if (c >> 1) & 1 == 1 { fy } else { gy }
-                    * if (c >> 2) & 1 == 1 { fz } else { gz }
-            }));
-            let unit = F32Group::transpose([one, vel.x, vel.y, vel.z, one, vel.x, vel.y, vel.z]);
-            let (node, weight) = (node.to_array(), weight.to_array());
-            for l in 0..lanes {
-                let cell_node = node[l] as u32 as usize;
-                if weight[l] <= 0.0 || cell_node > grid.nodes {
-                    continue;
-                }
-                nodes[l] = cell_node as u32;
-                rows[l][..8].copy_from_slice(corner[l].as_array());
-                rows[l][8..].copy_from_slice(unit[l].as_array());
-            }
-        }
-    }
-}
-
-/// Pass 2 of the splat for the slab of nodes `[lo, lo + slab.len())`:
-/// every record in order adds the rows of two nodes of its cell that lie
-/// in the slab, one 32-byte multiply-add per row (a corner of zero weight
-/// adds zero), in corner order, x fastest: the cell's four rows. Each
-/// float is the same fused multiply-add as one 16-byte multiply-add per
-/// node. A slab is whole z layers, and a row's two nodes share a layer.
-fn deposit_slab(
-    nodes: &[u32],
-    rows: &[[f32; 16]],
-    nx: usize,
-    nxy: usize,
-    lo: usize,
-    slab: &mut [[f32; 4]],
-) {
-    let hi = lo + slab.len();
-    for (&node, r) in nodes.iter().zip(rows) {
-        let cell_node = node as usize;
-        // (NO_CELL is past every slab.)
-        if node == NO_CELL || cell_node + nxy + nx < lo || cell_node >= hi {
-            continue;
-        }
-        let corner = F32Group::new(r[..8].try_into().unwrap_or_default());
-        let unit = F32Group::new(r[8..].try_into().unwrap_or_default());
-        for (row, at) in [0, nx, nxy, nxy + nx].into_iter().enumerate() {
-            let i = cell_node + at;
-            if i < lo || i + 2 > hi {
-                continue;
-            }
-            let Ok(pair): Result<&mut [f32; 8], _> =
-                slab[i - lo..i - lo + 2].as_flattened_mut().try_into()
-            else {
-                continue;
-            };
-            let w = row_weights(corner, row);
-            *pair = unit.mul_add(w, F32Group::new(*pair)).to_array();
         }
     }
 }
@@ -625,7 +454,7 @@ mod tests {
             .iter()
             .map(|p| *p - Vec3Lanes::splat(Vec3::Y * 0.1))
             .collect();
-        g.build(&s, &s.pos, &prev, 0.1, 0.01, &Serial);
+        g.build(&s, &s.pos, &prev, 0.1, 0.01);
         assert!(g.live);
         let n = (g.dims.x * g.dims.y * g.dims.z) as usize;
         let total: f32 = g.acc[..n].iter().map(|a| a[0]).sum();
@@ -665,14 +494,14 @@ mod tests {
             .collect();
         let s = Strands::from_polylines(&pts, 8).unwrap();
         let mut g = HairGrid::default();
-        g.build(&s, &s.pos, &s.pos, 1.0 / 60.0, 0.01, &Serial);
+        g.build(&s, &s.pos, &s.pos, 1.0 / 60.0, 0.01);
         let cap = g.capacity;
         let mut far = s.pos.clone();
         for p in &mut far {
             let q = p.lane(1) + Vec3::Y * 5.0e3;
             p.set_lane(1, q);
         }
-        g.build(&s, &far, &far, 1.0 / 60.0, 0.01, &Serial);
+        g.build(&s, &far, &far, 1.0 / 60.0, 0.01);
         assert_eq!(g.capacity, cap);
         assert!(
             (g.dims.x * g.dims.y * g.dims.z) as usize <= cap && g.cell > 0.1,
@@ -684,11 +513,11 @@ mod tests {
             let q = p.lane(1) + Vec3::Y * 1.0e6;
             p.set_lane(1, q);
         }
-        g.build(&s, &far, &far, 1.0 / 60.0, 0.01, &Serial);
+        g.build(&s, &far, &far, 1.0 / 60.0, 0.01);
         assert_eq!(g.cell, 0.01);
         // A NaN strand is left out.
         far[3].set_lane(0, Vec3::NAN);
-        g.build(&s, &far, &far, 1.0 / 60.0, 0.01, &Serial);
+        g.build(&s, &far, &far, 1.0 / 60.0, 0.01);
         assert!(g.live && g.cell.is_finite());
     }
 }

@@ -13,7 +13,7 @@ use super::strand_lanes::StrandLanes;
 use crate::Error;
 use coif_base::lanes::lanes_below;
 use coif_base::lanes::{F32Lanes, I32Lanes};
-use coif_base::tasks::{for_each_chunk_mut, Executor};
+use coif_base::tasks::{for_each_chunk_mut, DisjointMut, Executor};
 use coif_base::{Vec3Lanes, LANES};
 use glam::Vec3;
 use std::ops::Range;
@@ -152,33 +152,52 @@ impl OpacityShadowMap {
                 z0.fill(f32::INFINITY);
                 pass.depth(z0, src, range(i));
             });
-            self.first_depth.fill(f32::INFINITY);
-            for part in scratch.depth.chunks_exact(depth_len) {
-                for (z, p) in self.first_depth.iter_mut().zip(part) {
-                    *z = z.min(*p);
+            let parts = &scratch.depth[..];
+            let chunk = depth_len.div_ceil((4 * executor.threads()).clamp(1, MAX_TEXEL_RUNS));
+            for_each_chunk_mut(executor, &mut self.first_depth, chunk, &|c, z0| {
+                z0.fill(f32::INFINITY);
+                for part in parts.chunks_exact(depth_len) {
+                    for (z, p) in z0.iter_mut().zip(&part[c * chunk..]) {
+                        *z = z.min(*p);
+                    }
                 }
-            }
-            pass.finish_depth(&mut self.first_depth);
+                pass.finish_depth(z0);
+            });
         }
-        // 3. Partial deposits, summed in task order.
+        // 3. Partial deposits.
         let z0 = &self.first_depth;
         for_each_chunk_mut(executor, &mut scratch.texels, texels_len, &|i, part| {
             part.fill([0.0; 4]);
             pass.deposit(part, z0, src, range(i));
         });
-        let mut parts = scratch.texels.chunks_exact(texels_len);
-        if let Some(first) = parts.next() {
-            self.texels.copy_from_slice(first);
-        }
-        for part in parts {
-            for (t, p) in self.texels.iter_mut().zip(part) {
-                for k in 0..4 {
-                    t[k] += p[k];
+        // 3b and 4., as tasks over runs of texels (of every plane group):
+        // the partial maps summed in task order, then the prefix sum along
+        // depth. Each texel's adds are the same in any split.
+        let (nn, layers, groups) = (pass.nn, self.settings.layers, self.settings.groups());
+        let parts = &scratch.texels[..];
+        let runs = (4 * executor.threads()).clamp(1, MAX_TEXEL_RUNS);
+        let per_run = nn.div_ceil(runs).next_multiple_of(16);
+        let texels = DisjointMut::new(&mut self.texels);
+        executor.run(nn.div_ceil(per_run), &|r| {
+            let run = r * per_run..((r + 1) * per_run).min(nn);
+            for g in 0..groups {
+                let at = g * nn + run.start;
+                // SAFETY: run r of every group is this task's alone.
+                let dst = unsafe { texels.range(at, run.len()) };
+                let mut part = parts.chunks_exact(texels_len);
+                if let Some(first) = part.next() {
+                    dst.copy_from_slice(&first[at..at + run.len()]);
+                }
+                for p in part {
+                    for (t, p) in dst.iter_mut().zip(&p[at..at + run.len()]) {
+                        for k in 0..4 {
+                            t[k] += p[k];
+                        }
+                    }
                 }
             }
-        }
-        // 4. Prefix sum along depth.
-        prefix_sum(&mut self.texels, pass.nn, self.settings.layers);
+            prefix_sum_of(&texels, nn, layers, run);
+        });
         self.keep_depth_in_texels();
         self.ready = true;
     }
@@ -528,6 +547,9 @@ fn light_bounds(frame: &LightFrame, points: &[Vec3]) -> Option<(Vec3, Vec3)> {
 /// Most tasks of [`lane_bounds`].
 const BOUNDS_TASKS: usize = 16;
 
+/// Most tasks of the partial maps' sum and the prefix sum.
+const MAX_TEXEL_RUNS: usize = 16;
+
 /// Light-space bounding box `(min, max)` of the finite vertices of hair in
 /// lane layout (SIMD twin of the scalar `lane_bounds`; the same as
 /// [`light_bounds`] of the same points): per row, the lanes that are hair
@@ -657,15 +679,30 @@ impl BoundsX8 {
 /// past `layers` in the last group stay untouched, as in the scalar.
 /// Texels, not strands: eight lanes (`f32x8`) at every lane width.
 fn prefix_sum(texels: &mut [[f32; 4]], nn: usize, layers: usize) {
+    prefix_sum_of(&DisjointMut::new(texels), nn, layers, 0..nn);
+}
+
+/// [`prefix_sum`] of the texels `range` (its start a multiple of
+/// sixteen) of every plane group, through a view that other tasks share:
+/// the same operations on each texel, so the same bits, whatever the
+/// ranges. Blocks of sixteen below the last multiple of sixteen of `nn`
+/// take the SIMD path, the texels past it the scalar loop, as in one pass.
+fn prefix_sum_of(
+    texels: &DisjointMut<'_, [f32; 4]>,
+    nn: usize,
+    layers: usize,
+    range: Range<usize>,
+) {
     const BLOCK: usize = 16;
     let groups = layers.div_ceil(4);
-    let blocks = nn / BLOCK;
-    let flat = texels.as_flattened_mut();
-    for b in 0..blocks {
+    let simd_end = (nn / BLOCK * BLOCK).min(range.end);
+    let mut t0 = range.start;
+    while t0 + BLOCK <= simd_end {
         let mut carry = [f32x8::ZERO; 2];
         for g in 0..groups {
-            let start = (g * nn + b * BLOCK) * 4;
-            let chunk = &mut flat[start..start + 4 * BLOCK];
+            // SAFETY: the caller's task alone touches texels `range` of
+            // every group (one call of one task at a time).
+            let chunk = unsafe { texels.range(g * nn + t0, BLOCK) }.as_flattened_mut();
             let rows: [f32x8; 8] = std::array::from_fn(|r| {
                 let lanes: [f32; 8] = chunk[r * 8..(r + 1) * 8].try_into().unwrap();
                 f32x8::new(lanes)
@@ -685,11 +722,13 @@ fn prefix_sum(texels: &mut [[f32; 4]], nn: usize, layers: usize) {
                 chunk[r * 8..(r + 1) * 8].copy_from_slice(row.as_array());
             }
         }
+        t0 += BLOCK;
     }
-    for t in blocks * BLOCK..nn {
+    for t in t0..range.end {
         let mut sum = 0.0;
         for s in 0..layers {
-            let texel = &mut texels[(s / 4) * nn + t][s % 4];
+            // SAFETY: as above.
+            let texel = &mut unsafe { texels.range((s / 4) * nn + t, 1) }[0][s % 4];
             sum += *texel;
             *texel = sum;
         }
