@@ -21,8 +21,9 @@
 //!   eight hairs) in cache; elements = render vertices.
 //! - `shade/{kajiya-kay,marschner,pbrt}`: per-vertex shading batch of 65,536
 //!   samples.
-//! - `threads/{1,2}/{simulate,prepare,render,frame}`: the default head's
-//!   frame and its parts on a rayon pool of 1 and of 2 threads
+//! - `threads/{1,2}/{simulate,prepare,render,frame}`: the default scene's
+//!   frame (Sintel, as the demo runs her) and its parts on a rayon pool of
+//!   1 and of 2 threads
 //!   (`FramePipeline::frame_with`); after each thread count the per-stage
 //!   means are printed, and after both the serial fraction of a frame at
 //!   1 thread (the stages that never run as tasks, over the frame) with the
@@ -233,11 +234,11 @@ fn prepare(c: &mut Criterion) {
 
 /// A frame's stages at 1 thread: (serial ms, frame ms). Serial: LOD setup
 /// (and the reference's interpolation), the ribbons (placing, stepping two
-/// patches, blending), head and background, the ribbons' triangles, the
-/// sort, and whatever the frame spends outside its timed stages. Counted
-/// parallel: the guides' step, the shadow build (its gathering of the
-/// thinned hairs and its reduction of the partial maps included), the
-/// prepare tasks, the hair's runs of tiles.
+/// patches, blending), the ribbons' triangles, the sort, and whatever the
+/// frame spends outside its timed stages. Counted parallel: the guides'
+/// step (its hair grid, a serial part, included), the shadow build, the
+/// prepare tasks, background and head, the body (vertices, eyes, binned
+/// triangles), the hair's runs of tiles.
 #[cfg_attr(not(feature = "rayon"), allow(dead_code))]
 fn serial_split(p: &FramePipeline) -> (f64, f64) {
     let t = p.timings();
@@ -246,6 +247,8 @@ fn serial_split(p: &FramePipeline) -> (f64, f64) {
     let parallel = ms(Stage::Simulate) - ms(Stage::Ribbon)
         + ms(Stage::Shadow)
         + ms(Stage::Shade)
+        + ms(Stage::Head)
+        + ms(Stage::Body)
         + ms(Stage::Hair);
     (frame - parallel, frame)
 }
@@ -253,22 +256,30 @@ fn serial_split(p: &FramePipeline) -> (f64, f64) {
 #[cfg(feature = "rayon")]
 fn threads(c: &mut Criterion) {
     use coif::base::tasks::Rayon;
-    let scene = default_head();
+    // The default scene as the demo runs it: Sintel on her bust, pbrt with
+    // dual scattering, 20 render hairs per cm^2, the gust's simulation.
+    let scene = HairScene::sintel().unwrap();
+    let settings = FrameSettings {
+        shading: ShadingModel::Pbrt,
+        render_hairs_per_cm2: 20.0,
+        ..FrameSettings::default().with_body_simulation()
+    };
+    let pose = |t: f32, pivot| motion::turn(t % 3.2, pivot);
     let mut frame_ms = Vec::new();
     let mut serial = (0.0, 1.0);
     for n in [1usize, 2] {
         let pool = Rayon::new(n).unwrap();
-        let mut p = FramePipeline::new(&scene, FrameSettings::default(), 1.0).unwrap();
+        let mut p = FramePipeline::new(&scene, settings.clone(), 1.5).unwrap();
         let pivot = p.pivot();
         let mut t = 0.0f32;
-        p.frame_with(1.0 / 30.0, motion::turn_and_nod(0.0, pivot), &pool);
+        p.frame_with(1.0 / 30.0, pose(0.0, pivot), &pool);
         p.reset_timings();
         let mut g = c.benchmark_group(format!("threads/{n}"));
         g.sample_size(10);
         g.bench_function("simulate", |b| {
             b.iter(|| {
                 t += 1.0 / 30.0;
-                p.simulate_with(1.0 / 30.0, motion::turn_and_nod(t % 3.0, pivot), &pool);
+                p.simulate_with(1.0 / 30.0, pose(t, pivot), &pool);
             })
         });
         g.bench_function("prepare", |b| b.iter(|| p.prepare_with(&pool)));
@@ -276,7 +287,7 @@ fn threads(c: &mut Criterion) {
         g.bench_function("frame", |b| {
             b.iter(|| {
                 t += 1.0 / 30.0;
-                black_box(p.frame_with(1.0 / 30.0, motion::turn_and_nod(t % 3.0, pivot), &pool))
+                black_box(p.frame_with(1.0 / 30.0, pose(t, pivot), &pool))
             })
         });
         g.finish();
@@ -285,7 +296,7 @@ fn threads(c: &mut Criterion) {
         p.reset_timings();
         for _ in 0..5 {
             t += 1.0 / 30.0;
-            p.frame_with(1.0 / 30.0, motion::turn_and_nod(t % 3.0, pivot), &pool);
+            p.frame_with(1.0 / 30.0, pose(t, pivot), &pool);
         }
         eprintln!(
             "\nthreads/{n}: per-stage means over 5 frames after the bench ({} shadow tasks):\n{}\n",
@@ -311,7 +322,8 @@ fn threads(c: &mut Criterion) {
         frame_ms[0] / frame_ms[1]
     );
 
-    // Four characters sharing one pool.
+    // Four characters sharing one pool (the sphere head).
+    let scene = default_head();
     let settings = FrameSettings::small(256);
     for n in [1usize, 2] {
         let pool = Rayon::new(n).unwrap();
