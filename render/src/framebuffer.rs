@@ -5,7 +5,7 @@ use glam::Vec3;
 
 /// Rows per task of [`Framebuffer::clear_gradient_with`]: 64 rows of a
 /// 512-pixel frame are 512 KiB written, about a tenth of a millisecond.
-pub const CLEAR_BAND_ROWS: usize = 64;
+const CLEAR_BAND_ROWS: usize = 64;
 
 /// One pixel: colour and depth side by side (16 bytes), so blending a hair
 /// fragment touches one cache line, not two.
@@ -61,7 +61,7 @@ impl Framebuffer {
         self.clear_gradient_with(top, bottom, &Serial);
     }
 
-    /// [`Framebuffer::clear_gradient`] in bands of [`CLEAR_BAND_ROWS`] rows
+    /// [`Framebuffer::clear_gradient`] in bands of 64 rows
     /// as tasks on `executor` (each row's colour depends on its number
     /// alone: the same bytes with any executor).
     pub fn clear_gradient_with(&mut self, top: Vec3, bottom: Vec3, executor: &dyn Executor) {
