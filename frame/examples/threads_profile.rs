@@ -29,21 +29,9 @@ fn main() {
     if a.get(3).map(String::as_str) == Some("simulate") {
         return simulate_only(frames, size);
     }
-    let scene = HairScene::sintel().expect("the default scene");
-    let settings = FrameSettings {
-        width: size,
-        height: size,
-        // The demo's defaults for a scene on a body: pbrt with dual
-        // scattering, brown, 20 render hairs per cm^2.
-        shading: ShadingModel::Pbrt,
-        render_hairs_per_cm2: 20.0,
-        ..FrameSettings::default().with_body_simulation()
-    };
     let pool = Rayon::new(2).expect("a pool of two");
     let executors: [&dyn Executor; 2] = [&Serial, &pool];
-    let mut pipelines: Vec<FramePipeline> = (0..2)
-        .map(|_| FramePipeline::new(&scene, settings.clone(), 1.5).expect("pipeline"))
-        .collect();
+    let mut pipelines = two_pipelines(size);
     let pivot = pipelines[0].pivot();
     let dt = 1.0 / 30.0;
     let mut times: [Vec<[f64; ROWS]>; 2] = [Vec::new(), Vec::new()];
@@ -106,20 +94,27 @@ fn main() {
     );
 }
 
-/// `frames` frames of simulation alone (no picture), alternately on one
-/// thread and on two: the median and least simulate times.
-fn simulate_only(frames: usize, size: usize) {
+/// Two pipelines of the default scene as the demo runs it, at `size` x
+/// `size` pixels: pbrt with dual scattering, brown, 20 render hairs per
+/// cm^2, the simulation of a character on a body.
+fn two_pipelines(size: usize) -> [FramePipeline; 2] {
     let scene = HairScene::sintel().expect("the default scene");
     let settings = FrameSettings {
         width: size,
         height: size,
+        shading: ShadingModel::Pbrt,
+        render_hairs_per_cm2: 20.0,
         ..FrameSettings::default().with_body_simulation()
     };
+    [(); 2].map(|_| FramePipeline::new(&scene, settings.clone(), 1.5).expect("pipeline"))
+}
+
+/// `frames` frames of simulation alone (no picture), alternately on one
+/// thread and on two: the median and least simulate times.
+fn simulate_only(frames: usize, size: usize) {
     let pool = Rayon::new(2).expect("a pool of two");
     let executors: [&dyn Executor; 2] = [&Serial, &pool];
-    let mut pipelines: Vec<FramePipeline> = (0..2)
-        .map(|_| FramePipeline::new(&scene, settings.clone(), 1.5).expect("pipeline"))
-        .collect();
+    let mut pipelines = two_pipelines(size);
     let pivot = pipelines[0].pivot();
     let dt = 1.0 / 30.0;
     let mut times = [Vec::new(), Vec::new()];
