@@ -727,7 +727,7 @@ impl HairRaster {
 /// row-major order (`tiles_x` tiles per row), a one-tile range (four
 /// segments in five) without the loops; returns the number of tiles.
 #[inline(always)]
-fn for_each_tile(r: [u16; 4], tiles_x: usize, mut f: impl FnMut(usize)) -> u32 {
+pub(crate) fn for_each_tile(r: [u16; 4], tiles_x: usize, mut f: impl FnMut(usize)) -> u32 {
     let [x0, x1, y0, y1] = r.map(usize::from);
     let area = (x1 - x0) * (y1 - y0);
     if area == 1 {

@@ -5,7 +5,7 @@
 //!
 //! 1. every triangle's tile range `[tx0, tx1) x [ty0, ty1)`, from the
 //!    pixels whose centre can be inside its bounding box (the pixels
-//!    [`fill_triangle`](crate::triangle::fill_triangle) scans);
+//!    [`fill_triangle`] scans);
 //! 2. a count per tile, and its prefix sum: where each tile's list starts;
 //! 3. the lists, filled in triangle order: a tile's list holds the
 //!    triangles touching it in the order of the mesh;
@@ -18,7 +18,7 @@
 //! pixel's coverage, depth and colour depend on the pixel alone (the edge
 //! functions are evaluated at its centre, never stepped), so every pixel
 //! sees the same depth tests in the same order as in
-//! [`fill_triangle`](crate::triangle::fill_triangle) called triangle after
+//! [`fill_triangle`] called triangle after
 //! triangle. Steps 1 to 3 are a few operations per triangle on the calling
 //! thread; step 4, the pixels, is the work.
 //!
@@ -27,9 +27,9 @@
 //! very near, its triangles spanning many tiles) is drawn in one pass on
 //! the calling thread instead: the same bytes, no allocation.
 
-use super::raster::TILE;
-use super::triangle::{TriangleSetup, TriangleVertex};
-use super::{Framebuffer, Pixel};
+use super::raster::{for_each_tile, TILE};
+use super::triangle::{fill_triangle, TriangleSetup, TriangleVertex};
+use super::Framebuffer;
 use coif_base::tasks::{DisjointMut, Executor};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -76,15 +76,10 @@ impl TriangleBins {
         }
     }
 
-    /// The frame size the bins were made for, `(width, height)`.
-    pub fn size(&self) -> (usize, usize) {
-        (self.width, self.height)
-    }
-
     /// Draws `triangles` (corner indices into `corners`; a corner that is
     /// `None`, behind the near plane, or an index out of range skips the
     /// triangle) opaque and depth-tested into `frame`, as
-    /// [`fill_triangle`](crate::triangle::fill_triangle) called for each
+    /// [`fill_triangle`] called for each
     /// triangle in order would (the same bytes; module doc), the tiles'
     /// pixels as tasks on `executor`. Returns the pixels written. A frame
     /// of another size than the bins', or more triangles than they were
@@ -105,7 +100,7 @@ impl TriangleBins {
         let fits =
             width == self.width && height == self.height && triangles.len() <= self.rects.len();
         if !fits || !self.bin(triangles, &corner) {
-            return draw_in_order(frame, triangles, &setup);
+            return draw_in_order(frame, corners, triangles);
         }
         self.fill_tiles(frame, triangles, &setup, executor)
     }
@@ -133,13 +128,8 @@ impl TriangleBins {
                 .map(|v| v as u16),
                 None => [0; 4],
             };
-            let [tx0, tx1, ty0, ty1] = rect.map(usize::from);
-            total += (tx1 - tx0) * (ty1 - ty0);
-            for ty in ty0..ty1 {
-                for tx in tx0..tx1 {
-                    self.cursor[ty * self.tiles_x + tx] += 1;
-                }
-            }
+            let cursor = &mut self.cursor;
+            total += for_each_tile(*rect, self.tiles_x, |tile| cursor[tile] += 1) as usize;
         }
         if total > self.entries.len() {
             return false;
@@ -151,15 +141,12 @@ impl TriangleBins {
             *count = *start;
         }
         self.starts[self.cursor.len()] = sum;
+        let (cursor, entries) = (&mut self.cursor, &mut self.entries);
         for (k, rect) in self.rects[..triangles.len()].iter().enumerate() {
-            let [tx0, tx1, ty0, ty1] = rect.map(usize::from);
-            for ty in ty0..ty1 {
-                for tx in tx0..tx1 {
-                    let slot = &mut self.cursor[ty * self.tiles_x + tx];
-                    self.entries[*slot as usize] = k as u32;
-                    *slot += 1;
-                }
-            }
+            for_each_tile(*rect, self.tiles_x, |tile| {
+                entries[cursor[tile] as usize] = k as u32;
+                cursor[tile] += 1;
+            });
         }
         true
     }
@@ -219,19 +206,14 @@ impl TriangleBins {
 /// Every triangle in order over the whole frame, on the calling thread.
 fn draw_in_order(
     frame: &mut Framebuffer,
+    corners: &[Option<TriangleVertex>],
     triangles: &[[u32; 3]],
-    setup: &impl Fn(&[u32; 3]) -> Option<TriangleSetup>,
 ) -> usize {
-    let width = frame.width();
+    let corner = |i: u32| corners.get(i as usize).copied().flatten();
     let mut written = 0;
     for t in triangles {
-        let Some(s) = setup(t) else {
-            continue;
-        };
-        let [x0, x1, y0, y1] = s.pixels;
-        for y in y0..y1 {
-            let row: &mut [Pixel] = &mut frame.pixels[y * width..(y + 1) * width];
-            written += s.fill_row(y, x0..x1, row, 0, |_| {});
+        if let [Some(a), Some(b), Some(c)] = t.map(corner) {
+            written += fill_triangle(frame, &a, &b, &c, |_| {});
         }
     }
     written
