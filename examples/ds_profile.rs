@@ -1,7 +1,8 @@
 //! Instruction counts of dual scattering against the table it adds to, for
 //! callgrind: `cargo build --release --example ds_profile`, then
 //! `valgrind --tool=callgrind ./target/release/examples/ds_profile MODE`
-//! with MODE `marschner`, `marschner-dual`, `pbrt` or `pbrt-dual`, and read
+//! with MODE `kajiya-kay`, `marschner`, `marschner-dual`, `pbrt` or
+//! `pbrt-dual`, and read
 //! the inclusive count of `ds_profile::measured` (100 passes over 2,048
 //! samples in cache, eight at a time as the frame's fused pass shades:
 //! the table's `scattering_simd`, then `DualScattering::shade_layered_simd`
@@ -12,6 +13,7 @@ use coif::base::lanes::F32Lanes;
 use coif::base::{Vec3Lanes, LANES};
 use coif::kernels::rng::SplitMix64;
 use coif::shading::dual_scattering::{DualScattering, DualScatteringSettings};
+use coif::shading::kajiya_kay::KajiyaKay;
 use coif::shading::marschner::{Lut, Params};
 use coif::shading::{pbrt, RgbBuffer, ShadingSamples};
 use std::hint::black_box;
@@ -91,8 +93,15 @@ fn main() {
             let single = |t, wi, wo| table.scattering_simd(t, wi, wo);
             measured(&single, dual, &samples, &fibres, &direct, &mut out);
         }
+        "kajiya-kay" => {
+            let model = KajiyaKay::default();
+            let single = |t, wi, wo| model.shade_simd(t, wi, wo);
+            measured(&single, None, &samples, &fibres, &direct, &mut out);
+        }
         other => {
-            eprintln!("unknown mode {other:?} (marschner, marschner-dual, pbrt, pbrt-dual)");
+            eprintln!(
+                "unknown mode {other:?} (kajiya-kay, marschner, marschner-dual, pbrt, pbrt-dual)"
+            );
             std::process::exit(2);
         }
     }

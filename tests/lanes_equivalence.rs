@@ -21,10 +21,13 @@
 //! - LOD render vertices of Sintel's 228 guides after a second of her
 //!   head's turn: refinement at 1 and 4 segments per span, interpolation
 //!   of every group and of a quarter (the distance LOD's prefix);
-//! - the default scene's picture (Sintel on her bust, 96 x 96, three
-//!   frames of the demo's turn and gust: simulation with the body's field
-//!   and the hair grid, LOD, shading with dual scattering, the opacity
-//!   shadow map and the raster).
+//! - the default scene (Sintel on her bust, 96 x 96, three frames of the
+//!   demo's turn and gust: simulation with the body's field and the hair
+//!   grid, LOD, the fused prepare with dual scattering, the opacity shadow
+//!   map and the raster), from the shadow map of every drawn group and of
+//!   every third: the picture, every shaded vertex and every shadow texel
+//!   (the fused pass puts two interpolation groups in a block at 16 lanes,
+//!   one at 8).
 
 use coif::base::SplitMix64;
 use coif::frame::style::StyleScene;
@@ -264,22 +267,44 @@ fn lod_render_vertices_are_the_same_bytes() {
 
 #[test]
 fn the_default_scenes_picture_is_the_same_bytes() {
-    let scene = HairScene::sintel().unwrap();
-    let settings = FrameSettings::small(96).with_body_simulation();
-    let mut p = FramePipeline::new(&scene, settings, 0.1).unwrap();
-    let pivot = p.pivot();
-    for f in 0..3 {
-        let t = 1.6 + 0.2 * f as f32;
-        p.set_wind(motion::gust(t, motion::GUST_WIND));
-        p.frame_with(
-            1.0 / 15.0,
-            motion::turn(t, pivot),
-            &coif::base::tasks::Serial,
-        );
+    // The fused prepare fills a block with one interpolation group per
+    // eight lanes (two at 16), and its shadow map takes every `thinning`-th
+    // drawn group, blocks of them split into tasks at group boundaries:
+    // the picture, every shaded vertex and every shadow texel must not
+    // depend on how many groups share a block. Thinning 3 makes blocks of
+    // groups that are not neighbours in the drawn list.
+    for thinning in [1, 3] {
+        let scene = HairScene::sintel().unwrap();
+        let mut settings = FrameSettings::small(96).with_body_simulation();
+        settings.shadow_thinning = thinning;
+        let mut p = FramePipeline::new(&scene, settings, 0.1).unwrap();
+        let pivot = p.pivot();
+        for f in 0..3 {
+            let t = 1.6 + 0.2 * f as f32;
+            p.set_wind(motion::gust(t, motion::GUST_WIND));
+            p.frame_with(
+                1.0 / 15.0,
+                motion::turn(t, pivot),
+                &coif::base::tasks::Serial,
+            );
+        }
+        assert!(p.stats().segments > 1000, "{:?}", p.stats());
+        let image = p.image();
+        let name = format!("sintel_thinning{thinning}");
+        check(&format!("{name}_picture"), &image.data);
+        let shaded = p.shaded_vertices().iter().flat_map(|v| {
+            v.position
+                .into_iter()
+                .chain(v.color)
+                .chain([v.width, v.strand_parameter])
+        });
+        check(&format!("{name}_shaded_vertices"), &floats(shaded));
+        let map = p.shadow_map().expect("shadows are on");
+        let (n, layers) = (map.settings().resolution, map.settings().layers);
+        let opacities =
+            (0..n * n * layers).map(|k| map.stored_opacity(k % n, (k / n) % n, k / (n * n)));
+        check(&format!("{name}_shadow_map"), &floats(opacities));
     }
-    assert!(p.stats().segments > 1000, "{:?}", p.stats());
-    let image = p.image();
-    check("sintel_picture", &image.data);
 }
 
 #[test]
@@ -326,4 +351,50 @@ fn sleeping_hair_sleeps_and_wakes_the_same_way() {
         "sleeping_hair",
         &floats(positions.iter().flat_map(|p| p.to_array())),
     );
+}
+
+#[test]
+fn a_shadow_map_built_in_tasks_from_lane_rows_is_the_same_bytes() {
+    // 301 curly strands (not a whole number of blocks at either width) in
+    // lane layout, one vertex not finite, built as 7 tasks: the tasks
+    // split the hair at groups of eight lanes, so the same strands fall in
+    // each task's partial map at 8 and 16 lanes.
+    use coif::shading::shadow::{
+        to_lane_rows, BuildScratch, LaneRows, OpacityShadowMap, ShadowMode, ShadowSettings,
+    };
+    let verts = 16;
+    let mut rng = SplitMix64::new(11);
+    let mut pts = Vec::with_capacity(301 * verts);
+    for _ in 0..301 {
+        let root = Vec3::new(rng.range(-0.1, 0.1), 0.0, rng.range(-0.1, 0.1));
+        let phase = rng.range(0.0, std::f32::consts::TAU);
+        for r in 0..verts {
+            let a = phase + 0.8 * r as f32;
+            pts.push(root + Vec3::new(0.01 * a.cos(), -0.01 * r as f32, 0.01 * a.sin()));
+        }
+    }
+    pts[40] = Vec3::NAN;
+    let mut rows = Vec::new();
+    let strands = to_lane_rows(&pts, verts, Vec3::splat(1.0e30), &mut rows);
+    let hair = LaneRows {
+        rows: &rows,
+        verts,
+        strands,
+    };
+    let settings = ShadowSettings {
+        resolution: 64,
+        mode: ShadowMode::Deep,
+        ..Default::default()
+    };
+    let mut scratch = BuildScratch::new(&settings, 7).unwrap();
+    let mut map = OpacityShadowMap::new(settings.clone()).unwrap();
+    let light = Vec3::new(1.0, -0.5, 0.3);
+    map.build_lanes(&coif::base::tasks::Serial, &mut scratch, light, &hair)
+        .unwrap();
+    let (n, layers) = (settings.resolution, settings.layers);
+    let opacities: Vec<f32> = (0..n * n * layers)
+        .map(|k| map.stored_opacity(k % n, (k / n) % n, k / (n * n)))
+        .collect();
+    assert!(opacities.iter().filter(|o| **o != 0.0).count() > 1000);
+    check("shadow_map_lane_rows_7_tasks", &floats(opacities));
 }

@@ -60,6 +60,20 @@ pub use width::LANES;
 /// both widths.
 pub const GROUP_LANES: usize = 8;
 
+/// Groups of [`GROUP_LANES`] lanes in one block: 1 in an 8-lane build, 2
+/// in a 16-lane one. Passes whose work comes in eight-strand groups (the
+/// frame's interpolation groups, a shadow map's deposits) fill a block with
+/// this many groups, so no lane is padding at either width.
+pub const GROUPS_PER_BLOCK: usize = LANES / GROUP_LANES;
+
+/// Group `u` of eight lanes, counted over consecutive blocks: `(block,
+/// group within it)`, `(u / GROUPS_PER_BLOCK, u % GROUPS_PER_BLOCK)`.
+#[inline(always)]
+#[allow(clippy::modulo_one)] // GROUPS_PER_BLOCK is 1 in an 8-lane build
+pub fn block_of_group(u: usize) -> (usize, usize) {
+    (u / GROUPS_PER_BLOCK, u % GROUPS_PER_BLOCK)
+}
+
 /// Eight `f32` lanes, [`F32Lanes`]'s 256-bit halves: the width the
 /// hardware estimates ([`recip_simd`], [`inv_sqrt_simd`]) and the
 /// eight-strand groups are computed at.
@@ -385,6 +399,21 @@ pub fn planes_to_rows(planes: [F32Lanes; 8]) -> [F32Group; LANES] {
     rows
 }
 
+/// The inverse of [`planes_to_rows`]: one row of eight floats per lane (a
+/// record of eight fields) as eight planes of the block, an 8 x 8
+/// transpose per group of eight lanes.
+#[inline(always)]
+pub fn rows_to_planes(rows: [F32Group; LANES]) -> [F32Lanes; 8] {
+    let mut split = [[F32Group::ZERO; GROUPS_PER_BLOCK]; 8];
+    for (k, group) in rows.chunks_exact(GROUP_LANES).enumerate() {
+        let planes = F32Group::transpose(group.try_into().expect("eight rows"));
+        for (plane, p) in split.iter_mut().zip(planes) {
+            plane[k] = p;
+        }
+    }
+    split.map(from_groups)
+}
+
 /// [`Lane`] for a `wide` register type, with its hardware estimates of
 /// `1 / x` and `1 / sqrt(x)` (each refined by one Newton step here).
 macro_rules! simd_lane {
@@ -538,6 +567,15 @@ fn rsqrt_estimate(x: f32) -> f32 {
 #[inline]
 pub fn lanes_below(n: usize) -> F32Lanes {
     F32Lanes::new(std::array::from_fn(|l| if l < n { 1.0 } else { 0.0 })).simd_gt(F32Lanes::ZERO)
+}
+
+/// The lane mask (all bits set) of the lanes whose bit is set in `bits`
+/// (bit `l` for lane `l`; bits from [`LANES`] up are ignored).
+#[inline]
+pub fn lanes_of_bits(bits: u32) -> F32Lanes {
+    wide::bytemuck::cast(I32Lanes::new(std::array::from_fn(|l| {
+        -(((bits >> l) & 1) as i32)
+    })))
 }
 
 /// Loads lanes from a slice of up to [`LANES`] values, padding with `pad`.

@@ -4,13 +4,13 @@
 //! counts per stage (or wall-clock time per stage).
 //!
 //! ```text
-//! cargo run --release -p coif-frame --example prepare_profile -- [FRAMES] [PREPARES] [fused|reference] [K]
+//! cargo run --release -p coif-frame --example prepare_profile -- [FRAMES] [PREPARES] [fused|reference] [K] [sphere|sintel]
 //! valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*prepare_with*' \
 //!     target/release/examples/prepare_profile 3 2
 //! ```
 
 use coif_base::tasks::Serial;
-use coif_frame::{motion, FramePipeline, FrameSettings, HairScene, PrepareMode};
+use coif_frame::{motion, FramePipeline, FrameSettings, HairScene, PrepareMode, ShadingModel};
 use coif_geometry::scene::GrowOptions;
 
 fn main() {
@@ -23,16 +23,30 @@ fn main() {
         _ => PrepareMode::Fused,
     };
     let thinning = arg(4, FrameSettings::default().shadow_thinning);
-    let scene = HairScene::procedural(&GrowOptions {
-        strand_count: 2048,
-        curl: 0.15,
-        ..GrowOptions::default()
-    })
-    .expect("default scene");
+    // The sphere head (the default scene before Sintel, kept for the
+    // figures measured on it), or Sintel with the demo's settings (pbrt
+    // with dual scattering, 20 render hairs per cm^2).
+    let sintel = a.get(5).is_some_and(|s| s == "sintel");
+    let (scene, defaults) = if sintel {
+        let settings = FrameSettings {
+            shading: ShadingModel::Pbrt,
+            render_hairs_per_cm2: 20.0,
+            ..FrameSettings::default().with_body_simulation()
+        };
+        (HairScene::sintel().expect("Sintel's scene"), settings)
+    } else {
+        let scene = HairScene::procedural(&GrowOptions {
+            strand_count: 2048,
+            curl: 0.15,
+            ..GrowOptions::default()
+        })
+        .expect("default scene");
+        (scene, FrameSettings::default())
+    };
     let settings = FrameSettings {
         prepare,
         shadow_thinning: thinning,
-        ..FrameSettings::default()
+        ..defaults
     };
     let mut p = FramePipeline::new(&scene, settings, 1.5).expect("pipeline");
     let pivot = p.pivot();

@@ -2,11 +2,12 @@
 
 use super::body::{BodyStage, IRIS_ALBEDO, SCLERA_ALBEDO};
 use super::motion::blend_poses;
-use super::prepare::{shade_group, GroupShading, SharedOut};
+use super::prepare::{shade_block, GroupShading, SharedOut};
 use super::ribbon::RibbonStage;
 use super::shadow::{DrawnHair, ShadowStage};
 use super::timings::{Stage, StageTimings};
 use super::{Error, FrameSettings, HairScene, PrepareMode, Shader};
+use coif_base::lanes::GROUPS_PER_BLOCK;
 use coif_base::tasks::{Executor, Serial};
 use coif_kernels::{self as kernels, Colliders, FixedStep, SimParams, Sphere, Strands};
 use coif_lod::{
@@ -524,8 +525,9 @@ impl FramePipeline {
         self.timings.record(Stage::Prepare, start.elapsed());
     }
 
-    /// Runs the fused pass's task `i` again (the `i`-th drawn group of the
-    /// last frame: interpolate, shade, shadow, colour, write), with the last
+    /// Runs the fused pass's task `i` again (the `i`-th block of drawn groups
+    /// of the last frame, `GROUPS_PER_BLOCK` groups in the lanes:
+    /// interpolate, shade, shadow, colour, write), with the last
     /// frame's LOD and shadow map; returns the vertices it wrote (0 if there
     /// is no such group or the pipeline is the reference). One cache-sized
     /// chunk of the prepare pass, for benchmarks.
@@ -541,19 +543,29 @@ impl FramePipeline {
         unsafe { self.shade_task(&shared, len, i, eye) }
     }
 
-    /// Task `i` of the fused pass: the `i`-th drawn group interpolated,
-    /// shaded and written into its range of the shaded vertices. Returns the
-    /// vertices written.
+    /// Task `i` of the fused pass: the `i`-th block of drawn groups (drawn
+    /// groups `i G .. i G + G` for `G = GROUPS_PER_BLOCK`, whose hairs are
+    /// consecutive in the frame's order) interpolated, shaded and written
+    /// into its range of the shaded vertices. Returns the vertices written.
     ///
     /// # Safety
     /// `shared` points to `self.shaded`, at least `len` vertices long, and
     /// no other task with the same `i` runs at the same time (the groups'
     /// ranges, from the prefix sum of `list_drawn_groups`, are disjoint).
     unsafe fn shade_task(&self, shared: &SharedOut, len: usize, i: usize, eye: Vec3) -> usize {
-        let Some(&(g, first)) = self.drawn.get(i) else {
+        let start = i.saturating_mul(GROUPS_PER_BLOCK).min(self.drawn.len());
+        let block = &self.drawn[start..(start + GROUPS_PER_BLOCK).min(self.drawn.len())];
+        let Some(&(_, first)) = block.first() else {
             return 0;
         };
-        let Some(blend) = self.interpolation.group_blend(&self.guides, g as usize) else {
+        let mut groups = [0usize; GROUPS_PER_BLOCK];
+        for (dst, &(g, _)) in groups.iter_mut().zip(block) {
+            *dst = g as usize;
+        }
+        let Some(blend) = self
+            .interpolation
+            .groups_blend(&self.guides, &groups[..block.len()])
+        else {
             return 0;
         };
         let r_len = blend.verts();
@@ -576,7 +588,7 @@ impl FramePipeline {
         // SAFETY: within the first `len` vertices of `self.shaded` and
         // disjoint from every other task's range (the caller's promise).
         let out = unsafe { shared.range(start, n) };
-        shade_group(&ctx, &blend, first as usize, out);
+        shade_block(&ctx, &blend, first as usize, out);
         n
     }
 
@@ -767,7 +779,7 @@ impl FramePipeline {
         let len = self.shaded_count.min(self.shaded.len());
         let shared = SharedOut(self.shaded.as_mut_ptr());
         let this = &*self;
-        executor.run(this.drawn.len(), &|i| {
+        executor.run(this.drawn.len().div_ceil(GROUPS_PER_BLOCK), &|i| {
             // SAFETY: `shared` points to `self.shaded`; the executor runs
             // each `i` once (its contract), so no two tasks share a range.
             unsafe { this.shade_task(&shared, len, i, eye) };

@@ -1,9 +1,12 @@
 //! The fused prepare pass: everything between the simulation and the
-//! pixels, one interpolation group (up to eight render hairs of one scalp
-//! triangle, `LANES` lanes, `R` vertices each) at a time, written once as
-//! [`ShadedVertex`]es.
+//! pixels, one block of interpolation groups at a time, written once as
+//! [`ShadedVertex`]es. A group is up to eight render hairs of one scalp
+//! triangle (`R` vertices each); a block holds `GROUPS_PER_BLOCK` of them,
+//! one per eight lanes of `F32Lanes` (one group at 8 lanes, two at 16), so
+//! no lane is padding at either width and every lane's arithmetic is the
+//! same at both.
 //!
-//! Per group, per vertex row `r` (eight hairs in the lanes of `F32Lanes`):
+//! Per block, per vertex row `r` (the groups' hairs in the lanes):
 //!
 //! 1. interpolate: `P = b_A A + b_B B + b_C C` of the refined guides and
 //!    the normalised blend of their tangents `t` (`coif_lod::GroupBlend`);
@@ -29,8 +32,9 @@
 //! vertices live in registers from interpolation to the one store.
 
 use super::{Light, Shader, HAIR_AMBIENT_ALBEDO};
-use coif_base::lanes::lanes_below;
+use coif_base::lanes::lanes_of_bits;
 use coif_base::lanes::F32Lanes;
+use coif_base::lanes::{GROUPS_PER_BLOCK, GROUP_LANES};
 use coif_base::{Vec3Lanes, LANES};
 use coif_kernels::Sphere;
 use coif_lod::{GroupBlend, HairWidth};
@@ -76,11 +80,12 @@ pub(crate) fn occluded_simd(
     hit
 }
 
-/// Steps 1-5 for one group: writes its `blend.hairs()` real hairs, hair
-/// after hair, root first, into `out` (`hairs x R` vertices; a shorter
-/// `out` leaves the group out). `first_hair` is the index of the group's
-/// first hair in the frame's order (for [`super::strand_tint`]).
-pub(crate) fn shade_group(
+/// Steps 1-5 for one block of groups: writes its `blend.hairs()` real
+/// hairs, group after group and hair after hair, root first, into `out`
+/// (`hairs x R` vertices; a shorter `out` leaves the block out).
+/// `first_hair` is the index of the block's first hair in the frame's order
+/// (for [`super::strand_tint`]): the groups' hairs are consecutive there.
+pub(crate) fn shade_block(
     ctx: &GroupShading<'_>,
     blend: &GroupBlend<'_>,
     first_hair: usize,
@@ -91,6 +96,14 @@ pub(crate) fn shade_group(
     if r_len == 0 || out.len() < hairs.saturating_mul(r_len) {
         return;
     }
+    // Lane `8 k + i` holds hair `first[k] + i` of the block, for
+    // `i < group_hairs(k)`; the other lanes repeat their group's last hair.
+    let mut first = [0usize; GROUPS_PER_BLOCK];
+    let mut before = 0;
+    for (k, f) in first.iter_mut().enumerate() {
+        *f = before;
+        before += blend.group_hairs(k);
+    }
     let light = ctx.light;
     let wi = Vec3Lanes::splat(light.to_light);
     let eye = Vec3Lanes::splat(ctx.eye);
@@ -99,7 +112,9 @@ pub(crate) fn shade_group(
     let cosine = ctx.shader.needs_cosine();
     let mut tint = [0.0f32; LANES];
     for (l, t) in tint.iter_mut().enumerate() {
-        *t = super::strand_tint(first_hair + l.min(hairs - 1));
+        let (k, i) = (l / GROUP_LANES, l % GROUP_LANES);
+        let last = blend.group_hairs(k).max(1) - 1;
+        *t = super::strand_tint(first_hair + first[k] + i.min(last));
     }
     let tint = F32Lanes::new(tint);
     let inv = if r_len > 1 {
@@ -108,7 +123,7 @@ pub(crate) fn shade_group(
         0.0
     };
     // The lanes holding one of the group's hairs.
-    let real = lanes_below(hairs);
+    let real = lanes_of_bits(blend.hair_bits());
     for r in 0..r_len {
         // 1. Interpolate.
         let p = blend.position_simd(r);
@@ -188,17 +203,20 @@ pub(crate) fn shade_group(
             c.z,
             F32Lanes::splat(sp),
         ]);
-        for (l, row) in rows.iter().take(hairs).enumerate() {
-            let v = row.to_array();
-            let vertex = ShadedVertex {
-                position: [v[0], v[1], v[2]],
-                width: v[3],
-                color: [v[4], v[5], v[6]],
-                strand_parameter: v[7],
-            };
-            // SAFETY: l < hairs and r < r_len, so l r_len + r <
-            // hairs r_len <= out.len() (checked at the top).
-            unsafe { *out.get_unchecked_mut(l * r_len + r) = vertex };
+        for (k, group) in rows.chunks_exact(GROUP_LANES).enumerate() {
+            for (i, row) in group.iter().take(blend.group_hairs(k)).enumerate() {
+                let v = row.to_array();
+                let vertex = ShadedVertex {
+                    position: [v[0], v[1], v[2]],
+                    width: v[3],
+                    color: [v[4], v[5], v[6]],
+                    strand_parameter: v[7],
+                };
+                // SAFETY: first[k] + i < hairs (the groups' hairs add up
+                // to `hairs`) and r < r_len, so the index is below
+                // hairs r_len <= out.len() (checked at the top).
+                unsafe { *out.get_unchecked_mut((first[k] + i) * r_len + r) = vertex };
+            }
         }
     }
 }

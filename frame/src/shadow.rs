@@ -19,9 +19,9 @@
 //! (3 mm over the built-in head) soften them to faint smudges.
 
 use super::{Error, FrameSettings};
-use coif_base::lanes::F32Lanes;
+use coif_base::lanes::{F32Lanes, GROUPS_PER_BLOCK};
 use coif_base::tasks::Executor;
-use coif_base::{Vec3Lanes, LANES};
+use coif_base::Vec3Lanes;
 use coif_lod::{Interpolation, RefinedGuides, RenderVertex};
 use coif_shading::shadow::{BuildScratch, OpacityShadowMap, ShadowSettings, StrandLanes};
 use glam::Vec3;
@@ -202,8 +202,9 @@ impl ShadowStage {
 }
 
 /// The hair of the fused pass's shadow map in lane layout: every `step`-th
-/// drawn group (up to eight hairs of one scalp triangle in the lanes), its
-/// rows interpolated from the refined guides when the build asks for them
+/// drawn group (up to eight hairs of one scalp triangle), `GROUPS_PER_BLOCK`
+/// of them per block (one per eight lanes), its rows interpolated from the
+/// refined guides when the build asks for them
 /// (`coif_lod::GroupBlend::position_simd`, the numbers `interpolate`
 /// writes), so no frame-sized point buffer is written or read.
 pub(crate) struct DrawnHair<'a> {
@@ -221,17 +222,31 @@ impl StrandLanes for DrawnHair<'_> {
     }
 
     fn blocks(&self) -> usize {
+        self.groups().div_ceil(GROUPS_PER_BLOCK)
+    }
+
+    fn groups(&self) -> usize {
         self.drawn.len().div_ceil(self.step.max(1))
     }
 
-    fn block(&self, b: usize) -> (usize, impl Fn(usize) -> Vec3Lanes + '_) {
-        let blend = self
-            .drawn
-            .get(b * self.step.max(1))
-            .and_then(|&(g, _)| self.interpolation.group_blend(self.guides, g as usize))
+    fn block(&self, b: usize) -> (u32, impl Fn(usize) -> Vec3Lanes + '_) {
+        // Groups `b G ..` of the map (G = GROUPS_PER_BLOCK): drawn groups
+        // `b G step, (b G + 1) step, ...`.
+        let mut groups = [0usize; GROUPS_PER_BLOCK];
+        let mut n = 0;
+        for k in 0..GROUPS_PER_BLOCK {
+            let at = (b * GROUPS_PER_BLOCK + k).saturating_mul(self.step.max(1));
+            if let Some(&(g, _)) = self.drawn.get(at) {
+                groups[n] = g as usize;
+                n += 1;
+            }
+        }
+        let blend = (n > 0)
+            .then(|| self.interpolation.groups_blend(self.guides, &groups[..n]))
+            .flatten()
             .filter(|blend| blend.verts() == self.verts());
-        let lanes = blend.map_or(0, |blend| blend.hairs().min(LANES));
-        (lanes, move |r: usize| {
+        let bits = blend.map_or(0, |blend| blend.hair_bits());
+        (bits, move |r: usize| {
             blend.map_or(Vec3Lanes::ZERO, |blend| blend.position_simd(r))
         })
     }

@@ -16,11 +16,14 @@
 //!
 //! Layout: hairs come in groups of up to eight ([`GROUP_LANES`]) hairs of
 //! one triangle, so a group's guides are shared by its lanes and the SIMD
-//! batch loads each guide vertex once (a broadcast) for eight hairs. A group
-//! fills one register of [`LANES`] lanes; in a 16-lane build the upper eight
-//! lanes are padding, so that both widths make the same hairs in the same
-//! groups and draw the same ones at every LOD (the hairs' bytes do not
-//! depend on the width). Groups are stored in a
+//! batch loads each guide vertex once (a broadcast) for eight hairs. The
+//! groups are eight hairs wide at both widths, so that both make the same
+//! hairs in the same groups and draw the same ones at every LOD (the hairs'
+//! bytes do not depend on the width). [`interpolate`] writes a group per
+//! register of [`LANES`] lanes (in a 16-lane build the upper eight lanes
+//! are padding); [`Interpolation::groups_blend`] fills a register with
+//! [`GROUPS_PER_BLOCK`] groups, one per eight lanes, for fused passes.
+//! Groups are stored in a
 //! shuffled order: drawing a prefix of groups is an even random thinning of
 //! the whole scalp (see [`crate::distance_lod`]). Padding lanes repeat the
 //! group's last real hair.
@@ -40,7 +43,7 @@ use crate::refine_batch::RefinedGuides;
 use crate::Error;
 use coif_base::lanes::F32Lanes;
 use coif_base::lanes::Lane;
-use coif_base::lanes::GROUP_LANES;
+use coif_base::lanes::{from_groups, groups as groups_of, F32Group, GROUPS_PER_BLOCK, GROUP_LANES};
 use coif_base::rng::SplitMix64;
 use coif_base::{Vec3Lanes, LANES};
 use glam::Vec3;
@@ -647,30 +650,75 @@ impl Interpolation {
     /// the group's hairs stay in registers and L1 instead of a frame-sized
     /// [`RenderHairs`]). `None` if `g` is out of range or a guide does not
     /// fit `guides`. The rows are the same numbers [`interpolate`] writes.
+    /// The group fills the first [`GROUP_LANES`] lanes; in a 16-lane build
+    /// the others repeat it and hold no hair (see
+    /// [`Interpolation::groups_blend`] to fill them).
     pub fn group_blend<'a>(&self, guides: &'a RefinedGuides, g: usize) -> Option<GroupBlend<'a>> {
-        let group = self.groups.get(g)?;
-        if self.guide_count != guides.strand_count() {
+        self.groups_blend(guides, &[g])
+    }
+
+    /// The blend of up to [`GROUPS_PER_BLOCK`] groups in one block's lanes:
+    /// group `groups[k]` in lanes `8 k .. 8 k + 8` (its hairs first, then
+    /// its last hair repeated), so that a 16-lane build interpolates two
+    /// groups per instruction and an 8-lane build one, each lane the same
+    /// numbers as [`Interpolation::group_blend`] of its group. Slots past
+    /// `groups.len()` repeat the first group and hold no hair. `None` if
+    /// `groups` is empty or longer than [`GROUPS_PER_BLOCK`], a group is out
+    /// of range, or a guide does not fit `guides`.
+    pub fn groups_blend<'a>(
+        &self,
+        guides: &'a RefinedGuides,
+        groups: &[usize],
+    ) -> Option<GroupBlend<'a>> {
+        if groups.is_empty()
+            || groups.len() > GROUPS_PER_BLOCK
+            || self.guide_count != guides.strand_count()
+        {
             return None;
         }
-        let blocks = group.guides.map(|s| s as usize / LANES);
-        let lanes = group.guides.map(|s| s as usize % LANES);
-        if blocks.iter().any(|&b| b >= guides.block_count()) {
-            return None;
+        let mut slots = [None; GROUPS_PER_BLOCK];
+        // The first group's weights, padding lanes included (an empty slot
+        // keeps them, so `group_blend` has `interpolate`'s padding); each
+        // further group's eight lanes in its slot.
+        let mut weights = self.weights.get(groups[0])?.map(groups_of);
+        for (k, &g) in groups.iter().enumerate() {
+            let group = self.groups.get(g)?;
+            let blocks = group.guides.map(|s| s as usize / LANES);
+            if blocks.iter().any(|&b| b >= guides.block_count()) {
+                return None;
+            }
+            for (w, gw) in weights.iter_mut().zip(&self.weights[g]) {
+                w[k] = groups_of(*gw)[0];
+            }
+            slots[k] = Some(BlendSlot {
+                lanes: group.guides.map(|s| s as usize % LANES),
+                positions: blocks.map(|b| guides.block_positions(b)),
+                tangents: blocks.map(|b| guides.block_tangents(b)),
+                hairs: group.hairs as usize,
+            });
         }
+        let first = slots[0]?;
         Some(GroupBlend {
-            weights: self.weights[g],
-            lanes,
-            positions: blocks.map(|b| guides.block_positions(b)),
-            tangents: blocks.map(|b| guides.block_tangents(b)),
-            hairs: group.hairs as usize,
+            weights: weights.map(from_groups),
+            slots: slots.map(|s| s.unwrap_or(BlendSlot { hairs: 0, ..first })),
         })
     }
 }
 
-/// One hair group's interpolation, row by row (see
-/// [`Interpolation::group_blend`]): `position_simd(r)` is vertex `r` of the
-/// group's eight lanes, `P = b_A A + b_B B + b_C C` (step 2 of
-/// [`interpolate`]), `tangent_simd(r)` the normalised blend of the guides'
+/// One group of a [`GroupBlend`]: its guides' lanes and rows, and its hairs.
+#[derive(Clone, Copy, Debug)]
+struct BlendSlot<'a> {
+    lanes: [usize; 3],
+    positions: [&'a [Vec3Lanes]; 3],
+    tangents: [&'a [Vec3Lanes]; 3],
+    hairs: usize,
+}
+
+/// Interpolation of up to [`GROUPS_PER_BLOCK`] hair groups, row by row (see
+/// [`Interpolation::group_blend`] and [`Interpolation::groups_blend`]):
+/// `position_simd(r)` is vertex `r` of the block's lanes, `P = b_A A + b_B B
+/// + b_C C` (step 2 of [`interpolate`]) with each group's guides broadcast
+/// to its eight lanes, `tangent_simd(r)` the normalised blend of the guides'
 /// tangents (step 3). The scalar twins `position(lane, r)` and
 /// `tangent(lane, r)` run the same blend on one hair (the scalar
 /// interpolation's arithmetic): positions agree bit for bit, tangents to
@@ -678,47 +726,91 @@ impl Interpolation {
 #[derive(Clone, Copy, Debug)]
 pub struct GroupBlend<'a> {
     weights: [F32Lanes; 3],
-    lanes: [usize; 3],
-    positions: [&'a [Vec3Lanes]; 3],
-    tangents: [&'a [Vec3Lanes]; 3],
-    hairs: usize,
+    slots: [BlendSlot<'a>; GROUPS_PER_BLOCK],
 }
 
 impl GroupBlend<'_> {
     /// Vertices per hair (the refined guides' `R`).
     pub fn verts(&self) -> usize {
-        self.positions[0].len()
+        self.slots[0].positions[0].len()
     }
 
-    /// Real hairs in the group (the other lanes repeat the last one).
+    /// Real hairs in all the blend's groups.
     pub fn hairs(&self) -> usize {
-        self.hairs
+        self.slots.iter().map(|s| s.hairs.min(GROUP_LANES)).sum()
     }
 
-    /// Vertex `r` of the eight lanes.
+    /// Real hairs of the group in lanes `8 k .. 8 k + 8` (0 for an empty
+    /// slot or `k >= GROUPS_PER_BLOCK`).
+    pub fn group_hairs(&self, k: usize) -> usize {
+        self.slots.get(k).map_or(0, |s| s.hairs.min(GROUP_LANES))
+    }
+
+    /// The lanes holding a real hair, as bits (bit `l` for lane `l`): the
+    /// first `group_hairs(k)` lanes of each group of eight.
+    pub fn hair_bits(&self) -> u32 {
+        self.slots
+            .iter()
+            .enumerate()
+            .map(|(k, s)| ((1u32 << s.hairs.min(GROUP_LANES)) - 1) << (k * GROUP_LANES))
+            .fold(0, |a, b| a | b)
+    }
+
+    /// Vertex `r` of the block's lanes.
     ///
     /// # Panics
     ///
     /// If `r >= verts()` (as slice indexing does).
     #[inline(always)]
     pub fn position_simd(&self, r: usize) -> Vec3Lanes {
-        let [wa, wb, wc] = self.weights;
-        let [la, lb, lc] = self.lanes;
-        let [a, b, c] = self.positions;
-        blend_simd(wa, wb, wc, &a[r], la, &b[r], lb, &c[r], lc)
+        blend_rows(
+            self.weights,
+            self.broadcast(0, r, false),
+            self.broadcast(1, r, false),
+            self.broadcast(2, r, false),
+        )
     }
 
-    /// Unit tangent at vertex `r` of the eight lanes (or `+Y`).
+    /// Unit tangent at vertex `r` of the block's lanes (or `+Y`).
     ///
     /// # Panics
     ///
     /// If `r >= verts()` (as slice indexing does).
     #[inline(always)]
     pub fn tangent_simd(&self, r: usize) -> Vec3Lanes {
-        let [wa, wb, wc] = self.weights;
-        let [la, lb, lc] = self.lanes;
-        let [a, b, c] = self.tangents;
-        unit_or_y_simd(blend_simd(wa, wb, wc, &a[r], la, &b[r], lb, &c[r], lc))
+        unit_or_y_simd(blend_rows(
+            self.weights,
+            self.broadcast(0, r, true),
+            self.broadcast(1, r, true),
+            self.broadcast(2, r, true),
+        ))
+    }
+
+    /// Guide `i`'s (0, 1, 2: A, B, C) vertex `r` (or tangent) of each
+    /// group, broadcast to the group's eight lanes. Plain loops over the
+    /// groups: this runs per row of the prepare pass and must inline.
+    #[inline(always)]
+    fn broadcast(&self, i: usize, r: usize, tangent: bool) -> Vec3Lanes {
+        let mut x = [F32Group::ZERO; GROUPS_PER_BLOCK];
+        let mut y = x;
+        let mut z = x;
+        for k in 0..GROUPS_PER_BLOCK {
+            let slot = &self.slots[k];
+            let rows = if tangent {
+                slot.tangents[i]
+            } else {
+                slot.positions[i]
+            };
+            let (v, l) = (&rows[r], slot.lanes[i]);
+            x[k] = F32Group::splat(v.x.as_array()[l]);
+            y[k] = F32Group::splat(v.y.as_array()[l]);
+            z[k] = F32Group::splat(v.z.as_array()[l]);
+        }
+        Vec3Lanes {
+            x: from_groups(x),
+            y: from_groups(y),
+            z: from_groups(z),
+        }
     }
 
     /// Scalar twin of [`GroupBlend::position_simd`] for one lane (`lane` is
@@ -728,9 +820,8 @@ impl GroupBlend<'_> {
     ///
     /// If `r >= verts()` (as slice indexing does).
     pub fn position(&self, lane: usize, r: usize) -> Vec3 {
-        let w = self.weights.map(|w| w.as_array()[lane % LANES]);
-        let v = self.positions.map(|p| p[r]);
-        blend_lanes(w, v, self.lanes)
+        let (w, slot) = self.lane_weights(lane);
+        blend_lanes(w, slot.positions.map(|p| p[r]), slot.lanes)
     }
 
     /// Scalar twin of [`GroupBlend::tangent_simd`] for one lane (`lane` is
@@ -740,9 +831,17 @@ impl GroupBlend<'_> {
     ///
     /// If `r >= verts()` (as slice indexing does).
     pub fn tangent(&self, lane: usize, r: usize) -> Vec3 {
-        let w = self.weights.map(|w| w.as_array()[lane % LANES]);
-        let v = self.tangents.map(|t| t[r]);
-        crate::scalar::unit_or_y(blend_lanes(w, v, self.lanes))
+        let (w, slot) = self.lane_weights(lane);
+        crate::scalar::unit_or_y(blend_lanes(w, slot.tangents.map(|t| t[r]), slot.lanes))
+    }
+
+    /// The weights of lane `lane % LANES` and its group.
+    fn lane_weights(&self, lane: usize) -> ([f32; 3], &BlendSlot<'_>) {
+        let lane = lane % LANES;
+        (
+            self.weights.map(|w| w.as_array()[lane]),
+            &self.slots[lane / GROUP_LANES],
+        )
     }
 
     /// [`GroupBlend::position`], or `None` for `r >= verts()`.
@@ -753,6 +852,17 @@ impl GroupBlend<'_> {
     /// [`GroupBlend::tangent`], or `None` for `r >= verts()`.
     pub fn get_tangent(&self, lane: usize, r: usize) -> Option<Vec3> {
         (r < self.verts()).then(|| self.tangent(lane, r))
+    }
+}
+
+/// `wa A + wb B + wc C` of already broadcast guide rows: [`blend`] on each
+/// coordinate.
+#[inline(always)]
+fn blend_rows(w: [F32Lanes; 3], a: Vec3Lanes, b: Vec3Lanes, c: Vec3Lanes) -> Vec3Lanes {
+    Vec3Lanes {
+        x: blend(w, a.x, b.x, c.x),
+        y: blend(w, a.y, b.y, c.y),
+        z: blend(w, a.z, b.z, c.z),
     }
 }
 

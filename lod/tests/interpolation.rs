@@ -491,3 +491,63 @@ fn group_blend_rows_equal_interpolate_and_the_scalar_twin() {
     }
     assert!(s.interp.group_blend(&s.guides, groups).is_none());
 }
+
+/// `Interpolation::groups_blend`, the blend of `GROUPS_PER_BLOCK` groups in
+/// one block's lanes that the fused prepare pass uses (two at 16 lanes, one
+/// at 8): lane `8 k + i` is lane `i` of `group_blend` of group `k`, bit for
+/// bit (the same blend, each group's guides broadcast to its eight lanes),
+/// and the real hairs are each group's first lanes. Too many groups, none,
+/// or one out of range is refused.
+#[test]
+fn groups_blend_lanes_equal_each_groups_own_blend() {
+    use coif_base::lanes::{GROUPS_PER_BLOCK, GROUP_LANES};
+    let mut s = scene(150.0, 5);
+    lod::refine_strands(s.strands.blocks(), None, &mut s.guides).unwrap();
+    let groups = s.interp.group_count();
+    assert!(groups > 2 * GROUPS_PER_BLOCK);
+    let mut partial = 0;
+    for first in (0..groups - GROUPS_PER_BLOCK).step_by(3) {
+        // Groups that are not neighbours, as a thinned shadow map takes.
+        let list: Vec<usize> = (0..GROUPS_PER_BLOCK).map(|k| first + 2 * k).collect();
+        let blend = s.interp.groups_blend(&s.guides, &list).unwrap();
+        let mut bits = 0u32;
+        for (k, &g) in list.iter().enumerate() {
+            let own = s.interp.group_blend(&s.guides, g).unwrap();
+            let hairs = s.interp.groups()[g].hairs as usize;
+            partial += usize::from(hairs < GROUP_LANES);
+            assert_eq!(blend.group_hairs(k), hairs);
+            bits |= ((1 << hairs) - 1) << (k * GROUP_LANES);
+            for r in 0..blend.verts() {
+                let (p, t) = (blend.position_simd(r), blend.tangent_simd(r));
+                let (p_own, t_own) = (own.position_simd(r), own.tangent_simd(r));
+                for i in 0..GROUP_LANES {
+                    let l = k * GROUP_LANES + i;
+                    assert_eq!(p.lane(l), p_own.lane(i), "group {g} lane {i} row {r}");
+                    assert_eq!(t.lane(l), t_own.lane(i), "group {g} lane {i} row {r}");
+                    assert_eq!(blend.position(l, r), p.lane(l));
+                    assert!((blend.tangent(l, r) - t.lane(l)).length() < 1e-6);
+                }
+            }
+        }
+        assert_eq!(blend.hair_bits(), bits);
+        assert_eq!(
+            blend.hairs(),
+            list.iter()
+                .map(|&g| s.interp.groups()[g].hairs as usize)
+                .sum::<usize>()
+        );
+    }
+    assert!(
+        partial > 0,
+        "some groups should hold fewer than eight hairs"
+    );
+    // One group in a block: the other slots hold no hair.
+    let one = s.interp.groups_blend(&s.guides, &[1]).unwrap();
+    assert_eq!(one.hair_bits(), (1 << s.interp.groups()[1].hairs) - 1);
+    assert!(s.interp.groups_blend(&s.guides, &[]).is_none());
+    assert!(s
+        .interp
+        .groups_blend(&s.guides, &[0; GROUPS_PER_BLOCK + 1])
+        .is_none());
+    assert!(s.interp.groups_blend(&s.guides, &[groups]).is_none());
+}

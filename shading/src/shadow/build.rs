@@ -11,7 +11,7 @@ use super::raster::{for_each_sample, for_each_sample_lanes, SplatX8};
 use super::settings::{ShadowMode, ShadowSettings};
 use super::strand_lanes::StrandLanes;
 use crate::Error;
-use coif_base::lanes::lanes_below;
+use coif_base::lanes::lanes_of_bits;
 use coif_base::lanes::{F32Lanes, I32Lanes};
 use coif_base::tasks::{for_each_chunk_mut, DisjointMut, Executor};
 use coif_base::{Vec3Lanes, LANES};
@@ -101,7 +101,8 @@ impl OpacityShadowMap {
 
     /// [`OpacityShadowMap::build_tasks`] from hair in lane layout (blocks
     /// of up to eight strands in the lanes of `F32Lanes`, [`StrandLanes`]):
-    /// the same steps, with the tasks' ranges of blocks instead of strands
+    /// the same steps, with the tasks' ranges of eight-lane groups instead
+    /// of strands (so the same ranges of strands at 8 and 16 lanes)
     /// and each group of eight segments taken as segment `r` of a block's
     /// eight strands (rows `r`, `r + 1`) instead of eight consecutive
     /// segments of one strand. The same samples as
@@ -238,12 +239,13 @@ impl Source for Points<'_> {
     }
 }
 
-/// Hair in lane layout (units: blocks).
+/// Hair in lane layout (units: groups of eight lanes, so that tasks split
+/// it at the same strands at 8 and 16 lanes).
 struct Lanes<'a, H: ?Sized>(&'a H);
 
 impl<H: StrandLanes + ?Sized> Source for Lanes<'_, H> {
     fn units(&self) -> usize {
-        self.0.blocks()
+        self.0.groups()
     }
 
     fn samples(&self, pass: &Pass, units: Range<usize>, deposit: impl FnMut(&SplatX8)) {
@@ -572,11 +574,11 @@ fn lane_bounds<H: StrandLanes + ?Sized>(
     for_each_chunk_mut(executor, &mut parts[..tasks], 1, &|t, out| {
         let mut bounds = BoundsX8::new(frame);
         for b in t * blocks / tasks..(t + 1) * blocks / tasks {
-            let (lanes, row) = hair.block(b);
-            if lanes == 0 {
+            let (bits, row) = hair.block(b);
+            if bits == 0 {
                 continue;
             }
-            let hair_lanes = lanes_below(lanes);
+            let hair_lanes = lanes_of_bits(bits);
             for r in 0..hair.verts() {
                 let p = row(r);
                 bounds.add(p, p.finite() & hair_lanes);

@@ -41,8 +41,8 @@
 
 use super::light_frame::{LightFrame, MapPlacement};
 use super::strand_lanes::StrandLanes;
-use coif_base::lanes::lanes_below;
-use coif_base::lanes::{F32Lanes, I32Lanes, GROUP_LANES};
+use coif_base::lanes::lanes_of_bits;
+use coif_base::lanes::{block_of_group, F32Lanes, I32Lanes, GROUP_LANES};
 use coif_base::{Vec3Lanes, LANES};
 use glam::Vec3;
 
@@ -298,10 +298,10 @@ pub fn for_each_sample(
 }
 
 /// The lane-layout twin of [`for_each_sample`] (scalar twin
-/// [`super::scalar::raster::for_each_sample_lanes`]): the hair of
-/// `blocks` of `hair`, eight strands in the lanes, segment `r` of the
-/// eight strands (rows `r` and `r + 1`) in the lanes of one group, so no
-/// lane shuffling: per block, per segment, the group's rounds, the same
+/// [`super::scalar::raster::for_each_sample_lanes`]): the hair of the
+/// eight-lane `groups` of `hair` (see [`StrandLanes`]), segment `r` of a
+/// group's eight strands (rows `r` and `r + 1`) in its lanes, so no
+/// lane shuffling: per group, per segment, the group's rounds, the same
 /// per-lane arithmetic as [`for_each_sample`] (each row is taken to light
 /// space once). A segment is sampled when its lane is hair and both its
 /// ends are finite; it starts a piece (the cap) when it is the strand's
@@ -312,7 +312,7 @@ pub fn for_each_sample_lanes<H: StrandLanes + ?Sized>(
     resolution: usize,
     hair_radius: f32,
     hair: &H,
-    blocks: std::ops::Range<usize>,
+    groups: std::ops::Range<usize>,
     mut deposit: impl FnMut(&SplatX8),
 ) {
     let verts = hair.verts();
@@ -322,15 +322,16 @@ pub fn for_each_sample_lanes<H: StrandLanes + ?Sized>(
     let Some(raster) = Raster::new(frame, placement, resolution, hair_radius) else {
         return;
     };
-    for (b, k) in blocks.flat_map(|b| (0..LANES / GROUP_LANES).map(move |k| (b, k))) {
+    for u in groups {
         // Group by group of eight lanes (the same deposit order at 8 and
         // 16 lanes): a block's rows are read once per group holding hair.
-        let (lanes, row) = hair.block(b);
-        if lanes <= k * GROUP_LANES {
+        let (b, k) = block_of_group(u);
+        let (bits, row) = hair.block(b);
+        let in_group = bits & (0xff << (k * GROUP_LANES));
+        if in_group == 0 {
             continue;
         }
-        let hair_lanes =
-            lanes_below(lanes.min((k + 1) * GROUP_LANES)) & !lanes_below(k * GROUP_LANES);
+        let hair_lanes = lanes_of_bits(in_group);
         // 1. Segment setup per row pair; `before`: the vertex before the
         // segment is finite (none before the root).
         let p = row(0);

@@ -4,15 +4,23 @@
 //! take them without a frame-sized buffer of points and without moving
 //! them out of their lanes (see `OpacityShadowMap::build_lanes`).
 
+use coif_base::lanes::GROUP_LANES;
 use coif_base::{Vec3Lanes, LANES};
 use glam::Vec3;
 
-/// Strands in blocks of up to [`LANES`], every strand with
-/// [`StrandLanes::verts`] vertices: block `b` has `lanes` strands in its
-/// first lanes, and its row `r` holds vertex `r` of each (the other lanes
+/// Strands in blocks of [`LANES`] lanes, every strand with
+/// [`StrandLanes::verts`] vertices: the lanes of block `b` set in its bits
+/// are strands, and its row `r` holds vertex `r` of each (the other lanes
 /// are not hair and are never read as such). Rows are asked for in order
-/// `0, 1, ...` once per block and pass, so a source may compute them on
-/// the fly (an interpolation) instead of storing them.
+/// `0, 1, ...` once per block (or per group of eight lanes) and pass, so a
+/// source may compute them on the fly (an interpolation) instead of
+/// storing them.
+///
+/// A block is [`GROUPS_PER_BLOCK`](coif_base::lanes::GROUPS_PER_BLOCK)
+/// groups of eight lanes ([`GROUP_LANES`]); group `u` of the hair is group
+/// `u % GROUPS_PER_BLOCK` of block `u / GROUPS_PER_BLOCK`. The builds
+/// deposit group by group and split tasks at group boundaries, so the same
+/// strands in the same groups give the same bytes at 8 and 16 lanes.
 pub trait StrandLanes: Sync {
     /// Vertices per strand (the rows of a block).
     fn verts(&self) -> usize;
@@ -20,9 +28,15 @@ pub trait StrandLanes: Sync {
     /// Number of blocks.
     fn blocks(&self) -> usize;
 
-    /// Block `b`: how many of its lanes are strands (0 to [`LANES`]; 0 for
-    /// a block that is out of range or empty), and its rows.
-    fn block(&self, b: usize) -> (usize, impl Fn(usize) -> Vec3Lanes + '_);
+    /// Number of groups of eight lanes holding hair or before one that
+    /// does (at most `blocks() * GROUPS_PER_BLOCK`; the last block's empty
+    /// trailing groups are not counted, so the count does not depend on
+    /// the width).
+    fn groups(&self) -> usize;
+
+    /// Block `b`: which of its lanes are strands, as bits (bit `l` for lane
+    /// `l`; 0 for a block that is out of range or empty), and its rows.
+    fn block(&self, b: usize) -> (u32, impl Fn(usize) -> Vec3Lanes + '_);
 }
 
 /// Stored rows: `rows[b * verts + r]` is row `r` of block `b`, `strands`
@@ -51,18 +65,25 @@ impl StrandLanes for LaneRows<'_> {
             .min(self.rows.len() / self.verts)
     }
 
-    fn block(&self, b: usize) -> (usize, impl Fn(usize) -> Vec3Lanes + '_) {
+    fn groups(&self) -> usize {
+        self.strands
+            .div_ceil(GROUP_LANES)
+            .min(self.blocks() * (LANES / GROUP_LANES))
+    }
+
+    fn block(&self, b: usize) -> (u32, impl Fn(usize) -> Vec3Lanes + '_) {
         let lanes = if b < self.blocks() {
             (self.strands - b * LANES).min(LANES)
         } else {
             0
         };
+        let bits = ((1u64 << lanes) - 1) as u32;
         let rows = if lanes > 0 {
             &self.rows[b * self.verts..(b + 1) * self.verts]
         } else {
             &[]
         };
-        (lanes, move |r: usize| {
+        (bits, move |r: usize| {
             rows.get(r).copied().unwrap_or(Vec3Lanes::ZERO)
         })
     }

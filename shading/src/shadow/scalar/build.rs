@@ -30,7 +30,7 @@ pub fn build(
 
 /// The scalar twin of [`OpacityShadowMap::build_lanes`] (one task): the
 /// same steps from hair in lane layout, one lane and one sample at a time,
-/// in the SIMD order (block, segment, round, lane). Makes the same map bit
+/// in the SIMD order (group of eight lanes, segment, round, lane). Makes the same map bit
 /// for bit as the SIMD build with one task.
 pub fn build_lanes<H: StrandLanes + ?Sized>(map: &mut OpacityShadowMap, light_dir: Vec3, hair: &H) {
     if !map.prepare_with(light_dir, hair.verts(), |frame| lane_bounds(frame, hair)) {
@@ -38,9 +38,9 @@ pub fn build_lanes<H: StrandLanes + ?Sized>(map: &mut OpacityShadowMap, light_di
     }
     let (frame, placement) = (map.frame, map.placement);
     let (n, r) = (map.settings.resolution, map.settings.hair_radius);
-    let blocks = 0..hair.blocks();
+    let groups = 0..hair.groups();
     rasterise(map, |deposit| {
-        for_each_sample_lanes(&frame, &placement, n, r, hair, blocks.clone(), deposit)
+        for_each_sample_lanes(&frame, &placement, n, r, hair, groups.clone(), deposit)
     });
 }
 
@@ -120,10 +120,10 @@ fn lane_bounds<H: StrandLanes + ?Sized>(frame: &LightFrame, hair: &H) -> Option<
     let mut min = Vec3::splat(f32::INFINITY);
     let mut max = Vec3::splat(f32::NEG_INFINITY);
     for b in 0..hair.blocks() {
-        let (lanes, row) = hair.block(b);
+        let (bits, row) = hair.block(b);
         for r in 0..hair.verts() {
             let p = row(r);
-            for l in 0..lanes.min(LANES) {
+            for l in (0..LANES).filter(|l| bits >> l & 1 == 1) {
                 let q = p.lane(l);
                 if !q.is_finite() {
                     continue;

@@ -6,8 +6,7 @@
 use crate::shadow::light_frame::{LightFrame, MapPlacement};
 use crate::shadow::raster::{Segment, SAMPLES_PER_TEXEL};
 use crate::shadow::strand_lanes::StrandLanes;
-use coif_base::lanes::GROUP_LANES;
-use coif_base::LANES;
+use coif_base::lanes::{block_of_group, GROUP_LANES};
 use glam::Vec3;
 use std::ops::Range;
 
@@ -184,9 +183,10 @@ pub fn for_each_sample(
     sample_group(&group, resolution, &mut deposit);
 }
 
-/// Scalar twin of the SIMD `for_each_sample_lanes`: the hair of `blocks`
-/// of `hair` (strands in lanes), per block, per group of eight lanes and
-/// per segment `r` the group of the lanes' segments `r` (rows `r`, `r + 1`),
+/// Scalar twin of the SIMD `for_each_sample_lanes`: the hair of the
+/// eight-lane `groups` of `hair` (strands in lanes, see [`StrandLanes`]),
+/// per group and per segment `r` the group of the lanes' segments `r`
+/// (rows `r`, `r + 1`),
 /// one lane at a time, then its rounds ([`sample_group`]). A segment is sampled when its lane is
 /// hair and both ends are finite; it starts a piece when it is the strand's
 /// first or follows a broken one.
@@ -196,7 +196,7 @@ pub fn for_each_sample_lanes<H: StrandLanes + ?Sized>(
     resolution: usize,
     hair_radius: f32,
     hair: &H,
-    blocks: Range<usize>,
+    groups: Range<usize>,
     mut deposit: impl FnMut(&Splat, f32),
 ) {
     let verts = hair.verts();
@@ -204,38 +204,40 @@ pub fn for_each_sample_lanes<H: StrandLanes + ?Sized>(
         return;
     }
     let setup = Setup::new(placement, resolution, hair_radius);
-    for b in blocks {
-        let (lanes, row) = hair.block(b);
-        let lanes = lanes.min(LANES);
+    for u in groups {
         // Group by group of eight lanes, as the SIMD twin deposits.
-        for start in (0..lanes).step_by(GROUP_LANES) {
-            let in_group = start..(start + GROUP_LANES).min(lanes);
-            let first_row = row(0);
-            let mut prev = [Vec3::ZERO; GROUP_LANES];
-            let mut prev_light = [Vec3::ZERO; GROUP_LANES];
-            for (i, l) in in_group.clone().enumerate() {
-                prev[i] = first_row.lane(l);
-                prev_light[i] = frame.to_light(prev[i]);
-            }
-            let mut first = [true; GROUP_LANES];
-            for r in 1..verts {
-                let next_row = row(r);
-                let mut group: [Option<Segment>; GROUP_LANES] = [None; GROUP_LANES];
-                for (i, l) in in_group.clone().enumerate() {
-                    // 1. Segment setup, lane by lane.
-                    let next = next_row.lane(l);
-                    let next_light = frame.to_light(next);
-                    if prev[i].is_finite() && next.is_finite() {
-                        group[i] = Some(setup.segment(prev_light[i], next_light, first[i]));
-                        first[i] = false;
-                    } else {
-                        first[i] = true;
-                    }
-                    prev[i] = next;
-                    prev_light[i] = next_light;
+        let (b, k) = block_of_group(u);
+        let (bits, row) = hair.block(b);
+        // Lane `8 k + i` of the block is slot `i` of the group.
+        let in_group = (0..GROUP_LANES).filter(|i| bits >> (k * GROUP_LANES + i) & 1 == 1);
+        if bits >> (k * GROUP_LANES) & 0xff == 0 {
+            continue;
+        }
+        let first_row = row(0);
+        let mut prev = [Vec3::ZERO; GROUP_LANES];
+        let mut prev_light = [Vec3::ZERO; GROUP_LANES];
+        for i in in_group.clone() {
+            prev[i] = first_row.lane(k * GROUP_LANES + i);
+            prev_light[i] = frame.to_light(prev[i]);
+        }
+        let mut first = [true; GROUP_LANES];
+        for r in 1..verts {
+            let next_row = row(r);
+            let mut group: [Option<Segment>; GROUP_LANES] = [None; GROUP_LANES];
+            for i in in_group.clone() {
+                // 1. Segment setup, lane by lane.
+                let next = next_row.lane(k * GROUP_LANES + i);
+                let next_light = frame.to_light(next);
+                if prev[i].is_finite() && next.is_finite() {
+                    group[i] = Some(setup.segment(prev_light[i], next_light, first[i]));
+                    first[i] = false;
+                } else {
+                    first[i] = true;
                 }
-                sample_group(&group, resolution, &mut deposit);
+                prev[i] = next;
+                prev_light[i] = next_light;
             }
+            sample_group(&group, resolution, &mut deposit);
         }
     }
 }
