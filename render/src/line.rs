@@ -22,9 +22,8 @@
 //! without double-blending their shared end.
 
 use super::Framebuffer;
-use coif_base::lanes::{Lane, V3};
+use coif_base::lanes::{rows_to_planes, F32Group, F32Lanes, Lane, LANES, V3};
 use glam::Vec3;
-use wide::f32x8;
 
 /// A projected hair vertex: pixel position, view depth, width in pixels and
 /// linear-RGB colour. Seven `f32` in this order, nothing between them
@@ -134,7 +133,7 @@ impl PixelProfile {
 
 /// A [`PixelProfile`]'s constants in lanes: splatted from one profile
 /// ([`PixelProfile::lanes`]), or one segment's profile per lane
-/// ([`SegmentsX8`]).
+/// ([`SegmentsLanes`]).
 #[derive(Clone, Copy, Debug)]
 struct ProfileLanes<T> {
     half: T,
@@ -161,7 +160,7 @@ impl PixelProfile {
 }
 
 /// `G(x) - 1/2` of `profile` in every lane (see [`PixelProfile`]): the
-/// branch-free form, one generic body for `f32` and `f32x8`.
+/// branch-free form, one generic body for `f32` and `F32Lanes`.
 #[inline(always)]
 fn centred_cumulative<T: Lane>(profile: &ProfileLanes<T>, x: T) -> T {
     // 1. a = |x|; q = clamp(h - a, 0, r)
@@ -176,7 +175,7 @@ fn centred_cumulative<T: Lane>(profile: &ProfileLanes<T>, x: T) -> T {
 
 /// [`PixelProfile::coverage`] in every lane: `G(d + w/2) - G(d - w/2)`
 /// clamped to `[0, 1]`, 0 where `width_px` is not positive or is NaN.
-/// The scalar (`f32`) and eight-lane (`f32x8`) forms round the same way.
+/// The scalar (`f32`) and lane (`F32Lanes`) forms round the same way.
 #[inline(always)]
 pub fn coverage_lanes<T: Lane>(profile: &PixelProfile, distance: T, width_px: T) -> T {
     coverage_in(&profile.lanes(), distance, width_px)
@@ -220,23 +219,23 @@ pub struct Segment {
     y1: f32,
 }
 
-/// Eight segments set up at once ([`Segment::new_simd`]): every field of
-/// [`Segment`] as a plane of eight lanes.
+/// [`LANES`] segments set up at once ([`Segment::new_simd`]): every field
+/// of [`Segment`] as a plane of lanes.
 #[derive(Clone, Copy, Debug)]
-pub struct SegmentsX8 {
-    f: [f32x8; 32],
+pub struct SegmentsLanes {
+    f: [F32Lanes; 32],
     drawn: u32,
 }
 
-impl SegmentsX8 {
+impl SegmentsLanes {
     /// Lane `l` as the [`Segment`] of [`Segment::new`] (`None` where
     /// that is, or past the segments given).
     #[inline(always)]
     pub fn lane(&self, l: usize) -> Option<Segment> {
-        if l >= 8 || self.drawn >> l & 1 == 0 {
+        if l >= LANES || self.drawn >> l & 1 == 0 {
             return None;
         }
-        let fields: &[[f32; 8]; 32] = bytemuck::cast_ref(&self.f);
+        let fields: &[[f32; LANES]; 32] = bytemuck::cast_ref(&self.f);
         let f = |i: usize| fields[i][l];
         let end = |i: usize| ScreenVertex {
             x: f(i),
@@ -271,7 +270,7 @@ impl SegmentsX8 {
         })
     }
 
-    /// The lanes that [`SegmentsX8::lane`] gives a segment for.
+    /// The lanes that [`SegmentsLanes::lane`] gives a segment for.
     #[inline(always)]
     pub fn drawn(&self) -> u32 {
         self.drawn
@@ -281,24 +280,24 @@ impl SegmentsX8 {
     /// ends within [`BAND_REACH`] of the origin).
     #[inline(always)]
     pub fn near(&self) -> bool {
-        let reach = f32x8::splat(BAND_REACH);
+        let reach = F32Lanes::splat(BAND_REACH);
         let near = [0, 1, 7, 8]
             .map(|i| self.f[i].abs().simd_le(reach))
             .into_iter()
-            .fold(f32x8::splat(f32::from_bits(u32::MAX)), |a, b| a & b);
+            .fold(F32Lanes::splat(f32::from_bits(u32::MAX)), |a, b| a & b);
         !near.to_bitmask() & self.drawn == 0
     }
 
     /// Lanes whose [`Segment::walk`] is [`Walk::BandColumns`] (`|e_x| >
     /// |e_y|`), as a mask.
     #[inline(always)]
-    pub fn columns(&self) -> f32x8 {
+    pub fn columns(&self) -> F32Lanes {
         self.f[14].abs().simd_gt(self.f[15].abs())
     }
 
     /// [`Segment::float_bounds`] lane by lane.
     #[inline(always)]
-    pub fn float_bounds(&self) -> [f32x8; 4] {
+    pub fn float_bounds(&self) -> [F32Lanes; 4] {
         [self.f[28], self.f[29], self.f[30], self.f[31]]
     }
 
@@ -312,7 +311,7 @@ impl SegmentsX8 {
     /// 0.75` on the major axis: about one line less at each end of a
     /// steep thin hair.
     #[inline(always)]
-    pub fn lines(&self, columns: f32x8) -> (f32x8, f32x8) {
+    pub fn lines(&self, columns: F32Lanes) -> (F32Lanes, F32Lanes) {
         let f = &self.f;
         let pick = |col: usize, row: usize| columns.select(f[col], f[row]);
         lines_in([pick(0, 1), pick(7, 8), pick(15, 14), f[25], f[17]])
@@ -321,7 +320,7 @@ impl SegmentsX8 {
     /// [`Segment::band`] lane by lane, each lane's own segment, rows or
     /// `columns` (a mask): the same operations, so the same bits.
     #[inline(always)]
-    pub fn band(&self, c: f32x8, columns: f32x8) -> (f32x8, f32x8) {
+    pub fn band(&self, c: F32Lanes, columns: F32Lanes) -> (F32Lanes, F32Lanes) {
         let f = &self.f;
         let pick = |col: usize, row: usize| columns.select(f[col], f[row]);
         band_in(
@@ -333,7 +332,7 @@ impl SegmentsX8 {
     /// [`Segment::fragment`] lane by lane, each lane's own segment at its
     /// pixel centre `(xc, yc)`: the same operations, so the same bits.
     #[inline(always)]
-    pub fn fragment(&self, xc: f32x8, yc: f32x8, opacity: f32) -> Fragment<f32x8> {
+    pub fn fragment(&self, xc: F32Lanes, yc: F32Lanes, opacity: f32) -> Fragment<F32Lanes> {
         let f = &self.f;
         let lanes = SegmentLanes {
             ax: f[0],
@@ -357,7 +356,7 @@ impl SegmentsX8 {
                 ramp_curve: f[24],
             },
         };
-        lanes.fragment(xc, yc, f32x8::splat(opacity))
+        lanes.fragment(xc, yc, F32Lanes::splat(opacity))
     }
 }
 
@@ -445,8 +444,8 @@ impl Segment {
     }
 
     /// [`Segment::new`] of the segments `screen[k] -> screen[k + 1]` for
-    /// the (up to eight) `k` of `first`, eight at a time: the same
-    /// operations in the same order, so every lane's [`SegmentsX8::lane`]
+    /// the (up to [`LANES`]) `k` of `first`, all at once: the same
+    /// operations in the same order, so every lane's [`SegmentsLanes::lane`]
     /// has the bits of [`Segment::new`] (for ends that [`crate::raster`]
     /// projected: finite, widths not negative; a test compares every
     /// field). Panics if a `k + 1` is outside `screen` (as indexing does).
@@ -456,27 +455,27 @@ impl Segment {
         first: &[u32],
         width: usize,
         height: usize,
-    ) -> SegmentsX8 {
+    ) -> SegmentsLanes {
         // Each lane's two ends are 14 consecutive floats: its floats 0..8
         // and 6..14 as rows, transposed to planes.
         const { assert!(std::mem::size_of::<ScreenVertex>() == 7 * 4) };
-        let (mut head, mut tail) = ([f32x8::ZERO; 8], [f32x8::ZERO; 8]);
-        let mut present = [0.0f32; 8];
-        for (l, &k) in first.iter().take(8).enumerate() {
+        let (mut head, mut tail) = ([F32Group::ZERO; LANES], [F32Group::ZERO; LANES]);
+        let mut present = [0.0f32; LANES];
+        for (l, &k) in first.iter().take(LANES).enumerate() {
             let pair = &screen[k as usize..k as usize + 2];
             let p = pair.as_ptr() as *const f32;
             // SAFETY: `ScreenVertex` is `repr(C)`, seven `f32` and no
             // padding (asserted above): `pair` is 14 floats, and both
             // reads (floats 0..8 and 6..14) lie within them.
             unsafe {
-                head[l] = f32x8::new(std::ptr::read_unaligned(p as *const [f32; 8]));
-                tail[l] = f32x8::new(std::ptr::read_unaligned(p.add(6) as *const [f32; 8]));
+                head[l] = F32Group::new(std::ptr::read_unaligned(p as *const [f32; 8]));
+                tail[l] = F32Group::new(std::ptr::read_unaligned(p.add(6) as *const [f32; 8]));
             }
             present[l] = 1.0;
         }
-        let [ax, ay, ad, aw, ar, ag, _, _] = f32x8::transpose(head);
-        let [ab, bx, by, bd, bw, br, bg, bb] = f32x8::transpose(tail);
-        let s = f32x8::splat;
+        let [ax, ay, ad, aw, ar, ag, _, _] = rows_to_planes(head);
+        let [ab, bx, by, bd, bw, br, bg, bb] = rows_to_planes(tail);
+        let s = F32Lanes::splat;
         // 1. Length: above 1e-12 and finite (NaN fails both).
         let (ex, ey) = (bx - ax, by - ay);
         let len2 = ex * ex + ey * ey;
@@ -484,12 +483,12 @@ impl Segment {
         // 2. The float bounds (`float_bounds`).
         let reach = s(0.5) * aw.fast_max(bw) + s(0.75);
         let (w, h) = (width as f32, height as f32);
-        let x0 = (ax.fast_min(bx) - reach).floor().fast_max(f32x8::ZERO);
+        let x0 = (ax.fast_min(bx) - reach).floor().fast_max(F32Lanes::ZERO);
         let x1 = (ax.fast_max(bx) + reach).ceil().fast_min(s(w));
-        let y0 = (ay.fast_min(by) - reach).floor().fast_max(f32x8::ZERO);
+        let y0 = (ay.fast_min(by) - reach).floor().fast_max(F32Lanes::ZERO);
         let y1 = (ay.fast_max(by) + reach).ceil().fast_min(s(h));
         let drawn =
-            long & x0.simd_lt(x1) & y0.simd_lt(y1) & f32x8::new(present).simd_gt(f32x8::ZERO);
+            long & x0.simd_lt(x1) & y0.simd_lt(y1) & F32Lanes::new(present).simd_gt(F32Lanes::ZERO);
         // 3. Reciprocals and the profile (`PixelProfile::for_direction`).
         let inv_len2 = s(1.0) / len2;
         let inv_len = inv_len2.sqrt();
@@ -499,10 +498,10 @@ impl Segment {
         let height = s(1.0) / hi;
         let ramp_curve = lo
             .simd_gt(s(1e-20))
-            .select(s(0.5) * height / lo, f32x8::ZERO);
+            .select(s(0.5) * height / lo, F32Lanes::ZERO);
         let half = s(0.5) * (pa + pb);
         let radius = half + s(0.5) * aw.fast_max(bw);
-        let recip = |v: f32x8| v.simd_ne(f32x8::ZERO).select(s(1.0) / v, f32x8::ZERO);
+        let recip = |v: F32Lanes| v.simd_ne(F32Lanes::ZERO).select(s(1.0) / v, F32Lanes::ZERO);
         let fields = [
             ax,
             ay,
@@ -537,7 +536,7 @@ impl Segment {
             y0,
             y1,
         ];
-        SegmentsX8 {
+        SegmentsLanes {
             f: fields,
             drawn: drawn.to_bitmask(),
         }
@@ -571,7 +570,7 @@ impl Segment {
 
     /// [`Segment::row_span`] of the rows `y` (one per lane, whole numbers)
     /// as floats `(xa, xb)`, both 0 where the span is empty; the scalar and
-    /// eight-lane forms give the same bits.
+    /// lane forms give the same bits.
     #[inline(always)]
     pub fn row_spans<T: Rounding>(&self, y: T) -> (T, T) {
         let (a, ex, ey) = (&self.a, self.ex, self.ey);
@@ -620,7 +619,7 @@ impl Segment {
 
     /// The lines of a band walk (rows, or columns for `columns`) whose
     /// pixel centres can be drawn, `[lo, hi)` as whole floats, not
-    /// clipped to the bounds: one lane of [`SegmentsX8::lines`] (see
+    /// clipped to the bounds: one lane of [`SegmentsLanes::lines`] (see
     /// there).
     #[inline(always)]
     pub fn lines(&self, columns: bool) -> (f32, f32) {
@@ -708,7 +707,7 @@ impl Segment {
 }
 
 /// What [`Segment::fragment`] reads, in lanes: one segment splatted, or
-/// one segment per lane ([`SegmentsX8::fragment`]). The differences
+/// one segment per lane ([`SegmentsLanes::fragment`]). The differences
 /// `b - a` are formed before (in `f32` or per lane: the same bits).
 #[derive(Clone, Copy, Debug)]
 struct SegmentLanes<T> {
@@ -832,14 +831,14 @@ impl Rounding for f32 {
     }
 }
 
-impl Rounding for f32x8 {
+impl Rounding for F32Lanes {
     #[inline(always)]
-    fn floor(self) -> f32x8 {
-        f32x8::floor(self)
+    fn floor(self) -> F32Lanes {
+        F32Lanes::floor(self)
     }
     #[inline(always)]
-    fn ceil(self) -> f32x8 {
-        f32x8::ceil(self)
+    fn ceil(self) -> F32Lanes {
+        F32Lanes::ceil(self)
     }
 }
 
@@ -948,15 +947,15 @@ mod tests {
 
     /// Lane `l` of `x8`'s lines, bands and fragments (rows and columns,
     /// pixel centres around the segment) against `one`'s, bit for bit.
-    fn lanes_match_the_segment(x8: &SegmentsX8, l: usize, one: &Segment) {
-        let lane = |v: f32x8| v.to_array()[l].to_bits();
+    fn lanes_match_the_segment(x8: &SegmentsLanes, l: usize, one: &Segment) {
+        let lane = |v: F32Lanes| v.to_array()[l].to_bits();
         for columns in [false, true] {
-            let mask = f32x8::splat(if columns { 1.0 } else { 0.0 }).simd_gt(f32x8::ZERO);
+            let mask = F32Lanes::splat(if columns { 1.0 } else { 0.0 }).simd_gt(F32Lanes::ZERO);
             let (lo, hi) = x8.lines(mask);
             let (want_lo, want_hi) = one.lines(columns);
             assert_eq!([lane(lo), lane(hi)], [want_lo, want_hi].map(f32::to_bits));
             for c in [-3.0f32, 0.0, 17.0, 60.0] {
-                let (a, b) = x8.band(f32x8::splat(c), mask);
+                let (a, b) = x8.band(F32Lanes::splat(c), mask);
                 let (want_a, want_b) = one.band(c, columns);
                 assert_eq!([lane(a), lane(b)], [want_a, want_b].map(f32::to_bits));
             }
@@ -964,7 +963,7 @@ mod tests {
         let [x0, _, y0, _] = one.float_bounds();
         for (dx, dy) in [(0.5f32, 0.5f32), (1.5, 2.5), (3.5, 0.5), (2.5, 4.5)] {
             let (x, y) = (x0 + dx, y0 + dy);
-            let f = x8.fragment(f32x8::splat(x), f32x8::splat(y), 0.8);
+            let f = x8.fragment(F32Lanes::splat(x), F32Lanes::splat(y), 0.8);
             let want = one.fragment(x, y, 0.8);
             assert_eq!(f.mask.to_bitmask() >> l & 1 != 0, want.mask);
             let got = [f.alpha, f.depth, f.color.x, f.color.y, f.color.z].map(lane);
@@ -980,11 +979,11 @@ mod tests {
     }
 
     #[test]
-    fn eight_segment_set_up_has_the_bits_of_the_scalar_one() {
+    fn lane_segment_set_up_has_the_bits_of_the_scalar_one() {
         // Every field, and the lane-by-lane lines, bands and fragments.
         // Random ends (some off the frame), axis-aligned and diagonal
         // segments, lengths from below the 1e-6 px cut-off up, widths 0
-        // to 4 px; in chunks of 1 to 8 so that absent lanes are covered.
+        // to 4 px; in chunks of 1 to LANES so that absent lanes are covered.
         let mut rng = coif_base::SplitMix64::new(41);
         let mut screen = Vec::new();
         for i in 0..400 {
@@ -1016,7 +1015,7 @@ mod tests {
         let first: Vec<u32> = (0..400).map(|i| 2 * i).collect();
         let (mut some, mut none) = (0, 0);
         let mut at = 0;
-        for len in (1..=8).cycle() {
+        for len in (1..=LANES).cycle() {
             if at >= first.len() {
                 break;
             }
@@ -1036,7 +1035,7 @@ mod tests {
                     none += 1;
                 }
             }
-            assert!((chunk.len()..8).all(|l| x8.lane(l).is_none()));
+            assert!((chunk.len()..LANES).all(|l| x8.lane(l).is_none()));
             at += len;
         }
         assert!(some > 120 && none > 80, "{some} drawn, {none} not");

@@ -1,5 +1,8 @@
-//! The binned hair rasteriser: every hair segment drawn tile by tile, eight
-//! pixels at a time.
+//! The binned hair rasteriser: every hair segment drawn tile by tile,
+//! [`LANES`] segments (or pixels) at a time: 8 in an AVX2 build, 16 where
+//! the build targets AVX-512 or has `lanes16` (`coif_base::lanes`). The
+//! pixels are the same bits at both widths: every pixel's fragments are
+//! computed alone and blended in list order.
 //!
 //! The direct reference ([`crate::hair::draw_strands`]) walks each segment
 //! over the whole frame; with hundreds of thousands of segments a few pixels
@@ -9,7 +12,7 @@
 //! parallel rendering"; the binning of software rasterisers such as
 //! Laine & Karras 2011, "High-performance software rasterization on GPUs"):
 //!
-//! 1. **Project** every vertex once ([`project_simd`], eight per register;
+//! 1. **Project** every vertex once ([`project_simd`], a block per register;
 //!    [`project`] in the scalar twin, the same bits): pixel position, view
 //!    depth, width in pixels, colour; a vertex behind the near plane or
 //!    with a non-finite position, width or colour is marked invalid (its
@@ -19,8 +22,8 @@
 //!    `crate::occlusion`) gets no tiles, which changes no pixel. In
 //!    back-to-front strand order, each segment's pixel bounds
 //!    (the strip's reach around its ends, [`Segment::new`]) give the range
-//!    of [`TILE`] x [`TILE`] tiles it touches (eight consecutive segments
-//!    of a strand at once in the SIMD path); every tile counts it.
+//!    of [`TILE`] x [`TILE`] tiles it touches ([`LANES`] consecutive
+//!    segments of a strand at once in the SIMD path); every tile counts it.
 //! 3. **Prefix sum** of the counts: where each tile's list starts.
 //! 4. **Fill**: the same segments in the same order append their index to
 //!    every tile they touch, so each tile's list is in back-to-front order
@@ -29,7 +32,7 @@
 //!    reference's order).
 //! 5. **Rasterise** tile by tile: the tile's colour and depth are copied
 //!    into a tile-local buffer (64 KiB); its list's segments are set up
-//!    eight at a time ([`Segment::new_simd`]) and drawn one per lane
+//!    [`LANES`] at a time ([`Segment::new_simd`]) and drawn one per lane
 //!    (`draw_lanes`): each lane walks its segment's lines along the
 //!    segment's major axis ([`Segment::walk`], [`Segment::lines`]) and
 //!    each line's candidate pixels ([`Segment::band`]), pass `k`
@@ -60,19 +63,19 @@
 //! frames agree bit for bit (the tests compare them on the default scene).
 
 use super::hair::NEAR;
-use super::line::{ScreenVertex, Segment, SegmentsX8, Walk};
+use super::line::{ScreenVertex, Segment, SegmentsLanes, Walk};
 use super::occlusion::OccluderCones;
 use super::occlusion::MAX_OCCLUDERS;
 use super::sort::DepthOrder;
 use super::{Camera, Framebuffer, Pixel, ShadedVertex};
+use coif_base::lanes::{planes_to_rows, rows_to_planes, F32Group, F32Lanes, I32Lanes, LANES};
 use coif_base::tasks::{for_each_chunk_mut, DisjointMut, Executor};
 use coif_base::Sphere;
 use glam::Vec3;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use wide::f32x4;
-use wide::{f32x8, i32x8};
 
-/// Vertices projected per task (a multiple of eight lanes): enough work per
+/// Vertices projected per task (a multiple of [`LANES`]): enough work per
 /// task (about 0.1 ms) that a job system's cost per task stays small.
 const PROJECT_CHUNK: usize = 16_384;
 
@@ -161,8 +164,8 @@ pub struct HairRaster {
     tiles_y: usize,
     /// Projected vertices; invalid ones have a NaN depth.
     pub(crate) screen: Vec<ScreenVertex>,
-    /// The projected `x`, `y`, depth and width as planes (eight entries of
-    /// padding), for the eight-segment tile ranges of step 2.
+    /// The projected `x`, `y`, depth and width as planes ([`LANES`]
+    /// entries of padding), for the block-wide tile ranges of step 2.
     planes: [Vec<f32>; 4],
     /// Per segment (indexed by its first vertex): tiles `[x0, x1) x [y0, y1)`.
     rects: Vec<[u16; 4]>,
@@ -223,7 +226,7 @@ impl HairRaster {
             tiles_x,
             tiles_y,
             screen: vec![ScreenVertex::default(); vertex_capacity],
-            planes: std::array::from_fn(|_| vec![0.0; vertex_capacity + 8]),
+            planes: std::array::from_fn(|_| vec![0.0; vertex_capacity + LANES]),
             rects: vec![[0; 4]; vertex_capacity],
             starts: vec![0; tiles + 1],
             cursor: vec![0; tiles],
@@ -276,7 +279,7 @@ impl HairRaster {
     /// every segment blended with `alpha = coverage * opacity` over the
     /// frame's colour, hidden where the frame's depth (head, ribbons) is
     /// nearer: the same pixels and bits as [`crate::hair::draw_strands`]
-    /// on the same data. SIMD, eight segments per register; the scalar twin is
+    /// on the same data. SIMD, [`LANES`] segments per register; the scalar twin is
     /// [`crate::scalar::draw`]. Every step runs as tasks on `executor`.
     ///
     /// Only the first [`HairRaster::vertex_capacity`] vertices are read;
@@ -303,7 +306,7 @@ impl HairRaster {
         self.run(frame, &job, executor, Path::Simd)
     }
 
-    /// Steps 1 to 5 of the module doc, eight lanes at a time
+    /// Steps 1 to 5 of the module doc, [`LANES`] lanes at a time
     /// ([`Path::Simd`]) or one at a time ([`Path::Scalar`], the twin).
     pub(crate) fn run(
         &mut self,
@@ -365,8 +368,8 @@ impl HairRaster {
     }
 
     /// Step 1: `screen[k]` for every vertex `k < n`, and in the SIMD path
-    /// the planes of `x`, `y`, depth and width that step 2a loads eight at
-    /// a time. The SIMD path runs in tasks of at least [`PROJECT_CHUNK`]
+    /// the planes of `x`, `y`, depth and width that step 2a loads a block
+    /// at a time. The SIMD path runs in tasks of at least [`PROJECT_CHUNK`]
     /// vertices (each vertex's projection depends on it alone, so the split
     /// changes no bit); the scalar twin projects one vertex at a time.
     fn project(&mut self, job: &Job<'_>, n: usize, executor: &dyn Executor, simd: bool) {
@@ -376,21 +379,21 @@ impl HairRaster {
             }
             return;
         }
-        let chunk = PROJECT_CHUNK.max(n.div_ceil(MAX_TASKS).next_multiple_of(8));
+        let chunk = PROJECT_CHUNK.max(n.div_ceil(MAX_TASKS).next_multiple_of(LANES));
         let vertices = &job.vertices[..n];
-        // The planes hold eight entries past the capacity, so every task
-        // writes whole groups of eight.
+        // The planes hold `LANES` entries past the capacity, so every task
+        // writes whole blocks of lanes.
         let planes = self.planes.each_mut().map(|p| DisjointMut::new(&mut p[..]));
         for_each_chunk_mut(executor, &mut self.screen[..n], chunk, &|t, out| {
-            let (start, len) = (t * chunk, out.len().next_multiple_of(8));
+            let (start, len) = (t * chunk, out.len().next_multiple_of(LANES));
             // SAFETY: task t alone writes entries [start, start + len) of
-            // the planes: `chunk` is a multiple of eight, so only the last
+            // the planes: `chunk` is a multiple of `LANES`, so only the last
             // task's range is rounded up, into the padding.
             let [px, py, pd, pw] = planes.each_ref().map(|p| unsafe { p.range(start, len) });
-            let chunks = out.chunks_mut(8).zip(vertices[start..].chunks(8));
+            let chunks = out.chunks_mut(LANES).zip(vertices[start..].chunks(LANES));
             for (c, (dst, v)) in chunks.enumerate() {
                 let p = project_planes_simd(job.camera, v);
-                let at = 8 * c..8 * c + 8;
+                let at = LANES * c..LANES * c + LANES;
                 px[at.clone()].copy_from_slice(p[0].as_array());
                 py[at.clone()].copy_from_slice(p[1].as_array());
                 pd[at.clone()].copy_from_slice(p[2].as_array());
@@ -402,7 +405,7 @@ impl HairRaster {
 
     /// Step 2a: `rects[k]` of every segment `k -> k + 1` of the strands
     /// an order can draw (the first `min(order, n / vps)`; the
-    /// strand's last vertex gets an empty range), eight consecutive
+    /// strand's last vertex gets an empty range), [`LANES`] consecutive
     /// segments of a strand at once in the SIMD path, in tasks of whole
     /// strands. Returns the number of segments with both ends valid.
     fn segment_rects(
@@ -430,8 +433,8 @@ impl HairRaster {
                     let base = first + s * vps;
                     let segments = &mut strand[..vps - 1];
                     if simd {
-                        for (c, rects8) in segments.chunks_mut(8).enumerate() {
-                            let r = this.tile_rects_simd(base + 8 * c);
+                        for (c, rects8) in segments.chunks_mut(LANES).enumerate() {
+                            let r = this.tile_rects_simd(base + LANES * c);
                             let lanes = (1u32 << rects8.len()) - 1;
                             drawn_here += (r.drawn & lanes).count_ones() as usize;
                             hidden_here += (r.hidden & lanes).count_ones() as usize;
@@ -574,14 +577,14 @@ impl HairRaster {
         (i, j)
     }
 
-    /// [`HairRaster::tile_rect`] of the eight segments from vertex `k` on
+    /// [`HairRaster::tile_rect`] of the [`LANES`] segments from vertex `k` on
     /// (`k + l -> k + l + 1` in lane `l`; lanes past the strand's end are
     /// read from the planes' padding and ignored by the caller), computed
     /// with the same operations in the same order as
     /// [`Segment::pixel_bounds`].
     #[inline]
     fn tile_rects_simd(&self, k: usize) -> TileRects {
-        let load = |p: &Vec<f32>, at: usize| f32x8::new(p[at..at + 8].try_into().unwrap());
+        let load = |p: &Vec<f32>, at: usize| F32Lanes::new(p[at..at + LANES].try_into().unwrap());
         let [px, py, pd, pw] = &self.planes;
         let (ax, ay, aw) = (load(px, k), load(py, k), load(pw, k));
         let (bx, by, bw) = (load(px, k + 1), load(py, k + 1), load(pw, k + 1));
@@ -592,32 +595,41 @@ impl HairRaster {
         let hidden = if self.cones.any() {
             self.cones.hides_lanes([ax, ay, az, aw], [bx, by, bz, bw]) & drawn
         } else {
-            f32x8::ZERO
+            F32Lanes::ZERO
         };
         // 1. Length: not NaN, above 1e-12 and finite.
         let (ex, ey) = (bx - ax, by - ay);
         let len2 = ex * ex + ey * ey;
-        let long = len2.simd_gt(f32x8::splat(1e-12)) & len2.is_finite();
+        let long = len2.simd_gt(F32Lanes::splat(1e-12)) & len2.is_finite();
         // 2. The float bounds (`float_bounds`).
-        let reach = f32x8::splat(0.5) * aw.fast_max(bw) + f32x8::splat(0.75);
+        let reach = F32Lanes::splat(0.5) * aw.fast_max(bw) + F32Lanes::splat(0.75);
         let (w, h) = (self.width as f32, self.height as f32);
-        let x0 = (ax.fast_min(bx) - reach).floor().fast_max(f32x8::ZERO);
-        let x1 = (ax.fast_max(bx) + reach).ceil().fast_min(f32x8::splat(w));
-        let y0 = (ay.fast_min(by) - reach).floor().fast_max(f32x8::ZERO);
-        let y1 = (ay.fast_max(by) + reach).ceil().fast_min(f32x8::splat(h));
+        let x0 = (ax.fast_min(bx) - reach).floor().fast_max(F32Lanes::ZERO);
+        let x1 = (ax.fast_max(bx) + reach)
+            .ceil()
+            .fast_min(F32Lanes::splat(w));
+        let y0 = (ay.fast_min(by) - reach).floor().fast_max(F32Lanes::ZERO);
+        let y1 = (ay.fast_max(by) + reach)
+            .ceil()
+            .fast_min(F32Lanes::splat(h));
         let some = long & x0.simd_lt(x1) & y0.simd_lt(y1);
         // 3. Tiles: whole pixel numbers in [0, 2^26] divided by a power of two.
-        let inv = f32x8::splat(1.0 / TILE as f32);
-        let one = f32x8::splat(1.0);
+        let inv = F32Lanes::splat(1.0 / TILE as f32);
+        let one = F32Lanes::splat(1.0);
         let tiles = [
             (x0 * inv).floor(),
             ((x1 - one) * inv).floor() + one,
             (y0 * inv).floor(),
             ((y1 - one) * inv).floor() + one,
         ]
-        .map(|v| (some & drawn & !hidden).select(v, f32x8::ZERO).trunc_int());
+        .map(|v| {
+            (some & drawn & !hidden)
+                .select(v, F32Lanes::ZERO)
+                .trunc_int()
+        });
         // Tile numbers below 65,536 ([`HairRaster::with_bin_capacity`]).
-        let pack = |lo: i32x8, hi: i32x8| bytemuck::cast::<i32x8, [u32; 8]>(lo | (hi << 16));
+        let pack =
+            |lo: I32Lanes, hi: I32Lanes| bytemuck::cast::<I32Lanes, [u32; LANES]>(lo | (hi << 16));
         TileRects {
             drawn: drawn.to_bitmask(),
             hidden: hidden.to_bitmask(),
@@ -766,7 +778,7 @@ fn for_segments(
 /// Which body [`HairRaster::run`] uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Path {
-    /// Eight lanes at a time: [`project_simd`], eight tile ranges at a time,
+    /// [`LANES`] lanes at a time: [`project_simd`], a block of tile ranges at a time,
     /// [`draw_tile`].
     Simd,
     /// One at a time: [`project`], [`HairRaster::tile_rect`], the scalar tile body.
@@ -782,7 +794,7 @@ struct TileRects {
     hidden: u32,
     /// Per lane `x0 | x1 << 16` and `y0 | y1 << 16` of its tiles
     /// `[x0, x1) x [y0, y1)`; zero (no tile) when the lane draws nothing.
-    packed: [[u32; 8]; 2],
+    packed: [[u32; LANES]; 2],
 }
 
 impl TileRects {
@@ -980,33 +992,34 @@ pub fn project(camera: &Camera, v: &ShadedVertex) -> ScreenVertex {
     }
 }
 
-/// [`project`] of up to eight vertices at once (lanes past
+/// [`project`] of up to [`LANES`] vertices at once (lanes past
 /// `vertices.len()` come back invalid), with the operations of
 /// [`Camera::project`] in the same order (no fused multiply-add): the
 /// same bits as [`project`] vertex by vertex.
-pub fn project_simd(camera: &Camera, vertices: &[ShadedVertex]) -> [ScreenVertex; 8] {
+pub fn project_simd(camera: &Camera, vertices: &[ShadedVertex]) -> [ScreenVertex; LANES] {
     screen_rows(project_planes_simd(camera, vertices))
 }
 
 /// [`project_simd`] as planes: pixel `x`, `y`, view depth, width in pixels,
 /// red, green, blue; an invalid lane holds a NaN depth and zeros
-/// elsewhere (as the invalid [`ScreenVertex`] of [`project`]). The eight
-/// vertices (eight floats each) come into lanes by one 8 x 8 transpose.
+/// elsewhere (as the invalid [`ScreenVertex`] of [`project`]). The
+/// vertices (eight floats each) come into lanes by one 8 x 8 transpose per
+/// group of eight lanes.
 #[inline(always)]
-fn project_planes_simd(camera: &Camera, vertices: &[ShadedVertex]) -> [f32x8; 7] {
+fn project_planes_simd(camera: &Camera, vertices: &[ShadedVertex]) -> [F32Lanes; 7] {
     let (eye, forward, right, down, focal) = camera.basis();
-    let n = vertices.len().min(8);
-    let rows: [f32x8; 8] = if n == 8 {
-        let rows: &[[f32; 8]] = bytemuck::cast_slice(&vertices[..8]);
-        std::array::from_fn(|l| f32x8::new(rows[l]))
+    let n = vertices.len().min(LANES);
+    let rows: [F32Group; LANES] = if n == LANES {
+        let rows: &[[f32; 8]] = bytemuck::cast_slice(&vertices[..LANES]);
+        std::array::from_fn(|l| F32Group::new(rows[l]))
     } else {
         std::array::from_fn(|l| match vertices.get(l) {
-            Some(v) => f32x8::new(bytemuck::cast(*v)),
-            None => f32x8::ZERO,
+            Some(v) => F32Group::new(bytemuck::cast(*v)),
+            None => F32Group::ZERO,
         })
     };
-    let [x, y, z, width, r, g, b, _] = f32x8::transpose(rows);
-    let s = f32x8::splat;
+    let [x, y, z, width, r, g, b, _] = rows_to_planes(rows);
+    let s = F32Lanes::splat;
     // 1. Depth along the view direction, as `Vec3::dot`: (x + y) + z.
     let (dx, dy, dz) = (x - s(eye.x), y - s(eye.y), z - s(eye.z));
     let dot = |e: Vec3| (dx * s(e.x) + dy * s(e.y)) + dz * s(e.z);
@@ -1025,9 +1038,9 @@ fn project_planes_simd(camera: &Camera, vertices: &[ShadedVertex]) -> [f32x8; 7]
         & g.is_finite()
         & b.is_finite()
         & width_px.is_finite()
-        & width_px.simd_ge(f32x8::ZERO)
-        & LANE_INDEX.simd_lt(s(n as f32));
-    let zero = f32x8::ZERO;
+        & width_px.simd_ge(F32Lanes::ZERO)
+        & lane_index().simd_lt(s(n as f32));
+    let zero = F32Lanes::ZERO;
     [
         ok.select(px, zero),
         ok.select(py, zero),
@@ -1039,12 +1052,12 @@ fn project_planes_simd(camera: &Camera, vertices: &[ShadedVertex]) -> [f32x8; 7]
     ]
 }
 
-/// The eight [`ScreenVertex`]es of [`project_planes_simd`]'s planes (one
-/// 8 x 8 transpose back).
+/// The [`ScreenVertex`]es of [`project_planes_simd`]'s planes (an 8 x 8
+/// transpose back per group of eight lanes).
 #[inline(always)]
-fn screen_rows(planes: [f32x8; 7]) -> [ScreenVertex; 8] {
+fn screen_rows(planes: [F32Lanes; 7]) -> [ScreenVertex; LANES] {
     let [x, y, d, w, r, g, b] = planes;
-    let rows = f32x8::transpose([x, y, d, w, r, g, b, f32x8::ZERO]);
+    let rows = planes_to_rows([x, y, d, w, r, g, b, F32Lanes::ZERO]);
     rows.map(|row| {
         let a = row.to_array();
         ScreenVertex {
@@ -1058,16 +1071,19 @@ fn screen_rows(planes: [f32x8; 7]) -> [ScreenVertex; 8] {
 }
 
 /// Lane `l` holds `l as f32`.
-const LANE_INDEX: f32x8 = f32x8::new([0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
+#[inline(always)]
+fn lane_index() -> F32Lanes {
+    F32Lanes::new(std::array::from_fn(|l| l as f32))
+}
 
-/// Step 5 for one tile: the segments of `list` eight at a time, set up
+/// Step 5 for one tile: the segments of `list` [`LANES`] at a time, set up
 /// at once ([`Segment::new_simd`]) and drawn one per lane
 /// ([`draw_lanes`]: each lane walks its own segment's lines along its
 /// major axis and each line's candidates, one candidate per pass, then
-/// the eight segments' fragments are blended segment by segment in list
-/// order). Eight segments that need more passes, or that hold one with
+/// the block's fragments are blended segment by segment in list
+/// order). A block of segments that needs more passes, or holds one with
 /// an end beyond [`crate::line::BAND_REACH`], are walked one by one
-/// ([`draw_lines`]: eight lines of a segment per register). The pixels
+/// ([`draw_lines`]: [`LANES`] lines of a segment per register). The pixels
 /// of one segment are distinct, so their order changes no bit.
 pub(crate) fn draw_tile(
     tile: &mut TileBuffer,
@@ -1078,13 +1094,13 @@ pub(crate) fn draw_tile(
 ) {
     let opaque = tile.opaque;
     let mut passes = [Pass::default(); MAX_PASSES];
-    for (c, first) in list.chunks(8).enumerate() {
+    for (c, first) in list.chunks(LANES).enumerate() {
         // The next chunk's ends, from memory (the lists visit strands
         // back to front, far apart in `screen`), while this one draws.
-        for &k in list.iter().skip(8 * c + 8).take(8) {
+        for &k in list.iter().skip(LANES * c + LANES).take(LANES) {
             prefetch(screen.get(k as usize + 1));
         }
-        // 5a. Set up eight segments at once (the bits of `Segment::new`).
+        // 5a. Set up a block of segments at once (the bits of `Segment::new`).
         let segments = Segment::new_simd(screen, first, area.width, area.height);
         if segments.near() {
             let done = match opaque {
@@ -1135,7 +1151,7 @@ const BAND_ROWS: u8 = 1;
 const BAND_COLUMNS: u8 = 2;
 
 /// 5b-5d for one segment in one tile, its rows (or columns for
-/// `WALK` = [`BAND_COLUMNS`]) eight at a time, with the depth test when
+/// `WALK` = [`BAND_COLUMNS`]) [`LANES`] at a time, with the depth test when
 /// `DEPTH`.
 #[inline(always)]
 fn draw_lines<const WALK: u8, const DEPTH: bool>(
@@ -1146,7 +1162,7 @@ fn draw_lines<const WALK: u8, const DEPTH: bool>(
 ) {
     const { assert!(WALK <= BAND_COLUMNS) };
     let columns = WALK == BAND_COLUMNS;
-    let s = f32x8::splat;
+    let s = F32Lanes::splat;
     let walk = match WALK {
         ROWS => Walk::Rows,
         BAND_ROWS => Walk::BandRows,
@@ -1158,8 +1174,8 @@ fn draw_lines<const WALK: u8, const DEPTH: bool>(
     let (x0, y0) = (area.x0 as f32, area.y0 as f32);
     let mut first = lo;
     while first < hi {
-        // 5b. The candidates of eight rows (columns), clipped to the tile.
-        let line = LANE_INDEX + s(first);
+        // 5b. The candidates of a block of rows (columns), clipped to the tile.
+        let line = lane_index() + s(first);
         let (ca, cb) = match WALK {
             ROWS => seg.row_spans(line),
             _ => seg.band(line, columns),
@@ -1199,11 +1215,11 @@ fn draw_lines<const WALK: u8, const DEPTH: bool>(
             c += s(1.0);
             live = c.simd_lt(cb).to_bitmask();
         }
-        first += 8.0;
+        first += LANES as f32;
     }
 }
 
-/// The most passes [`draw_lanes`] holds before it gives the eight
+/// The most passes [`draw_lanes`] holds before it gives the block's
 /// segments back to the one-segment walk (a thin hair needs about 20).
 const MAX_PASSES: usize = 32;
 
@@ -1211,17 +1227,17 @@ const MAX_PASSES: usize = 32;
 /// pixel (tile index, depth, alpha, colour).
 #[derive(Clone, Copy, Default)]
 struct Pass {
-    index: [i32; 8],
-    z: [f32; 8],
-    alpha: [f32; 8],
-    color: [[f32; 8]; 3],
+    index: [i32; LANES],
+    z: [f32; LANES],
+    alpha: [f32; LANES],
+    color: [[f32; LANES]; 3],
 }
 
-/// 5b-5d for eight segments at once, one per lane (all band walks):
+/// 5b-5d for [`LANES`] segments at once, one per lane (all band walks):
 /// each lane walks its own segment's lines (rows, or columns where
-/// `|e_x| > |e_y|`) and each line's candidates ([`SegmentsX8::band`],
+/// `|e_x| > |e_y|`) and each line's candidates ([`SegmentsLanes::band`],
 /// clipped to the tile as in [`draw_lines`]), one candidate per pass
-/// ([`SegmentsX8::fragment`]), the constants staying in their lanes. The
+/// ([`SegmentsLanes::fragment`]), the constants staying in their lanes. The
 /// passes are kept, then blended segment by segment in list order (each
 /// segment's pixels are distinct: their order changes no bit). Returns
 /// false, having blended nothing, when the segments need more than
@@ -1229,26 +1245,26 @@ struct Pass {
 /// one by one).
 #[inline(always)]
 fn draw_lanes<const DEPTH: bool>(
-    segments: &SegmentsX8,
+    segments: &SegmentsLanes,
     area: &TileArea,
     tile: &mut TileBuffer,
     opacity: f32,
     passes: &mut [Pass; MAX_PASSES],
 ) -> bool {
-    let s = f32x8::splat;
+    let s = F32Lanes::splat;
     let columns = segments.columns();
     // The tile's lines and cross range per lane (`TileArea::lines`,
     // `TileArea::cross`); lanes without a segment get no line.
     let [x0, x1, y0, y1] = segments.float_bounds();
-    let pick = |c: f32x8, r: f32x8| columns.select(c, r);
+    let pick = |c: F32Lanes, r: F32Lanes| columns.select(c, r);
     let (tx, ty) = (area.x0 as f32, area.y0 as f32);
     let (tx1, ty1) = (
         (area.x0 + area.columns) as f32,
         (area.y0 + area.rows) as f32,
     );
-    let bit = i32x8::new([1, 2, 4, 8, 16, 32, 64, 128]);
-    let drawn = (i32x8::splat(segments.drawn() as i32) & bit).simd_eq(bit);
-    let drawn: f32x8 = bytemuck::cast(drawn);
+    let bit = I32Lanes::new(std::array::from_fn(|l| 1 << l));
+    let drawn = (I32Lanes::splat(segments.drawn() as i32) & bit).simd_eq(bit);
+    let drawn: F32Lanes = bytemuck::cast(drawn);
     let (near_lo, near_hi) = segments.lines(columns);
     let lo = pick(x0, y0).fast_max(pick(s(tx), s(ty))).fast_max(near_lo);
     let hi = pick(x1, y1)
@@ -1258,9 +1274,9 @@ fn draw_lanes<const DEPTH: bool>(
     let (cross_lo, cross_hi) = (pick(s(ty), s(tx)), pick(s(ty1), s(tx1)));
     // Each lane's line, its next candidate c and the end of its band.
     let mut line = lo - s(1.0);
-    let (mut c, mut cb) = (f32x8::ZERO, f32x8::ZERO);
+    let (mut c, mut cb) = (F32Lanes::ZERO, F32Lanes::ZERO);
     let mut n = 0;
-    let mut lane_passes = i32x8::ZERO;
+    let mut lane_passes = I32Lanes::ZERO;
     loop {
         // 5b. Lanes past their band move to their next line with a
         // non-empty band, while they have lines left.
@@ -1292,7 +1308,7 @@ fn draw_lanes<const DEPTH: bool>(
         pass.z = f.depth.to_array();
         pass.alpha = f.alpha.to_array();
         pass.color = [f.color.x, f.color.y, f.color.z].map(|v| v.to_array());
-        lane_passes |= bytemuck::cast::<f32x8, i32x8>(hit) & i32x8::splat(1 << n);
+        lane_passes |= bytemuck::cast::<F32Lanes, I32Lanes>(hit) & I32Lanes::splat(1 << n);
         n += 1;
         c += s(1.0);
     }

@@ -330,7 +330,7 @@ fn constructors_refuse_empty_frames_and_draws_leave_other_sizes_alone() {
 }
 
 #[test]
-fn eight_lane_projection_matches_the_scalar_one_bit_for_bit() {
+fn lane_projection_matches_the_scalar_one_bit_for_bit() {
     use coif_render::raster::{project, project_simd};
     let cam = camera();
     let mut vertices = strands(20, 9, 11);
@@ -356,19 +356,21 @@ fn eight_lane_projection_matches_the_scalar_one_bit_for_bit() {
         .map(f32::to_bits)
     };
     let mut invalid = 0;
-    // Every length of the last chunk, 1 to 8.
-    for chunk in vertices.chunks(8).chain(vertices[..7].chunks(7)) {
-        let x8 = project_simd(&cam, chunk);
+    // Whole blocks, and every shorter chunk, 1 to LANES - 1.
+    let lanes = coif_base::LANES;
+    let short = (1..lanes).map(|n| &vertices[n..2 * n]);
+    for chunk in vertices.chunks(lanes).chain(short) {
+        let lanes_out = project_simd(&cam, chunk);
         for (l, v) in chunk.iter().enumerate() {
             let one = project(&cam, v);
             invalid += one.depth.is_nan() as usize;
             if one.depth.is_nan() {
-                assert!(x8[l].depth.is_nan());
+                assert!(lanes_out[l].depth.is_nan());
             } else {
-                assert_eq!(bits(&one), bits(&x8[l]), "lane {l}");
+                assert_eq!(bits(&one), bits(&lanes_out[l]), "lane {l}");
             }
         }
-        assert!(x8[chunk.len()..].iter().all(|v| v.depth.is_nan()));
+        assert!(lanes_out[chunk.len()..].iter().all(|v| v.depth.is_nan()));
     }
     assert!(invalid >= 8, "{invalid}");
 }
