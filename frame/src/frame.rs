@@ -488,7 +488,7 @@ impl FramePipeline {
 
     /// [`FramePipeline::render`] with the parallel stages' tasks run by
     /// `executor`: the shadow-map build, the prepare pass (one task per
-    /// drawn interpolation group), the head's ray-cast (bands of rows) and
+    /// block of drawn interpolation groups), the head's ray-cast (bands of rows) and
     /// the hair's rasterisation (projection, binning and runs of tiles). LOD
     /// set-up, background, ribbons and sort stay on the calling thread. The
     /// same bytes with any executor.
@@ -604,8 +604,8 @@ impl FramePipeline {
     }
 
     /// The fused prepare: [`FramePipeline::lod_setup`], the shadow map of
-    /// every `shadow_thinning`-th drawn group, then one task per drawn
-    /// group that interpolates, shades and writes its vertices once.
+    /// every `shadow_thinning`-th drawn group, then one task per block of
+    /// drawn groups that interpolates, shades and writes their vertices once.
     fn prepare_fused(&mut self, eye: Vec3, executor: &dyn Executor) {
         // The reference's per-vertex colours are not kept (keeps capacity).
         self.colors.resize(0);
@@ -769,8 +769,9 @@ impl FramePipeline {
             .build_lanes(self.settings.light.to_light, &hair, executor);
     }
 
-    /// Stage [`Stage::Shade`] of the fused pass: one task per drawn group
-    /// (interpolate, shade, shadow, head shadow, colour; `prepare.rs`),
+    /// Stage [`Stage::Shade`] of the fused pass: one task per block of
+    /// `GROUPS_PER_BLOCK` drawn groups (interpolate, shade, shadow, head
+    /// shadow, colour; `prepare.rs`),
     /// each writing its own range of [`FramePipeline::shaded_vertices`].
     fn shade_fused(&mut self, eye: Vec3, executor: &dyn Executor) {
         // Every group's range [first R, (first + hairs) R) lies within the

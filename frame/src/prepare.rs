@@ -99,10 +99,11 @@ pub(crate) fn shade_block(
     // Lane `8 k + i` holds hair `first[k] + i` of the block, for
     // `i < group_hairs(k)`; the other lanes repeat their group's last hair.
     let mut first = [0usize; GROUPS_PER_BLOCK];
+    let mut counts = [0usize; GROUPS_PER_BLOCK];
     let mut before = 0;
-    for (k, f) in first.iter_mut().enumerate() {
-        *f = before;
-        before += blend.group_hairs(k);
+    for (k, (f, c)) in first.iter_mut().zip(&mut counts).enumerate() {
+        (*f, *c) = (before, blend.group_hairs(k));
+        before += *c;
     }
     let light = ctx.light;
     let wi = Vec3Lanes::splat(light.to_light);
@@ -113,7 +114,7 @@ pub(crate) fn shade_block(
     let mut tint = [0.0f32; LANES];
     for (l, t) in tint.iter_mut().enumerate() {
         let (k, i) = (l / GROUP_LANES, l % GROUP_LANES);
-        let last = blend.group_hairs(k).max(1) - 1;
+        let last = counts[k].max(1) - 1;
         *t = super::strand_tint(first_hair + first[k] + i.min(last));
     }
     let tint = F32Lanes::new(tint);
@@ -204,7 +205,7 @@ pub(crate) fn shade_block(
             F32Lanes::splat(sp),
         ]);
         for (k, group) in rows.chunks_exact(GROUP_LANES).enumerate() {
-            for (i, row) in group.iter().take(blend.group_hairs(k)).enumerate() {
+            for (i, row) in group.iter().take(counts[k]).enumerate() {
                 let v = row.to_array();
                 let vertex = ShadedVertex {
                     position: [v[0], v[1], v[2]],

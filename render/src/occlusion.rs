@@ -201,7 +201,11 @@ mod tests {
             let lanes = |v: &ScreenVertex| [v.x, v.y, v.depth, v.width_px].map(F32Lanes::splat);
             let wide = cones.hides_lanes(lanes(&a), lanes(&b)).to_bitmask();
             let all = (1u64 << coif_base::LANES) - 1;
-            assert_eq!(u64::from(wide), if scalar { all } else { 0 }, "twins disagree");
+            assert_eq!(
+                u64::from(wide),
+                if scalar { all } else { 0 },
+                "twins disagree"
+            );
             if !scalar {
                 continue;
             }
