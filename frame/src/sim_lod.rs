@@ -266,11 +266,15 @@ impl SimLod {
                 pearl_radius,
             );
         }
-        // Finite by construction (the output is); an error leaves the level's old state.
-        let _ = new.strands.set_state(&new.buf, &new.buf_prev);
+        // The output is as of the last pose: the level's groom frame first,
+        // so that `set_state` takes the state in it and its next step
+        // spreads only the turn from there (not from when the level last
+        // ran). Finite by construction (the output is); an error leaves the
+        // level's old state.
         let _ = new
             .strands
             .set_rest_rotation(Quat::from_mat3(&Mat3::from(self.pose.matrix3)));
+        let _ = new.strands.set_state(&new.buf, &new.buf_prev);
         self.current = level;
         self.blend_left = 0;
         self.write_output();

@@ -709,11 +709,14 @@ impl Strands {
     }
 
     /// Puts every strand in its rest shape at its current root, at rest
-    /// (previous positions equal current ones).
+    /// (previous positions equal current ones), in the current groom frame
+    /// ([`Strands::set_rest_rotation`]): the next step has no turn of the
+    /// frame left to spread over its substeps.
     pub fn reset_to_rest(&mut self) {
         for i in 0..self.strand_count {
             self.reset_strand(i / LANES, i % LANES);
         }
+        self.stepped_rotation = self.rest_rotation;
         self.wake();
     }
 
@@ -749,7 +752,9 @@ impl Strands {
     /// state of another simulation of the same strands (a level switch of a
     /// simulation LOD, a saved state). Vertex 0 becomes the root (pinned;
     /// its previous position is taken equal to it). Rest lengths and shape
-    /// are unchanged. Wakes every block. Errors, changing nothing, on a
+    /// are unchanged; the state is taken as of the current groom frame
+    /// ([`Strands::set_rest_rotation`]), so the next step spreads no turn
+    /// of it. Wakes every block. Errors, changing nothing, on a
     /// wrong count or a non-finite point.
     ///
     /// # Errors
@@ -790,6 +795,7 @@ impl Strands {
                 }
             }
         }
+        self.stepped_rotation = self.rest_rotation;
         self.wake();
         // A state from elsewhere (another level, a saved game): the
         // colliders' record may be of another time.

@@ -325,3 +325,50 @@ fn springs_simd_matches_scalar_bit_for_bit() {
     assert_eq!(bits(&a.positions()), bits(&b.positions()));
     assert_ne!(bits(&a.positions()), bits(&pts), "nothing moved");
 }
+
+/// A reset starts from the current groom frame. The step spreads a turn
+/// of the rest frame over its substeps (the springs' rest vectors turn
+/// from the frame of the last step to the current one); strands put back
+/// in their rest shape (`reset_to_rest`) or given a state (`set_state`)
+/// after the frame turned are already in the current frame, so the next
+/// step has no turn left to spread. Without gravity the hair, placed in
+/// its rest shape in the turned frame, stays there: under 1e-5 m after a
+/// step (a 1.2 rad turn spread over the substeps would swing the tip by
+/// centimetres).
+#[test]
+fn a_reset_starts_the_shape_springs_from_the_current_frame() {
+    let (verts, seg) = (16, 0.01);
+    let pts = straight(verts, seg);
+    let params = SimParams {
+        local_shape_stiffness: 1.0,
+        gravity: Vec3::ZERO,
+        sleep_speed: 0.0,
+        ..SimParams::default()
+    };
+    let turn = Quat::from_rotation_z(1.2);
+    let placed: Vec<Vec3> = pts.iter().map(|p| turn * *p).collect();
+    for reset in ["reset_to_rest", "set_state"] {
+        let mut s = Strands::from_polylines(&pts, verts).unwrap();
+        step(&mut s, &params, &[]);
+        s.set_rest_rotation(turn).unwrap();
+        match reset {
+            "reset_to_rest" => s.reset_to_rest(),
+            _ => s.set_state(&placed, &placed).unwrap(),
+        }
+        let before = s.positions();
+        for (p, q) in before.iter().zip(&placed) {
+            assert!(p.distance(*q) < 1e-6, "{reset}: placed at {p}, rest {q}");
+        }
+        step(&mut s, &params, &[]);
+        let moved = s
+            .positions()
+            .iter()
+            .zip(&before)
+            .map(|(a, b)| a.distance(*b))
+            .fold(0.0f32, f32::max);
+        assert!(
+            moved < 1e-5,
+            "{reset}: the hair moved {moved} m in one step"
+        );
+    }
+}
