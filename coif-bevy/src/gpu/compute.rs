@@ -46,8 +46,13 @@ pub const GPU_HAIR_COMPUTE_SHADER: Handle<Shader> =
     uuid_handle!("3d6a91f2-0b7e-4c58-8e14-5a2f6c9d0b37");
 
 /// Bytes per render vertex (`coif_lod::RenderVertex`: position, width,
-/// tangent, parameter along the hair).
-pub const RENDER_VERTEX_BYTES: u64 = 32;
+/// tangent, parameter along the hair; the WGSL struct the compute pass
+/// writes has the same 32-byte layout).
+pub const RENDER_VERTEX_BYTES: u64 = std::mem::size_of::<coif::lod::RenderVertex>() as u64;
+const _: () = assert!(
+    RENDER_VERTEX_BYTES == 32,
+    "the WGSL RenderVertex is 32 bytes"
+);
 
 /// The label of the pass, its pipeline and bind groups (for GPU
 /// debuggers and profilers).
