@@ -22,8 +22,8 @@
 //! - `shade/{kajiya-kay,marschner,pbrt}`: per-vertex shading batch of 65,536
 //!   samples.
 //! - `threads/{1,2}/{simulate,prepare,render,frame}`: the default scene's
-//!   frame (Sintel, as the demo runs her) and its parts on a rayon pool of
-//!   1 and of 2 threads
+//!   frame (Sintel, as the demo runs her) and its parts on
+//!   `tasks::Workers` of 1 and of 2 threads (the caller and one worker)
 //!   (`FramePipeline::frame_with`); after each thread count the per-stage
 //!   means are printed, and after both the serial fraction of a frame at
 //!   1 thread (the stages that never run as tasks, over the frame) with the
@@ -239,7 +239,6 @@ fn prepare(c: &mut Criterion) {
 /// step (its hair grid, a serial part, included), the shadow build, the
 /// prepare tasks, background and head, the body (vertices, eyes, binned
 /// triangles), the hair's runs of tiles.
-#[cfg_attr(not(feature = "rayon"), allow(dead_code))]
 fn serial_split(p: &FramePipeline) -> (f64, f64) {
     let t = p.timings();
     let ms = |s: Stage| t.mean(s).as_secs_f64() * 1e3;
@@ -253,9 +252,8 @@ fn serial_split(p: &FramePipeline) -> (f64, f64) {
     (frame - parallel, frame)
 }
 
-#[cfg(feature = "rayon")]
 fn threads(c: &mut Criterion) {
-    use coif::base::tasks::Rayon;
+    use coif::base::tasks::Workers;
     // The default scene as the demo runs it: Sintel on her bust, pbrt with
     // dual scattering, 20 render hairs per cm^2, the gust's simulation.
     let scene = HairScene::sintel().unwrap();
@@ -268,7 +266,7 @@ fn threads(c: &mut Criterion) {
     let mut frame_ms = Vec::new();
     let mut serial = (0.0, 1.0);
     for n in [1usize, 2] {
-        let pool = Rayon::new(n).unwrap();
+        let pool = Workers::new(n).unwrap();
         let mut p = FramePipeline::new(&scene, settings.clone(), 1.5).unwrap();
         let pivot = p.pivot();
         let mut t = 0.0f32;
@@ -326,7 +324,7 @@ fn threads(c: &mut Criterion) {
     let scene = default_head();
     let settings = FrameSettings::small(256);
     for n in [1usize, 2] {
-        let pool = Rayon::new(n).unwrap();
+        let pool = Workers::new(n).unwrap();
         let mut heads: Vec<FramePipeline> = (0..4)
             .map(|_| FramePipeline::new(&scene, settings.clone(), 1.0).unwrap())
             .collect();
@@ -355,11 +353,6 @@ fn threads(c: &mut Criterion) {
         });
         g.finish();
     }
-}
-
-#[cfg(not(feature = "rayon"))]
-fn threads(_: &mut Criterion) {
-    eprintln!("skipping threads/*: built without the rayon feature");
 }
 
 criterion_group!(benches, frames, prepare, raster, shade, threads);

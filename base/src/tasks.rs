@@ -278,6 +278,9 @@ unsafe impl Executor for Callback {
     }
 }
 
+mod workers;
+pub use workers::Workers;
+
 #[cfg(feature = "rayon")]
 mod rayon_executor {
     use super::Executor;
@@ -339,7 +342,7 @@ mod tests {
     use super::*;
     use std::sync::atomic::{AtomicUsize, Ordering};
 
-    fn run_all(executor: &dyn Executor) {
+    pub(super) fn run_all(executor: &dyn Executor) {
         let mut data: Vec<u32> = (0..1001).collect();
         for_each_chunk_mut(executor, &mut data, 64, &|i, chunk| {
             for (j, x) in chunk.iter_mut().enumerate() {

@@ -5,10 +5,15 @@ use coif::kernels::tasks::{Executor, Serial};
 /// A named executor.
 pub type Named = (String, Box<dyn Executor>);
 
-/// `Serial`, then rayon pools of 1 and 2 threads (feature `rayon`).
+/// `Serial`, then coif's own workers of 2 threads (the caller and one
+/// worker), then rayon pools of 1 and 2 threads (feature `rayon`).
 pub fn executors() -> Vec<Named> {
     let serial: Named = ("serial".into(), Box::new(Serial));
-    std::iter::once(serial).chain(pools()).collect()
+    let workers: Named = (
+        "workers2".into(),
+        Box::new(coif::kernels::tasks::Workers::new(2).unwrap()),
+    );
+    [serial, workers].into_iter().chain(pools()).collect()
 }
 
 #[cfg(feature = "rayon")]

@@ -4,8 +4,8 @@
 //! `assets/sintel`, CC BY 3.0 Blender Foundation) with interpolated hair,
 //! three seconds of motion (a head turn, then a gust of wind), the guides
 //! colliding with her bust's distance field, `hair.png` (512 x 512) and a
-//! per-stage timing table, the frame's tasks on one rayon pool of every
-//! core (`--threads`). `--scene sphere` is the built-in sphere head with
+//! per-stage timing table, the frame's tasks on every core (`--threads`:
+//! the calling thread and a worker per other core, `tasks::Workers`). `--scene sphere` is the built-in sphere head with
 //! grown guides and a bow's silk ribbons. See `--help`.
 
 /// `println!` that goes quiet once standard output is closed, as when it
@@ -181,29 +181,22 @@ struct Cli {
     crowd: Option<usize>,
     /// Threads running the frame's parallel stages (the hair's and the
     /// ribbons' simulation, the shadow-map build, the prepare pass, the
-    /// hair's runs of tiles; with --crowd, the characters): one rayon pool of
-    /// N threads, 0 = one per core; 1 = the calling thread only (no pool).
+    /// hair's runs of tiles; with --crowd, the characters): N threads, the
+    /// calling thread and N - 1 workers started once (coif's `Workers`),
+    /// 0 = one per core; 1 = the calling thread only.
     /// The picture has the same bytes at any thread count. At most 256.
     #[arg(long, default_value_t = 0, value_name = "N", value_parser = parse_threads)]
     threads: usize,
 }
 
-/// The executor of `--threads`: the calling thread for 1 (or without the
-/// `rayon` feature), else one rayon pool of that many threads (0 = one per
-/// core), built once.
+/// The executor of `--threads`: the calling thread for 1, else
+/// [`Workers`](coif::base::tasks::Workers): that many threads, the caller's
+/// included (0 = one per core), started once.
 fn executor(threads: usize) -> Result<Box<dyn Executor>, Box<dyn std::error::Error>> {
     if threads == 1 {
         return Ok(Box::new(Serial));
     }
-    #[cfg(feature = "rayon")]
-    {
-        Ok(Box::new(coif::base::tasks::Rayon::new(threads)?))
-    }
-    #[cfg(not(feature = "rayon"))]
-    {
-        eprintln!("coif: built without the rayon feature: --threads {threads} runs on one thread");
-        Ok(Box::new(Serial))
-    }
+    Ok(Box::new(coif::base::tasks::Workers::new(threads)?))
 }
 
 /// The built-in scenes of `--scene`.

@@ -15,7 +15,7 @@
 //! cargo run --release -p coif-frame --example threads_profile -- [FRAMES] [SIZE]
 //! ```
 
-use coif_base::tasks::{Executor, Rayon, Serial};
+use coif_base::tasks::{Executor, Serial, Workers};
 use coif_frame::{motion, FramePipeline, FrameSettings, HairScene, ShadingModel, Stage};
 use std::hint::black_box;
 use std::time::{Duration, Instant};
@@ -29,7 +29,7 @@ fn main() {
     if a.get(3).map(String::as_str) == Some("simulate") {
         return simulate_only(frames, size);
     }
-    let pool = Rayon::new(2).expect("a pool of two");
+    let pool = Workers::new(2).expect("two threads");
     let executors: [&dyn Executor; 2] = [&Serial, &pool];
     let mut pipelines = two_pipelines(size);
     let pivot = pipelines[0].pivot();
@@ -112,7 +112,7 @@ fn two_pipelines(size: usize) -> [FramePipeline; 2] {
 /// `frames` frames of simulation alone (no picture), alternately on one
 /// thread and on two: the median and least simulate times.
 fn simulate_only(frames: usize, size: usize) {
-    let pool = Rayon::new(2).expect("a pool of two");
+    let pool = Workers::new(2).expect("two threads");
     let executors: [&dyn Executor; 2] = [&Serial, &pool];
     let mut pipelines = two_pipelines(size);
     let pivot = pipelines[0].pivot();

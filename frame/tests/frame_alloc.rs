@@ -70,6 +70,28 @@ fn frames_allocate_nothing_for_every_shading_model() {
     }
 }
 
+/// On coif's own workers (two threads: this one and a worker) a frame
+/// allocates nothing on the calling thread either; that the worker
+/// allocates nothing is `kernels/tests/strand_threads_alloc.rs`'s (every
+/// thread counted there; here the other test runs alongside).
+#[test]
+fn frames_on_workers_allocate_nothing() {
+    let scene = scene();
+    let mut p = FramePipeline::new(&scene, FrameSettings::small(64), 0.1).unwrap();
+    let workers = coif_base::tasks::Workers::new(2).unwrap();
+    let pivot = p.pivot();
+    let before = allocations();
+    for f in 0..12 {
+        p.frame_with(
+            1.0 / 30.0,
+            motion::turn_and_nod(0.1 * f as f32, pivot),
+            &workers,
+        );
+    }
+    assert_eq!(allocations() - before, 0, "allocations during frames");
+    assert!(p.stats().segments > 1000, "the frames drew hair");
+}
+
 /// An executor that counts its `run` calls and hands them to a rayon pool.
 #[cfg(feature = "rayon")]
 struct Counted<'a> {

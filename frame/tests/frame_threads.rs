@@ -172,6 +172,14 @@ fn same_bytes_on_every_executor(scene: Scene) {
             b == serial,
             "{scene:?} {prepare:?}: backwards on two threads differs"
         );
+        for threads in [2, 3] {
+            let workers = coif_base::tasks::Workers::new(threads).unwrap();
+            let w = run(scene, prepare, &workers);
+            assert!(
+                w == serial,
+                "{scene:?} {prepare:?}: workers {threads} differs"
+            );
+        }
         #[cfg(feature = "rayon")]
         for threads in [1, 2, 3, 8] {
             let pool = coif_base::tasks::Rayon::new(threads).unwrap();

@@ -1,7 +1,8 @@
 //! Stepping on threads allocates nothing in coif: after a warm-up step,
-//! strands (`step_with`) and patches (`patch::step_all`) on `Serial` and on
+//! strands (`step_with`) and patches (`patch::step_all`) on `Serial`, on
 //! a pool of persistent worker threads (an engine's job system, which
-//! itself allocates nothing per run) make no allocation on any thread.
+//! itself allocates nothing per run) and on coif's `Workers` make no
+//! allocation on any thread.
 //! One test in this binary, so the count of every thread sees only it.
 //! Rayon's own allocations are measured and printed, not asserted (they
 //! are rayon's; see kernels/README.md).
@@ -96,6 +97,13 @@ fn stepping_on_threads_allocates_nothing() {
     let pool = SpinPool::new(2);
     assert_eq!(count(&pool, 8), (0, 0), "persistent workers");
     drop(pool);
+    // coif's own workers, asleep between some runs and spinning between
+    // others: nothing on any thread.
+    for threads in [2, 3] {
+        let workers = coif_kernels::tasks::Workers::new(threads).unwrap();
+        count(&workers, 2);
+        assert_eq!(count(&workers, 40), (0, 0), "Workers({threads})");
+    }
     #[cfg(feature = "rayon")]
     for threads in [1, 2, 4] {
         let rayon = coif_kernels::tasks::Rayon::new(threads).unwrap();

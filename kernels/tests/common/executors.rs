@@ -181,8 +181,8 @@ unsafe impl Executor for SpinPool {
     }
 }
 
-/// Serial, the reverse order, two and three scoped threads and a rayon
-/// pool of two: the executors the "same bytes on any thread count" tests
+/// Serial, the reverse order, two and three scoped threads, a rayon pool
+/// of two and coif's workers of three: the executors the "same bytes on any thread count" tests
 /// run a step on.
 pub fn all() -> Vec<Box<dyn Executor>> {
     vec![
@@ -191,5 +191,6 @@ pub fn all() -> Vec<Box<dyn Executor>> {
         Box::new(Scoped(2)),
         Box::new(Scoped(3)),
         Box::new(coif_kernels::tasks::Rayon::new(2).expect("a rayon pool")),
+        Box::new(coif_kernels::tasks::Workers::new(3).expect("three threads")),
     ]
 }
