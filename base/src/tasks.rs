@@ -10,7 +10,12 @@
 //! Who runs the tasks is the caller's choice, through [`Executor`]:
 //!
 //! - [`Serial`]: on the calling thread, in index order (no threads at all);
-//! - `Rayon` (Cargo feature `rayon`, on by default): a rayon thread pool;
+//! - [`Workers`]: the calling thread and `threads - 1` worker threads that
+//!   [`Workers::new`] starts (the caller asked for them) and its drop
+//!   joins; the caller works on each run beside them, and a run allocates
+//!   nothing (what the demo's `--threads` uses);
+//! - `Rayon` (Cargo feature `rayon`, on by default): a rayon thread pool,
+//!   for a host already on rayon (its caller sleeps while the pool works);
 //! - the engine's own job system: implement [`Executor`] with a
 //!   parallel-for that hands the indices to its workers and waits for them,
 //!   or wrap a C callback of that shape in [`Callback`].

@@ -3,16 +3,18 @@
 //! this machine gives two threads at the same moment.
 //!
 //! Two pipelines run the same motion frame by frame, alternately: one on
-//! the calling thread (`Serial`, as `coif --threads 1`), one on a rayon
-//! pool of two; after each pair of frames, a multiply-add bound loop
-//! (twelve independent `f32x8` chains, no memory) runs once on the calling
-//! thread and once as two tasks on the pool, so a slow spell of a shared
+//! the calling thread (`Serial`, as `coif --threads 1`), one on two
+//! threads (`Workers::new(2)`, as `coif --threads 2`; with the word
+//! `rayon` among the arguments, a rayon pool of two instead); after each
+//! pair of frames, a multiply-add bound loop (twelve independent `f32x8`
+//! chains, no memory) runs once on the calling thread and once as two
+//! tasks on the same executor, so a slow spell of a shared
 //! machine lands on both sides. Printed: per stage the median and the least time of each, their
 //! ratios, and the loop's ratio (the most two threads can give SIMD code
 //! on this machine just then), as a Markdown table.
 //!
 //! ```text
-//! cargo run --release -p coif-frame --example threads_profile -- [FRAMES] [SIZE]
+//! cargo run --release -p coif-frame --example threads_profile -- [FRAMES] [SIZE] [simulate] [rayon]
 //! ```
 
 use coif_base::tasks::{Executor, Serial, Workers};
@@ -26,11 +28,11 @@ fn main() {
     let arg = |i: usize, d: usize| a.get(i).and_then(|s| s.parse().ok()).unwrap_or(d);
     let frames = arg(1, 90);
     let size = arg(2, 512);
-    if a.get(3).map(String::as_str) == Some("simulate") {
-        return simulate_only(frames, size);
+    let pool = two_threads(a.iter().any(|s| s == "rayon"));
+    if a.iter().any(|s| s == "simulate") {
+        return simulate_only(frames, size, &*pool);
     }
-    let pool = Workers::new(2).expect("two threads");
-    let executors: [&dyn Executor; 2] = [&Serial, &pool];
+    let executors: [&dyn Executor; 2] = [&Serial, &*pool];
     let mut pipelines = two_pipelines(size);
     let pivot = pipelines[0].pivot();
     let dt = 1.0 / 30.0;
@@ -57,7 +59,7 @@ fn main() {
             }
         }
         if f >= WARM_UP {
-            ceiling.push(fma_ratio(&pool));
+            ceiling.push(fma_ratio(&*pool));
         }
     }
     assert!(
@@ -109,11 +111,22 @@ fn two_pipelines(size: usize) -> [FramePipeline; 2] {
     [(); 2].map(|_| FramePipeline::new(&scene, settings.clone(), 1.5).expect("pipeline"))
 }
 
+/// Two threads: `Workers`, or a rayon pool (feature `rayon`).
+fn two_threads(rayon: bool) -> Box<dyn Executor> {
+    #[cfg(feature = "rayon")]
+    if rayon {
+        return Box::new(coif_base::tasks::Rayon::new(2).expect("a rayon pool of two"));
+    }
+    if rayon {
+        eprintln!("built without the rayon feature: Workers instead");
+    }
+    Box::new(Workers::new(2).expect("two threads"))
+}
+
 /// `frames` frames of simulation alone (no picture), alternately on one
 /// thread and on two: the median and least simulate times.
-fn simulate_only(frames: usize, size: usize) {
-    let pool = Workers::new(2).expect("two threads");
-    let executors: [&dyn Executor; 2] = [&Serial, &pool];
+fn simulate_only(frames: usize, size: usize, pool: &dyn Executor) {
+    let executors: [&dyn Executor; 2] = [&Serial, pool];
     let mut pipelines = two_pipelines(size);
     let pivot = pipelines[0].pivot();
     let dt = 1.0 / 30.0;
