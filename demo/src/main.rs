@@ -498,9 +498,14 @@ impl Animation {
         f.is_multiple_of(self.every)
     }
 
-    /// Appends the pipeline's last frame.
-    fn push(&mut self, pipeline: &FramePipeline) -> Result<(), png::EncodingError> {
-        pipeline.encode_into(&mut self.image);
+    /// Appends the pipeline's last frame (tone-mapped as tasks on
+    /// `executor`).
+    fn push(
+        &mut self,
+        pipeline: &FramePipeline,
+        executor: &dyn Executor,
+    ) -> Result<(), png::EncodingError> {
+        pipeline.encode_into_with(&mut self.image, executor);
         self.writer.write_image_data(&self.image.data)?;
         self.frames += 1;
         Ok(())
@@ -561,7 +566,7 @@ fn run_motion(
                 }
             }
             if let Some(a) = animation.as_mut().filter(|_| animated) {
-                a.push(pipeline)?;
+                a.push(pipeline, executor)?;
             }
         } else {
             pipeline.simulate_with(dt, pose, executor);

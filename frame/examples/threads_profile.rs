@@ -46,7 +46,7 @@ fn main() {
             p.reset_timings();
             p.frame_with(dt, motion::turn(t, pivot), executors[k]);
             let encode = Instant::now();
-            p.encode_into(&mut image);
+            p.encode_into_with(&mut image, executors[k]);
             let encode = encode.elapsed();
             let timings = p.timings();
             let mut row = [0.0; ROWS];

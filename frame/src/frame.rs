@@ -1019,6 +1019,12 @@ impl FramePipeline {
         out.encode(&self.framebuffer, self.settings.exposure);
     }
 
+    /// [`FramePipeline::encode_into`] in bands of rows as tasks on
+    /// `executor` (`RgbImage::encode_with`: the same bytes on any).
+    pub fn encode_into_with(&self, out: &mut RgbImage, executor: &dyn Executor) {
+        out.encode_with(&self.framebuffer, self.settings.exposure, executor);
+    }
+
     /// Per-stage wall-clock times of the frames run so far.
     pub fn timings(&self) -> &StageTimings {
         &self.timings

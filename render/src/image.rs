@@ -1,8 +1,12 @@
 //! Output: tone map, sRGB encoding, contact sheets and PNG files.
 
 use super::Framebuffer;
+use coif_base::tasks::{for_each_chunk_mut, Executor, Serial};
 use glam::Vec3;
 use std::io::Write;
+
+/// Rows per task of [`RgbImage::encode_with`].
+pub const ENCODE_BAND_ROWS: usize = 32;
 
 /// An 8-bit sRGB image, RGB interleaved, rows from the top.
 #[derive(Clone, Debug, PartialEq)]
@@ -47,15 +51,26 @@ impl RgbImage {
     /// Tone-maps and sRGB-encodes `frame` into this image (resized to the
     /// frame if needed).
     pub fn encode(&mut self, frame: &Framebuffer, exposure: f32) {
+        self.encode_with(frame, exposure, &Serial);
+    }
+
+    /// [`RgbImage::encode`] in bands of [`ENCODE_BAND_ROWS`] rows as tasks
+    /// on `executor` (each byte depends on its own pixel alone: the same
+    /// bytes with any executor). Allocates only when the size changes.
+    pub fn encode_with(&mut self, frame: &Framebuffer, exposure: f32, executor: &dyn Executor) {
         self.width = frame.width();
         self.height = frame.height();
         self.data.resize(self.width * self.height * 3, 0);
-        for (px, p) in self.data.chunks_exact_mut(3).zip(&frame.pixels) {
-            let m = tone_map(p.color, exposure);
-            for (dst, v) in px.iter_mut().zip(m.to_array()) {
-                *dst = (srgb_encode(v) * 255.0 + 0.5) as u8;
+        let band = ENCODE_BAND_ROWS * self.width;
+        let pixels = &frame.pixels;
+        for_each_chunk_mut(executor, &mut self.data, 3 * band, &|b, bytes| {
+            for (px, p) in bytes.chunks_exact_mut(3).zip(&pixels[b * band..]) {
+                let m = tone_map(p.color, exposure);
+                for (dst, v) in px.iter_mut().zip(m.to_array()) {
+                    *dst = (srgb_encode(v) * 255.0 + 0.5) as u8;
+                }
             }
-        }
+        });
     }
 
     /// The tone-mapped sRGB image of `frame` (see [`RgbImage::encode`]).
