@@ -70,6 +70,23 @@ fn frames_allocate_nothing_for_every_shading_model() {
     }
 }
 
+/// Frames `frames` of the head's turn and nod, 1/30 s each, on
+/// `executor`.
+fn turn_and_nod(
+    p: &mut FramePipeline,
+    frames: std::ops::Range<usize>,
+    executor: &dyn coif_base::tasks::Executor,
+) {
+    let pivot = p.pivot();
+    for f in frames {
+        p.frame_with(
+            1.0 / 30.0,
+            motion::turn_and_nod(0.1 * f as f32, pivot),
+            executor,
+        );
+    }
+}
+
 /// On coif's own workers (two threads: this one and a worker) a frame
 /// allocates nothing on the calling thread either; that the worker
 /// allocates nothing is `kernels/tests/strand_threads_alloc.rs`'s (every
@@ -79,15 +96,8 @@ fn frames_on_workers_allocate_nothing() {
     let scene = scene();
     let mut p = FramePipeline::new(&scene, FrameSettings::small(64), 0.1).unwrap();
     let workers = coif_base::tasks::Workers::new(2).unwrap();
-    let pivot = p.pivot();
     let before = allocations();
-    for f in 0..12 {
-        p.frame_with(
-            1.0 / 30.0,
-            motion::turn_and_nod(0.1 * f as f32, pivot),
-            &workers,
-        );
-    }
+    turn_and_nod(&mut p, 0..12, &workers);
     assert_eq!(allocations() - before, 0, "allocations during frames");
     assert!(p.stats().segments > 1000, "the frames drew hair");
 }
@@ -130,24 +140,11 @@ fn frames_on_a_rayon_pool_allocate_less_than_once_per_stage() {
         pool: &pool,
         runs: std::sync::atomic::AtomicUsize::new(0),
     };
-    let pivot = p.pivot();
     // Warm-up: the pool's threads start and their queues take their size.
-    for f in 0..3 {
-        p.frame_with(
-            1.0 / 30.0,
-            motion::turn_and_nod(0.1 * f as f32, pivot),
-            &counted,
-        );
-    }
+    turn_and_nod(&mut p, 0..3, &counted);
     let runs_before = counted.runs.load(std::sync::atomic::Ordering::Relaxed);
     let before = allocations();
-    for f in 3..23 {
-        p.frame_with(
-            1.0 / 30.0,
-            motion::turn_and_nod(0.1 * f as f32, pivot),
-            &counted,
-        );
-    }
+    turn_and_nod(&mut p, 3..23, &counted);
     let allocated = allocations() - before;
     let runs = counted.runs.load(std::sync::atomic::Ordering::Relaxed) - runs_before;
     eprintln!(
