@@ -123,12 +123,20 @@ pub(crate) fn drive(
     let mut pos = std::mem::take(&mut strands.pos);
     let mut prev = std::mem::take(&mut strands.prev);
     let mut sleep = std::mem::take(&mut strands.sleep);
-    // The hair grid, between the blocks' steps: built from every block on
-    // this thread (the same sums on any thread count), read by each block
-    // in its task (`hair_grid/`).
+    // The hair grid, between the blocks' steps: splatted from every block
+    // in parts as tasks (integer sums: the same bytes on any thread
+    // count), its fields on this thread, read by each block in its task
+    // (`hair_grid/`).
     let mut grid = std::mem::take(&mut strands.hair_grid);
     let grid_setup = (params.volume_stiffness > 0.0 || params.hair_friction > 0.0).then(|| {
-        grid.build(strands, &pos, &prev, params.dt, params.hair_grid_cell);
+        grid.build(
+            strands,
+            &pos,
+            &prev,
+            params.dt,
+            params.hair_grid_cell,
+            executor,
+        );
         let wind = if params.wind.is_finite() {
             params.wind
         } else {
