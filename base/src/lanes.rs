@@ -17,8 +17,8 @@
 //! select) or a hardware estimate that reads the same table at every width
 //! ([`recip_simd`] and [`inv_sqrt_simd`] take `vrcpps` / `vrsqrtps` on
 //! 256-bit halves even on AVX-512, whose 14-bit `vrcp14ps` would round
-//! differently), and the few places that sum across strands (the hair
-//! grid's splat, for one) visit them in groups of eight
+//! differently), and the few places that sum floats across strands (the
+//! shadow map's deposits, for one) visit them in groups of eight
 //! ([`GROUP_LANES`]) whatever the width. The tests build the same scenes at
 //! both widths and compare their bytes.
 
