@@ -490,19 +490,8 @@ mod tests {
     use crate::step::{step, step_with};
     use crate::{SimParams, Sphere, Strands};
     use coif_base::tasks::Serial;
+    use coif_testkit::executors::Backwards;
     use glam::Vec3;
-
-    /// Runs the tasks last first.
-    struct Reverse;
-    // SAFETY: every index once, before `run` returns.
-    unsafe impl Executor for Reverse {
-        fn threads(&self) -> usize {
-            2
-        }
-        fn run(&self, count: usize, task: &(dyn Fn(usize) + Sync)) {
-            (0..count).rev().for_each(task);
-        }
-    }
 
     #[test]
     fn tasks_are_whole_groups_and_at_most_max_step_tasks() {
@@ -537,7 +526,7 @@ mod tests {
         // lane 3.
         let (rig, params) = (head(), SimParams::default());
         let mut runs = vec![];
-        for exec in [&Serial as &dyn Executor, &Reverse] {
+        for exec in [&Serial as &dyn Executor, &Backwards(2)] {
             let mut s = strands(25 * LANES);
             assert_eq!(s.scratch.tasks.len(), 7);
             step_with(&mut s, &params, &rig, exec);

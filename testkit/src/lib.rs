@@ -3,12 +3,15 @@
 //!
 //! - [`counting`]: a counting global allocator for the "allocates nothing
 //!   per frame" tests.
+//! - [`executors`]: an executor that runs tasks backwards and says how many
+//!   threads it has, for the "same bytes on any executor" tests.
 //! - [`groom_path`]: where the shared TressFX grooms are, or a skip message.
 //! - [`mesh_path`], [`load_obj`]: the shared meshes (the Sintel bust) and a
 //!   loader of their positions and triangles.
 #![warn(missing_docs)]
 
 pub mod counting;
+pub mod executors;
 pub mod meshes;
 
 use std::path::PathBuf;

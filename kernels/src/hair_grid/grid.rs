@@ -640,6 +640,15 @@ fn row_weights(w: F32Group, row: usize) -> F32Group {
     wide::bytemuck::cast(unsafe { _mm256_permutevar8x32_ps(w, index) })
 }
 
+/// Plain moves where AVX2 is not enabled.
+#[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
+#[inline(always)]
+fn row_weights(w: F32Group, row: usize) -> F32Group {
+    let w = w.to_array();
+    let (a, b) = (w[2 * row], w[2 * row + 1]);
+    F32Group::new([a, a, a, a, b, b, b, b])
+}
+
 /// `round(unit * w)` lane by lane, to the nearest integer (ties to even):
 /// one multiply and one conversion. The splat's terms are finite and at
 /// most `2^30` (`SUM_BITS`), so the conversion's out-of-range and NaN
@@ -663,18 +672,10 @@ fn fixed_terms(unit: F32Group, w: F32Group) -> I32Group {
     (unit * w).round_int()
 }
 
-/// Plain moves where AVX2 is not enabled.
-#[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
-#[inline(always)]
-fn row_weights(w: F32Group, row: usize) -> F32Group {
-    let w = w.to_array();
-    let (a, b) = (w[2 * row], w[2 * row + 1]);
-    F32Group::new([a, a, a, a, b, b, b, b])
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use coif_testkit::executors::Backwards;
 
     /// One straight strand along +x, 41 vertices 5 mm apart.
     fn line() -> Strands {
@@ -771,20 +772,6 @@ mod tests {
         far[3].set_lane(0, Vec3::NAN);
         g.build(&s, &far, &far, 1.0 / 60.0, 0.01, &Serial);
         assert!(g.live && g.cell.is_finite());
-    }
-
-    /// Runs the tasks on the calling thread, last index first, while
-    /// saying it has `0` threads: the splat cuts as many parts.
-    struct Backwards(usize);
-
-    // SAFETY: `run` runs every index once and returns after the last.
-    unsafe impl Executor for Backwards {
-        fn threads(&self) -> usize {
-            self.0
-        }
-        fn run(&self, count: usize, task: &(dyn Fn(usize) + Sync)) {
-            (0..count).rev().for_each(task);
-        }
     }
 
     /// 61 strands of 13 vertices over a 12 cm patch, waving, and their
