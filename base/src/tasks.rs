@@ -33,6 +33,8 @@
 //!
 //! - [`Executor::threads`] is `getWorkerCount` / `GetMaxConcurrency` (a
 //!   hint for how finely to split; never part of any result);
+//! - [`Executor::wake`] (optional, a no-op by default) says a run comes
+//!   soon: a job system whose workers sleep may wake them ahead of it;
 //! - [`Executor::run`] is "create `count` jobs (or fewer jobs that each take
 //!   a range of indices), add them to a barrier, wait for it". The calling
 //!   thread may run tasks itself while it waits, as Jolt's does;
@@ -70,6 +72,14 @@ pub unsafe trait Executor: Sync {
     /// Runs `task(0)`, ..., `task(count - 1)`, in any order and on any
     /// threads, and returns when all of them have returned.
     fn run(&self, count: usize, task: &(dyn Fn(usize) + Sync));
+
+    /// A hint that a run comes soon: an executor whose threads sleep
+    /// between runs may start waking them now, so that they are awake when
+    /// the run is published rather than some tens of microseconds into it.
+    /// Never needed for a correct result; the default does nothing.
+    /// coif calls it where a step or a frame begins, ahead of the serial
+    /// work before its first run ([`Workers`] wakes its sleeping workers).
+    fn wake(&self) {}
 }
 
 /// Runs every task on the calling thread, in index order.

@@ -13,6 +13,11 @@
 //! ratios, and the loop's ratio (the most two threads can give SIMD code
 //! on this machine just then), as a Markdown table.
 //!
+//! With the word `simulate`, the simulation alone, and where its time
+//! goes: inside the executor's runs (the tasks) and outside them (what it
+//! leaves on the calling thread), the tasks' own time summed over the
+//! threads, and the frame's first run apart.
+//!
 //! ```text
 //! cargo run --release -p coif-frame --example threads_profile -- [FRAMES] [SIZE] [simulate] [rayon]
 //! ```
@@ -20,6 +25,7 @@
 use coif_base::tasks::{Executor, Serial, Workers};
 use coif_frame::{motion, FramePipeline, FrameSettings, HairScene, ShadingModel, Stage};
 use std::hint::black_box;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 use wide::f32x8;
 
@@ -124,33 +130,122 @@ fn two_threads(rayon: bool) -> Box<dyn Executor> {
 }
 
 /// `frames` frames of simulation alone (no picture), alternately on one
-/// thread and on two: the median and least simulate times.
+/// thread and on two: the median and least simulate times, and the
+/// median time inside the executor's runs (the tasks, the hand-out and
+/// the wait for the last) and outside them (what the simulation leaves
+/// on the calling thread), with the first run of each frame apart (on
+/// two threads it pays for waking a worker that slept since its last
+/// frame).
 fn simulate_only(frames: usize, size: usize, pool: &dyn Executor) {
-    let executors: [&dyn Executor; 2] = [&Serial, pool];
+    let timed = [Timed::new(&Serial), Timed::new(pool)];
     let mut pipelines = two_pipelines(size);
     let pivot = pipelines[0].pivot();
     let dt = 1.0 / 30.0;
-    let mut times = [Vec::new(), Vec::new()];
+    let mut times: [Vec<[f64; 6]>; 2] = [Vec::new(), Vec::new()];
     for f in 0..frames {
         let t = f as f32 * dt;
         for (k, p) in pipelines.iter_mut().enumerate() {
             p.set_wind(motion::gust(t, motion::GUST_WIND));
+            timed[k].reset();
             let start = Instant::now();
-            p.simulate_with(dt, motion::turn(t, pivot), executors[k]);
-            times[k].push(ms(start.elapsed()));
+            p.simulate_with(dt, motion::turn(t, pivot), &timed[k]);
+            let total = ms(start.elapsed());
+            let (runs, first, work, count) = timed[k].read();
+            times[k].push([total, runs, total - runs, first, work, count]);
         }
     }
-    let (one, two) = (&times[0], &times[1]);
+    let column = |k: usize, c: usize| times[k].iter().map(|row| row[c]).collect::<Vec<f64>>();
+    let (one, two) = (column(0, 0), column(1, 0));
     println!(
         "simulate, {frames} frames: 1 thread {:.3} / {:.3} ms, 2 threads {:.3} / {:.3} ms \
          (median / least): {:.2}x / {:.2}x",
-        median(one),
-        least(one),
-        median(two),
-        least(two),
-        median(one) / median(two),
-        least(one) / least(two)
+        median(&one),
+        least(&one),
+        median(&two),
+        least(&two),
+        median(&one) / median(&two),
+        least(&one) / least(&two)
     );
+    println!();
+    println!("| part of the simulation (median, ms) | 1 thread | 2 threads | speed-up |");
+    println!("|---|---|---|---|");
+    for (c, name) in [
+        (1, "inside the executor's runs (tasks)"),
+        (3, "  of which the frame's first run"),
+        (2, "outside them (the calling thread alone)"),
+        (4, "the tasks' own time, every thread's summed"),
+        (5, "runs per frame"),
+    ] {
+        let (a, b) = (median(&column(0, c)), median(&column(1, c)));
+        println!("| {name} | {a:.3} | {b:.3} | {:.2}x |", a / b);
+    }
+}
+
+/// An executor that runs another's runs and times them: the time inside
+/// `run` since the last `reset`, and the first run's alone.
+struct Timed<'a> {
+    inner: &'a dyn Executor,
+    nanos: AtomicU64,
+    first: AtomicU64,
+    runs: AtomicU64,
+    /// Time inside the tasks themselves, summed over threads.
+    work: AtomicU64,
+}
+
+impl<'a> Timed<'a> {
+    fn new(inner: &'a dyn Executor) -> Self {
+        Timed {
+            inner,
+            nanos: AtomicU64::new(0),
+            first: AtomicU64::new(0),
+            runs: AtomicU64::new(0),
+            work: AtomicU64::new(0),
+        }
+    }
+
+    fn reset(&self) {
+        self.nanos.store(0, Ordering::Relaxed);
+        self.first.store(0, Ordering::Relaxed);
+        self.runs.store(0, Ordering::Relaxed);
+        self.work.store(0, Ordering::Relaxed);
+    }
+
+    /// Milliseconds inside runs, and inside the first run.
+    fn read(&self) -> (f64, f64, f64, f64) {
+        let ms = |a: &AtomicU64| a.load(Ordering::Relaxed) as f64 * 1e-6;
+        (
+            ms(&self.nanos),
+            ms(&self.first),
+            ms(&self.work),
+            self.runs.load(Ordering::Relaxed) as f64,
+        )
+    }
+}
+
+// SAFETY: every run is the inner executor's, which keeps the contract.
+unsafe impl Executor for Timed<'_> {
+    fn threads(&self) -> usize {
+        self.inner.threads()
+    }
+
+    fn wake(&self) {
+        self.inner.wake();
+    }
+
+    fn run(&self, count: usize, task: &(dyn Fn(usize) + Sync)) {
+        let start = Instant::now();
+        self.inner.run(count, &|i| {
+            let t = Instant::now();
+            task(i);
+            self.work
+                .fetch_add(t.elapsed().as_nanos() as u64, Ordering::Relaxed);
+        });
+        let nanos = start.elapsed().as_nanos() as u64;
+        self.nanos.fetch_add(nanos, Ordering::Relaxed);
+        if self.runs.fetch_add(1, Ordering::Relaxed) == 0 {
+            self.first.store(nanos, Ordering::Relaxed);
+        }
+    }
 }
 
 /// Frames run before the times count (the motion's first frames settle).

@@ -423,6 +423,9 @@ impl FramePipeline {
     /// any executor.
     pub fn simulate_with(&mut self, frame_time: f32, head_pose: Affine3A, executor: &dyn Executor) {
         let start = Instant::now();
+        // Workers asleep since the last frame start waking while the head
+        // and the rig are placed (`Executor::wake`).
+        executor.wake();
         let head_pose = if head_pose.is_finite() {
             head_pose
         } else {

@@ -106,6 +106,9 @@ pub(crate) fn drive(
         + Sync,
     hair: impl Fn(&Strands, &mut BlockState<'_>, &HairGrid, &GridSetup, usize) -> u32 + Sync,
 ) {
+    // The first run (the hair grid's splat, or the blocks) comes after
+    // the set-up below: sleeping workers start waking now.
+    executor.wake();
     let k = Setup::new(strands, params);
     if strands.params_seen.as_ref() != Some(params) {
         // Other parameters: what was still may not be any more.

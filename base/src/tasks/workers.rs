@@ -13,22 +13,38 @@ use std::time::{Duration, Instant};
 /// [`Executor::run`] and `threads - 1` workers started once, by
 /// [`Workers::new`] (the engine asked for them), and joined on drop.
 ///
-/// In `run` the caller works on the tasks beside the workers: every thread
-/// takes the next undone index from one shared counter until none is
-/// left, and the caller returns when every task has. So `Workers::new(2)`
-/// keeps two threads busy on two cores, never three: while the caller
-/// runs a serial part of a frame between stages (the hair grid, a sort),
-/// one worker waits on the other core, spinning about
-/// [`Workers::SPIN`] for the next run and then sleeping. A run allocates
-/// nothing, on any thread (a rayon pool's caller sleeps while its
-/// workers work, and injecting a job from outside it allocates now and
-/// then).
+/// In `run` the caller works on the tasks beside the workers. Each thread
+/// owns a share of the run's indices, the same share of every run of the
+/// same count (thread `k` of `T`: indices `count k / T .. count (k + 1) /
+/// T`, the caller being thread 0): it takes its own share from the front,
+/// then takes what is left of the others' from their backs, one index at
+/// a time, until none is left; the caller returns when every task has.
+/// So a stage that runs the same tasks every step (the guides' blocks)
+/// finds each task's data where that thread left it the step before, in
+/// its core's own caches, and a thread that is late (a worker still
+/// waking) loses its work to the others, not the run's time. (Measured on
+/// Sintel's simulation, `docs/threads.md`: with every task from one
+/// shared counter, so that tasks moved between cores from step to step,
+/// and workers that yielded while they spun, its tasks took 1.6 ms a
+/// frame summed over two threads against 0.94 ms on one; with shares and
+/// no yielding, 1.4-1.5 ms, and 1.24 ms where the worker never slept
+/// between frames.)
 ///
-/// Which thread runs which index changes from run to run; no coif result
-/// depends on it. Two threads calling `run` at once, or a task calling
-/// `run` again, get a correct result: the second run goes through the
-/// calling thread alone. A panicking task does not strand the others: the
-/// run finishes every index, then raises the first panic on the caller.
+/// `Workers::new(2)` keeps two threads busy on two cores, never three:
+/// while the caller runs a serial part of a frame between stages (the
+/// hair grid's fields, a sort), one worker waits on the other core,
+/// spinning about [`Workers::SPIN`] for the next run and then sleeping.
+/// [`Executor::wake`] wakes a sleeping worker ahead of a run. A run
+/// allocates nothing, on any thread (a rayon pool's caller sleeps while
+/// its workers work, and injecting a job from outside it allocates now
+/// and then).
+///
+/// Which thread runs which index can change from run to run; no coif
+/// result depends on it. Two threads calling `run` at once, or a task
+/// calling `run` again, get a correct result: the second run goes through
+/// the calling thread alone. A panicking task does not strand the others:
+/// the run finishes every index, then raises the first panic on the
+/// caller.
 pub struct Workers {
     shared: Arc<Shared>,
     handles: Vec<JoinHandle<()>>,
@@ -37,19 +53,32 @@ pub struct Workers {
     running: Mutex<()>,
 }
 
-/// Bits of the run word given to the task count and to the next index.
-const INDEX_BITS: u32 = 24;
-const INDEX_MASK: u64 = (1 << INDEX_BITS) - 1;
 /// The most tasks one published run holds; `run` publishes more in turns.
-const MAX_RUN: usize = INDEX_MASK as usize;
+const MAX_RUN: usize = u32::MAX as usize;
+
+/// One thread's share of the current run: the next index to take from
+/// the front (bits 32..64) and one past the last (0..32), in one word, so
+/// that the owner taking from the front and another thread taking from
+/// the back never take the same index (each claim is one compare-exchange
+/// of the whole word). On a cache line of its own: its owner claims from
+/// it at every task.
+#[repr(align(128))]
+struct Share(AtomicU64);
+
+impl Share {
+    fn pack(next: usize, end: usize) -> u64 {
+        (next as u64) << 32 | end as u64
+    }
+}
 
 struct Shared {
-    /// The current run in one word, so that a claim sees all of it at
-    /// once: a run number (bits 48..64), the task count (24..48) and the
-    /// next index to hand out (0..24). An index below the count is
-    /// claimed by the one compare-exchange that moves the next index past
-    /// it.
-    word: AtomicU64,
+    /// The number of the last run published: the workers wait for it to
+    /// change.
+    run: AtomicU64,
+    /// Per thread (0 the caller, `k` worker `k`): its share of the current
+    /// run. Every share is empty between runs (a run returns only once
+    /// every index has been claimed and has returned).
+    shares: Box<[Share]>,
     /// Tasks of the current run that have returned (or panicked).
     done: AtomicUsize,
     /// The address of the current run's `&(dyn Fn(usize) + Sync)`, on the
@@ -65,78 +94,106 @@ struct Shared {
     sleep: Mutex<()>,
     wake: Condvar,
     stop: AtomicBool,
+    /// Workers that have started (`Workers::new` waits for all of them).
+    started: AtomicUsize,
 }
 
 impl Shared {
-    /// Whether `word` has an index left to claim.
-    fn open(word: u64) -> bool {
-        (word & INDEX_MASK) < ((word >> INDEX_BITS) & INDEX_MASK)
-    }
-
-    /// Claims and runs indices of the current run until none is left.
-    fn drain(&self) {
-        loop {
-            let word = self.word.load(Ordering::Acquire);
-            if !Self::open(word) {
-                return;
+    /// Claims and runs indices of the current run until none is left:
+    /// thread `me`'s own share from the front, then the others' from the
+    /// back, in thread order after `me`.
+    fn drain(&self, me: usize) {
+        let threads = self.shares.len();
+        for j in (0..threads).map(|d| (me + d) % threads) {
+            let share = &self.shares[j].0;
+            let own = j == me;
+            loop {
+                let word = share.load(Ordering::Acquire);
+                let (next, end) = ((word >> 32) as usize, (word & u32::MAX as u64) as usize);
+                if next >= end {
+                    break;
+                }
+                let (claimed, index) = if own {
+                    (Share::pack(next + 1, end), next)
+                } else {
+                    (Share::pack(next, end - 1), end - 1)
+                };
+                if share
+                    .compare_exchange_weak(word, claimed, Ordering::AcqRel, Ordering::Acquire)
+                    .is_err()
+                {
+                    continue;
+                }
+                // SAFETY: index `index` of the current run is claimed by
+                // this thread and not done, so that run's `run` has not
+                // returned: the task it published (read after the claim,
+                // which saw the share written after the task) is alive.
+                // (A share is non-empty only while its run is open: a
+                // claim can only be of the run whose task this reads.)
+                let task = unsafe {
+                    *(self.task.load(Ordering::Acquire) as *const &(dyn Fn(usize) + Sync))
+                };
+                let index = self.offset.load(Ordering::Acquire) + index;
+                if let Err(payload) = catch_unwind(AssertUnwindSafe(|| task(index))) {
+                    let mut first = self.panic.lock().unwrap_or_else(|e| e.into_inner());
+                    first.get_or_insert(payload);
+                }
+                self.done.fetch_add(1, Ordering::AcqRel);
             }
-            if self
-                .word
-                .compare_exchange_weak(word, word + 1, Ordering::AcqRel, Ordering::Acquire)
-                .is_err()
-            {
-                continue;
-            }
-            // SAFETY: index `word & INDEX_MASK` of the current run is claimed
-            // by this thread and not done, so that run's `run` has not
-            // returned: the task it published (read after the word, which
-            // was published after it) is alive.
-            let task =
-                unsafe { *(self.task.load(Ordering::Acquire) as *const &(dyn Fn(usize) + Sync)) };
-            let index = self.offset.load(Ordering::Acquire) + (word & INDEX_MASK) as usize;
-            if let Err(payload) = catch_unwind(AssertUnwindSafe(|| task(index))) {
-                let mut first = self.panic.lock().unwrap_or_else(|e| e.into_inner());
-                first.get_or_insert(payload);
-            }
-            self.done.fetch_add(1, Ordering::AcqRel);
         }
     }
 
-    /// A worker's life: drain every run, spin a while after each, sleep
+    /// Worker `me`'s life: drain every run, spin a while after each, sleep
     /// until the next.
-    fn work(&self) {
+    fn work(&self, me: usize) {
+        let mut seen = self.run.load(Ordering::Acquire);
+        self.started.fetch_add(1, Ordering::Release);
         while !self.stop.load(Ordering::Acquire) {
-            self.drain();
+            self.drain(me);
             let idle = Instant::now();
             let mut spins = 0u32;
-            while !Self::open(self.word.load(Ordering::Acquire)) {
+            loop {
+                let run = self.run.load(Ordering::Acquire);
+                if run != seen {
+                    seen = run;
+                    break;
+                }
                 if self.stop.load(Ordering::Acquire) {
                     return;
                 }
+                // Spinning, not yielding: on this project's machine a
+                // `yield_now` every 64 spins (a system call each) made the
+                // tasks on both threads about a quarter slower
+                // (docs/threads.md).
                 spins += 1;
-                if spins.is_multiple_of(64) {
-                    if idle.elapsed() > Workers::SPIN {
-                        self.sleep_until_open();
-                        break;
-                    }
-                    std::thread::yield_now();
-                } else {
-                    std::hint::spin_loop();
+                if spins.is_multiple_of(64) && idle.elapsed() > Workers::SPIN {
+                    seen = self.sleep_until_next(seen);
+                    break;
                 }
+                std::hint::spin_loop();
             }
         }
     }
 
-    fn sleep_until_open(&self) {
+    /// Sleeps until a run after `seen` is published (or the stop, or a
+    /// wake with no run: [`Executor::wake`]); returns the last run's
+    /// number.
+    fn sleep_until_next(&self, seen: u64) -> u64 {
         let mut guard = self.sleep.lock().unwrap_or_else(|e| e.into_inner());
         self.sleepers.fetch_add(1, Ordering::SeqCst);
-        while !Self::open(self.word.load(Ordering::SeqCst)) && !self.stop.load(Ordering::SeqCst) {
+        if self.run.load(Ordering::SeqCst) == seen && !self.stop.load(Ordering::SeqCst) {
+            // One wait: a wake without a run (`Workers::wake`) returns too,
+            // and the worker spins again for `SPIN`. (A spurious wake-up
+            // does the same.)
             guard = self.wake.wait(guard).unwrap_or_else(|e| e.into_inner());
         }
+        drop(guard);
         self.sleepers.fetch_sub(1, Ordering::SeqCst);
+        self.run.load(Ordering::SeqCst)
     }
 
-    /// Wakes the sleeping workers (after a run or the stop was published).
+    /// Wakes the sleeping workers (after a run or the stop was published,
+    /// or ahead of a run).
     fn wake_sleepers(&self) {
         if self.sleepers.load(Ordering::SeqCst) > 0 {
             let _guard = self.sleep.lock().unwrap_or_else(|e| e.into_inner());
@@ -151,14 +208,16 @@ impl Workers {
 
     /// `threads` threads in all, the caller's included (0 = one per core,
     /// as `std::thread::available_parallelism` says): starts `threads - 1`
-    /// workers. Fails if the system cannot start a thread.
+    /// workers and waits until each has started. Fails if the system
+    /// cannot start a thread.
     pub fn new(threads: usize) -> std::io::Result<Workers> {
         let threads = match threads {
             0 => std::thread::available_parallelism().map_or(1, usize::from),
             n => n,
         };
         let shared = Arc::new(Shared {
-            word: AtomicU64::new(0),
+            run: AtomicU64::new(0),
+            shares: (0..threads).map(|_| Share(AtomicU64::new(0))).collect(),
             done: AtomicUsize::new(0),
             task: AtomicUsize::new(0),
             offset: AtomicUsize::new(0),
@@ -167,6 +226,7 @@ impl Workers {
             sleep: Mutex::new(()),
             wake: Condvar::new(),
             stop: AtomicBool::new(false),
+            started: AtomicUsize::new(0),
         });
         let mut workers = Workers {
             shared,
@@ -178,14 +238,21 @@ impl Workers {
             let shared = Arc::clone(&workers.shared);
             let handle = std::thread::Builder::new()
                 .name(format!("coif-worker-{k}"))
-                .spawn(move || shared.work())?;
+                .spawn(move || shared.work(k))?;
             workers.handles.push(handle);
+        }
+        // Started before `new` returns, so that what a thread's start
+        // allocates (the standard library's own, such as its name for the
+        // stack overflow handler) falls here, not in a later run.
+        while workers.shared.started.load(Ordering::Acquire) < threads - 1 {
+            std::thread::yield_now();
         }
         Ok(workers)
     }
 
-    /// Publishes `count` (at most [`MAX_RUN`]) tasks from `offset`, drains
-    /// them beside the workers and waits for every one.
+    /// Publishes `count` (at most [`MAX_RUN`]) tasks from `offset`, one
+    /// share per thread, drains them beside the workers and waits for
+    /// every one.
     fn run_published(&self, offset: usize, count: usize, task: &(dyn Fn(usize) + Sync)) {
         let sh = &*self.shared;
         sh.task.store(
@@ -194,17 +261,22 @@ impl Workers {
         );
         sh.offset.store(offset, Ordering::Release);
         sh.done.store(0, Ordering::Release);
-        let number = ((sh.word.load(Ordering::Acquire) >> 48) + 1) & 0xffff;
-        sh.word.store(
-            number << 48 | (count as u64) << INDEX_BITS,
-            Ordering::SeqCst,
-        );
+        let threads = sh.shares.len();
+        for (k, share) in sh.shares.iter().enumerate() {
+            let (from, to) = (count * k / threads, count * (k + 1) / threads);
+            share.0.store(Share::pack(from, to), Ordering::SeqCst);
+        }
+        sh.run.fetch_add(1, Ordering::SeqCst);
         sh.wake_sleepers();
-        sh.drain();
+        sh.drain(0);
+        // The last tasks are the workers': spin for them, and yield now and
+        // then only once the wait is long (a worker preempted, threads
+        // beyond the cores).
+        let waiting = Instant::now();
         let mut spins = 0u32;
         while sh.done.load(Ordering::Acquire) < count {
             spins += 1;
-            if spins.is_multiple_of(64) {
+            if spins.is_multiple_of(64) && waiting.elapsed() > Workers::SPIN {
                 std::thread::yield_now();
             } else {
                 std::hint::spin_loop();
@@ -231,13 +303,19 @@ impl Drop for Workers {
     }
 }
 
-// SAFETY: an index is run only by the thread whose compare-exchange moved
-// the run word's next index past it (each value once), and `run` returns
+// SAFETY: an index is run only by the thread whose compare-exchange took
+// it off its share's front or back (each value once), and `run` returns
 // only when `done` has counted every index of every turn; a second run at
 // the same time (another caller, or a task) goes through `Serial`'s loop.
 unsafe impl Executor for Workers {
     fn threads(&self) -> usize {
         self.threads
+    }
+
+    /// Wakes the sleeping workers, which then spin for [`Workers::SPIN`]
+    /// waiting for the run.
+    fn wake(&self) {
+        self.shared.wake_sleepers();
     }
 
     fn run(&self, count: usize, task: &(dyn Fn(usize) + Sync)) {
@@ -313,6 +391,77 @@ mod tests {
                 std::hint::spin_loop();
             }
         });
+    }
+
+    #[test]
+    fn each_thread_takes_its_own_share_first_then_the_others_from_the_back() {
+        let workers = Workers::new(2).unwrap();
+        for _ in 0..20 {
+            // Four tasks on two threads: the caller's share is 0..2, the
+            // worker's 2..4. Task 0 (the caller's first) waits until task
+            // 2 has started on another thread, so the worker must take its
+            // own share front to back and then the caller's last index.
+            let order = Mutex::new(Vec::new());
+            let started_two = AtomicBool::new(false);
+            let caller = std::thread::current().id();
+            workers.run(4, &|i| {
+                if i == 0 {
+                    let t = Instant::now();
+                    while !started_two.load(Ordering::SeqCst) {
+                        assert!(t.elapsed() < Duration::from_secs(20), "no worker took 2");
+                        std::hint::spin_loop();
+                    }
+                    // And until the worker has taken the rest.
+                    while order.lock().unwrap().len() < 3 {
+                        assert!(t.elapsed() < Duration::from_secs(20), "the worker stopped");
+                        std::hint::spin_loop();
+                    }
+                    return;
+                }
+                assert_ne!(
+                    std::thread::current().id(),
+                    caller,
+                    "task {i} ran on the caller"
+                );
+                if i == 2 {
+                    started_two.store(true, Ordering::SeqCst);
+                }
+                order.lock().unwrap().push(i);
+            });
+            assert_eq!(*order.lock().unwrap(), vec![2, 3, 1]);
+        }
+    }
+
+    #[test]
+    fn wake_wakes_a_sleeping_worker_which_sleeps_again_with_no_run() {
+        let workers = Workers::new(2).unwrap();
+        let sleepers = || workers.shared.sleepers.load(Ordering::SeqCst);
+        let until = |what: &str, f: &dyn Fn() -> bool| {
+            let t = Instant::now();
+            while !f() {
+                assert!(t.elapsed() < Duration::from_secs(20), "{what}");
+                std::thread::sleep(Duration::from_micros(50));
+            }
+        };
+        until("the worker never slept", &|| sleepers() == 1);
+        // Awake it spins for `SPIN` and sleeps again: watched by spinning
+        // here, a few tries (this thread may be descheduled through one).
+        let woke = (0..50).any(|_| {
+            until("the worker did not sleep again", &|| sleepers() == 1);
+            workers.wake();
+            let t = Instant::now();
+            while t.elapsed() < Duration::from_millis(5) {
+                if sleepers() == 0 {
+                    return true;
+                }
+                std::hint::spin_loop();
+            }
+            false
+        });
+        assert!(woke, "wake did not wake the sleeping worker");
+        until("it did not sleep again", &|| sleepers() == 1);
+        // And a run after it still uses it.
+        run_all(&workers);
     }
 
     #[test]
