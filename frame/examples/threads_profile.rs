@@ -154,11 +154,22 @@ fn simulate_only(frames: usize, size: usize, pool: &dyn Executor) {
             times[k].push([total, runs, total - runs, first, work, count]);
         }
     }
+    let state = |p: &FramePipeline| -> Vec<[u32; 3]> {
+        let positions = p.strands().positions_local();
+        positions
+            .iter()
+            .map(|v| v.to_array().map(f32::to_bits))
+            .collect()
+    };
+    assert!(
+        state(&pipelines[0]) == state(&pipelines[1]),
+        "1 and 2 threads simulated different states"
+    );
     let column = |k: usize, c: usize| times[k].iter().map(|row| row[c]).collect::<Vec<f64>>();
     let (one, two) = (column(0, 0), column(1, 0));
     println!(
         "simulate, {frames} frames: 1 thread {:.3} / {:.3} ms, 2 threads {:.3} / {:.3} ms \
-         (median / least): {:.2}x / {:.2}x",
+         (median / least): {:.2}x / {:.2}x; the same state on both",
         median(&one),
         least(&one),
         median(&two),

@@ -1,5 +1,5 @@
 //! The step's driver, shared by the SIMD path and its scalar twin: the
-//! colliders to the local frame, the tasks (runs of whole groups of
+//! colliders to the local frame, the tasks (runs of whole pairs of
 //! blocks), per group the sleep decision and the broad phase, per pair of
 //! blocks that run the chains (`step.rs`), per block the guard's restore
 //! and the stillness that puts blocks to sleep.
@@ -46,33 +46,39 @@ pub(crate) const PAIR: usize = 2;
 /// 2,048-guide head makes 16 tasks.
 const MIN_TASK_BLOCKS: usize = 16;
 
-/// Tasks a small set is cut into, at most (one [`GROUP`] of blocks each at
+/// Tasks a small set is cut into, at most (one [`PAIR`] of blocks each at
 /// the least): a set of fewer than `SMALL_SET_TASKS x MIN_TASK_BLOCKS`
 /// blocks takes smaller tasks, so that a small groom still balances over
-/// the threads (Sintel's 228 guides, 29 blocks: eight tasks of at most
-/// four blocks, where sixteen blocks a task made two tasks of 16 and 13).
+/// the threads (Sintel's 228 guides, 29 blocks: fifteen tasks of at most
+/// two blocks, split 14 and 15 over two threads, where tasks of a whole
+/// broad-phase group, four blocks, split them 16 and 13, and sixteen
+/// blocks a task made two tasks of 16 and 13).
 const SMALL_SET_TASKS: usize = 16;
 
 /// Blocks per task for a set of `blocks`: at most [`MAX_STEP_TASKS`]
 /// tasks, at least [`MIN_TASK_BLOCKS`] blocks a task where the set has
 /// [`SMALL_SET_TASKS`] tasks of them and fewer otherwise, a whole number of
-/// [`GROUP`]s (so the broad phase's groups, and with them every result, do
-/// not depend on the split). A function of the set alone, never of the
-/// threads.
+/// [`PAIR`]s. A function of the set alone, never of the threads. (No
+/// result depends on it: a task's blocks form broad-phase groups of up to
+/// [`GROUP`] among themselves, and a block's candidates are the colliders
+/// near its own bounds, in collider order, whatever blocks share its
+/// group; a block's step is the same alone or in a pair. Tested: the same
+/// bytes with tasks of 1, 2, 3, 4, 5 and 8 blocks.)
 pub(crate) fn task_blocks(blocks: usize) -> usize {
     let small = blocks.div_ceil(SMALL_SET_TASKS).min(MIN_TASK_BLOCKS);
     let per = blocks.div_ceil(MAX_STEP_TASKS).max(small).max(1);
-    per.div_ceil(GROUP) * GROUP
+    per.div_ceil(PAIR) * PAIR
 }
 
 /// Tasks per step for a set of `blocks`.
+#[cfg(test)]
 pub(crate) fn task_count(blocks: usize) -> usize {
     blocks.div_ceil(task_blocks(blocks))
 }
 
 /// The step's driver, shared by the SIMD path and its scalar twin: the
 /// colliders to local coordinates and those that moved since the last step,
-/// then per task (a run of whole groups, see [`task_blocks`]) and per group
+/// then per task (a run of whole pairs, see [`task_blocks`]) and per group
 /// of [`GROUP`] blocks: 0. the sleep decision of each block (awake, or
 /// asleep and woken by its roots or a moving sphere, or asleep and
 /// skipped), 1. the broad phase (`block_box` gives block `b`'s swept box; a
@@ -156,7 +162,7 @@ pub(crate) fn drive(
     {
         let s: &Strands = strands;
         let verts = s.verts;
-        let per_task = task_blocks(s.blocks);
+        let per_task = scratch.task_blocks.max(1);
         let span = per_task * verts;
         let mut parts: [Option<TaskParts<'_>>; MAX_STEP_TASKS] = std::array::from_fn(|_| None);
         let chunks = pos
@@ -497,11 +503,11 @@ mod tests {
     use glam::Vec3;
 
     #[test]
-    fn tasks_are_whole_groups_and_at_most_max_step_tasks() {
+    fn tasks_are_whole_pairs_and_at_most_max_step_tasks() {
         for blocks in [0, 1, 5, 16, 17, 100, 1024, 1250, 5000, 100_000] {
             let per = task_blocks(blocks);
-            assert_eq!(per % GROUP, 0, "{blocks}: whole groups");
-            assert!(per >= GROUP);
+            assert_eq!(per % PAIR, 0, "{blocks}: whole pairs");
+            assert!(per >= PAIR);
             if blocks >= SMALL_SET_TASKS * MIN_TASK_BLOCKS {
                 assert!(
                     per >= MIN_TASK_BLOCKS,
@@ -509,29 +515,82 @@ mod tests {
                 );
             } else {
                 // A small set is cut finer: as many tasks as it has
-                // groups, up to SMALL_SET_TASKS.
-                let groups = blocks.div_ceil(GROUP);
+                // pairs, up to SMALL_SET_TASKS.
+                let pairs = blocks.div_ceil(PAIR);
                 assert!(
-                    task_count(blocks) >= groups.min(SMALL_SET_TASKS) / 2,
+                    task_count(blocks) >= pairs.min(SMALL_SET_TASKS) / 2,
                     "{blocks}"
                 );
             }
             assert!(task_count(blocks) <= MAX_STEP_TASKS, "{blocks}");
             assert!(task_count(blocks) * per >= blocks, "{blocks}: covered");
         }
-        // Sintel's 228 guides: 29 blocks in eight tasks (were two).
-        assert_eq!(task_count(228usize.div_ceil(8)), 8);
+        // Sintel's 228 guides: 29 blocks in fifteen tasks (were eight).
+        assert_eq!(task_count(228usize.div_ceil(8)), 15);
+    }
+
+    #[test]
+    fn the_same_bytes_whatever_the_tasks_size() {
+        // 21 blocks of strands falling onto the head sphere, swung by their
+        // roots, with the hair grid's volume and friction and local shape:
+        // every result of every split (tasks of 1 to 8 blocks, so groups
+        // and pairs of every make-up) is the bytes of the step's own.
+        let rig = head();
+        let params = SimParams {
+            local_shape_stiffness: 0.5,
+            volume_stiffness: 1.0,
+            hair_friction: 0.3,
+            ..SimParams::default()
+        };
+        let count = 20 * LANES + 3;
+        let run =
+            |task_blocks: Option<usize>,
+             stepper: fn(&mut Strands, &SimParams, &[Sphere], &dyn Executor)| {
+                let mut s = strands(count);
+                if let Some(per) = task_blocks {
+                    s.scratch =
+                        crate::strands::StepScratch::with_task_blocks(s.blocks, s.verts, per);
+                }
+                let roots0: Vec<Vec3> = (0..count).map(|i| s.vertex(i, 0).unwrap()).collect();
+                for k in 0..40 {
+                    let shift = Vec3::new(0.02 * (k as f32 * 0.3).sin(), 0.0, 0.0);
+                    let roots: Vec<Vec3> = roots0.iter().map(|r| *r + shift).collect();
+                    s.set_roots(&roots).unwrap();
+                    stepper(&mut s, &params, &rig, &Backwards(2));
+                }
+                (s.positions_local(), s.restored_strands())
+            };
+        for stepper in [
+            step_with as fn(&mut Strands, &SimParams, &[Sphere], &dyn Executor),
+            crate::scalar::step_with,
+        ] {
+            let own = run(None, stepper);
+            assert!(own.0.iter().all(|p| p.is_finite()));
+            for per in [1, 2, 3, 4, 5, 8] {
+                let split = run(Some(per), stepper);
+                assert!(
+                    split
+                        .0
+                        .iter()
+                        .zip(&own.0)
+                        .all(|(a, b)| a.to_array().map(f32::to_bits)
+                            == b.to_array().map(f32::to_bits)),
+                    "tasks of {per} blocks"
+                );
+                assert_eq!(split.1, own.1);
+            }
+        }
     }
 
     #[test]
     fn a_lane_restored_inside_a_later_task_is_counted_once() {
-        // 25 blocks, seven tasks of four; the strand in block 20 (task 5),
-        // lane 3.
+        // 25 blocks, thirteen tasks of two; the strand in block 20 (task
+        // 10), lane 3.
         let (rig, params) = (head(), SimParams::default());
         let mut runs = vec![];
         for exec in [&Serial as &dyn Executor, &Backwards(2)] {
             let mut s = strands(25 * LANES);
-            assert_eq!(s.scratch.tasks.len(), 7);
+            assert_eq!(s.scratch.tasks.len(), 13);
             step_with(&mut s, &params, &rig, exec);
             s.pos[20 * 12 + 7].set_lane(3, Vec3::NAN);
             step_with(&mut s, &params, &rig, exec);

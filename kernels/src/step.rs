@@ -1056,7 +1056,7 @@ pub fn step_colliders(strands: &mut Strands, params: &SimParams, colliders: &Col
 }
 
 /// [`step_colliders`] with its blocks handed out as tasks to `executor`:
-/// at most [`crate::MAX_STEP_TASKS`] tasks of whole groups of blocks, split by the
+/// at most [`crate::MAX_STEP_TASKS`] tasks of whole pairs of blocks, split by the
 /// block count alone. Blocks never exchange data within a step, each task
 /// has its own buffers (sized when the set is built) and the restored
 /// count is summed after the tasks, so the result is the same bytes with

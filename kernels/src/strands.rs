@@ -99,6 +99,9 @@ pub(crate) struct StepScratch {
     pub(crate) rig: crate::collide::rig::LocalRig,
     /// Task `t`'s buffers.
     pub(crate) tasks: Vec<Scratch>,
+    /// Blocks per task (the last task may have fewer): `tasks` holds one
+    /// buffer per task of this many.
+    pub(crate) task_blocks: usize,
 }
 
 /// One task's buffers (no per-frame allocation once sized).
@@ -175,9 +178,17 @@ impl Scratch {
 
 impl StepScratch {
     fn new(blocks: usize, verts: usize) -> StepScratch {
+        Self::with_task_blocks(blocks, verts, crate::drive::task_blocks(blocks))
+    }
+
+    /// Buffers for tasks of `task_blocks` blocks (the step's own split is
+    /// [`crate::drive::task_blocks`]; tests try others).
+    pub(crate) fn with_task_blocks(blocks: usize, verts: usize, task_blocks: usize) -> Self {
+        let task_blocks = task_blocks.max(1);
         StepScratch {
             rig: Default::default(),
-            tasks: vec![Scratch::new(verts); crate::drive::task_count(blocks)],
+            tasks: vec![Scratch::new(verts); blocks.div_ceil(task_blocks)],
+            task_blocks,
         }
     }
 }

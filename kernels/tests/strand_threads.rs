@@ -34,7 +34,7 @@ fn executors() -> Vec<(String, Box<dyn Executor>)> {
     v
 }
 
-/// 1,001 strands of 12 vertices (126 blocks, the last padded: 8 tasks, the
+/// 1,001 strands of 12 vertices (126 blocks, the last padded: 16 tasks, the
 /// last short) on a head, with a neck sphere.
 fn scene() -> (Vec<Vec3>, usize, Vec<Sphere>) {
     let s = grow_on_sphere(&GrowOptions {

@@ -988,11 +988,13 @@ mod tests {
             (total - expected).abs() < 1e-3 * expected,
             "{total} {expected}"
         );
-        // The hair's velocity is the clamped one, along +z, at every node.
+        // The hair's velocity is the clamped one, along +z, at every node
+        // (to the reciprocal estimate's relative error, 1.5 x 2^-12, which
+        // differs between processors: an Intel Xeon gave 100.016).
         for &i in &g.touched {
             let f = g.field[i as usize];
             assert!(
-                (f[5] - MAX_GRID_SPEED).abs() < 1e-2 && f[3].abs() < 1e-3,
+                (f[5] - MAX_GRID_SPEED).abs() < 4e-4 * MAX_GRID_SPEED && f[3].abs() < 1e-3,
                 "{f:?}"
             );
         }
