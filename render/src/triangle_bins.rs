@@ -25,7 +25,11 @@
 //! The lists hold [`TriangleBins::new`]'s capacity (four entries per
 //! triangle plus one per tile); a frame that needs more (a mesh seen from
 //! very near, its triangles spanning many tiles) is drawn in one pass on
-//! the calling thread instead: the same bytes, no allocation.
+//! the calling thread instead: the same bytes, no allocation. So is every
+//! draw on an executor of one thread ([`Executor::threads`]), which the
+//! tiles would only cost (binning, and a triangle's set-up once per tile
+//! it touches: on Sintel's body 185 M instructions for 8 frames against
+//! 142 M in one pass).
 
 use super::raster::{for_each_tile, TILE};
 use super::triangle::{fill_triangle, TriangleSetup, TriangleVertex};
@@ -83,7 +87,8 @@ impl TriangleBins {
     /// triangle in order would (the same bytes; module doc), the tiles'
     /// pixels as tasks on `executor`. Returns the pixels written. A frame
     /// of another size than the bins', or more triangles than they were
-    /// made for, is drawn in one pass on the calling thread.
+    /// made for, is drawn in one pass on the calling thread, and so is
+    /// every draw on an executor of one thread.
     pub fn draw(
         &mut self,
         frame: &mut Framebuffer,
@@ -99,7 +104,11 @@ impl TriangleBins {
         };
         let fits =
             width == self.width && height == self.height && triangles.len() <= self.rects.len();
-        if !fits || !self.bin(triangles, &corner) {
+        // One thread gains nothing from tiles: the one pass, without the
+        // binning and a triangle's set-up per tile it touches, is the same
+        // bytes (module doc) and about a quarter fewer instructions on
+        // Sintel's body.
+        if executor.threads() <= 1 || !fits || !self.bin(triangles, &corner) {
             return draw_in_order(frame, corners, triangles);
         }
         self.fill_tiles(frame, triangles, &setup, executor)

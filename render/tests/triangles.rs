@@ -237,6 +237,8 @@ fn binned_triangles_are_the_same_bytes_as_one_pass_in_order() {
         let written = bins.draw(&mut frame, &corners, &triangles, executor);
         (written, pixel_bits(&frame))
     };
+    // (Executors of one thread draw in one pass; 2, 3 and 8 through the
+    // bins.)
     let spread = [1, 2, 3, 8].map(|threads| Backwards { threads });
     let mut executors: Vec<&dyn Executor> = vec![&Serial];
     executors.extend(spread.iter().map(|p| p as &dyn Executor));
