@@ -78,7 +78,9 @@ pub unsafe trait Executor: Sync {
     /// the run is published rather than some tens of microseconds into it.
     /// Never needed for a correct result; the default does nothing.
     /// coif calls it where a step or a frame begins, ahead of the serial
-    /// work before its first run ([`Workers`] wakes its sleeping workers).
+    /// work before its first run ([`Workers`] wakes its sleeping workers);
+    /// an engine can call it earlier still, when its own frame begins (a
+    /// sleeping core can take longer to wake than coif's set-up lasts).
     fn wake(&self) {}
 }
 
