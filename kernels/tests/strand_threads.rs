@@ -11,7 +11,7 @@ use coif_geometry::scene::{grow_on_sphere, GrowOptions};
 use coif_kernels::patch::{self, ribbon_on_sphere, Patch};
 use coif_kernels::tasks::{Executor, Serial};
 use coif_kernels::{scalar, step, step_with, SimParams, Sphere, Strands};
-use common::executors::{c_callback, Reverse, Scoped, SpinPool};
+use common::executors::{c_callback, Backwards, Scoped, SpinPool};
 use glam::Vec3;
 
 /// Executors under test, with a name for messages.
@@ -19,7 +19,7 @@ fn executors() -> Vec<(String, Box<dyn Executor>)> {
     #[cfg_attr(not(feature = "rayon"), allow(unused_mut))]
     let mut v: Vec<(String, Box<dyn Executor>)> = vec![
         ("serial".into(), Box::new(Serial)),
-        ("reverse".into(), Box::new(Reverse)),
+        ("reverse".into(), Box::new(Backwards(1))),
         ("scoped 3".into(), Box::new(Scoped(3))),
         ("spin pool 2+1".into(), Box::new(SpinPool::new(2))),
         ("C callback".into(), Box::new(c_callback())),

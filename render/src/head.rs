@@ -327,18 +327,11 @@ mod tests {
         let covered = draw_spheres(&mut want, &camera, &spheres, &shading, ramp);
         assert!(covered > 400, "{covered}");
         let lanes = |p: Vec3Lanes| F32Lanes::new(std::array::from_fn(|l| ramp(p.lane(l))));
-        /// Tasks from last to first.
-        struct Reversed;
-        // SAFETY: each index runs once, before `run` returns.
-        unsafe impl Executor for Reversed {
-            fn threads(&self) -> usize {
-                4
-            }
-            fn run(&self, count: usize, task: &(dyn Fn(usize) + Sync)) {
-                (0..count).rev().for_each(task);
-            }
-        }
-        for executor in [&Serial as &dyn Executor, &Reversed] {
+        // And tasks last first, split for four threads.
+        for executor in [
+            &Serial as &dyn Executor,
+            &coif_testkit::executors::Backwards(4),
+        ] {
             let mut got = Framebuffer::new(97, 61);
             let n = draw_spheres_lanes(&mut got, &camera, &spheres, &shading, &lanes, executor);
             assert_eq!(n, covered);

@@ -11,25 +11,10 @@ use coif_render::raster::HairRaster;
 use coif_render::sort::DepthOrder;
 use coif_render::{hair, scalar, Camera, Framebuffer, ShadedVertex};
 use coif_shading::RgbBuffer;
+use coif_testkit::executors::Backwards;
 use glam::Vec3;
 
 const SIZE: usize = 160;
-
-/// Runs the tasks from last to first (any order must give the same bytes),
-/// claiming to have the given number of threads (stages split their work
-/// by that number: any split must give the same bytes too).
-struct Reversed(usize);
-// SAFETY: each index runs once, before `run` returns.
-unsafe impl Executor for Reversed {
-    fn threads(&self) -> usize {
-        self.0
-    }
-    fn run(&self, count: usize, task: &(dyn Fn(usize) + Sync)) {
-        for i in (0..count).rev() {
-            task(i);
-        }
-    }
-}
 
 /// Runs the tasks on two scoped threads, odd and even indices.
 struct TwoThreads;
@@ -203,9 +188,9 @@ fn binned_simd_scalar_and_reference_agree_bit_for_bit() {
     for simd in [true, false] {
         for (executor, name) in [
             (&Serial as &dyn Executor, "serial"),
-            (&Reversed(1), "reversed"),
-            (&Reversed(3), "reversed, split for 3 threads"),
-            (&Reversed(16), "reversed, split for 16 threads"),
+            (&Backwards(1), "reversed"),
+            (&Backwards(3), "reversed, split for 3 threads"),
+            (&Backwards(16), "reversed, split for 16 threads"),
             (&TwoThreads, "two threads"),
         ] {
             let (got, m) = binned(&mut raster, &vertices, vps, &order, simd, executor);
@@ -235,7 +220,7 @@ fn overflowing_bins_draw_in_batches_with_the_same_bytes() {
     let (want, n) = reference(&vertices, vps, &order);
     let mut small = HairRaster::with_bin_capacity(SIZE, SIZE, vertices.len(), 1000).unwrap();
     for simd in [true, false] {
-        for executor in [&Serial as &dyn Executor, &TwoThreads, &Reversed(8)] {
+        for executor in [&Serial as &dyn Executor, &TwoThreads, &Backwards(8)] {
             let (got, m) = binned(&mut small, &vertices, vps, &order, simd, executor);
             assert_eq!(m, n);
             assert!(small.stats().batches > 3, "{:?}", small.stats());
@@ -523,7 +508,7 @@ fn segments_hidden_behind_occluders_are_culled_without_changing_a_bit() {
     for simd in [true, false] {
         for (executor, name) in [
             (&Serial as &dyn Executor, "serial"),
-            (&Reversed(3), "reversed, split for 3 threads"),
+            (&Backwards(3), "reversed, split for 3 threads"),
             (&TwoThreads, "two threads"),
         ] {
             let (got, h) = draw(&spheres, simd, executor);

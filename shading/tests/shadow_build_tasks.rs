@@ -8,23 +8,9 @@ mod common;
 
 use coif_base::tasks::{Executor, Serial};
 use coif_shading::shadow::{BuildScratch, LaneRows, OpacityShadowMap, ShadowMode, ShadowSettings};
+use coif_testkit::executors::Backwards;
 use glam::Vec3;
 use std::sync::atomic::{AtomicUsize, Ordering};
-
-/// Runs the tasks last to first.
-struct Reverse;
-
-// SAFETY: each index runs once, before `run` returns.
-unsafe impl Executor for Reverse {
-    fn threads(&self) -> usize {
-        1
-    }
-    fn run(&self, count: usize, task: &(dyn Fn(usize) + Sync)) {
-        for i in (0..count).rev() {
-            task(i);
-        }
-    }
-}
 
 /// Three scoped threads taking indices from a shared counter.
 struct Threads;
@@ -84,7 +70,7 @@ fn task_builds_have_the_same_bytes_on_any_executor() {
         );
 
         let mut scratch = BuildScratch::new(&settings, 7).unwrap();
-        let executors: [&dyn Executor; 3] = [&Serial, &Reverse, &Threads];
+        let executors: [&dyn Executor; 3] = [&Serial, &Backwards(1), &Threads];
         let mut maps = Vec::new();
         for e in executors {
             let mut m = OpacityShadowMap::new(settings.clone()).unwrap();
@@ -127,7 +113,7 @@ fn lane_task_builds_have_the_same_bytes_on_any_executor() {
     let reference = common::stored_bits(&single);
     assert!(reference.iter().filter(|b| **b != 0).count() > 1000);
     let mut scratch = BuildScratch::new(&settings, 7).unwrap();
-    let executors: [&dyn Executor; 3] = [&Serial, &Reverse, &Threads];
+    let executors: [&dyn Executor; 3] = [&Serial, &Backwards(1), &Threads];
     let mut maps = Vec::new();
     for e in executors {
         let mut m = OpacityShadowMap::new(settings.clone()).unwrap();

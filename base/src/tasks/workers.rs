@@ -163,7 +163,7 @@ impl Shared {
                 }
                 // Spinning, not yielding: on this project's machine a
                 // `yield_now` every 64 spins (a system call each) made the
-                // tasks on both threads about a quarter slower
+                // tasks on both threads a fifth to a third slower
                 // (docs/threads.md).
                 spins += 1;
                 if spins.is_multiple_of(64) && idle.elapsed() > Workers::SPIN {

@@ -8,20 +8,8 @@ use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
 
-/// Runs the tasks on the calling thread, last index first.
-pub struct Reverse;
-
-// SAFETY: every index once, before `run` returns.
-unsafe impl Executor for Reverse {
-    fn threads(&self) -> usize {
-        1
-    }
-    fn run(&self, count: usize, task: &(dyn Fn(usize) + Sync)) {
-        for i in (0..count).rev() {
-            task(i);
-        }
-    }
-}
+/// Runs the tasks last first, on the calling thread (testkit's).
+pub use coif_testkit::executors::Backwards;
 
 /// Starts `n` scoped threads per run; each takes the next index from a
 /// shared counter (the order changes from run to run).
@@ -187,7 +175,7 @@ unsafe impl Executor for SpinPool {
 pub fn all() -> Vec<Box<dyn Executor>> {
     vec![
         Box::new(coif_kernels::tasks::Serial),
-        Box::new(Reverse),
+        Box::new(Backwards(1)),
         Box::new(Scoped(2)),
         Box::new(Scoped(3)),
         Box::new(coif_kernels::tasks::Rayon::new(2).expect("a rayon pool")),
