@@ -262,7 +262,14 @@ fn threads(c: &mut Criterion) {
         render_hairs_per_cm2: 20.0,
         ..FrameSettings::default().with_body_simulation()
     };
-    let pose = |t: f32, pivot| motion::turn(t % 3.2, pivot);
+    // The motion, looped: the turn, then the gust (its wind and turbulence
+    // set before each step).
+    let pose = |p: &mut FramePipeline, t: f32, pivot| {
+        let t = t % 3.2;
+        p.set_wind(motion::gust(t, motion::GUST_WIND));
+        p.set_turbulence(motion::gust_turbulence(t, motion::GUST_TURBULENCE));
+        motion::turn(t, pivot)
+    };
     let mut frame_ms = Vec::new();
     let mut serial = (0.0, 1.0);
     for n in [1usize, 2] {
@@ -270,14 +277,16 @@ fn threads(c: &mut Criterion) {
         let mut p = FramePipeline::new(&scene, settings.clone(), 1.5).unwrap();
         let pivot = p.pivot();
         let mut t = 0.0f32;
-        p.frame_with(1.0 / 30.0, pose(0.0, pivot), &pool);
+        let start = pose(&mut p, 0.0, pivot);
+        p.frame_with(1.0 / 30.0, start, &pool);
         p.reset_timings();
         let mut g = c.benchmark_group(format!("threads/{n}"));
         g.sample_size(10);
         g.bench_function("simulate", |b| {
             b.iter(|| {
                 t += 1.0 / 30.0;
-                p.simulate_with(1.0 / 30.0, pose(t, pivot), &pool);
+                let at = pose(&mut p, t, pivot);
+                p.simulate_with(1.0 / 30.0, at, &pool);
             })
         });
         g.bench_function("prepare", |b| b.iter(|| p.prepare_with(&pool)));
@@ -285,7 +294,8 @@ fn threads(c: &mut Criterion) {
         g.bench_function("frame", |b| {
             b.iter(|| {
                 t += 1.0 / 30.0;
-                black_box(p.frame_with(1.0 / 30.0, pose(t, pivot), &pool))
+                let at = pose(&mut p, t, pivot);
+                black_box(p.frame_with(1.0 / 30.0, at, &pool))
             })
         });
         g.finish();
@@ -294,7 +304,8 @@ fn threads(c: &mut Criterion) {
         p.reset_timings();
         for _ in 0..5 {
             t += 1.0 / 30.0;
-            p.frame_with(1.0 / 30.0, pose(t, pivot), &pool);
+            let at = pose(&mut p, t, pivot);
+            p.frame_with(1.0 / 30.0, at, &pool);
         }
         eprintln!(
             "\nthreads/{n}: per-stage means over 5 frames after the bench ({} shadow tasks):\n{}\n",

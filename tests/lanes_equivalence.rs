@@ -282,6 +282,7 @@ fn the_default_scenes_picture_is_the_same_bytes() {
         for f in 0..3 {
             let t = 1.6 + 0.2 * f as f32;
             p.set_wind(motion::gust(t, motion::GUST_WIND));
+            p.set_turbulence(motion::gust_turbulence(t, motion::GUST_TURBULENCE));
             p.frame_with(
                 1.0 / 15.0,
                 motion::turn(t, pivot),

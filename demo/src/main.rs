@@ -549,6 +549,7 @@ fn run_motion(
         let t = f as f32 * dt;
         let pose = if with_body {
             pipeline.set_wind(motion::gust(t, motion::GUST_WIND));
+            pipeline.set_turbulence(motion::gust_turbulence(t, motion::GUST_TURBULENCE));
             motion::turn(t, pivot)
         } else {
             motion::turn_and_nod(t, pivot)
@@ -614,10 +615,12 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         } else {
             0.0
         });
-    let (drag, turbulence) = if scene.body.is_some() {
-        (motion::GUST_DRAG, motion::GUST_TURBULENCE)
+    // Calm air at first: the gust sets the wind and its turbulence frame
+    // by frame (the loop below).
+    let drag = if scene.body.is_some() {
+        motion::GUST_DRAG
     } else {
-        (0.0, 0.0)
+        0.0
     };
     let (volume_stiffness, hair_friction) =
         hair_against_hair(cli.volume, cli.hair_friction, scene.body.is_some());
@@ -625,7 +628,7 @@ fn run(cli: Cli) -> Result<(), Box<dyn std::error::Error>> {
         simulation: SimParams {
             local_shape_stiffness: local_shape,
             drag,
-            turbulence,
+            turbulence: 0.0,
             volume_stiffness,
             hair_friction,
             ..settings.simulation

@@ -49,6 +49,7 @@ fn main() {
         let t = f as f32 * dt;
         for (k, p) in pipelines.iter_mut().enumerate() {
             p.set_wind(motion::gust(t, motion::GUST_WIND));
+            p.set_turbulence(motion::gust_turbulence(t, motion::GUST_TURBULENCE));
             p.reset_timings();
             p.frame_with(dt, motion::turn(t, pivot), executors[k]);
             let encode = Instant::now();
@@ -146,6 +147,7 @@ fn simulate_only(frames: usize, size: usize, pool: &dyn Executor) {
         let t = f as f32 * dt;
         for (k, p) in pipelines.iter_mut().enumerate() {
             p.set_wind(motion::gust(t, motion::GUST_WIND));
+            p.set_turbulence(motion::gust_turbulence(t, motion::GUST_TURBULENCE));
             timed[k].reset();
             let start = Instant::now();
             p.simulate_with(dt, motion::turn(t, pivot), &timed[k]);

@@ -1063,8 +1063,19 @@ impl FramePipeline {
         }
     }
 
+    /// The gusts' RMS speed (m/s) from the next fixed step on: the
+    /// simulation's `SimParams::turbulence`, the deterministic turbulent
+    /// field added to the wind (through `SimParams::drag`). A negative or
+    /// non-finite speed is ignored.
+    pub fn set_turbulence(&mut self, turbulence: f32) {
+        if turbulence.is_finite() && turbulence >= 0.0 {
+            self.params.turbulence = turbulence;
+        }
+    }
+
     /// The simulation's parameters (with the wind of the last
-    /// [`FramePipeline::set_wind`]).
+    /// [`FramePipeline::set_wind`] and the turbulence of the last
+    /// [`FramePipeline::set_turbulence`]).
     pub fn params(&self) -> &SimParams {
         &self.params
     }

@@ -170,15 +170,17 @@ impl FrameSettings {
 
     /// These settings with the simulation the demo gives a character on a
     /// body (Sintel, the default scene): the groom's local shape at
-    /// [`crate::style::SCENE_STIFFNESS`], the gust's drag and turbulence
-    /// ([`crate::motion::GUST_DRAG`], [`crate::motion::GUST_TURBULENCE`]),
+    /// [`crate::style::SCENE_STIFFNESS`], the air's drag
+    /// ([`crate::motion::GUST_DRAG`]) in calm air (no wind, no
+    /// turbulence: the motion's gust sets both frame by frame,
+    /// [`crate::motion::gust`] and [`crate::motion::gust_turbulence`]),
     /// hair-hair volume and friction at 1.
     pub fn with_body_simulation(self) -> FrameSettings {
         FrameSettings {
             simulation: SimParams {
                 local_shape_stiffness: crate::style::SCENE_STIFFNESS,
                 drag: crate::motion::GUST_DRAG,
-                turbulence: crate::motion::GUST_TURBULENCE,
+                turbulence: 0.0,
                 volume_stiffness: 1.0,
                 hair_friction: 1.0,
                 ..self.simulation

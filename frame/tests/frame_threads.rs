@@ -99,6 +99,7 @@ fn run(scene: Scene, prepare: PrepareMode, executor: &dyn Executor) -> Frames {
             Scene::Sintel => {
                 let t = 1.6 + 0.2 * f as f32;
                 p.set_wind(motion::gust(t, motion::GUST_WIND));
+                p.set_turbulence(motion::gust_turbulence(t, motion::GUST_TURBULENCE));
                 motion::turn(t, pivot)
             }
         };
