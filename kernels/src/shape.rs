@@ -239,7 +239,11 @@ impl<T: Lane> Factors<T> {
             let r = den.recip();
             up_prev = hi * r;
             up[v] = up_prev;
-            inv[v] = r;
+            // A pinned row is `x_v = x*_v` exactly: 1, not the reciprocal
+            // estimate of 1 (which is not 1 on every processor, and moved
+            // the roots by a rounding error every step, so that the hair
+            // never fell asleep with the springs on).
+            inv[v] = T::select(w[v].gt(zero), r, one);
             down[v] = lo * r;
             a_prev = a_next;
         }

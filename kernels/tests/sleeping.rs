@@ -1,6 +1,7 @@
 //! Sleeping (`SimParams::sleep_speed`): hanging hair at rest falls asleep,
 //! wakes in the step its roots move and then moves as hair that never
-//! slept; a sphere swept through sleeping hair wakes only the hair near it
+//! slept; styled hair (local shape springs from its sag-free rest) falls
+//! asleep too, its roots exactly where they were put; a sphere swept through sleeping hair wakes only the hair near it
 //! and leaves none inside it (a sphere that jumps past a sleeping block in
 //! one step wakes it too: swept bounds); every state-changing method wakes;
 //! the SIMD step and its scalar twin agree with sleeping on; stepping
@@ -228,6 +229,46 @@ fn every_state_change_wakes_every_block() {
         "unchanged roots woke {}",
         s.awake_strands()
     );
+}
+
+#[test]
+fn styled_hair_at_rest_falls_asleep_with_its_roots_exactly_in_place() {
+    // The shape springs' implicit solve once wrote each root back through
+    // the reciprocal estimate of 1 (not 1 on every processor): the roots
+    // moved by a rounding error every step, and hair with local shape
+    // never slept (Sintel's 228 guides: none asleep after 10 s at rest,
+    // 212 now).
+    let (pts, verts) = hanging();
+    let p = SimParams {
+        local_shape_stiffness: 0.7,
+        ..params(0.02)
+    };
+    for simd in [true, false] {
+        let mut s = Strands::from_polylines(&pts, verts).unwrap();
+        s.solve_sag_free(&p, &kernels::Colliders::default())
+            .unwrap();
+        let roots_at: Vec<Vec3> = s.positions().into_iter().step_by(verts).collect();
+        for _ in 0..240 {
+            if simd {
+                kernels::step(&mut s, &p, &[]);
+            } else {
+                scalar::step(&mut s, &p, &[]);
+            }
+            let now = s.positions();
+            let moved = now
+                .iter()
+                .step_by(verts)
+                .zip(&roots_at)
+                .filter(|(a, b)| a != b)
+                .count();
+            assert_eq!(moved, 0, "simd {simd}: roots off their targets");
+        }
+        let asleep = s.sleeping_strands();
+        assert!(
+            asleep >= 231,
+            "simd {simd}: only {asleep} of 256 asleep after 4 s"
+        );
+    }
 }
 
 #[test]
