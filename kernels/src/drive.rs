@@ -157,6 +157,7 @@ pub(crate) fn drive(
             dt: params.dt,
             pull: wind * params.effective_drag(),
             wind_dir: wind.normalize_or_zero(),
+            wake_move2: k.still_move2,
         }
     });
     {

@@ -5,7 +5,9 @@
 //! kicked lock's velocities relative to the lock fall to a third within
 //! 0.1 s while its common motion stays; sparse hair hanging at rest does not
 //! move; SIMD = scalar; the same bytes on 1 and 2 threads; the stability
-//! matrix with both on; off is the step as before, bit for bit.
+//! matrix with both on; off is the step as before, bit for bit; pressure
+//! from awake hair wakes sleeping hair, and friction slower than
+//! `sleep_speed` does not.
 
 mod common;
 
@@ -368,6 +370,67 @@ fn pressure_from_awake_hair_wakes_sleeping_hair() {
     };
     assert_eq!(run(&with), (0, 16), "both asleep, then both awake");
     assert_eq!(run(&without), (0, 8), "only the moved lock wakes");
+}
+
+/// Two locks of eight strands (one block each) hanging through each other
+/// fall asleep; then the second's roots circle, slowly (5 mm/s) and then
+/// fast (10 cm/s). The grid's friction drags the sleeping lock toward the
+/// moving one's velocity: slower than `sleep_speed`, it does not wake it
+/// (a trembling strand must not keep a whole head awake); faster, it does.
+#[test]
+fn friction_slower_than_sleep_speed_leaves_sleeping_hair_asleep() {
+    let verts = 16;
+    let lock = |x0: f32| -> Vec<Vec3> {
+        (0..8)
+            .flat_map(|i| {
+                let root = Vec3::new(x0 + (i % 4) as f32 * 0.004, 1.0, (i / 4) as f32 * 0.004);
+                (0..verts).map(move |v| root - Vec3::Y * (0.01 * v as f32))
+            })
+            .collect()
+    };
+    let pts: Vec<Vec3> = [lock(0.0), lock(0.002)].concat();
+    let p = SimParams {
+        sleep_speed: 0.02,
+        ..on(SimParams::default().hair_grid_cell)
+    };
+    let mut s = Strands::from_polylines(&pts, verts).unwrap();
+    for _ in 0..240 {
+        step(&mut s, &p, &[]);
+    }
+    assert_eq!(s.sleeping_strands(), 16, "both locks asleep at rest");
+    // The second lock's roots on a 4 mm circle at `speed` m/s.
+    let circle = |s: &mut Strands, speed: f32, steps: usize, t0: &mut f32| -> usize {
+        let mut first_asleep = 0;
+        for k in 0..steps {
+            *t0 += p.dt;
+            let a = speed / 0.004 * *t0;
+            let off = Vec3::new(0.004 * a.cos() - 0.004, 0.0, 0.004 * a.sin());
+            let roots: Vec<Vec3> = pts
+                .iter()
+                .step_by(verts)
+                .enumerate()
+                .map(|(i, r)| if i >= 8 { *r + off } else { *r })
+                .collect();
+            s.set_roots(&roots).unwrap();
+            step(s, &p, &[]);
+            if k == steps - 1 {
+                first_asleep = s.sleeping_strands();
+            }
+        }
+        first_asleep
+    };
+    let mut t = 0.0;
+    // Slowly for 2 s: the first lock sleeps through it (it may wake in
+    // the first steps, while the second lock starts, and falls asleep
+    // again).
+    assert_eq!(
+        circle(&mut s, 0.005, 120, &mut t),
+        8,
+        "slow: the first lock asleep"
+    );
+    // Fast: the first lock wakes.
+    circle(&mut s, 0.1, 10, &mut t);
+    assert_eq!(s.awake_strands(), 16, "fast: both locks awake");
 }
 
 /// Simulation LOD: a level with every other guide carries the same hair,
