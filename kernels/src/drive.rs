@@ -533,9 +533,10 @@ mod tests {
     #[test]
     fn the_same_bytes_whatever_the_tasks_size() {
         // 20 x LANES + 3 strands (21 blocks at eight lanes) falling onto
-        // the head sphere, swung by their roots, with the hair grid's volume and friction and local shape:
-        // every result of every split (tasks of 1 to 8 blocks, so groups
-        // and pairs of every make-up) is the bytes of the step's own.
+        // the head sphere, swung by their roots, with the hair grid's
+        // volume and friction and local shape: every result of every
+        // split (tasks of 1 to 8 blocks, so groups and pairs of every
+        // make-up) is the bytes of the step's own.
         let rig = head();
         let params = SimParams {
             local_shape_stiffness: 0.5,

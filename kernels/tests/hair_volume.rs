@@ -320,6 +320,17 @@ fn stable_under_the_stability_matrix() {
     }
 }
 
+/// A lock of eight strands of `verts` vertices 1 cm apart, hanging from a
+/// 4 x 2 grid of roots 4 mm apart whose first is at `x = x0`, `y = 1`.
+fn lock(x0: f32, verts: usize) -> Vec<Vec3> {
+    (0..8)
+        .flat_map(|i| {
+            let root = Vec3::new(x0 + (i % 4) as f32 * 0.004, 1.0, (i / 4) as f32 * 0.004);
+            (0..verts).map(move |v| root - Vec3::Y * (0.01 * v as f32))
+        })
+        .collect()
+}
+
 /// Two locks of eight strands (one block each) hanging 20 cm apart fall
 /// asleep; then the second's roots move into the first. The moving lock
 /// packs the sleeping one denser than its groom: the grid's push wakes it
@@ -327,15 +338,7 @@ fn stable_under_the_stability_matrix() {
 #[test]
 fn pressure_from_awake_hair_wakes_sleeping_hair() {
     let verts = 16;
-    let lock = |x0: f32| -> Vec<Vec3> {
-        (0..8)
-            .flat_map(|i| {
-                let root = Vec3::new(x0 + (i % 4) as f32 * 0.004, 1.0, (i / 4) as f32 * 0.004);
-                (0..verts).map(move |v| root - Vec3::Y * (0.01 * v as f32))
-            })
-            .collect()
-    };
-    let pts: Vec<Vec3> = [lock(0.0), lock(0.2)].concat();
+    let pts: Vec<Vec3> = [lock(0.0, verts), lock(0.2, verts)].concat();
     let run = |p: &SimParams| {
         let mut s = Strands::from_polylines(&pts, verts).unwrap();
         for _ in 0..240 {
@@ -380,15 +383,7 @@ fn pressure_from_awake_hair_wakes_sleeping_hair() {
 #[test]
 fn friction_slower_than_sleep_speed_leaves_sleeping_hair_asleep() {
     let verts = 16;
-    let lock = |x0: f32| -> Vec<Vec3> {
-        (0..8)
-            .flat_map(|i| {
-                let root = Vec3::new(x0 + (i % 4) as f32 * 0.004, 1.0, (i / 4) as f32 * 0.004);
-                (0..verts).map(move |v| root - Vec3::Y * (0.01 * v as f32))
-            })
-            .collect()
-    };
-    let pts: Vec<Vec3> = [lock(0.0), lock(0.002)].concat();
+    let pts: Vec<Vec3> = [lock(0.0, verts), lock(0.002, verts)].concat();
     let p = SimParams {
         sleep_speed: 0.02,
         ..on(SimParams::default().hair_grid_cell)

@@ -1,9 +1,10 @@
 //! Sleeping (`SimParams::sleep_speed`): hanging hair at rest falls asleep,
 //! wakes in the step its roots move and then moves as hair that never
 //! slept; styled hair (local shape springs from its sag-free rest) falls
-//! asleep too, its roots exactly where they were put; a sphere swept through sleeping hair wakes only the hair near it
-//! and leaves none inside it (a sphere that jumps past a sleeping block in
-//! one step wakes it too: swept bounds); every state-changing method wakes;
+//! asleep too, its roots exactly where they were put; a sphere swept
+//! through sleeping hair wakes only the hair near it and leaves none
+//! inside it (a sphere that jumps past a sleeping block in one step wakes
+//! it too: swept bounds); every state-changing method wakes;
 //! the SIMD step and its scalar twin agree with sleeping on; stepping
 //! sleeping, waking and falling-asleep hair allocates nothing.
 
